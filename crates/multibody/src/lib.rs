@@ -1,0 +1,4 @@
+//! Multibody dynamics with the components and conventions of Dyad's
+//! MultibodyComponents library.
+
+pub mod math;
