@@ -1,4 +1,40 @@
 //! Multibody dynamics with the components and conventions of Dyad's
-//! MultibodyComponents library.
+//! MultibodyComponents library (a port of Multibody.jl, which follows
+//! Modelica.Mechanics.MultiBody).
+//!
+//! Build a [`Model`] of components joined at frames, assemble it into a
+//! [`Mechanism`], and simulate it into a [`Solution`] that holds every
+//! variable of every component by name:
+//!
+//! ```
+//! use multibody::{Model, SimulationOptions};
+//!
+//! let mut model = Model::new("pendulum");
+//! model.add("world", "World");
+//! model.add("rev", "Revolute").set("n", [0.0, 0.0, 1.0]);
+//! model.add("body", "Body").set("m", 1.0).set("r_cm", [0.5, 0.0, 0.0]);
+//! model.connect(["world.frame_b", "rev.frame_a"]);
+//! model.connect(["rev.frame_b", "body.frame_a"]);
+//!
+//! let mechanism = model.assemble()?;
+//! let solution = mechanism.simulate(&SimulationOptions { stop: 1.0, saveat: 0.01, ..Default::default() })?;
+//! let phi = solution.last("rev.phi").unwrap();
+//! assert!(phi < 0.0); // released horizontally, it swings down
+//! println!("body at {:?}", solution.last("body.frame_a.r_0[2]"));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
+pub mod assembly;
+pub mod components;
+pub mod dynamics;
+mod error;
 pub mod math;
+mod mechanism;
+mod model;
+pub mod simulate;
+
+pub use dynamics::{DynamicsError, Workspace};
+pub use error::{closest, Error};
+pub use mechanism::{Mechanism, StateLayout};
+pub use model::{ComponentInstance, Connection, Model, OrientationState, Value};
+pub use simulate::{Method, SimulationError, SimulationOptions, Solution};

@@ -287,11 +287,16 @@ impl ArticulatedInertia {
     /// free axis does not transmit.
     #[inline]
     pub fn sub_outer(&mut self, u: &Force, inv_d: f64) {
-        let un = u.ang * inv_d;
-        let uf = u.lin * inv_d;
-        self.a -= un * u.ang.transpose();
-        self.b -= un * u.lin.transpose();
-        self.c -= uf * u.lin.transpose();
+        self.sub_product(&(*u * inv_d), u);
+    }
+
+    /// `self - w u'`, for `w u'` symmetric (a sum of such terms over a
+    /// joint's axes, `U D^-1 U'`).
+    #[inline]
+    pub fn sub_product(&mut self, w: &Force, u: &Force) {
+        self.a -= w.ang * u.ang.transpose();
+        self.b -= w.ang * u.lin.transpose();
+        self.c -= w.lin * u.lin.transpose();
     }
 
     /// The same inertia given in frame B, expressed in frame A, with `x`

@@ -1,0 +1,91 @@
+//! Checks on the assembled tree that need its mass distribution.
+
+use super::connections::Connectors;
+use super::links::Tree;
+use crate::dynamics::joint::{JointModel, JointMotion};
+use crate::math::RigidInertia;
+use crate::mechanism::{CompiledComponent, GROUND};
+use crate::Error;
+
+/// Every degree of freedom must move some inertia: `S' Ic S` must be
+/// positive definite for each joint, with `Ic` the composite inertia of
+/// what the joint moves, at the start configuration.
+pub fn inertia_behind_every_joint(
+    components: &[CompiledComponent],
+    conn: &Connectors,
+    tree: &Tree,
+    q: &[f64],
+) -> Result<(), Error> {
+    let links = &tree.links;
+    let n = links.len();
+    let mut x_up = vec![crate::math::Transform::IDENTITY; n];
+    for k in 1..n {
+        let l = &links[k];
+        x_up[k] = l.x_tree.then(&l.joint.transform(&q[l.q_offset..l.q_offset + l.joint.nq()]));
+    }
+    let mut composite: Vec<RigidInertia> = links.iter().map(|l| l.inertia).collect();
+    for k in (1..n).rev() {
+        let p = links[k].parent;
+        if p != GROUND {
+            let c = composite[k].expressed_in_parent(&x_up[k]);
+            composite[p] += c;
+        }
+    }
+    for k in 1..n {
+        let l = &links[k];
+        let mut m = JointMotion::default();
+        let zeros = [0.0; 6];
+        l.joint.motion(&q[l.q_offset..l.q_offset + l.joint.nq()], &zeros[..l.joint.nv()], &mut m);
+        let ic = &composite[k];
+        let scale = ic.mass.max(ic.rot.norm()).max(f64::MIN_POSITIVE);
+        let nv = l.joint.nv();
+        let mut d = nalgebra::DMatrix::<f64>::zeros(nv, nv);
+        for i in 0..nv {
+            let f = ic.apply(&m.s[i]);
+            for j in 0..nv {
+                d[(j, i)] = m.s[j].dot(&f);
+            }
+        }
+        let singular = (0..nv).any(|i| d[(i, i)] <= 1e-12 * scale) || d.clone().cholesky().is_none();
+        if singular {
+            let component = &components[l.source.0];
+            let dof = match l.joint {
+                JointModel::Revolute { .. } => "rotation about the axis",
+                JointModel::Prismatic { .. } => "translation along the axis",
+                JointModel::Free(_) => "free motion",
+                JointModel::Translation => "translation",
+            };
+            return Err(Error::NoInertia {
+                joint: component.name.clone(),
+                dof: dof.into(),
+                moved: moved_by(components, conn, tree, k),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Names of the components with frames on link `k` or its descendants.
+fn moved_by(components: &[CompiledComponent], conn: &Connectors, tree: &Tree, k: usize) -> Vec<String> {
+    let in_subtree = |mut l: usize| loop {
+        if l == k {
+            return true;
+        }
+        if l == GROUND {
+            return false;
+        }
+        l = tree.links[l].parent;
+    };
+    let mut names: Vec<String> = Vec::new();
+    for node in &tree.nodes {
+        if in_subtree(node.link) {
+            for &c in &node.connectors {
+                let name = &components[conn.infos[c].component].name;
+                if !names.contains(name) && *name != components[tree.links[k].source.0].name {
+                    names.push(name.clone());
+                }
+            }
+        }
+    }
+    names
+}

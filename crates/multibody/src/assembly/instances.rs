@@ -1,0 +1,52 @@
+//! Finds the World, checks every component's kind and parameters, and builds
+//! the components.
+
+use crate::components::{lookup, registry, ParamSet, WorldSettings};
+use crate::error::closest;
+use crate::mechanism::CompiledComponent;
+use crate::{Error, Model};
+use std::collections::HashSet;
+
+/// The settings of the model's one World.
+pub fn world_settings(model: &Model) -> Result<WorldSettings, Error> {
+    let worlds: Vec<_> =
+        model.components.iter().filter(|c| lookup(&c.kind).is_some_and(|s| s.kind == "World")).collect();
+    match worlds.as_slice() {
+        [] => Err(Error::NoWorld),
+        [world] => WorldSettings::from_instance(world),
+        many => Err(Error::SeveralWorlds { names: many.iter().map(|c| c.name.clone()).collect() }),
+    }
+}
+
+/// Every component, built from validated parameters, in model order.
+pub fn build(model: &Model, world: &WorldSettings) -> Result<Vec<CompiledComponent>, Error> {
+    let mut names = HashSet::new();
+    let mut built = Vec::with_capacity(model.components.len());
+    let mut first_connector = 0;
+    for instance in &model.components {
+        if !names.insert(instance.name.as_str()) {
+            return Err(Error::DuplicateName { name: instance.name.clone() });
+        }
+        let spec = lookup(&instance.kind).ok_or_else(|| Error::UnknownKind {
+            component: instance.name.clone(),
+            kind: instance.kind.clone(),
+            suggestions: closest(&crate::components::canonical_kind(&instance.kind), registry().iter().map(|s| s.kind)),
+        })?;
+        let params = ParamSet::resolve(instance, spec, world)?;
+        let component = (spec.build)(&params)?;
+        let parts = component.parts();
+        let variables = component.variables();
+        built.push(CompiledComponent {
+            name: instance.name.clone(),
+            spec,
+            component,
+            parts,
+            first_connector,
+            joint_links: Vec::new(),
+            elements: Vec::new(),
+            variables,
+        });
+        first_connector += spec.connectors.len();
+    }
+    Ok(built)
+}

@@ -1,0 +1,137 @@
+//! The state vector: names, and start values from the model's `initial`
+//! (and, where no initial value is given, `guess`) modifiers.
+
+use super::links::Tree;
+use crate::error::closest;
+use crate::mechanism::{CompiledComponent, StateLayout};
+use crate::{Error, Model, Value};
+
+pub fn layout(model: &Model, components: &[CompiledComponent], tree: &Tree) -> Result<StateLayout, Error> {
+    let nq: usize = tree.links.iter().skip(1).map(|l| l.joint.nq()).sum();
+    let nv: usize = tree.links.iter().skip(1).map(|l| l.joint.nv()).sum();
+    let mut names = vec![String::new(); nq + nv];
+    let mut start = vec![0.0; nq + nv];
+    for (k, link) in tree.links.iter().enumerate().skip(1) {
+        let component = &components[link.source.0].name;
+        let sn = &tree.state_names[k];
+        for (offset, entries) in [(link.q_offset, sn.q), (nq + link.v_offset, sn.u)] {
+            let mut i = offset;
+            for &(name, size) in entries {
+                for j in 0..size {
+                    names[i] = if size == 1 {
+                        format!("{component}.{name}")
+                    } else {
+                        format!("{component}.{name}[{}]", j + 1)
+                    };
+                    i += 1;
+                }
+            }
+        }
+        link.joint.neutral(&mut start[link.q_offset..link.q_offset + link.joint.nq()]);
+    }
+
+    for (ci, instance) in model.components.iter().enumerate() {
+        let c = &components[ci];
+        // Initial values hold; guesses fill in where no initial value is given.
+        let guesses = instance.guess.iter().filter(|(g, _)| !instance.initial.iter().any(|(i, _)| i == g));
+        for (variable, value) in instance.initial.iter().chain(guesses) {
+            let (index, size) = locate(c, tree, nq, variable).ok_or_else(|| not_a_state(c, tree, variable))?;
+            let values = numbers(&c.name, variable, value, size)?;
+            start[index..index + size].copy_from_slice(&values);
+        }
+    }
+    for link in tree.links.iter().skip(1) {
+        if let crate::dynamics::joint::JointModel::Free(crate::dynamics::joint::RotationCoordinates::Quaternion {
+            ..
+        }) = link.joint
+        {
+            let q = &start[link.q_offset + 3..link.q_offset + 7];
+            if q.iter().map(|x| x * x).sum::<f64>() < 1e-20 {
+                return Err(Error::InvalidValue {
+                    component: components[link.source.0].name.clone(),
+                    name: "Q_hat".into(),
+                    value: Value::Array(q.to_vec()).to_string(),
+                    reason: "a quaternion must not be zero; [1, 0, 0, 0] is the identity".into(),
+                });
+            }
+        }
+    }
+    Ok(StateLayout { nq, nv, names, start })
+}
+
+/// Where the state `variable` of component `c` sits in the state vector.
+fn locate(c: &CompiledComponent, tree: &Tree, nq: usize, variable: &str) -> Option<(usize, usize)> {
+    for &link in &c.joint_links {
+        let l = &tree.links[link];
+        let sn = &tree.state_names[link];
+        for (offset, entries) in [(l.q_offset, sn.q), (nq + l.v_offset, sn.u)] {
+            let mut i = offset;
+            for &(name, size) in entries {
+                if name == variable {
+                    return Some((i, size));
+                }
+                i += size;
+            }
+        }
+    }
+    None
+}
+
+fn not_a_state(c: &CompiledComponent, tree: &Tree, variable: &str) -> Error {
+    let states: Vec<&str> = c
+        .joint_links
+        .iter()
+        .flat_map(|&l| tree.state_names[l].q.iter().chain(tree.state_names[l].u))
+        .map(|(n, _)| *n)
+        .collect();
+    if c.spec.variables.iter().any(|v| v.name == variable) {
+        let reason = if c.joint_links.is_empty() && matches!(c.spec.kind, "Body" | "PointMass") {
+            "its motion comes from what it is connected to. Set the start values of the joints between it and the World instead, or make it free (orientation_state = Quaternion for a Body, isroot = true for an unconnected PointMass)".to_string()
+        } else if states.is_empty() {
+            format!("{} has no states; it is computed from the motion", c.spec.kind)
+        } else {
+            format!("it is computed from the states; its states are {}", states.join(", "))
+        };
+        return Error::NotAState { component: c.name.clone(), variable: variable.into(), reason };
+    }
+    Error::UnknownVariable {
+        component: c.name.clone(),
+        kind: c.spec.kind.into(),
+        variable: variable.into(),
+        suggestions: closest(variable, states.iter().copied().chain(c.spec.variables.iter().map(|v| v.name))),
+        valid: states.iter().map(|s| s.to_string()).collect(),
+    }
+}
+
+/// The numbers of a start value of `size` entries.
+fn numbers(component: &str, variable: &str, value: &Value, size: usize) -> Result<Vec<f64>, Error> {
+    let values = match value {
+        Value::Number(x) => vec![*x],
+        Value::Array(v) => v.clone(),
+        other => {
+            return Err(Error::WrongType {
+                component: component.into(),
+                name: variable.into(),
+                expected: if size == 1 { "a number".into() } else { format!("an array of {size} numbers") },
+                got: other.describe(),
+            })
+        }
+    };
+    if values.len() != size {
+        return Err(Error::WrongSize {
+            component: component.into(),
+            name: variable.into(),
+            expected: size,
+            got: values.len(),
+        });
+    }
+    if values.iter().any(|x| !x.is_finite()) {
+        return Err(Error::InvalidValue {
+            component: component.into(),
+            name: variable.into(),
+            value: value.to_string(),
+            reason: "start values must be finite numbers".into(),
+        });
+    }
+    Ok(values)
+}

@@ -1,0 +1,249 @@
+//! The component library: one file per component kind, and the registry
+//! that lists them.
+//!
+//! A component kind is a [`ComponentSpec`] (its parameter, connector and
+//! variable tables) and a [`Component`] built from validated parameters. A
+//! component says what it adds to the mechanism as [`Part`]s (a fixed pose
+//! in the world, a rigid relation between two of its frames, a mass, a
+//! joint, ownership of an orientation, a 1-D force law) and computes its
+//! output variables from the solved motion ([`EvalContext`]).
+
+pub mod params;
+pub mod spec;
+
+mod axial_joint;
+mod body;
+mod fixed;
+mod fixed_rotation;
+mod fixed_translation;
+mod one_d;
+mod point_mass;
+mod prismatic;
+mod revolute;
+mod rotational;
+mod translational;
+pub mod world;
+
+pub use params::ParamSet;
+pub use spec::{ComponentSpec, ConnectorSpec, ConnectorType, Default, ParamSpec, ParamType, Shape, VarSpec};
+pub use world::WorldSettings;
+
+use crate::dynamics::joint::JointModel;
+use crate::math::{Mat3, RigidInertia, Transform, Vec3};
+
+/// Every component kind, in the order `list` shows them.
+pub fn registry() -> &'static [&'static ComponentSpec] {
+    REGISTRY
+}
+
+static REGISTRY: &[&ComponentSpec] = &[
+    &world::SPEC,
+    &body::SPEC,
+    &point_mass::SPEC,
+    &fixed::SPEC,
+    &fixed_translation::SPEC,
+    &fixed_rotation::SPEC,
+    &revolute::SPEC,
+    &prismatic::SPEC,
+    &rotational::damper::SPEC,
+    &rotational::spring::SPEC,
+    &rotational::spring_damper::SPEC,
+    &rotational::constant_torque::SPEC,
+    &translational::damper::SPEC,
+    &translational::spring::SPEC,
+    &translational::spring_damper::SPEC,
+    &translational::constant_force::SPEC,
+];
+
+/// The kind named `kind`. Accepts the library prefix
+/// (`MultibodyComponents.Body`) and the `Components.` or `Sources.` level
+/// of the 1-D libraries (`RotationalComponents.Components.Damper`).
+pub fn lookup(kind: &str) -> Option<&'static ComponentSpec> {
+    let bare = canonical_kind(kind);
+    registry().iter().copied().find(|s| s.kind == bare)
+}
+
+/// A kind name without the optional prefixes [`lookup`] accepts.
+pub fn canonical_kind(kind: &str) -> String {
+    let bare = kind.strip_prefix("MultibodyComponents.").unwrap_or(kind);
+    bare.replace(".Components.", ".").replace(".Sources.", ".")
+}
+
+/// A component built from its parameters.
+pub trait Component: Send + Sync + std::fmt::Debug {
+    /// What the component adds to the mechanism. Connector numbers are
+    /// positions in its kind's connector table.
+    fn parts(&self) -> Vec<Part>;
+
+    /// The variables this component has with its parameters, besides the
+    /// `r_0`, `R`, `f` and `tau` of its frame connectors, which every
+    /// component has.
+    fn variables(&self) -> Vec<VarSpec> {
+        Vec::new()
+    }
+
+    /// Pushes the values of [`Component::variables`], in that order.
+    fn evaluate(&self, _ctx: &EvalContext, _out: &mut Vec<f64>) {}
+}
+
+/// Names of a joint's position and velocity coordinates, with their sizes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StateNames {
+    pub q: &'static [(&'static str, usize)],
+    pub u: &'static [(&'static str, usize)],
+}
+
+/// A joint's 1-D connectors: the axis follows the joint coordinate, the
+/// support stays with frame_a.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AxisFlanges {
+    pub axis: usize,
+    pub support: usize,
+}
+
+/// The force law of a 1-D element between two flanges, with the relative
+/// position `s_rel = s_b - s_a` and its rate `v_rel`. `force` is the
+/// element's internal force (or torque): it pushes flange_b back by `force`
+/// and flange_a forward by `force`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Law1D {
+    /// `force = c (s_rel - s_rel0)`.
+    Spring { c: f64, s_rel0: f64 },
+    /// `force = d v_rel`.
+    Damper { d: f64 },
+    /// `force = c (s_rel - s_rel0) + d v_rel`.
+    SpringDamper { c: f64, d: f64, s_rel0: f64 },
+    /// A source driving flange_b forward by `value` (reaction on flange_a).
+    Source { value: f64 },
+}
+
+impl Law1D {
+    #[inline]
+    pub fn force(&self, s_rel: f64, v_rel: f64) -> f64 {
+        match *self {
+            Law1D::Spring { c, s_rel0 } => c * (s_rel - s_rel0),
+            Law1D::Damper { d } => d * v_rel,
+            Law1D::SpringDamper { c, d, s_rel0 } => c * (s_rel - s_rel0) + d * v_rel,
+            Law1D::Source { value } => -value,
+        }
+    }
+}
+
+/// What a component adds to the mechanism.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Part {
+    /// The frame is fixed in the world at `pose` (world to frame).
+    Ground { frame: usize, pose: Transform },
+    /// Frame `b` is fixed relative to frame `a` at `pose` (a to b).
+    Rigid { a: usize, b: usize, pose: Transform },
+    /// A mass fixed to `frame`, its inertia given in that frame.
+    Mass { frame: usize, inertia: RigidInertia, point_gravity: bool },
+    /// A joint moving frame `b` relative to frame `a`.
+    Joint { a: usize, b: usize, model: JointModel, states: StateNames, flanges: Option<AxisFlanges> },
+    /// Ownership of the orientation (and position) of `frame`: a joint from
+    /// the world with the component's states.
+    Owner { frame: usize, model: JointModel, states: StateNames },
+    /// A 1-D force element between two flanges.
+    Element1D { a: usize, b: usize, law: Law1D },
+}
+
+/// The motion of one frame connector and the cut force on it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrameState {
+    /// Origin, world coordinates.
+    pub r_0: Vec3,
+    /// World to frame rotation.
+    pub rot: Mat3,
+    /// Velocity of the origin, world coordinates.
+    pub v_0: Vec3,
+    /// Angular velocity, frame coordinates.
+    pub w: Vec3,
+    /// Acceleration of the origin, world coordinates.
+    pub a_0: Vec3,
+    /// Angular acceleration, frame coordinates.
+    pub z: Vec3,
+    /// Cut force on the component at this frame, frame coordinates.
+    pub f: Vec3,
+    /// Cut torque on the component at this frame, frame coordinates.
+    pub tau: Vec3,
+}
+
+/// The coordinates of one of a component's joints (or owned orientation).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct JointState<'a> {
+    pub q: &'a [f64],
+    pub u: &'a [f64],
+    pub qdot: &'a [f64],
+    pub udot: &'a [f64],
+    /// Generalised forces of the 1-D elements on the joint's axis.
+    pub tau: &'a [f64],
+}
+
+/// The state of one of a component's 1-D elements.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Element1DState {
+    pub s_rel: f64,
+    pub v_rel: f64,
+    pub a_rel: f64,
+    pub force: f64,
+}
+
+/// What a component sees when it computes its variables.
+pub struct EvalContext<'a> {
+    pub time: f64,
+    pub world: &'a WorldSettings,
+    /// By connector number; entries of non-frame connectors are unused.
+    pub frames: &'a [FrameState],
+    /// One per `Joint` or `Owner` part, in the order of `parts()`.
+    pub joints: &'a [JointState<'a>],
+    /// One per `Element1D` part, in the order of `parts()`.
+    pub elements: &'a [Element1DState],
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_kind_is_unique_and_found_with_prefixes() {
+        let kinds: Vec<&str> = registry().iter().map(|s| s.kind).collect();
+        let mut sorted = kinds.clone();
+        sorted.sort();
+        sorted.dedup();
+        assert_eq!(sorted.len(), kinds.len());
+        assert_eq!(lookup("MultibodyComponents.Body").map(|s| s.kind), Some("Body"));
+        assert_eq!(
+            lookup("RotationalComponents.Components.Damper").map(|s| s.kind),
+            Some("RotationalComponents.Damper")
+        );
+    }
+
+    #[test]
+    fn every_kind_builds_with_its_defaults_and_defaults_fit_their_types() {
+        let world = WorldSettings::default();
+        for spec in registry() {
+            // Parameters without a default get 1.
+            let required = spec.params.iter().filter(|p| p.default == Default::Required);
+            let instance = crate::ComponentInstance {
+                name: "c".into(),
+                kind: spec.kind.into(),
+                params: required.map(|p| (p.name.to_string(), crate::Value::Number(1.0))).collect(),
+                initial: vec![],
+                guess: vec![],
+            };
+            let params = ParamSet::resolve(&instance, spec, &world).unwrap();
+            for p in spec.params.iter().filter(|p| !matches!(p.default, Default::Derived(_) | Default::Required)) {
+                let value = match p.ty {
+                    ParamType::Real | ParamType::Integer => crate::Value::Number(params.real(p.name)),
+                    ParamType::Vector(_) | ParamType::IntVector(_) => crate::Value::Array(params.vector(p.name)),
+                    ParamType::Bool => crate::Value::Bool(params.boolean(p.name)),
+                    ParamType::Enum(..) => crate::Value::Enum(params.variant(p.name).into()),
+                };
+                if let Err(e) = params::check_value("c", p.name, p.ty, &value) {
+                    panic!("{}.{}: default does not fit: {e}", spec.kind, p.name);
+                }
+            }
+            assert!((spec.build)(&params).is_ok(), "{} does not build with its defaults", spec.kind);
+        }
+    }
+}

@@ -1,0 +1,186 @@
+//! The articulated-body algorithm (Featherstone) with force elements.
+//!
+//! Uniform gravity enters as an upward acceleration of the ground, so the
+//! link accelerations it computes are relative to a frame falling with
+//! gravity; `outputs` adds gravity back.
+
+use super::joint::JointMotion;
+use super::{DynamicsError, Workspace};
+use crate::components::world::point_gravity;
+use crate::math::{Force, Motion, Vec3};
+use crate::mechanism::{FlangeRef, GROUND};
+use crate::Mechanism;
+
+impl Mechanism {
+    /// Joint accelerations `ud` at positions `q` and velocities `u`.
+    pub fn forward_dynamics(
+        &self,
+        ws: &mut Workspace,
+        _t: f64,
+        q: &[f64],
+        u: &[f64],
+        ud: &mut [f64],
+    ) -> Result<(), DynamicsError> {
+        self.kinematics_and_bias(ws, q, u)?;
+        self.apply_forces(ws, q, u);
+        self.articulated_inertias(ws)?;
+        self.accelerations(ws, ud);
+        Ok(())
+    }
+
+    /// Pass 1: link transforms, velocities, world poses, and the bias force
+    /// of each link alone.
+    fn kinematics_and_bias(&self, ws: &mut Workspace, q: &[f64], u: &[f64]) -> Result<(), DynamicsError> {
+        let mut jm = JointMotion::default();
+        for k in 1..self.links.len() {
+            let link = &self.links[k];
+            let (nq, nv) = (link.joint.nq(), link.joint.nv());
+            let qk = &q[link.q_offset..link.q_offset + nq];
+            link.joint.motion(qk, &u[link.v_offset..link.v_offset + nv], &mut jm);
+            if link.joint.singularity(qk).is_some() {
+                return Err(DynamicsError::EulerSingularity { link: k });
+            }
+            let parent = ws.links[link.parent];
+            let x_up = link.x_tree.then(&jm.x);
+            let v = x_up.apply_motion(&parent.v) + jm.vj;
+            let w = &mut ws.links[k];
+            w.x_up = x_up;
+            w.v = v;
+            w.c = jm.cj + v.cross_motion(&jm.vj);
+            w.rot = x_up.rot * parent.rot;
+            w.pos = parent.pos + parent.rot.tr_mul(&x_up.trans);
+            w.ia = (&link.inertia).into();
+            w.pa = v.cross_force(&link.inertia.apply(&v));
+            if nv == 1 {
+                w.s = jm.s[0];
+            } else {
+                ws.multi[ws.multi_index[k]].s = jm.s;
+            }
+        }
+        Ok(())
+    }
+
+    /// Generalised forces of 1-D elements, and external forces on links
+    /// (point gravity), subtracted from the bias forces.
+    fn apply_forces(&self, ws: &mut Workspace, q: &[f64], u: &[f64]) {
+        ws.tau.fill(0.0);
+        for e in &self.axis_elements {
+            let (s_a, v_a) = flange_motion(e.a, q, u);
+            let (s_b, v_b) = flange_motion(e.b, q, u);
+            let force = e.law.force(s_b - s_a, v_b - v_a);
+            if let FlangeRef::Coordinate { v, .. } = e.b {
+                ws.tau[v] -= force;
+            }
+            if let FlangeRef::Coordinate { v, .. } = e.a {
+                ws.tau[v] += force;
+            }
+        }
+        for pm in &self.point_masses {
+            let w = &mut ws.links[pm.link];
+            let r = w.pos + w.rot.tr_mul(&pm.com);
+            let f_world = (point_gravity(self.world.mu, &r) - self.uniform_gravity) * pm.mass;
+            let f = w.rot * f_world;
+            w.pa -= Force::new(pm.com.cross(&f), f);
+        }
+    }
+
+    /// Pass 2: articulated inertias and bias forces from the leaves inwards.
+    fn articulated_inertias(&self, ws: &mut Workspace) -> Result<(), DynamicsError> {
+        for k in (1..self.links.len()).rev() {
+            let link = &self.links[k];
+            let nv = link.joint.nv();
+            let w = ws.links[k];
+            let (mut ia, mut pa);
+            if nv == 1 {
+                let u_force = w.ia.apply(&w.s);
+                let d = w.s.dot(&u_force);
+                if !(d > 0.0) {
+                    return Err(DynamicsError::SingularInertia { link: k });
+                }
+                let d_inv = 1.0 / d;
+                let uu = ws.tau[link.v_offset] - w.s.dot(&w.pa);
+                let wk = &mut ws.links[k];
+                wk.u_force = u_force;
+                wk.d_inv = d_inv;
+                wk.u = uu;
+                if link.parent == GROUND {
+                    continue;
+                }
+                ia = w.ia;
+                ia.sub_outer(&u_force, d_inv);
+                pa = w.pa + ia.apply(&w.c) + u_force * (uu * d_inv);
+            } else {
+                let m = &mut ws.multi[ws.multi_index[k]];
+                let mut d = nalgebra::Matrix6::<f64>::identity();
+                for i in 0..nv {
+                    m.u_force[i] = w.ia.apply(&m.s[i]);
+                    m.u[i] = ws.tau[link.v_offset + i] - m.s[i].dot(&w.pa);
+                }
+                for i in 0..nv {
+                    for j in 0..nv {
+                        d[(i, j)] = m.s[i].dot(&m.u_force[j]);
+                    }
+                }
+                m.d_inv = d.cholesky().ok_or(DynamicsError::SingularInertia { link: k })?.inverse();
+                if link.parent == GROUND {
+                    continue;
+                }
+                ia = w.ia;
+                pa = w.pa;
+                let dinv_u = m.d_inv * m.u;
+                for j in 0..nv {
+                    let mut wj = Force::ZERO;
+                    for i in 0..nv {
+                        wj += m.u_force[i] * m.d_inv[(i, j)];
+                    }
+                    ia.sub_product(&wj, &m.u_force[j]);
+                    pa += m.u_force[j] * dinv_u[j];
+                }
+                pa += ia.apply(&w.c);
+            }
+            let parent = link.parent;
+            let (ia_p, pa_p) = (ia.expressed_in_parent(&w.x_up), w.x_up.inv_apply_force(&pa));
+            ws.links[parent].ia += ia_p;
+            ws.links[parent].pa += pa_p;
+        }
+        Ok(())
+    }
+
+    /// Pass 3: accelerations from the ground outwards.
+    fn accelerations(&self, ws: &mut Workspace, ud: &mut [f64]) {
+        ws.links[GROUND].a = Motion::new(Vec3::zeros(), -self.uniform_gravity);
+        for k in 1..self.links.len() {
+            let link = &self.links[k];
+            let nv = link.joint.nv();
+            let w = ws.links[k];
+            let a_in = w.x_up.apply_motion(&ws.links[link.parent].a) + w.c;
+            let a = if nv == 1 {
+                let qdd = w.d_inv * (w.u - a_in.dot(&w.u_force));
+                ud[link.v_offset] = qdd;
+                a_in + w.s * qdd
+            } else {
+                let m = &ws.multi[ws.multi_index[k]];
+                let mut rhs = nalgebra::Vector6::<f64>::zeros();
+                for i in 0..nv {
+                    rhs[i] = m.u[i] - a_in.dot(&m.u_force[i]);
+                }
+                let qdd = m.d_inv * rhs;
+                let mut a = a_in;
+                for i in 0..nv {
+                    ud[link.v_offset + i] = qdd[i];
+                    a += m.s[i] * qdd[i];
+                }
+                a
+            };
+            ws.links[k].a = a;
+        }
+    }
+}
+
+#[inline]
+fn flange_motion(f: FlangeRef, q: &[f64], u: &[f64]) -> (f64, f64) {
+    match f {
+        FlangeRef::Fixed => (0.0, 0.0),
+        FlangeRef::Coordinate { q: iq, v } => (q[iq], u[v]),
+    }
+}

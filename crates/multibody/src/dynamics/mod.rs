@@ -1,0 +1,133 @@
+//! Dynamics over a compiled [`Mechanism`] and a mutable [`Workspace`]:
+//! the articulated-body algorithm for the right-hand side of the ODE
+//! (`aba`), and the outputs (cut forces by a recursive Newton-Euler pass
+//! over the frames, and every component's variables) on an output grid
+//! (`outputs`).
+
+mod aba;
+pub mod joint;
+pub(crate) mod outputs;
+
+use crate::math::{ArticulatedInertia, Force, Mat3, Motion, Transform, Vec3};
+use crate::Mechanism;
+use nalgebra::{Matrix6, Vector6};
+
+/// Why the dynamics could not be evaluated at a state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DynamicsError {
+    /// The Euler angles of a free link reached their singular configuration.
+    EulerSingularity { link: usize },
+    /// The articulated inertia seen by a joint is not positive definite.
+    SingularInertia { link: usize },
+    /// A value became infinite or NaN.
+    NotFinite,
+}
+
+/// Scratch memory of the dynamics for one mechanism: everything the
+/// algorithms write, allocated once.
+#[derive(Clone, Debug)]
+pub struct Workspace {
+    pub(crate) links: Vec<LinkWork>,
+    /// For links whose joint has more than one degree of freedom.
+    pub(crate) multi: Vec<MultiWork>,
+    /// Per link, its index in `multi` (unused for 1-DOF joints).
+    pub(crate) multi_index: Vec<usize>,
+    /// Generalised forces of the 1-D elements, one per velocity coordinate.
+    pub(crate) tau: Vec<f64>,
+}
+
+/// What the articulated-body algorithm keeps per link.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct LinkWork {
+    /// Parent link frame to this link frame.
+    pub x_up: Transform,
+    /// Spatial velocity and acceleration, link coordinates.
+    pub v: Motion,
+    pub a: Motion,
+    /// Velocity-product acceleration.
+    pub c: Motion,
+    pub ia: ArticulatedInertia,
+    pub pa: Force,
+    /// Motion subspace of a 1-DOF joint, and `U = IA S`, `1/D`, `u`.
+    pub s: Motion,
+    pub u_force: Force,
+    pub d_inv: f64,
+    pub u: f64,
+    /// World to link rotation, and the link origin in the world.
+    pub rot: Mat3,
+    pub pos: Vec3,
+}
+
+/// The same for a joint with several degrees of freedom.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct MultiWork {
+    pub s: [Motion; 6],
+    pub u_force: [Force; 6],
+    pub d_inv: Matrix6<f64>,
+    pub u: Vector6<f64>,
+}
+
+impl Workspace {
+    pub fn new(mechanism: &Mechanism) -> Self {
+        let n = mechanism.links.len();
+        let mut multi_index = vec![usize::MAX; n];
+        let mut multi = Vec::new();
+        for (k, link) in mechanism.links.iter().enumerate().skip(1) {
+            if link.joint.nv() > 1 {
+                multi_index[k] = multi.len();
+                multi.push(MultiWork::default());
+            }
+        }
+        let ground = LinkWork { rot: Mat3::identity(), ..LinkWork::default() };
+        Self { links: vec![ground; n], multi, multi_index, tau: vec![0.0; mechanism.states.nv] }
+    }
+}
+
+impl Mechanism {
+    /// A workspace for evaluating this mechanism's dynamics.
+    pub fn workspace(&self) -> Workspace {
+        Workspace::new(self)
+    }
+
+    /// The right-hand side of the ODE: `dy = f(t, y)` with
+    /// `y = [q, u]`. Allocates nothing.
+    pub fn rhs(&self, ws: &mut Workspace, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
+        let nq = self.states.nq;
+        let (q, u) = y.split_at(nq);
+        let (qd, ud) = dy.split_at_mut(nq);
+        for link in &self.links[1..] {
+            let (qo, vo) = (link.q_offset, link.v_offset);
+            link.joint.qdot(
+                &q[qo..qo + link.joint.nq()],
+                &u[vo..vo + link.joint.nv()],
+                &mut qd[qo..qo + link.joint.nq()],
+            );
+        }
+        self.forward_dynamics(ws, t, q, u, ud)
+    }
+
+    /// Explains a dynamics error in the model's terms.
+    pub fn describe(&self, error: &DynamicsError) -> String {
+        let name = |link: usize| self.components[self.links[link].source.0].name.clone();
+        match *error {
+            DynamicsError::EulerSingularity { link } => {
+                let seq = match self.links[link].joint {
+                    joint::JointModel::Free(joint::RotationCoordinates::Euler { sequence }) => sequence,
+                    _ => [1, 2, 3],
+                };
+                format!(
+                    "the Euler angles of `{}` (sequence {:?}) reached their singular configuration, where the first and \
+                     third axes line up. Use orientation_state = Quaternion for this body, or an Euler sequence whose \
+                     singularity the motion does not reach",
+                    name(link),
+                    seq
+                )
+            }
+            DynamicsError::SingularInertia { link } => format!(
+                "the inertia moved by `{}` became singular: a degree of freedom lost all inertia behind it",
+                name(link)
+            ),
+            DynamicsError::NotFinite => "a value became infinite or NaN (the motion blew up)".into(),
+        }
+    }
+}

@@ -1,0 +1,215 @@
+//! Output variables at one time: the motion of every frame, the cut force at
+//! every connector (a recursive Newton-Euler pass over the flow tree), and
+//! every component's own variables.
+
+use super::{DynamicsError, Workspace};
+use crate::components::{ConnectorType, Element1DState, EvalContext, FrameState, JointState, Part};
+use crate::math::{Motion, Vec3};
+use crate::mechanism::{FlangeRef, GROUND};
+use crate::Mechanism;
+
+/// The name, unit and description of one scalar output signal.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Signal {
+    pub name: String,
+    pub unit: &'static str,
+}
+
+/// Reusable buffers for evaluating outputs.
+#[derive(Debug, Default)]
+pub(crate) struct OutputScratch {
+    frames: Vec<FrameState>,
+    node_wrench: Vec<(Vec3, Vec3)>,
+    flows: Vec<(Vec3, Vec3)>,
+    dy: Vec<f64>,
+}
+
+const FRAME_SIGNALS: [(&str, usize, &str); 4] = [("r_0", 3, "m"), ("R", 9, ""), ("f", 3, "N"), ("tau", 3, "N.m")];
+
+impl Mechanism {
+    /// Every output signal, in the order of [`Mechanism::outputs_into`]:
+    /// per component, its variables, then `r_0`, `R`, `f` and `tau` of each
+    /// of its frame connectors.
+    pub fn signals(&self) -> Vec<Signal> {
+        let mut out = Vec::new();
+        for c in &self.components {
+            for v in &c.variables {
+                for suffix in v.shape.suffixes() {
+                    out.push(Signal { name: format!("{}.{}{}", c.name, v.name, suffix), unit: v.unit });
+                }
+            }
+            for conn in c.spec.connectors.iter().filter(|k| k.ty == ConnectorType::Frame) {
+                for (name, size, unit) in FRAME_SIGNALS {
+                    let shape = if size == 9 {
+                        crate::components::Shape::Matrix(3, 3)
+                    } else {
+                        crate::components::Shape::Vector(3)
+                    };
+                    for suffix in shape.suffixes() {
+                        out.push(Signal { name: format!("{}.{}.{}{}", c.name, conn.name, name, suffix), unit });
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// Evaluates every output signal at `(t, y)` into `row` (cleared first).
+    pub(crate) fn outputs_into(
+        &self,
+        ws: &mut Workspace,
+        scratch: &mut OutputScratch,
+        t: f64,
+        y: &[f64],
+        row: &mut Vec<f64>,
+    ) -> Result<(), DynamicsError> {
+        let (nq, nv) = (self.states.nq, self.states.nv);
+        scratch.dy.resize(nq + nv, 0.0);
+        self.rhs(ws, t, y, &mut scratch.dy)?;
+        // True link accelerations: the ABA ran in a frame falling with gravity.
+        for w in ws.links.iter_mut() {
+            w.a += Motion::new(Vec3::zeros(), w.rot * self.uniform_gravity);
+        }
+        self.frame_states(ws, scratch);
+        self.cut_forces(scratch);
+        let (q, u) = y.split_at(nq);
+        let (qd, ud) = scratch.dy.split_at(nq);
+
+        row.clear();
+        let mut joints: Vec<JointState> = Vec::new();
+        let mut elements: Vec<Element1DState> = Vec::new();
+        for c in &self.components {
+            joints.clear();
+            for &k in &c.joint_links {
+                let l = &self.links[k];
+                let (qr, vr) = (l.q_offset..l.q_offset + l.joint.nq(), l.v_offset..l.v_offset + l.joint.nv());
+                joints.push(JointState {
+                    q: &q[qr.clone()],
+                    u: &u[vr.clone()],
+                    qdot: &qd[qr],
+                    udot: &ud[vr.clone()],
+                    tau: &ws.tau[vr],
+                });
+            }
+            elements.clear();
+            for &e in &c.elements {
+                let el = &self.axis_elements[e];
+                let at = |f: FlangeRef| match f {
+                    FlangeRef::Fixed => (0.0, 0.0, 0.0),
+                    FlangeRef::Coordinate { q: iq, v } => (q[iq], u[v], ud[v]),
+                };
+                let (a, b) = (at(el.a), at(el.b));
+                let s_rel = b.0 - a.0;
+                let v_rel = b.1 - a.1;
+                elements.push(Element1DState { s_rel, v_rel, a_rel: b.2 - a.2, force: el.law.force(s_rel, v_rel) });
+            }
+            let frames = &scratch.frames[c.first_connector..c.first_connector + c.spec.connectors.len()];
+            let ctx = EvalContext { time: t, world: &self.world, frames, joints: &joints, elements: &elements };
+            let before = row.len();
+            c.component.evaluate(&ctx, row);
+            debug_assert_eq!(
+                row.len() - before,
+                c.variables.iter().map(|v| v.shape.len()).sum::<usize>(),
+                "{} pushed the wrong number of values",
+                c.name
+            );
+            for (local, conn) in c.spec.connectors.iter().enumerate() {
+                if conn.ty == ConnectorType::Frame {
+                    let f = &frames[local];
+                    row.extend_from_slice(f.r_0.as_slice());
+                    row.extend(f.rot.transpose().iter()); // row-major R[i,j]
+                    row.extend_from_slice(f.f.as_slice());
+                    row.extend_from_slice(f.tau.as_slice());
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Motion of every frame connector (from its node); flows are zeroed.
+    fn frame_states(&self, ws: &Workspace, scratch: &mut OutputScratch) {
+        scratch.frames.clear();
+        scratch.frames.resize(self.connectors.len(), FrameState::default());
+        for node in &self.nodes {
+            let lw = &ws.links[node.link];
+            let (v_link, a_link) = if node.link == GROUND { (Motion::ZERO, Motion::ZERO) } else { (lw.v, lw.a) };
+            let x = &node.pose;
+            let rot = x.rot * lw.rot;
+            let v = x.apply_motion(&v_link);
+            let a = x.apply_motion(&a_link);
+            let state = FrameState {
+                r_0: lw.pos + lw.rot.tr_mul(&x.trans),
+                rot,
+                v_0: rot.tr_mul(&v.lin),
+                w: v.ang,
+                a_0: rot.tr_mul(&(a.lin + v.ang.cross(&v.lin))),
+                z: a.ang,
+                f: Vec3::zeros(),
+                tau: Vec3::zeros(),
+            };
+            for &c in &node.connectors {
+                scratch.frames[c] = state;
+            }
+        }
+    }
+
+    /// Cut forces: loads at each node (masses), summed from the leaves of
+    /// the flow tree towards the ground. Each transmitting part carries the
+    /// sum of the loads beyond it.
+    fn cut_forces(&self, scratch: &mut OutputScratch) {
+        let n = self.nodes.len();
+        scratch.node_wrench.clear();
+        scratch.node_wrench.resize(n, (Vec3::zeros(), Vec3::zeros()));
+        scratch.flows.clear();
+        scratch.flows.resize(self.connectors.len(), (Vec3::zeros(), Vec3::zeros()));
+
+        // Loads: each mass needs the force that moves it against gravity.
+        for c in &self.components {
+            for part in &c.parts {
+                if let Part::Mass { frame, inertia, point_gravity } = part {
+                    let id = c.first_connector + frame;
+                    let fs = &scratch.frames[id];
+                    let r_cm = inertia.com();
+                    let i_cm = inertia.inertia_com();
+                    let g_0 = self.world.gravity(&(fs.r_0 + fs.rot.tr_mul(&r_cm)), *point_gravity);
+                    let f =
+                        (fs.rot * (fs.a_0 - g_0) + fs.z.cross(&r_cm) + fs.w.cross(&fs.w.cross(&r_cm))) * inertia.mass;
+                    let tau = i_cm * fs.z + fs.w.cross(&(i_cm * fs.w)) + r_cm.cross(&f);
+                    scratch.flows[id].0 += f;
+                    scratch.flows[id].1 += tau;
+                    let node = self.connectors[id].node;
+                    scratch.node_wrench[node].0 += fs.rot.tr_mul(&f);
+                    scratch.node_wrench[node].1 += fs.rot.tr_mul(&tau);
+                }
+            }
+        }
+
+        let node_state = |node: usize, frames: &[FrameState]| frames[self.nodes[node].connectors[0]];
+        for &node in self.flow_tree.order.iter().rev() {
+            let Some(edge) = self.flow_tree.parent[node] else { continue };
+            let (force, moment) = scratch.node_wrench[node];
+            let here = node_state(node, &scratch.frames);
+            if let Some(c) = edge.child_connector {
+                scratch.flows[c].0 -= here.rot * force;
+                scratch.flows[c].1 -= here.rot * moment;
+            }
+            if let Some(p) = edge.parent_node {
+                if edge.child_connector.is_none() {
+                    continue;
+                }
+                let there = node_state(p, &scratch.frames);
+                let shifted = moment + (here.r_0 - there.r_0).cross(&force);
+                scratch.node_wrench[p].0 += force;
+                scratch.node_wrench[p].1 += shifted;
+                if let Some(c) = edge.parent_connector {
+                    scratch.flows[c].0 += there.rot * force;
+                    scratch.flows[c].1 += there.rot * shifted;
+                }
+            }
+        }
+        for (frame, flow) in scratch.frames.iter_mut().zip(&scratch.flows) {
+            frame.f = flow.0;
+            frame.tau = flow.1;
+        }
+    }
+}

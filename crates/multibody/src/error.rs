@@ -1,0 +1,228 @@
+//! Errors of model validation and assembly. Each says what is wrong, names
+//! the components involved (so that a front end can point at their
+//! declarations) and says what to do.
+
+use std::fmt::Write;
+
+/// Why a model could not be validated or assembled.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum Error {
+    #[error("`{component}` is of unknown kind `{kind}`.{}", suggest(suggestions, "kind"))]
+    UnknownKind { component: String, kind: String, suggestions: Vec<String> },
+
+    #[error("two components are named `{name}`; give each component its own name")]
+    DuplicateName { name: String },
+
+    #[error("{kind} has no parameter `{param}` (in `{component}`).{}\nIts parameters are: {}", suggest(suggestions, "parameter"), valid.join(", "))]
+    UnknownParameter { component: String, kind: String, param: String, suggestions: Vec<String>, valid: Vec<String> },
+
+    #[error("{kind} has no variable `{variable}` that takes a start value (in `{component}`).{}\nVariables with start values: {}", suggest(suggestions, "variable"), if valid.is_empty() { "none".to_string() } else { valid.join(", ") })]
+    UnknownVariable { component: String, kind: String, variable: String, suggestions: Vec<String>, valid: Vec<String> },
+
+    #[error("{kind} `{component}` needs a value for `{param}` ({doc}); it has no default")]
+    MissingParameter { component: String, kind: String, param: String, doc: String },
+
+    #[error("`{component}.{name}` needs {expected} numbers, but {got} were given")]
+    WrongSize { component: String, name: String, expected: usize, got: usize },
+
+    #[error("`{component}.{name}` must be {expected}, but {got} was given")]
+    WrongType { component: String, name: String, expected: String, got: String },
+
+    #[error("`{component}.{name}` = {value} is not allowed: {reason}")]
+    InvalidValue { component: String, name: String, value: String, reason: String },
+
+    #[error("`{reference}` in a connection names no component.{}", suggest(suggestions, "component"))]
+    UnknownComponent { reference: String, suggestions: Vec<String> },
+
+    #[error("{kind} has no connector `{connector}` (in `{component}`).{}\nIts connectors are: {}", suggest(suggestions, "connector"), valid.join(", "))]
+    UnknownConnector {
+        component: String,
+        kind: String,
+        connector: String,
+        suggestions: Vec<String>,
+        valid: Vec<String>,
+    },
+
+    #[error("`{connector}` exists only when {condition}; set it on `{component}` to use this connector")]
+    ConnectorUnavailable { component: String, connector: String, condition: String },
+
+    #[error("`{a}` ({a_type}) cannot be connected to `{b}` ({b_type}): only connectors of the same type connect")]
+    IncompatibleConnectors { a: String, a_type: String, b: String, b_type: String },
+
+    #[error("a connection needs at least two connectors, `{0}` is alone")]
+    LonelyConnection(String),
+
+    #[error("the model has no World; add one component of kind World (every mechanism is positioned relative to it)")]
+    NoWorld,
+
+    #[error("the model has {} Worlds ({}); keep exactly one", names.len(), names.join(", "))]
+    SeveralWorlds { names: Vec<String> },
+
+    #[error("nothing owns the orientation of the assembly of {}: it is not connected to the World and has no Body with an orientation state.\nTo fix it, either connect it to the World (through joints or fixed parts), or set `orientation_state = Quaternion` (or `Euler`) on one of its Bodies.", list(components))]
+    NoOrientationOwner { components: Vec<String> },
+
+    #[error("the assembly of {} has two owners of its orientation, `{first}` and `{second}`; keep exactly one (set the other's `orientation_state` to None, or `isroot = false`)", list(group))]
+    TwoOwners { first: String, second: String, group: Vec<String> },
+
+    #[error("`{component}` has `isroot = true` but is connected (to {}); a root PointMass must be unconnected. Set `isroot = false`: its orientation then comes from what it is connected to", list(connected_to))]
+    ConnectedRootPointMass { component: String, connected_to: Vec<String> },
+
+    #[error("`{component}` has an orientation state, but joints from the World already position it (through {}); set its `orientation_state` to None", list(through))]
+    OwnerPositionedByJoints { component: String, through: Vec<String> },
+
+    #[error("the {dof} of `{joint}` has no inertia behind it: what it moves ({}) has no mass or inertia for this motion. Give a body there mass and inertia, or move the mass off the joint axis", list(moved))]
+    NoInertia { joint: String, dof: String, moved: Vec<String> },
+
+    #[error("`{component}.{variable}` is not a state here: {reason}")]
+    NotAState { component: String, variable: String, reason: String },
+
+    #[error("`{component}`: {what} is not supported yet")]
+    Unsupported { component: String, what: String },
+
+    #[error("the 1-D connector `{connector}` is not attached to a joint axis or support; connect it to a joint declared with `axisflange = true`")]
+    FloatingFlange { connector: String },
+
+    #[error("the parts {} are joined rigidly in two ways that disagree (a closed chain of fixed parts that does not close); remove one of the connections", list(components))]
+    InconsistentRigidLoop { components: Vec<String> },
+}
+
+impl Error {
+    /// The components this error is about, first the one to point at.
+    pub fn components(&self) -> Vec<&str> {
+        use Error::*;
+        match self {
+            UnknownKind { component, .. }
+            | MissingParameter { component, .. }
+            | UnknownParameter { component, .. }
+            | UnknownVariable { component, .. }
+            | WrongSize { component, .. }
+            | WrongType { component, .. }
+            | InvalidValue { component, .. }
+            | UnknownConnector { component, .. }
+            | ConnectorUnavailable { component, .. }
+            | ConnectedRootPointMass { component, .. }
+            | OwnerPositionedByJoints { component, .. }
+            | NotAState { component, .. }
+            | Unsupported { component, .. } => vec![component],
+            DuplicateName { name } => vec![name],
+            NoOrientationOwner { components } | InconsistentRigidLoop { components } => {
+                components.iter().map(String::as_str).collect()
+            }
+            TwoOwners { first, second, .. } => vec![first, second],
+            NoInertia { joint, moved, .. } => {
+                std::iter::once(joint.as_str()).chain(moved.iter().map(String::as_str)).collect()
+            }
+            IncompatibleConnectors { a, b, .. } => vec![component_of(a), component_of(b)],
+            UnknownComponent { reference, .. } => vec![component_of(reference)],
+            LonelyConnection(c) | FloatingFlange { connector: c } => vec![component_of(c)],
+            NoWorld | SeveralWorlds { .. } => vec![],
+        }
+    }
+
+    /// The parameter or variable this error is about, if any.
+    pub fn member(&self) -> Option<&str> {
+        use Error::*;
+        match self {
+            UnknownParameter { param, .. } | MissingParameter { param, .. } => Some(param),
+            UnknownVariable { variable, .. } | NotAState { variable, .. } => Some(variable),
+            WrongSize { name, .. } | WrongType { name, .. } | InvalidValue { name, .. } => Some(name),
+            UnknownConnector { connector, .. } | ConnectorUnavailable { connector, .. } => Some(connector),
+            _ => None,
+        }
+    }
+}
+
+fn component_of(reference: &str) -> &str {
+    reference.split('.').next().unwrap_or(reference)
+}
+
+fn list(names: &[String]) -> String {
+    let quoted: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
+    match quoted.len() {
+        0 => "no components".into(),
+        1 => quoted[0].clone(),
+        n if n <= 8 => format!("{} and {}", quoted[..n - 1].join(", "), quoted[n - 1]),
+        n => format!("{} and {} more", quoted[..6].join(", "), n - 6),
+    }
+}
+
+fn suggest(suggestions: &[String], what: &str) -> String {
+    let mut s = String::new();
+    match suggestions {
+        [] => {}
+        [one] => {
+            let _ = write!(s, " Did you mean `{one}`?");
+        }
+        many => {
+            let _ = write!(s, " Did you mean one of these {what}s: {}?", list(many));
+        }
+    }
+    s
+}
+
+/// The names closest to `wanted` among `candidates` (by edit distance, and
+/// ignoring case), best first.
+pub fn closest<'a>(wanted: &str, candidates: impl IntoIterator<Item = &'a str>) -> Vec<String> {
+    let wanted_lower = wanted.to_lowercase();
+    let mut scored: Vec<(usize, &str)> = candidates
+        .into_iter()
+        .map(|c| {
+            let lower = c.to_lowercase();
+            let d = if lower == wanted_lower { 0 } else { edit_distance(&wanted_lower, &lower) };
+            (d, c)
+        })
+        .collect();
+    scored.sort();
+    let limit = (wanted.chars().count() / 3).clamp(1, 3);
+    let best: Vec<String> = scored.iter().filter(|(d, _)| *d <= limit).take(3).map(|(_, c)| c.to_string()).collect();
+    if best.is_empty() {
+        // A prefix or suffix match helps with `Components.`-style prefixes.
+        scored
+            .iter()
+            .filter(|(_, c)| {
+                let c = c.to_lowercase();
+                c.ends_with(&wanted_lower) || wanted_lower.ends_with(&c)
+            })
+            .take(3)
+            .map(|(_, c)| c.to_string())
+            .collect()
+    } else {
+        best
+    }
+}
+
+/// Optimal-string-alignment distance: insertions, deletions, substitutions
+/// and swaps of neighbours each count one.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let a: Vec<char> = a.chars().collect();
+    let b: Vec<char> = b.chars().collect();
+    let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
+    for (i, row) in d.iter_mut().enumerate() {
+        row[0] = i;
+    }
+    for j in 0..=b.len() {
+        d[0][j] = j;
+    }
+    for i in 1..=a.len() {
+        for j in 1..=b.len() {
+            let cost = usize::from(a[i - 1] != b[j - 1]);
+            d[i][j] = (d[i - 1][j] + 1).min(d[i][j - 1] + 1).min(d[i - 1][j - 1] + cost);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                d[i][j] = d[i][j].min(d[i - 2][j - 2] + 1);
+            }
+        }
+    }
+    d[a.len()][b.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn suggestions_find_typos() {
+        assert_eq!(closest("r_mc", ["r_cm", "m", "I_11"]), vec!["r_cm"]);
+        assert_eq!(closest("Revolut", ["Revolute", "Prismatic"]), vec!["Revolute"]);
+        assert!(closest("zzzz", ["Revolute", "Prismatic"]).is_empty());
+    }
+}

@@ -1,0 +1,197 @@
+//! The compiled mechanism: what assembly makes of a model, immutable and
+//! laid out for the dynamics. Mutable per-evaluation data lives in a
+//! [`Workspace`](crate::dynamics::Workspace).
+
+use crate::components::{Component, ComponentSpec, Law1D, Part, VarSpec, WorldSettings};
+use crate::dynamics::joint::JointModel;
+use crate::math::{RigidInertia, Transform, Vec3};
+
+/// Index of the ground (the world) among the links.
+pub const GROUND: usize = 0;
+
+/// A model compiled for simulation.
+#[derive(Debug)]
+pub struct Mechanism {
+    pub(crate) name: String,
+    pub(crate) world: WorldSettings,
+    pub(crate) components: Vec<CompiledComponent>,
+    /// Every connector of every component; components own consecutive runs.
+    pub(crate) connectors: Vec<ConnectorInfo>,
+    /// Frame nodes: sets of connected frame connectors.
+    pub(crate) nodes: Vec<FrameNode>,
+    /// Link 0 is the ground; the others are in topological order (a parent
+    /// comes before its children).
+    pub(crate) links: Vec<Link>,
+    /// 1-D force elements acting on joint coordinates.
+    pub(crate) axis_elements: Vec<AxisElement>,
+    /// Masses that feel point gravity (or any field other than `uniform_gravity`).
+    pub(crate) point_masses: Vec<PointGravityMass>,
+    /// The uniform gravity every mass feels, handled as an acceleration of the ground.
+    pub(crate) uniform_gravity: Vec3,
+    pub(crate) states: StateLayout,
+    pub(crate) flow_tree: FlowTree,
+    pub(crate) warnings: Vec<String>,
+}
+
+/// One component, built, with where its pieces went.
+#[derive(Debug)]
+pub(crate) struct CompiledComponent {
+    pub name: String,
+    pub spec: &'static ComponentSpec,
+    pub component: Box<dyn Component>,
+    pub parts: Vec<Part>,
+    /// Global number of its connector 0.
+    pub first_connector: usize,
+    /// For each `Joint`/`Owner` part, in order: the link it moves.
+    pub joint_links: Vec<usize>,
+    /// For each `Element1D` part, in order: its index in `axis_elements`.
+    pub elements: Vec<usize>,
+    /// Its variables (besides frame signals), as it reports them.
+    pub variables: Vec<VarSpec>,
+}
+
+#[derive(Debug, Clone)]
+pub(crate) struct ConnectorInfo {
+    pub component: usize,
+    /// Frame node of a frame connector; `usize::MAX` otherwise.
+    pub node: usize,
+    /// Whether it appears in a connection.
+    pub connected: bool,
+}
+
+/// A set of connected frames, fixed in a link.
+#[derive(Debug, Clone)]
+pub(crate) struct FrameNode {
+    pub link: usize,
+    /// Link frame to node frame.
+    pub pose: Transform,
+    /// The connectors in this node.
+    pub connectors: Vec<usize>,
+}
+
+/// A rigid body of the tree (all frames rigidly joined) and the joint that
+/// moves it relative to its parent.
+#[derive(Debug, Clone)]
+pub(crate) struct Link {
+    pub parent: usize,
+    pub joint: JointModel,
+    /// Parent link frame to the joint's frame on the parent side.
+    pub x_tree: Transform,
+    /// Mass of everything fixed to the link, in the link frame (the joint's
+    /// child-side frame).
+    pub inertia: RigidInertia,
+    pub q_offset: usize,
+    pub v_offset: usize,
+    /// The component and part of the joint (or owner) that moves this link.
+    pub source: (usize, usize),
+    /// Whether the joint is traversed from its frame_b to its frame_a.
+    pub reversed: bool,
+}
+
+/// Where a 1-D flange sits: at the fixed support, or on a joint coordinate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum FlangeRef {
+    Fixed,
+    /// Velocity index (= position index for 1-DOF joints' coordinates) and
+    /// position index of the joint coordinate.
+    Coordinate {
+        q: usize,
+        v: usize,
+    },
+}
+
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct AxisElement {
+    pub a: FlangeRef,
+    pub b: FlangeRef,
+    pub law: Law1D,
+}
+
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PointGravityMass {
+    pub link: usize,
+    pub mass: f64,
+    /// Centre of mass in the link frame.
+    pub com: Vec3,
+}
+
+/// Names and start values of the states: positions first, then velocities.
+#[derive(Debug, Clone, Default)]
+pub struct StateLayout {
+    pub nq: usize,
+    pub nv: usize,
+    pub names: Vec<String>,
+    pub start: Vec<f64>,
+}
+
+/// How cut forces travel from the loads to the ground: a spanning tree over
+/// the frame nodes whose edges are the parts that transmit force.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct FlowTree {
+    /// Nodes in an order where each comes after its parent.
+    pub order: Vec<usize>,
+    /// For each node, the edge to its parent (None only for unreachable nodes).
+    pub parent: Vec<Option<FlowEdge>>,
+}
+
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct FlowEdge {
+    /// Parent node, or None for the ground.
+    pub parent_node: Option<usize>,
+    /// The transmitting part's connector at the parent node (None at the
+    /// ground, or for parts that report no flow, like orientation owners).
+    pub parent_connector: Option<usize>,
+    /// Its connector at the child node (None for parts that report no flow).
+    pub child_connector: Option<usize>,
+}
+
+impl Mechanism {
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Number of degrees of freedom (velocity coordinates).
+    pub fn degrees_of_freedom(&self) -> usize {
+        self.states.nv
+    }
+
+    /// The states, with their names and start values.
+    pub fn states(&self) -> &StateLayout {
+        &self.states
+    }
+
+    /// Warnings found while assembling (nothing that stops a simulation).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    pub fn world(&self) -> &WorldSettings {
+        &self.world
+    }
+
+    /// Number of moving links (rigid bodies of the tree).
+    pub fn link_count(&self) -> usize {
+        self.links.len() - 1
+    }
+
+    /// For each floating group, the component that owns its orientation
+    /// and the components moved with it: `(owner, kind of state)`.
+    pub fn orientation_owners(&self) -> Vec<(String, String)> {
+        self.links
+            .iter()
+            .skip(1)
+            .filter(|l| l.parent == GROUND && matches!(l.joint, JointModel::Free(_) | JointModel::Translation))
+            .map(|l| {
+                let c = &self.components[l.source.0];
+                let what = match l.joint {
+                    JointModel::Free(crate::dynamics::joint::RotationCoordinates::Quaternion { .. }) => {
+                        "quaternion Q_hat, w_a"
+                    }
+                    JointModel::Free(_) => "Euler angles phi, phid",
+                    _ => "position only, orientation fixed to the world",
+                };
+                (c.name.clone(), what.to_string())
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,237 @@
+//! The model: components, their parameter values and start values, and the
+//! connections between their connectors. Plain data; [`Model::assemble`]
+//! validates it and compiles it into a [`Mechanism`](crate::Mechanism).
+//!
+//! ```
+//! use multibody::Model;
+//! let mut model = Model::new("pendulum");
+//! model.add("world", "World");
+//! model.add("rev", "Revolute").set("n", [0.0, 0.0, 1.0]).initial("phi", 0.3);
+//! model.add("body", "Body").set("m", 1.0).set("r_cm", [0.5, 0.0, 0.0]);
+//! model.connect(["world.frame_b", "rev.frame_a"]);
+//! model.connect(["rev.frame_b", "body.frame_a"]);
+//! let mechanism = model.assemble().unwrap();
+//! assert_eq!(mechanism.degrees_of_freedom(), 1);
+//! ```
+
+use std::fmt;
+
+/// A parameter or start value.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Value {
+    Number(f64),
+    Bool(bool),
+    /// A vector of numbers, e.g. `r_cm = [0.5, 0, 0]`.
+    Array(Vec<f64>),
+    /// A rectangular array of numbers, given as rows.
+    Matrix(Vec<Vec<f64>>),
+    /// A variant of an enumeration, e.g. `Quaternion` of `OrientationState`.
+    Enum(String),
+}
+
+impl Value {
+    /// A short description of the kind of value, for messages.
+    pub fn describe(&self) -> String {
+        match self {
+            Value::Number(_) => "a number".into(),
+            Value::Bool(_) => "a boolean".into(),
+            Value::Array(v) => format!("an array of {} numbers", v.len()),
+            Value::Matrix(rows) => format!("a {}x{} array", rows.len(), rows.first().map_or(0, |r| r.len())),
+            Value::Enum(name) => format!("the enumeration value {name}"),
+        }
+    }
+}
+
+impl fmt::Display for Value {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fn list(f: &mut fmt::Formatter<'_>, v: &[f64]) -> fmt::Result {
+            write!(f, "[")?;
+            for (i, x) in v.iter().enumerate() {
+                if i > 0 {
+                    write!(f, ", ")?;
+                }
+                write!(f, "{x}")?;
+            }
+            write!(f, "]")
+        }
+        match self {
+            Value::Number(x) => write!(f, "{x}"),
+            Value::Bool(b) => write!(f, "{b}"),
+            Value::Array(v) => list(f, v),
+            Value::Matrix(rows) => {
+                write!(f, "[")?;
+                for (i, r) in rows.iter().enumerate() {
+                    if i > 0 {
+                        write!(f, ", ")?;
+                    }
+                    list(f, r)?;
+                }
+                write!(f, "]")
+            }
+            Value::Enum(name) => write!(f, "{name}"),
+        }
+    }
+}
+
+impl From<f64> for Value {
+    fn from(x: f64) -> Self {
+        Value::Number(x)
+    }
+}
+impl From<i32> for Value {
+    fn from(x: i32) -> Self {
+        Value::Number(x as f64)
+    }
+}
+impl From<bool> for Value {
+    fn from(b: bool) -> Self {
+        Value::Bool(b)
+    }
+}
+impl<const N: usize> From<[f64; N]> for Value {
+    fn from(v: [f64; N]) -> Self {
+        Value::Array(v.to_vec())
+    }
+}
+impl<const N: usize> From<[i32; N]> for Value {
+    fn from(v: [i32; N]) -> Self {
+        Value::Array(v.iter().map(|&x| x as f64).collect())
+    }
+}
+impl From<Vec<f64>> for Value {
+    fn from(v: Vec<f64>) -> Self {
+        Value::Array(v)
+    }
+}
+impl From<&[f64]> for Value {
+    fn from(v: &[f64]) -> Self {
+        Value::Array(v.to_vec())
+    }
+}
+impl From<crate::math::Vec3> for Value {
+    fn from(v: crate::math::Vec3) -> Self {
+        Value::Array(v.iter().copied().collect())
+    }
+}
+
+/// How a rigid body's orientation is carried when it owns it (the library's
+/// `OrientationState`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OrientationState {
+    /// The orientation comes from what the component is connected to.
+    None,
+    /// Euler angles `phi` and their rates `phid` are states.
+    Euler,
+    /// A non-unit quaternion `Q_hat` and the angular velocity `w_a` are states.
+    Quaternion,
+}
+
+impl OrientationState {
+    pub const VARIANTS: &'static [&'static str] = &["None", "Euler", "Quaternion"];
+}
+
+impl From<OrientationState> for Value {
+    fn from(o: OrientationState) -> Self {
+        Value::Enum(format!("{o:?}"))
+    }
+}
+
+/// One component of a model: its name, its kind (a name from the
+/// registry, see [`crate::components::registry`]), the parameters it sets
+/// and the start values of its variables.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ComponentInstance {
+    pub name: String,
+    pub kind: String,
+    pub params: Vec<(String, Value)>,
+    /// Start values that must hold (`phi(initial = 0.3)`).
+    pub initial: Vec<(String, Value)>,
+    /// Start values that are only guesses for a solver (`s(guess = -0.2)`).
+    pub guess: Vec<(String, Value)>,
+}
+
+impl ComponentInstance {
+    /// Sets a parameter, replacing an earlier value of the same name.
+    pub fn set(&mut self, param: &str, value: impl Into<Value>) -> &mut Self {
+        upsert(&mut self.params, param, value.into());
+        self
+    }
+
+    /// Sets the start value of a variable (a state of the component).
+    pub fn initial(&mut self, variable: &str, value: impl Into<Value>) -> &mut Self {
+        upsert(&mut self.initial, variable, value.into());
+        self
+    }
+
+    /// Gives a guess for a variable, used where start values are solved for.
+    pub fn guess(&mut self, variable: &str, value: impl Into<Value>) -> &mut Self {
+        upsert(&mut self.guess, variable, value.into());
+        self
+    }
+
+    pub fn param(&self, name: &str) -> Option<&Value> {
+        self.params.iter().find(|(n, _)| n == name).map(|(_, v)| v)
+    }
+}
+
+fn upsert(list: &mut Vec<(String, Value)>, name: &str, value: Value) {
+    match list.iter_mut().find(|(n, _)| n == name) {
+        Some(entry) => entry.1 = value,
+        None => list.push((name.to_string(), value)),
+    }
+}
+
+/// A connection joining two or more connectors, each written
+/// `component.connector`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Connection {
+    pub ends: Vec<String>,
+}
+
+/// A model: components and the connections between them.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Model {
+    pub name: String,
+    pub components: Vec<ComponentInstance>,
+    pub connections: Vec<Connection>,
+}
+
+impl Model {
+    pub fn new(name: impl Into<String>) -> Self {
+        Self { name: name.into(), ..Self::default() }
+    }
+
+    /// Adds a component of `kind` (e.g. `"Body"`) named `name`, and returns it
+    /// for setting parameters. Names and kinds are checked by
+    /// [`Model::assemble`], which suggests the closest valid name.
+    pub fn add(&mut self, name: impl Into<String>, kind: impl Into<String>) -> &mut ComponentInstance {
+        self.components.push(ComponentInstance {
+            name: name.into(),
+            kind: kind.into(),
+            params: Vec::new(),
+            initial: Vec::new(),
+            guess: Vec::new(),
+        });
+        self.components.last_mut().expect("just pushed")
+    }
+
+    /// The component named `name`, to change it after it was added.
+    pub fn component_mut(&mut self, name: &str) -> Option<&mut ComponentInstance> {
+        self.components.iter_mut().find(|c| c.name == name)
+    }
+
+    pub fn component(&self, name: &str) -> Option<&ComponentInstance> {
+        self.components.iter().find(|c| c.name == name)
+    }
+
+    /// Connects connectors, each written `component.connector`.
+    pub fn connect<S: Into<String>>(&mut self, ends: impl IntoIterator<Item = S>) -> &mut Self {
+        self.connections.push(Connection { ends: ends.into_iter().map(Into::into).collect() });
+        self
+    }
+
+    /// Validates the model and compiles it into a mechanism.
+    pub fn assemble(&self) -> Result<crate::Mechanism, crate::Error> {
+        crate::assembly::assemble(self)
+    }
+}

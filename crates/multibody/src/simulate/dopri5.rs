@@ -1,0 +1,336 @@
+//! Dormand-Prince 5(4) with Hairer's step-size control (dopri5, PI control
+//! with beta = 0.04) and 4th-order dense output (CONTD5).
+
+use super::integrator::{DenseStep, Failure, OdeSystem, Stats, Stopped, Tolerances};
+
+const C2: f64 = 1.0 / 5.0;
+const C3: f64 = 3.0 / 10.0;
+const C4: f64 = 4.0 / 5.0;
+const C5: f64 = 8.0 / 9.0;
+const A21: f64 = 1.0 / 5.0;
+const A31: f64 = 3.0 / 40.0;
+const A32: f64 = 9.0 / 40.0;
+const A41: f64 = 44.0 / 45.0;
+const A42: f64 = -56.0 / 15.0;
+const A43: f64 = 32.0 / 9.0;
+const A51: f64 = 19372.0 / 6561.0;
+const A52: f64 = -25360.0 / 2187.0;
+const A53: f64 = 64448.0 / 6561.0;
+const A54: f64 = -212.0 / 729.0;
+const A61: f64 = 9017.0 / 3168.0;
+const A62: f64 = -355.0 / 33.0;
+const A63: f64 = 46732.0 / 5247.0;
+const A64: f64 = 49.0 / 176.0;
+const A65: f64 = -5103.0 / 18656.0;
+const A71: f64 = 35.0 / 384.0;
+const A73: f64 = 500.0 / 1113.0;
+const A74: f64 = 125.0 / 192.0;
+const A75: f64 = -2187.0 / 6784.0;
+const A76: f64 = 11.0 / 84.0;
+const E1: f64 = 71.0 / 57600.0;
+const E3: f64 = -71.0 / 16695.0;
+const E4: f64 = 71.0 / 1920.0;
+const E5: f64 = -17253.0 / 339200.0;
+const E6: f64 = 22.0 / 525.0;
+const E7: f64 = -1.0 / 40.0;
+const D1: f64 = -12715105075.0 / 11282082432.0;
+const D3: f64 = 87487479700.0 / 32700410799.0;
+const D4: f64 = -10690763975.0 / 1880347072.0;
+const D5: f64 = 701980252875.0 / 199316789632.0;
+const D6: f64 = -1453857185.0 / 822651844.0;
+const D7: f64 = 69997945.0 / 29380423.0;
+
+const SAFETY: f64 = 0.9;
+const BETA: f64 = 0.04;
+const FAC_MIN: f64 = 0.2; // smallest step ratio h_new / h
+const FAC_MAX: f64 = 10.0; // largest step ratio
+
+/// The integrator's memory, allocated once per integration.
+pub struct DormandPrince {
+    tol: Tolerances,
+    k: [Vec<f64>; 7],
+    y: Vec<f64>,
+    y_new: Vec<f64>,
+    stage: Vec<f64>,
+    /// Dense output coefficients of the last accepted step.
+    cont: [Vec<f64>; 5],
+    t_old: f64,
+    h_old: f64,
+}
+
+impl DenseStep for DormandPrince {
+    fn span(&self) -> (f64, f64) {
+        (self.t_old, self.t_old + self.h_old)
+    }
+    fn y(&self) -> &[f64] {
+        &self.y
+    }
+    fn interpolate(&self, t: f64, out: &mut [f64]) {
+        let theta = (t - self.t_old) / self.h_old;
+        let theta1 = 1.0 - theta;
+        let [r0, r1, r2, r3, r4] = &self.cont;
+        for i in 0..out.len() {
+            out[i] = r0[i] + theta * (r1[i] + theta1 * (r2[i] + theta * (r3[i] + theta1 * r4[i])));
+        }
+    }
+}
+
+impl DormandPrince {
+    pub fn new(n: usize, tol: Tolerances) -> Self {
+        let v = || vec![0.0; n];
+        Self {
+            tol,
+            k: [v(), v(), v(), v(), v(), v(), v()],
+            y: v(),
+            y_new: v(),
+            stage: v(),
+            cont: [v(), v(), v(), v(), v()],
+            t_old: 0.0,
+            h_old: 0.0,
+        }
+    }
+
+    /// Integrates from `t0` to `tf` starting at `y0`, calling `observe`
+    /// after every accepted step.
+    pub fn integrate<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        t0: f64,
+        tf: f64,
+        y0: &[f64],
+        mut observe: impl FnMut(&Self) -> Result<(), S::Error>,
+    ) -> Result<Stats, Stopped<S::Error>> {
+        let mut stats = Stats::default();
+        let n = y0.len();
+        self.y.copy_from_slice(y0);
+        let stop = |t: f64, failure, stats| Err(Stopped { t, failure, stats });
+        let mut t = t0;
+        if let Err(e) = sys.rhs(t, &self.y, &mut self.k[0]) {
+            return stop(t, Failure::Rhs(e), stats);
+        }
+        stats.evaluations += 1;
+        let h_max = if self.tol.dtmax > 0.0 { self.tol.dtmax } else { (tf - t0).abs() };
+        let mut h = match self.initial_step(sys, t, h_max, &mut stats) {
+            Ok(h) => h,
+            Err(e) => return stop(t, Failure::Rhs(e), stats),
+        };
+        let mut fac_old = 1e-4f64;
+        let mut rejected_last = false;
+        while t < tf {
+            if 0.1 * h.abs() <= t.abs() * f64::EPSILON * 4.0 {
+                return stop(t, Failure::StepTooSmall { h }, stats);
+            }
+            let last = t + 1.01 * h >= tf;
+            if last {
+                h = tf - t;
+            }
+            if let Err(e) = self.stages(sys, t, h, n) {
+                return stop(t, Failure::Rhs(e), stats);
+            }
+            stats.evaluations += 6;
+            let err = self.error_norm(h, n);
+            if !err.is_finite() {
+                // A step too large for the dynamics: try a much smaller one.
+                stats.rejected += 1;
+                h *= 0.1;
+                rejected_last = true;
+                continue;
+            }
+            let fac11 = err.powf(0.2 - BETA * 0.75);
+            let fac = (fac11 / fac_old.powf(BETA) / SAFETY).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN);
+            if err <= 1.0 {
+                stats.accepted += 1;
+                fac_old = err.max(1e-4);
+                self.dense_coefficients(h, n);
+                self.k.swap(0, 6);
+                std::mem::swap(&mut self.y, &mut self.y_new);
+                self.t_old = t;
+                self.h_old = h;
+                t = if last { tf } else { t + h };
+                if self.y.iter().any(|x| !x.is_finite()) {
+                    return stop(self.t_old, Failure::NotFinite, stats);
+                }
+                if let Err(e) = observe(self) {
+                    return stop(t, Failure::Observer(e), stats);
+                }
+                let mut h_new = (h / fac).min(h_max);
+                if rejected_last {
+                    h_new = h_new.min(h);
+                }
+                rejected_last = false;
+                h = h_new;
+            } else {
+                stats.rejected += 1;
+                h /= (fac11 / SAFETY).min(1.0 / FAC_MIN);
+                rejected_last = true;
+            }
+        }
+        Ok(stats)
+    }
+
+    fn stages<S: OdeSystem>(&mut self, sys: &mut S, t: f64, h: f64, n: usize) -> Result<(), S::Error> {
+        let (y, s) = (&self.y, &mut self.stage);
+        let [k1, k2, k3, k4, k5, k6, k7] = &mut self.k;
+        for i in 0..n {
+            s[i] = y[i] + h * A21 * k1[i];
+        }
+        sys.rhs(t + C2 * h, s, k2)?;
+        for i in 0..n {
+            s[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i]);
+        }
+        sys.rhs(t + C3 * h, s, k3)?;
+        for i in 0..n {
+            s[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i]);
+        }
+        sys.rhs(t + C4 * h, s, k4)?;
+        for i in 0..n {
+            s[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i]);
+        }
+        sys.rhs(t + C5 * h, s, k5)?;
+        for i in 0..n {
+            s[i] = y[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]);
+        }
+        sys.rhs(t + h, s, k6)?;
+        let y_new = &mut self.y_new;
+        for i in 0..n {
+            y_new[i] = y[i] + h * (A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i]);
+        }
+        sys.rhs(t + h, y_new, k7)
+    }
+
+    /// RMS of the error estimate scaled by `abstol + reltol max(|y|, |y_new|)`.
+    fn error_norm(&self, h: f64, n: usize) -> f64 {
+        let [k1, _, k3, k4, k5, k6, k7] = &self.k;
+        let mut sum = 0.0;
+        for i in 0..n {
+            let e = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
+            let sk = self.tol.abstol + self.tol.reltol * self.y[i].abs().max(self.y_new[i].abs());
+            sum += (e / sk) * (e / sk);
+        }
+        (sum / n.max(1) as f64).sqrt()
+    }
+
+    fn dense_coefficients(&mut self, h: f64, n: usize) {
+        let [k1, _, k3, k4, k5, k6, k7] = &self.k;
+        let [r0, r1, r2, r3, r4] = &mut self.cont;
+        for i in 0..n {
+            let ydiff = self.y_new[i] - self.y[i];
+            let bspl = h * k1[i] - ydiff;
+            r0[i] = self.y[i];
+            r1[i] = ydiff;
+            r2[i] = bspl;
+            r3[i] = ydiff - h * k7[i] - bspl;
+            r4[i] = h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
+        }
+    }
+
+    /// Hairer's starting step: an explicit Euler probe of the second
+    /// derivative.
+    fn initial_step<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        h_max: f64,
+        stats: &mut Stats,
+    ) -> Result<f64, S::Error> {
+        let n = self.y.len();
+        let (mut dnf, mut dny) = (0.0, 0.0);
+        for i in 0..n {
+            let sk = self.tol.abstol + self.tol.reltol * self.y[i].abs();
+            dnf += (self.k[0][i] / sk).powi(2);
+            dny += (self.y[i] / sk).powi(2);
+        }
+        let mut h = if dnf <= 1e-10 || dny <= 1e-10 { 1e-6 } else { (dny / dnf).sqrt() * 0.01 };
+        h = h.min(h_max);
+        for i in 0..n {
+            self.stage[i] = self.y[i] + h * self.k[0][i];
+        }
+        sys.rhs(t + h, &self.stage, &mut self.k[1])?;
+        stats.evaluations += 1;
+        let mut der2 = 0.0;
+        for i in 0..n {
+            let sk = self.tol.abstol + self.tol.reltol * self.y[i].abs();
+            der2 += ((self.k[1][i] - self.k[0][i]) / sk).powi(2);
+        }
+        let der2 = der2.sqrt() / h;
+        let der12 = der2.abs().max(dnf.sqrt());
+        let h1 = if der12 <= 1e-15 { (h.abs() * 1e-3).max(1e-6) } else { (0.01 / der12).powf(0.2) };
+        Ok((100.0 * h).min(h1).min(h_max))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Oscillator;
+    impl OdeSystem for Oscillator {
+        type Error = ();
+        fn dim(&self) -> usize {
+            2
+        }
+        fn rhs(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), ()> {
+            dy[0] = y[1];
+            dy[1] = -y[0];
+            Ok(())
+        }
+    }
+
+    fn run(tol: f64) -> (f64, f64, Stats) {
+        let mut dp = DormandPrince::new(2, Tolerances { abstol: tol, reltol: tol, dtmax: 0.0 });
+        let mut worst_dense = 0.0f64;
+        let mut buf = [0.0; 2];
+        let stats = dp
+            .integrate(&mut Oscillator, 0.0, 10.0, &[0.0, 1.0], |s| {
+                let (a, b) = s.span();
+                for k in 1..10 {
+                    let t = a + (b - a) * k as f64 / 10.0;
+                    s.interpolate(t, &mut buf);
+                    worst_dense = worst_dense.max((buf[0] - t.sin()).abs());
+                }
+                Ok(())
+            })
+            .unwrap();
+        ((dp.y()[0] - 10f64.sin()).abs(), worst_dense, stats)
+    }
+
+    #[test]
+    fn error_follows_the_tolerance_and_dense_output_is_as_accurate_as_the_steps() {
+        let (end, dense, _) = run(1e-8);
+        assert!(end < 1e-6, "end error {end}");
+        assert!(dense < 5.0 * end.max(1e-8), "dense {dense} vs end {end}");
+        let (end_loose, _, s_loose) = run(1e-4);
+        let (_, _, s_tight) = run(1e-10);
+        assert!(end_loose > end);
+        assert!(s_tight.accepted > s_loose.accepted);
+    }
+
+    #[test]
+    fn stops_with_the_error_and_the_time_reached() {
+        struct Fails;
+        impl OdeSystem for Fails {
+            type Error = &'static str;
+            fn dim(&self) -> usize {
+                1
+            }
+            fn rhs(&mut self, t: f64, _y: &[f64], dy: &mut [f64]) -> Result<(), &'static str> {
+                dy[0] = 1.0;
+                if t > 2.5 {
+                    Err("past 2.5")
+                } else {
+                    Ok(())
+                }
+            }
+        }
+        let mut dp = DormandPrince::new(1, Tolerances { abstol: 1e-6, reltol: 1e-6, dtmax: 0.1 });
+        let mut last = 0.0;
+        let stopped = dp.integrate(&mut Fails, 0.0, 5.0, &[0.0], |s| {
+            last = s.span().1;
+            Ok(())
+        });
+        let stopped = stopped.unwrap_err();
+        assert!(matches!(stopped.failure, Failure::Rhs("past 2.5")));
+        assert!(stopped.t <= 2.5 && stopped.t > 2.3, "stopped at {}", stopped.t);
+        assert_eq!(stopped.t, last);
+    }
+}

@@ -1,0 +1,57 @@
+//! What the integrators share: the system they integrate, the step they
+//! report to an observer, and how they fail.
+
+/// An ODE `dy/dt = f(t, y)` whose evaluation can fail.
+pub trait OdeSystem {
+    type Error;
+    fn dim(&self) -> usize;
+    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Self::Error>;
+}
+
+/// A solution between two accepted steps, as an observer sees it.
+pub trait DenseStep {
+    /// Start and end time of the step.
+    fn span(&self) -> (f64, f64);
+    /// The state at the end of the step.
+    fn y(&self) -> &[f64];
+    /// The state at `t` within the step.
+    fn interpolate(&self, t: f64, out: &mut [f64]);
+}
+
+/// Counts of the work an integration did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Stats {
+    pub accepted: usize,
+    pub rejected: usize,
+    pub evaluations: usize,
+}
+
+/// Why an integration stopped early.
+#[derive(Debug)]
+pub enum Failure<E> {
+    /// The right-hand side failed.
+    Rhs(E),
+    /// The observer asked to stop.
+    Observer(E),
+    /// The step size fell below what the floating-point time can resolve.
+    StepTooSmall { h: f64 },
+    /// The state became infinite or NaN.
+    NotFinite,
+}
+
+/// A failure and the time of the last accepted step before it.
+#[derive(Debug)]
+pub struct Stopped<E> {
+    pub t: f64,
+    pub failure: Failure<E>,
+    pub stats: Stats,
+}
+
+/// Settings of the adaptive integrators.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tolerances {
+    pub abstol: f64,
+    pub reltol: f64,
+    /// Largest step; 0 for no limit.
+    pub dtmax: f64,
+}

@@ -1,0 +1,230 @@
+//! Simulation: integrates a mechanism's ODE and samples every output on an
+//! output grid.
+
+mod dopri5;
+pub mod integrator;
+mod rk4;
+mod solution;
+
+pub use integrator::Stats;
+pub use solution::{glob, Solution};
+
+use crate::dynamics::outputs::OutputScratch;
+use crate::dynamics::{DynamicsError, Workspace};
+use crate::Mechanism;
+use integrator::{DenseStep, Failure, OdeSystem, Stopped, Tolerances};
+
+/// The integration method.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Method {
+    /// Adaptive Dormand-Prince 5(4) with error control and dense output.
+    DormandPrince45,
+    /// Classical Runge-Kutta with a fixed step.
+    Rk4 { dt: f64 },
+}
+
+/// What to simulate, with Dyad's TransientAnalysis defaults.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SimulationOptions {
+    pub start: f64,
+    pub stop: f64,
+    pub abstol: f64,
+    pub reltol: f64,
+    /// Output interval; 0 saves at every integrator step.
+    pub saveat: f64,
+    /// Largest step; 0 for no limit.
+    pub dtmax: f64,
+    pub method: Method,
+}
+
+impl Default for SimulationOptions {
+    fn default() -> Self {
+        Self {
+            start: 0.0,
+            stop: 1.0,
+            abstol: 1e-6,
+            reltol: 1e-6,
+            saveat: 0.0,
+            dtmax: 0.0,
+            method: Method::DormandPrince45,
+        }
+    }
+}
+
+impl SimulationOptions {
+    /// Options for a run from 0 to `stop` with defaults otherwise.
+    pub fn until(stop: f64) -> Self {
+        Self { stop, ..Self::default() }
+    }
+
+    fn check(&self) -> Result<(), String> {
+        let finite =
+            [self.start, self.stop, self.abstol, self.reltol, self.saveat, self.dtmax].iter().all(|x| x.is_finite());
+        if !finite {
+            return Err("the simulation options must be finite numbers".into());
+        }
+        if self.stop <= self.start {
+            return Err(format!("stop ({}) must be after start ({})", self.stop, self.start));
+        }
+        if self.abstol <= 0.0 || self.reltol <= 0.0 {
+            return Err("abstol and reltol must be positive".into());
+        }
+        if self.saveat < 0.0 || self.dtmax < 0.0 {
+            return Err("saveat and dtmax must not be negative".into());
+        }
+        if let Method::Rk4 { dt } = self.method {
+            if !(dt > 0.0) {
+                return Err("the RK4 step dt must be positive".into());
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A simulation that stopped before its end: why, when, and everything
+/// computed until then.
+#[derive(Debug, thiserror::Error)]
+#[error("the simulation stopped at t = {time}: {reason}")]
+pub struct SimulationError {
+    pub time: f64,
+    pub reason: String,
+    /// The outputs up to `time`.
+    pub partial: Solution,
+}
+
+/// The mechanism as an ODE for the integrators.
+struct Dynamics<'a> {
+    mechanism: &'a Mechanism,
+    ws: Workspace,
+}
+
+impl OdeSystem for Dynamics<'_> {
+    type Error = DynamicsError;
+    fn dim(&self) -> usize {
+        self.mechanism.states.nq + self.mechanism.states.nv
+    }
+    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
+        self.mechanism.rhs(&mut self.ws, t, y, dy)
+    }
+}
+
+/// Samples outputs on the grid as the integrator advances.
+struct Recorder<'a, 'p> {
+    mechanism: &'a Mechanism,
+    ws: Workspace,
+    scratch: OutputScratch,
+    solution: Solution,
+    row: Vec<f64>,
+    y: Vec<f64>,
+    saveat: f64,
+    start: f64,
+    stop: f64,
+    next: usize,
+    progress: Option<&'p mut dyn FnMut(f64)>,
+}
+
+impl Recorder<'_, '_> {
+    fn record(&mut self, t: f64, y: &[f64]) -> Result<(), DynamicsError> {
+        self.mechanism.outputs_into(&mut self.ws, &mut self.scratch, t, y, &mut self.row)?;
+        self.solution.push(t, &self.row);
+        Ok(())
+    }
+
+    /// Records the grid points that the step `step` covers.
+    fn observe(&mut self, step: &dyn DenseStep) -> Result<(), DynamicsError> {
+        let (_, t1) = step.span();
+        if self.saveat > 0.0 {
+            loop {
+                let t = (self.start + self.next as f64 * self.saveat).min(self.stop);
+                let last = t >= self.stop;
+                if t > t1 + 1e-12 * self.saveat {
+                    break;
+                }
+                let mut y = std::mem::take(&mut self.y);
+                step.interpolate(t, &mut y);
+                let recorded = self.record(t, &y);
+                self.y = y;
+                recorded?;
+                self.next += 1;
+                if last {
+                    break;
+                }
+            }
+        } else {
+            self.record(t1, step.y())?;
+        }
+        if let Some(p) = self.progress.as_mut() {
+            p(t1);
+        }
+        Ok(())
+    }
+}
+
+impl Mechanism {
+    /// Simulates from the start values of the model.
+    pub fn simulate(&self, options: &SimulationOptions) -> Result<Solution, SimulationError> {
+        self.simulate_from(&self.states.start, options, None)
+    }
+
+    /// Simulates from the state `y0`, calling `progress` with the time
+    /// reached after every step.
+    pub fn simulate_from(
+        &self,
+        y0: &[f64],
+        options: &SimulationOptions,
+        progress: Option<&mut dyn FnMut(f64)>,
+    ) -> Result<Solution, SimulationError> {
+        let signals = self.signals();
+        let solution =
+            Solution::new(signals.iter().map(|s| s.name.clone()).collect(), signals.iter().map(|s| s.unit).collect());
+        let fail = |time: f64, reason: String, partial: Solution| SimulationError { time, reason, partial };
+        if let Err(reason) = options.check() {
+            return Err(fail(options.start, reason, solution));
+        }
+        if y0.len() != self.states.start.len() {
+            let reason =
+                format!("the start state has {} values, the mechanism {} states", y0.len(), self.states.start.len());
+            return Err(fail(options.start, reason, solution));
+        }
+        let mut recorder = Recorder {
+            mechanism: self,
+            ws: self.workspace(),
+            scratch: OutputScratch::default(),
+            solution,
+            row: Vec::new(),
+            y: vec![0.0; y0.len()],
+            saveat: options.saveat,
+            start: options.start,
+            stop: options.stop,
+            next: 1,
+            progress,
+        };
+        if let Err(e) = recorder.record(options.start, y0) {
+            return Err(fail(options.start, self.describe(&e), recorder.solution));
+        }
+        let mut system = Dynamics { mechanism: self, ws: self.workspace() };
+        let (t0, tf) = (options.start, options.stop);
+        let result = match options.method {
+            Method::DormandPrince45 => {
+                let tol = Tolerances { abstol: options.abstol, reltol: options.reltol, dtmax: options.dtmax };
+                dopri5::DormandPrince::new(y0.len(), tol).integrate(&mut system, t0, tf, y0, |s| recorder.observe(s))
+            }
+            Method::Rk4 { dt } => {
+                rk4::Rk4::new(y0.len(), dt).integrate(&mut system, t0, tf, y0, |s| recorder.observe(s))
+            }
+        };
+        match result {
+            Ok(_) => Ok(recorder.solution),
+            Err(Stopped { t, failure, .. }) => {
+                let reason = match failure {
+                    Failure::Rhs(e) | Failure::Observer(e) => self.describe(&e),
+                    Failure::StepTooSmall { h } => format!(
+                        "the step size fell to {h:e}, too small to make progress: the motion is too fast or stiff here (check parameters for very stiff springs or tiny masses)"
+                    ),
+                    Failure::NotFinite => self.describe(&DynamicsError::NotFinite),
+                };
+                Err(fail(t, reason, recorder.solution))
+            }
+        }
+    }
+}

@@ -1,0 +1,150 @@
+//! The result of a simulation: time and every output signal by name.
+
+use std::collections::HashMap;
+use std::io::{self, Write};
+
+/// Named signals sampled at common times.
+#[derive(Clone, Debug, Default)]
+pub struct Solution {
+    names: Vec<String>,
+    units: Vec<&'static str>,
+    index: HashMap<String, usize>,
+    time: Vec<f64>,
+    columns: Vec<Vec<f64>>,
+}
+
+impl Solution {
+    pub fn new(names: Vec<String>, units: Vec<&'static str>) -> Self {
+        let index = names.iter().enumerate().map(|(i, n)| (n.clone(), i)).collect();
+        let columns = vec![Vec::new(); names.len()];
+        Self { names, units, index, time: Vec::new(), columns }
+    }
+
+    /// Appends one sample; `row` has one value per signal.
+    pub fn push(&mut self, t: f64, row: &[f64]) {
+        debug_assert_eq!(row.len(), self.columns.len());
+        self.time.push(t);
+        for (c, &x) in self.columns.iter_mut().zip(row) {
+            c.push(x);
+        }
+    }
+
+    pub fn time(&self) -> &[f64] {
+        &self.time
+    }
+
+    pub fn len(&self) -> usize {
+        self.time.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.time.is_empty()
+    }
+
+    /// Every signal name, e.g. `body.r_0[2]`.
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    pub fn unit(&self, name: &str) -> Option<&'static str> {
+        self.index.get(name).map(|&i| self.units[i])
+    }
+
+    /// The samples of a signal.
+    pub fn get(&self, name: &str) -> Option<&[f64]> {
+        self.index.get(name).map(|&i| self.columns[i].as_slice())
+    }
+
+    /// The last sample of a signal.
+    pub fn last(&self, name: &str) -> Option<f64> {
+        self.get(name).and_then(|c| c.last().copied())
+    }
+
+    /// A signal at time `t`, linearly interpolated between samples.
+    pub fn at(&self, name: &str, t: f64) -> Option<f64> {
+        let c = self.get(name)?;
+        let k = self.time.partition_point(|&s| s < t);
+        if k == 0 {
+            return c.first().copied();
+        }
+        if k >= self.time.len() {
+            return c.last().copied();
+        }
+        let (t0, t1) = (self.time[k - 1], self.time[k]);
+        let w = if t1 > t0 { (t - t0) / (t1 - t0) } else { 1.0 };
+        Some(c[k - 1] * (1.0 - w) + c[k] * w)
+    }
+
+    /// Names of the signals that match any of `patterns` (`*` matches any
+    /// text, `?` one character); all signals when `patterns` is empty.
+    pub fn select(&self, patterns: &[String]) -> Vec<&str> {
+        self.names
+            .iter()
+            .filter(|n| patterns.is_empty() || patterns.iter().any(|p| glob(p, n)))
+            .map(String::as_str)
+            .collect()
+    }
+
+    /// Writes a CSV file: a `time` column, then the chosen signals.
+    pub fn write_csv(&self, out: &mut impl Write, signals: &[&str]) -> io::Result<()> {
+        let columns: Vec<&[f64]> = signals.iter().filter_map(|s| self.get(s)).collect();
+        write!(out, "time")?;
+        for s in signals {
+            write!(out, ",{s}")?;
+        }
+        writeln!(out)?;
+        for (k, t) in self.time.iter().enumerate() {
+            write!(out, "{t}")?;
+            for c in &columns {
+                write!(out, ",{}", c[k])?;
+            }
+            writeln!(out)?;
+        }
+        Ok(())
+    }
+}
+
+/// Shell-style matching with `*` and `?`.
+pub fn glob(pattern: &str, text: &str) -> bool {
+    let (p, t): (Vec<char>, Vec<char>) = (pattern.chars().collect(), text.chars().collect());
+    let (mut pi, mut ti, mut star, mut mark) = (0, 0, None, 0);
+    while ti < t.len() {
+        if pi < p.len() && (p[pi] == '?' || p[pi] == t[ti]) {
+            pi += 1;
+            ti += 1;
+        } else if pi < p.len() && p[pi] == '*' {
+            star = Some(pi);
+            mark = ti;
+            pi += 1;
+        } else if let Some(s) = star {
+            pi = s + 1;
+            mark += 1;
+            ti = mark;
+        } else {
+            return false;
+        }
+    }
+    p[pi..].iter().all(|&c| c == '*')
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn glob_matches_signal_names() {
+        assert!(glob("body.r_0[*]", "body.r_0[2]"));
+        assert!(glob("*.phi", "rev.phi"));
+        assert!(!glob("*.phi", "rev.phid"));
+        assert!(glob("rev.?", "rev.w"));
+    }
+
+    #[test]
+    fn interpolates_between_samples() {
+        let mut s = Solution::new(vec!["x".into()], vec![""]);
+        s.push(0.0, &[0.0]);
+        s.push(1.0, &[2.0]);
+        assert_eq!(s.at("x", 0.25), Some(0.5));
+        assert_eq!(s.last("x"), Some(2.0));
+    }
+}
