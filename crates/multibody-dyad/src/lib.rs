@@ -1,0 +1,1 @@
+//! Reads Dyad model files into [`multibody::Model`]s.
