@@ -43,9 +43,6 @@ pub enum Error {
         valid: Vec<String>,
     },
 
-    #[error("`{connector}` exists only when {condition}; set it on `{component}` to use this connector")]
-    ConnectorUnavailable { component: String, connector: String, condition: String },
-
     #[error("`{a}` ({a_type}) cannot be connected to `{b}` ({b_type}): only connectors of the same type connect")]
     IncompatibleConnectors { a: String, a_type: String, b: String, b_type: String },
 
@@ -99,7 +96,6 @@ impl Error {
             | WrongType { component, .. }
             | InvalidValue { component, .. }
             | UnknownConnector { component, .. }
-            | ConnectorUnavailable { component, .. }
             | ConnectedRootPointMass { component, .. }
             | OwnerPositionedByJoints { component, .. }
             | NotAState { component, .. }
@@ -126,7 +122,7 @@ impl Error {
             UnknownParameter { param, .. } | MissingParameter { param, .. } => Some(param),
             UnknownVariable { variable, .. } | NotAState { variable, .. } => Some(variable),
             WrongSize { name, .. } | WrongType { name, .. } | InvalidValue { name, .. } => Some(name),
-            UnknownConnector { connector, .. } | ConnectorUnavailable { connector, .. } => Some(connector),
+            UnknownConnector { connector, .. } => Some(connector),
             _ => None,
         }
     }

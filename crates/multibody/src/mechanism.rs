@@ -2,7 +2,7 @@
 //! laid out for the dynamics. Mutable per-evaluation data lives in a
 //! [`Workspace`](crate::dynamics::Workspace).
 
-use crate::components::{Component, ComponentSpec, Law1D, Part, VarSpec, WorldSettings};
+use crate::components::{Component, ComponentSpec, Law1D, Part, Resolve, SignalSource, VarSpec, WorldSettings};
 use crate::dynamics::joint::JointModel;
 use crate::math::{RigidInertia, Transform, Vec3};
 
@@ -24,6 +24,16 @@ pub struct Mechanism {
     pub(crate) links: Vec<Link>,
     /// 1-D force elements acting on joint coordinates.
     pub(crate) axis_elements: Vec<AxisElement>,
+    /// Signal sources; inputs read `signal values[index]`, and the index
+    /// `sources.len()` is a slot that always reads zero.
+    pub(crate) sources: Vec<SignalSource>,
+    /// For every connector, the signal it carries (the zero slot if none).
+    pub(crate) signal_of_connector: Vec<usize>,
+    /// Force elements acting between frames.
+    pub(crate) force_elements: Vec<ForceElement>,
+    /// Groups of frames without mass whose position the force elements
+    /// on them decide (solved in every evaluation).
+    pub(crate) massless: Vec<MasslessGroup>,
     /// Masses that feel point gravity (or any field other than `uniform_gravity`).
     pub(crate) point_masses: Vec<PointGravityMass>,
     /// The uniform gravity every mass feels, handled as an acceleration of the ground.
@@ -59,14 +69,71 @@ pub(crate) struct ConnectorInfo {
     pub connected: bool,
 }
 
-/// A set of connected frames, fixed in a link.
+/// A set of connected frames, fixed in a link (or in a massless group).
 #[derive(Debug, Clone)]
 pub(crate) struct FrameNode {
-    pub link: usize,
-    /// Link frame to node frame.
+    pub anchor: Anchor,
+    /// Link (or group) frame to node frame.
     pub pose: Transform,
     /// The connectors in this node.
     pub connectors: Vec<usize>,
+}
+
+/// What a frame is fixed to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Anchor {
+    Link(usize),
+    /// A massless group, whose orientation is the world's.
+    Massless(usize),
+}
+
+impl FrameNode {
+    /// The link the node moves with (the ground for massless groups, which
+    /// carry no inertia).
+    pub fn link(&self) -> usize {
+        match self.anchor {
+            Anchor::Link(k) => k,
+            Anchor::Massless(_) => GROUND,
+        }
+    }
+}
+
+/// Where a force element attaches: a node and how it is fixed.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Attachment {
+    pub anchor: Anchor,
+    pub pose: Transform,
+}
+
+/// A force element in the form the dynamics evaluates.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ForceElement {
+    pub load: Load,
+    /// The reaction side (None: the world).
+    pub a: Option<Attachment>,
+    pub b: Attachment,
+    /// The element's connectors at `a` and `b` (global numbers).
+    pub connectors: (Option<usize>, usize),
+}
+
+/// A force law with its inputs resolved to signal slots.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Load {
+    Line { c: f64, d: f64, s_unstretched: f64, s_small: f64 },
+    Force { signals: [usize; 3], resolve: Resolve },
+    Torque { signals: [usize; 3], resolve: Resolve },
+}
+
+/// Frames without mass held by force elements only; their orientation is
+/// fixed to the world's by a line-force end.
+#[derive(Debug, Clone)]
+pub(crate) struct MasslessGroup {
+    /// Force elements acting on the group.
+    pub elements: Vec<usize>,
+    /// Start guess of the group's reference position.
+    pub guess: Vec3,
+    /// Component names, for messages.
+    pub components: Vec<String>,
 }
 
 /// A rigid body of the tree (all frames rigidly joined) and the joint that
@@ -84,8 +151,29 @@ pub(crate) struct Link {
     pub v_offset: usize,
     /// The component and part of the joint (or owner) that moves this link.
     pub source: (usize, usize),
-    /// Whether the joint is traversed from its frame_b to its frame_a.
-    pub reversed: bool,
+    /// The component whose name the states carry.
+    pub states_of: usize,
+    /// Whether the joint is traversed from its frame_b to its frame_a by
+    /// inverting its motion (1-DOF joints flip their axis instead).
+    pub inverted: bool,
+}
+
+impl Link {
+    /// The motion of this link's frame relative to the parent-side joint frame.
+    #[inline]
+    pub fn motion(&self, q: &[f64], u: &[f64], m: &mut crate::dynamics::joint::JointMotion) {
+        let (nq, nv) = (self.joint.nq(), self.joint.nv());
+        self.joint.motion(&q[self.q_offset..self.q_offset + nq], &u[self.v_offset..self.v_offset + nv], m);
+        if self.inverted {
+            JointModel::invert(m, nv);
+        }
+    }
+
+    /// This link's joint coordinates in `q`.
+    #[inline]
+    pub fn q<'a>(&self, q: &'a [f64]) -> &'a [f64] {
+        &q[self.q_offset..self.q_offset + self.joint.nq()]
+    }
 }
 
 /// Where a 1-D flange sits: at the fixed support, or on a joint coordinate.

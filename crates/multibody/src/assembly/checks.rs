@@ -19,9 +19,11 @@ pub fn inertia_behind_every_joint(
     let links = &tree.links;
     let n = links.len();
     let mut x_up = vec![crate::math::Transform::IDENTITY; n];
+    let zeros = vec![0.0; q.len().max(1) * 6];
+    let mut motions = vec![JointMotion::default(); n];
     for k in 1..n {
-        let l = &links[k];
-        x_up[k] = l.x_tree.then(&l.joint.transform(&q[l.q_offset..l.q_offset + l.joint.nq()]));
+        links[k].motion(q, &zeros, &mut motions[k]);
+        x_up[k] = links[k].x_tree.then(&motions[k].x);
     }
     let mut composite: Vec<RigidInertia> = links.iter().map(|l| l.inertia).collect();
     for k in (1..n).rev() {
@@ -33,9 +35,7 @@ pub fn inertia_behind_every_joint(
     }
     for k in 1..n {
         let l = &links[k];
-        let mut m = JointMotion::default();
-        let zeros = [0.0; 6];
-        l.joint.motion(&q[l.q_offset..l.q_offset + l.joint.nq()], &zeros[..l.joint.nv()], &mut m);
+        let m = &motions[k];
         let ic = &composite[k];
         let scale = ic.mass.max(ic.rot.norm()).max(f64::MIN_POSITIVE);
         let nv = l.joint.nv();
@@ -54,6 +54,10 @@ pub fn inertia_behind_every_joint(
                 JointModel::Prismatic { .. } => "translation along the axis",
                 JointModel::Free(_) => "free motion",
                 JointModel::Translation => "translation",
+                JointModel::Spherical(_) => "rotation",
+                JointModel::Universal { .. } => "rotation about its two axes",
+                JointModel::Cylindrical { .. } => "motion along and about its axis",
+                JointModel::Planar { .. } => "motion in its plane",
             };
             return Err(Error::NoInertia {
                 joint: component.name.clone(),
@@ -78,10 +82,10 @@ fn moved_by(components: &[CompiledComponent], conn: &Connectors, tree: &Tree, k:
     };
     let mut names: Vec<String> = Vec::new();
     for node in &tree.nodes {
-        if in_subtree(node.link) {
+        if in_subtree(node.link()) {
             for &c in &node.connectors {
                 let name = &components[conn.infos[c].component].name;
-                if !names.contains(name) && *name != components[tree.links[k].source.0].name {
+                if !names.contains(name) && *name != components[tree.links[k].states_of].name {
                     names.push(name.clone());
                 }
             }

@@ -55,7 +55,7 @@ pub fn resolve(model: &Model, components: &[CompiledComponent]) -> Result<Connec
             connection.ends.iter().map(|end| find_connector(end, components, &by_name)).collect::<Result<_, _>>()?;
         for (k, &id) in ends.iter().enumerate() {
             infos[id].connected = true;
-            if types[id] != types[ends[0]] {
+            if !types[id].connects_to(&types[ends[0]]) {
                 return Err(Error::IncompatibleConnectors {
                     a: connection.ends[0].clone(),
                     a_type: types[ends[0]].name().into(),

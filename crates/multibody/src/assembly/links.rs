@@ -6,8 +6,9 @@ use super::connections::Connectors;
 use super::union_find::UnionFind;
 use crate::components::{Part, StateNames};
 use crate::dynamics::joint::JointModel;
+use crate::math::Vec3;
 use crate::math::{RigidInertia, Transform};
-use crate::mechanism::{CompiledComponent, FrameNode, Link, GROUND};
+use crate::mechanism::{Anchor, CompiledComponent, FrameNode, Link, MasslessGroup, GROUND};
 use crate::Error;
 use std::collections::VecDeque;
 
@@ -132,6 +133,8 @@ struct OwnerRef {
     part: usize,
     node: usize,
     model: JointModel,
+    /// A line-force end with a fixed rotation, rather than a body's states.
+    line_end: bool,
 }
 
 /// The tree: links in topological order, and each frame node's place.
@@ -140,12 +143,18 @@ pub struct Tree {
     pub nodes: Vec<FrameNode>,
     /// State names of each link's joint (parallel to `links`, empty for ground).
     pub state_names: Vec<StateNames>,
+    pub massless: Vec<MasslessGroup>,
 }
+
+const TRANSLATION_STATES: StateNames = StateNames { q: &[("r_0", 3)], u: &[("v_0", 3)] };
 
 pub fn spanning_tree(components: &[CompiledComponent], conn: &Connectors, groups: &RigidGroups) -> Result<Tree, Error> {
     let node = |ci: usize, local: usize| conn.node(Connectors::id(components, ci, local));
     let mut joints = Vec::new();
     let mut owners = Vec::new();
+    // Mass and inertia of each rigid group, and its first massive component.
+    let mut group_inertia = vec![0.0f64; groups.count];
+    let mut group_first_mass: Vec<Option<usize>> = vec![None; groups.count];
     for (ci, c) in components.iter().enumerate() {
         for (pi, part) in c.parts.iter().enumerate() {
             match *part {
@@ -153,7 +162,22 @@ pub fn spanning_tree(components: &[CompiledComponent], conn: &Connectors, groups
                     joints.push(JointEdge { component: ci, part: pi, a: node(ci, a), b: node(ci, b), model })
                 }
                 Part::Owner { frame, model, .. } => {
-                    owners.push(OwnerRef { component: ci, part: pi, node: node(ci, frame), model })
+                    owners.push(OwnerRef { component: ci, part: pi, node: node(ci, frame), model, line_end: false })
+                }
+                Part::FixedRotationEnd { frame } => owners.push(OwnerRef {
+                    component: ci,
+                    part: pi,
+                    node: node(ci, frame),
+                    model: JointModel::Translation,
+                    line_end: true,
+                }),
+                Part::Mass { frame, inertia, .. } => {
+                    let g = groups.group_of[node(ci, frame)];
+                    let amount = inertia.mass + inertia.rot.trace();
+                    if amount > 0.0 {
+                        group_inertia[g] += amount;
+                        group_first_mass[g].get_or_insert(ci);
+                    }
                 }
                 _ => {}
             }
@@ -168,7 +192,7 @@ pub fn spanning_tree(components: &[CompiledComponent], conn: &Connectors, groups
         }
     }
 
-    // Each group becomes a link; `link_of[group]` once visited.
+    // Each group becomes a link (or a massless group); `link_of[group]` once placed.
     let mut link_of = vec![usize::MAX; groups.count];
     let mut reached_by: Vec<Option<usize>> = vec![None; groups.count];
     let mut used = vec![false; joints.len()];
@@ -220,14 +244,11 @@ pub fn spanning_tree(components: &[CompiledComponent], conn: &Connectors, groups
             }
             through.reverse();
             if through.is_empty() {
-                through.push(components_at_group(components, conn, groups, group(o.node)).join(", "));
+                through = components_at_group(components, conn, groups, group(o.node));
             }
             return Err(Error::OwnerPositionedByJoints { component: components[o.component].name.clone(), through });
         }
-    }
-
-    for o in &owners {
-        if let JointModel::Translation = o.model {
+        if let (JointModel::Translation, false) = (o.model, o.line_end) {
             let others: Vec<String> = conn.frame_nodes[o.node]
                 .iter()
                 .filter(|&&c| conn.infos[c].component != o.component)
@@ -243,52 +264,62 @@ pub fn spanning_tree(components: &[CompiledComponent], conn: &Connectors, groups
     }
 
     // Floating clusters: groups not reached from the ground, joined by joints.
+    let mut massless_of_group: Vec<Option<usize>> = vec![None; groups.count];
+    let mut massless = Vec::new();
     for start in 0..groups.count {
-        if link_of[start] != usize::MAX {
+        if link_of[start] != usize::MAX || massless_of_group[start].is_some() {
             continue;
         }
         let cluster = cluster_of(start, &incident, &joints, &group);
-        let cluster_owners: Vec<&OwnerRef> = owners.iter().filter(|o| cluster.contains(&group(o.node))).collect();
-        match cluster_owners.as_slice() {
-            [] => {
-                let mut names = Vec::new();
-                for &g in &cluster {
-                    for n in components_at_group(components, conn, groups, g) {
-                        if !names.contains(&n) {
-                            names.push(n);
-                        }
+        let names = || {
+            let mut names: Vec<String> = Vec::new();
+            for &g in &cluster {
+                for n in components_at_group(components, conn, groups, g) {
+                    if !names.contains(&n) {
+                        names.push(n);
                     }
                 }
-                return Err(Error::NoOrientationOwner { components: names });
             }
+            names
+        };
+        let cluster_owners: Vec<&OwnerRef> = owners.iter().filter(|o| cluster.contains(&group(o.node))).collect();
+        match cluster_owners.as_slice() {
+            [] => return Err(Error::NoOrientationOwner { components: names() }),
             [owner] => {
                 let g = group(owner.node);
+                if owner.line_end && cluster.len() == 1 && group_inertia[g] == 0.0 {
+                    // Frames without mass that only force elements hold: solved, not integrated.
+                    massless_of_group[g] = Some(massless.len());
+                    massless.push(MasslessGroup { elements: Vec::new(), guess: Vec3::zeros(), components: names() });
+                    continue;
+                }
+                let states_of =
+                    if owner.line_end { group_first_mass[g].unwrap_or(owner.component) } else { owner.component };
                 link_of[g] = order.len() + 1;
-                order.push((g, Parent::Owner(**owner)));
+                order.push((g, Parent::Owner(**owner, states_of)));
                 grow(g, &mut link_of, &mut order, &mut used, &mut reached_by)?;
             }
             [first, second, ..] => {
-                let mut group_names = Vec::new();
-                for &g in &cluster {
-                    group_names.extend(components_at_group(components, conn, groups, g));
-                }
-                group_names.dedup();
                 return Err(Error::TwoOwners {
                     first: components[first.component].name.clone(),
                     second: components[second.component].name.clone(),
-                    group: group_names,
+                    group: names(),
                 });
             }
         }
     }
 
-    build_links(components, groups, &joints, &order, &link_of)
+    build_links(components, groups, &joints, &order, &link_of, &massless_of_group, massless)
 }
 
 #[derive(Clone, Copy)]
 enum Parent {
-    Joint { edge: usize, reversed: bool },
-    Owner(OwnerRef),
+    Joint {
+        edge: usize,
+        reversed: bool,
+    },
+    /// An owner, and the component whose name its states carry.
+    Owner(OwnerRef, usize),
 }
 
 /// Whether the node shares its rigid group with other nodes.
@@ -345,6 +376,8 @@ fn build_links(
     joints: &[JointEdge],
     order: &[(usize, Parent)],
     link_of: &[usize],
+    massless_of_group: &[Option<usize>],
+    massless: Vec<MasslessGroup>,
 ) -> Result<Tree, Error> {
     // The frame node that each link's frame sits at.
     let mut frame_node = vec![usize::MAX; order.len() + 1];
@@ -357,19 +390,32 @@ fn build_links(
                     joints[edge].b
                 }
             }
-            Parent::Owner(o) => o.node,
+            Parent::Owner(o, _) => o.node,
         };
     }
-    // Each node's pose in its link frame.
+    // A massless group's frame is its first node.
+    let mut massless_reference = vec![usize::MAX; massless.len()];
+    for (n, &g) in groups.group_of.iter().enumerate() {
+        if let Some(m) = massless_of_group[g] {
+            if massless_reference[m] == usize::MAX {
+                massless_reference[m] = n;
+            }
+        }
+    }
+    // Each node's pose in its link (or massless group) frame.
     let nodes: Vec<FrameNode> = (0..groups.group_of.len())
         .map(|n| {
-            let link = link_of[groups.group_of[n]];
-            let pose = if link == GROUND {
-                groups.pose[n]
-            } else {
-                groups.pose[frame_node[link]].inverse().then(&groups.pose[n])
+            let g = groups.group_of[n];
+            let (anchor, reference) = match massless_of_group[g] {
+                Some(m) => (Anchor::Massless(m), Some(massless_reference[m])),
+                None if link_of[g] == GROUND => (Anchor::Link(GROUND), None),
+                None => (Anchor::Link(link_of[g]), Some(frame_node[link_of[g]])),
             };
-            FrameNode { link, pose, connectors: Vec::new() }
+            let pose = match reference {
+                None => groups.pose[n],
+                Some(r) => groups.pose[r].inverse().then(&groups.pose[n]),
+            };
+            FrameNode { anchor, pose, connectors: Vec::new() }
         })
         .collect();
 
@@ -381,30 +427,38 @@ fn build_links(
         q_offset: 0,
         v_offset: 0,
         source: (usize::MAX, usize::MAX),
-        reversed: false,
+        states_of: usize::MAX,
+        inverted: false,
     }];
     let mut state_names = vec![StateNames { q: &[], u: &[] }];
     let (mut nq, mut nv) = (0, 0);
     for (_, parent) in order {
-        let (parent_link, x_tree, joint, source, reversed) = match *parent {
+        let (parent_link, x_tree, joint, source, states_of, inverted) = match *parent {
             Parent::Joint { edge, reversed } => {
                 let j = joints[edge];
                 let parent_node = if reversed { j.b } else { j.a };
-                let model = if reversed {
-                    j.model.reversed().ok_or_else(|| Error::Unsupported {
-                        component: components[j.component].name.clone(),
-                        what: "this joint placed with its frame_b towards the World (connect its frame_a towards the World instead)".into(),
-                    })?
-                } else {
-                    j.model
+                // Backwards, a 1-DOF joint flips its axis; others invert their motion.
+                let (model, inverted) = match (reversed, j.model.reversed()) {
+                    (false, _) => (j.model, false),
+                    (true, Some(flipped)) => (flipped, false),
+                    (true, None) => (j.model, true),
                 };
-                (nodes[parent_node].link, nodes[parent_node].pose, model, (j.component, j.part), reversed)
+                (
+                    nodes[parent_node].link(),
+                    nodes[parent_node].pose,
+                    model,
+                    (j.component, j.part),
+                    j.component,
+                    inverted,
+                )
             }
-            Parent::Owner(o) => (GROUND, Transform::IDENTITY, o.model, (o.component, o.part), false),
+            Parent::Owner(o, states_of) => {
+                (GROUND, Transform::IDENTITY, o.model, (o.component, o.part), states_of, false)
+            }
         };
         let names = match &components[source.0].parts[source.1] {
             Part::Joint { states, .. } | Part::Owner { states, .. } => *states,
-            _ => unreachable!("links are moved by joints or owners"),
+            _ => TRANSLATION_STATES,
         };
         links.push(Link {
             parent: parent_link,
@@ -414,11 +468,12 @@ fn build_links(
             q_offset: nq,
             v_offset: nv,
             source,
-            reversed,
+            states_of,
+            inverted,
         });
         state_names.push(names);
         nq += joint.nq();
         nv += joint.nv();
     }
-    Ok(Tree { links, nodes, state_names })
+    Ok(Tree { links, nodes, state_names, massless })
 }

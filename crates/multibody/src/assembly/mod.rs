@@ -5,9 +5,11 @@
 //! 2. `connections`: check each `connect`, merge connectors into nodes.
 //! 3. `links`: merge nodes joined by rigid parts into rigid groups; grow a
 //!    tree of joints from the World, and from the one orientation owner of
-//!    each floating group.
+//!    each floating group; groups without mass held only by force elements
+//!    become massless groups.
 //! 4. masses into link inertias, point-gravity masses, 1-D elements
-//!    (`axis`), states and start values (`states`).
+//!    (`axis`), signals (`signals`), force elements (`forces`), states and
+//!    start values (`states`).
 //! 5. `checks`: every degree of freedom has inertia behind it.
 //! 6. `flows`: the tree along which cut forces are computed for outputs.
 
@@ -15,13 +17,17 @@ mod axis;
 mod checks;
 mod connections;
 mod flows;
+mod forces;
 mod instances;
 mod links;
+mod signals;
 mod states;
 mod union_find;
 
 use crate::components::Part;
-use crate::mechanism::{Mechanism, PointGravityMass, GROUND};
+use crate::dynamics::joint::JointMotion;
+use crate::math::{Mat3, Transform, Vec3};
+use crate::mechanism::{Anchor, Attachment, Link, Mechanism, PointGravityMass, GROUND};
 use crate::{Error, Model};
 
 pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
@@ -33,11 +39,17 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     for (n, node) in tree.nodes.iter_mut().enumerate() {
         node.connectors = conn.frame_nodes[n].clone();
     }
-    let warnings = groups.warnings.clone();
+    let mut warnings = groups.warnings.clone();
 
-    // Which link each component's joints and owners move.
+    // Which links each component's joints and owners move (in part order),
+    // or whose states it names.
     for (k, link) in tree.links.iter().enumerate().skip(1) {
         let (ci, pi) = link.source;
+        let joint_links = &mut components[link.states_of].joint_links;
+        if link.states_of != ci {
+            joint_links.push(k);
+            continue;
+        }
         let position =
             components[ci].parts[..pi].iter().filter(|p| matches!(p, Part::Joint { .. } | Part::Owner { .. })).count();
         let joint_links = &mut components[ci].joint_links;
@@ -54,21 +66,40 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         for part in &c.parts {
             if let Part::Mass { frame, inertia, point_gravity } = part {
                 let node = &tree.nodes[conn.node(c.first_connector + frame)];
-                if node.link == GROUND {
+                let Anchor::Link(link) = node.anchor else { continue };
+                if link == GROUND {
                     continue;
                 }
                 let in_link = inertia.expressed_in_parent(&node.pose);
-                tree.links[node.link].inertia += in_link;
+                tree.links[link].inertia += in_link;
                 if (*point_gravity || world.point_gravity) && in_link.mass > 0.0 {
-                    point_masses.push(PointGravityMass { link: node.link, mass: in_link.mass, com: in_link.com() });
+                    point_masses.push(PointGravityMass { link, mass: in_link.mass, com: in_link.com() });
                 }
             }
         }
     }
 
     let axis_elements = axis::elements(&mut components, &conn, &tree)?;
+    let signals = signals::resolve(&components, &conn)?;
+    warnings.extend(signals.warnings);
+    let force_elements = forces::elements(&components, &conn, &mut tree, &signals.of_connector)?;
     let states = states::layout(model, &components, &tree)?;
     checks::inertia_behind_every_joint(&components, &conn, &tree, &states.start[..states.nq])?;
+
+    // Start each massless group at the centre of the frames that hold it.
+    let poses = link_poses(&tree.links, &states.start[..states.nq]);
+    for (m, group) in tree.massless.iter_mut().enumerate() {
+        let ends: Vec<Vec3> = group
+            .elements
+            .iter()
+            .flat_map(|&e| force_elements[e].a.iter().chain([&force_elements[e].b]).copied().collect::<Vec<_>>())
+            .filter(|end| end.anchor != Anchor::Massless(m))
+            .map(|end| position(&poses, &end))
+            .collect();
+        if !ends.is_empty() {
+            group.guess = ends.iter().sum::<Vec3>() / ends.len() as f64;
+        }
+    }
     let flow_tree = flows::flow_tree(&components, &conn, &tree);
 
     Ok(Mechanism {
@@ -79,10 +110,36 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         nodes: tree.nodes,
         links: tree.links,
         axis_elements,
+        sources: signals.sources,
+        signal_of_connector: signals.of_connector,
+        force_elements,
+        massless: tree.massless,
         point_masses,
         uniform_gravity,
         states,
         flow_tree,
         warnings,
     })
+}
+
+/// World pose (world-to-link rotation, origin) of every link at `q`.
+fn link_poses(links: &[Link], q: &[f64]) -> Vec<(Mat3, Vec3)> {
+    let zeros = vec![0.0; q.len() * 2 + 6];
+    let mut poses = vec![(Mat3::identity(), Vec3::zeros()); links.len()];
+    let mut m = JointMotion::default();
+    for k in 1..links.len() {
+        links[k].motion(q, &zeros, &mut m);
+        let x: Transform = links[k].x_tree.then(&m.x);
+        let (rot_p, pos_p) = poses[links[k].parent];
+        poses[k] = (x.rot * rot_p, pos_p + rot_p.tr_mul(&x.trans));
+    }
+    poses
+}
+
+/// World position of an attachment on a link (massless groups: their start guess is unknown, use the origin).
+fn position(poses: &[(Mat3, Vec3)], end: &Attachment) -> Vec3 {
+    match end.anchor {
+        Anchor::Link(k) => poses[k].1 + poses[k].0.tr_mul(&end.pose.trans),
+        Anchor::Massless(_) => Vec3::zeros(),
+    }
 }

@@ -12,7 +12,7 @@ pub fn layout(model: &Model, components: &[CompiledComponent], tree: &Tree) -> R
     let mut names = vec![String::new(); nq + nv];
     let mut start = vec![0.0; nq + nv];
     for (k, link) in tree.links.iter().enumerate().skip(1) {
-        let component = &components[link.source.0].name;
+        let component = &components[link.states_of].name;
         let sn = &tree.state_names[k];
         for (offset, entries) in [(link.q_offset, sn.q), (nq + link.v_offset, sn.u)] {
             let mut i = offset;

@@ -8,6 +8,7 @@
 //! joint, ownership of an orientation, a 1-D force law) and computes its
 //! output variables from the solved motion ([`EvalContext`]).
 
+pub mod laws;
 pub mod params;
 pub mod spec;
 
@@ -24,6 +25,7 @@ mod rotational;
 mod translational;
 pub mod world;
 
+pub use laws::{ForceLaw, Law1D, Resolve, SignalSource};
 pub use params::ParamSet;
 pub use spec::{ComponentSpec, ConnectorSpec, ConnectorType, Default, ParamSpec, ParamType, Shape, VarSpec};
 pub use world::WorldSettings;
@@ -101,34 +103,6 @@ pub struct AxisFlanges {
     pub support: usize,
 }
 
-/// The force law of a 1-D element between two flanges, with the relative
-/// position `s_rel = s_b - s_a` and its rate `v_rel`. `force` is the
-/// element's internal force (or torque): it pushes flange_b back by `force`
-/// and flange_a forward by `force`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Law1D {
-    /// `force = c (s_rel - s_rel0)`.
-    Spring { c: f64, s_rel0: f64 },
-    /// `force = d v_rel`.
-    Damper { d: f64 },
-    /// `force = c (s_rel - s_rel0) + d v_rel`.
-    SpringDamper { c: f64, d: f64, s_rel0: f64 },
-    /// A source driving flange_b forward by `value` (reaction on flange_a).
-    Source { value: f64 },
-}
-
-impl Law1D {
-    #[inline]
-    pub fn force(&self, s_rel: f64, v_rel: f64) -> f64 {
-        match *self {
-            Law1D::Spring { c, s_rel0 } => c * (s_rel - s_rel0),
-            Law1D::Damper { d } => d * v_rel,
-            Law1D::SpringDamper { c, d, s_rel0 } => c * (s_rel - s_rel0) + d * v_rel,
-            Law1D::Source { value } => -value,
-        }
-    }
-}
-
 /// What a component adds to the mechanism.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Part {
@@ -145,6 +119,15 @@ pub enum Part {
     Owner { frame: usize, model: JointModel, states: StateNames },
     /// A 1-D force element between two flanges.
     Element1D { a: usize, b: usize, law: Law1D },
+    /// A signal source driving the output connector `output`.
+    Source { output: usize, signal: SignalSource },
+    /// A force element on frame `b` with its reaction on frame `a` (or on
+    /// the world when `a` is `None`); inputs are connector numbers.
+    Force { a: Option<usize>, b: usize, law: ForceLaw },
+    /// A line-force end that fixes its frame's orientation to the world's
+    /// (`fixed_rotation_at_frame_a/b`): it owns the orientation of a
+    /// group that nothing else orients.
+    FixedRotationEnd { frame: usize },
 }
 
 /// The motion of one frame connector and the cut force on it.
@@ -198,6 +181,8 @@ pub struct EvalContext<'a> {
     pub joints: &'a [JointState<'a>],
     /// One per `Element1D` part, in the order of `parts()`.
     pub elements: &'a [Element1DState],
+    /// By connector number: the value of each signal connector.
+    pub signals: &'a [f64],
 }
 
 #[cfg(test)]
@@ -238,6 +223,7 @@ mod tests {
                     ParamType::Vector(_) | ParamType::IntVector(_) => crate::Value::Array(params.vector(p.name)),
                     ParamType::Bool => crate::Value::Bool(params.boolean(p.name)),
                     ParamType::Enum(..) => crate::Value::Enum(params.variant(p.name).into()),
+                    ParamType::Matrix(_) => crate::Value::Matrix(params.matrix(p.name)),
                 };
                 if let Err(e) = params::check_value("c", p.name, p.ty, &value) {
                     panic!("{}.{}: default does not fit: {e}", spec.kind, p.name);

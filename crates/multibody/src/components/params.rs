@@ -115,6 +115,14 @@ impl<'a> ParamSet<'a> {
         [v[0], v[1], v[2], v[3]]
     }
 
+    /// The rows of a table parameter.
+    pub fn matrix(&self, name: &str) -> Vec<Vec<f64>> {
+        match self.value(name) {
+            Some(Value::Matrix(rows)) => rows.clone(),
+            _ => Vec::new(),
+        }
+    }
+
     pub fn boolean(&self, name: &str) -> bool {
         matches!(self.value(name), Some(Value::Bool(true)))
     }
@@ -210,6 +218,12 @@ pub fn check_value(component: &str, name: &str, ty: ParamType, value: &Value) ->
                 return Err(wrong());
             }
             Ok(value.clone())
+        }
+        (ParamType::Matrix(n), Value::Matrix(rows)) => {
+            if let Some(bad) = rows.iter().find(|r| r.len() != n) {
+                return Err(wrong_size(n, bad.len()));
+            }
+            finite(component, name, value, &rows.concat()).map(|_| value.clone())
         }
         (ParamType::Enum(ty_name, variants), Value::Enum(v)) => {
             let bare = v.strip_prefix(ty_name).and_then(|s| s.strip_prefix('.')).unwrap_or(v);

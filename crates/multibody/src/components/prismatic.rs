@@ -39,8 +39,8 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     connectors: &[
         ConnectorSpec::frame("frame_a", "The frame the joint is mounted on"),
         ConnectorSpec::frame("frame_b", "The sliding frame"),
-        ConnectorSpec::flange("axis", ConnectorType::Flange, "Flange that moves with the joint coordinate", None),
-        ConnectorSpec::flange("support", ConnectorType::Flange, "Flange fixed to frame_a (reaction side)", None),
+        ConnectorSpec::flange("axis", ConnectorType::Flange, "Flange that moves with the joint coordinate"),
+        ConnectorSpec::flange("support", ConnectorType::Flange, "Flange fixed to frame_a (reaction side)"),
     ],
     variables: VARIABLES,
     build,

@@ -32,8 +32,8 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     connectors: &[
         ConnectorSpec::frame("frame_a", "The frame the joint is mounted on"),
         ConnectorSpec::frame("frame_b", "The rotating frame"),
-        ConnectorSpec::flange("axis", ConnectorType::Spline, "Spline that rotates with the joint angle", None),
-        ConnectorSpec::flange("support", ConnectorType::Spline, "Spline fixed to frame_a (reaction side)", None),
+        ConnectorSpec::flange("axis", ConnectorType::Spline, "Spline that rotates with the joint angle"),
+        ConnectorSpec::flange("support", ConnectorType::Spline, "Spline fixed to frame_a (reaction side)"),
     ],
     variables: VARIABLES,
     build,

@@ -46,6 +46,8 @@ pub enum ParamType {
     IntVector(usize),
     /// An enumeration type and its variants.
     Enum(&'static str, &'static [&'static str]),
+    /// Rows of this many numbers each, any number of rows (a table).
+    Matrix(usize),
 }
 
 impl ParamType {
@@ -56,6 +58,7 @@ impl ParamType {
             ParamType::Bool => "true or false".into(),
             ParamType::Integer => "an integer".into(),
             ParamType::IntVector(n) => format!("an array of {n} integers"),
+            ParamType::Matrix(n) => format!("rows of {n} numbers, e.g. [[0, 1], [2, 3]]"),
             ParamType::Enum(ty, variants) => {
                 format!("one of {}", variants.iter().map(|v| format!("{ty}.{v}")).collect::<Vec<_>>().join(", "))
             }
@@ -148,6 +151,10 @@ pub enum ConnectorType {
     Spline,
     /// A 1-D translational flange.
     Flange,
+    /// A real signal input.
+    RealInput,
+    /// A real signal output.
+    RealOutput,
 }
 
 impl ConnectorType {
@@ -156,7 +163,18 @@ impl ConnectorType {
             ConnectorType::Frame => "Frame3D",
             ConnectorType::Spline => "Spline",
             ConnectorType::Flange => "Flange",
+            ConnectorType::RealInput => "RealInput",
+            ConnectorType::RealOutput => "RealOutput",
         }
+    }
+
+    /// Whether connectors of the two types may be connected.
+    pub fn connects_to(&self, other: &ConnectorType) -> bool {
+        self == other || (self.is_signal() && other.is_signal())
+    }
+
+    pub fn is_signal(&self) -> bool {
+        matches!(self, ConnectorType::RealInput | ConnectorType::RealOutput)
     }
 }
 
@@ -165,21 +183,20 @@ pub struct ConnectorSpec {
     pub name: &'static str,
     pub ty: ConnectorType,
     pub doc: &'static str,
-    /// A boolean parameter that must be true for the connector to exist.
-    pub only_if: Option<&'static str>,
 }
 
 impl ConnectorSpec {
     pub const fn frame(name: &'static str, doc: &'static str) -> Self {
-        Self { name, ty: ConnectorType::Frame, doc, only_if: None }
+        Self { name, ty: ConnectorType::Frame, doc }
     }
-    pub const fn flange(
-        name: &'static str,
-        ty: ConnectorType,
-        doc: &'static str,
-        only_if: Option<&'static str>,
-    ) -> Self {
-        Self { name, ty, doc, only_if }
+    pub const fn flange(name: &'static str, ty: ConnectorType, doc: &'static str) -> Self {
+        Self { name, ty, doc }
+    }
+    pub const fn input(name: &'static str, doc: &'static str) -> Self {
+        Self { name, ty: ConnectorType::RealInput, doc }
+    }
+    pub const fn output(name: &'static str, doc: &'static str) -> Self {
+        Self { name, ty: ConnectorType::RealOutput, doc }
     }
 }
 

@@ -16,13 +16,20 @@ impl Mechanism {
     pub fn forward_dynamics(
         &self,
         ws: &mut Workspace,
-        _t: f64,
+        t: f64,
         q: &[f64],
         u: &[f64],
         ud: &mut [f64],
     ) -> Result<(), DynamicsError> {
         self.kinematics_and_bias(ws, q, u)?;
+        for (slot, source) in ws.signals.iter_mut().zip(&self.sources) {
+            *slot = source.value(t);
+        }
+        if !self.massless.is_empty() {
+            self.solve_massless(ws)?;
+        }
         self.apply_forces(ws, q, u);
+        self.apply_force_elements(ws);
         self.articulated_inertias(ws)?;
         self.accelerations(ws, ud);
         Ok(())
@@ -34,10 +41,9 @@ impl Mechanism {
         let mut jm = JointMotion::default();
         for k in 1..self.links.len() {
             let link = &self.links[k];
-            let (nq, nv) = (link.joint.nq(), link.joint.nv());
-            let qk = &q[link.q_offset..link.q_offset + nq];
-            link.joint.motion(qk, &u[link.v_offset..link.v_offset + nv], &mut jm);
-            if link.joint.singularity(qk).is_some() {
+            let nv = link.joint.nv();
+            link.motion(q, u, &mut jm);
+            if link.joint.singularity(link.q(q)).is_some() {
                 return Err(DynamicsError::EulerSingularity { link: k });
             }
             let parent = ws.links[link.parent];

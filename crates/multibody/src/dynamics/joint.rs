@@ -33,6 +33,18 @@ pub enum JointModel {
     /// Three translational degrees of freedom and no rotation:
     /// `q = r`, `u = v`, resolved in frame_a.
     Translation,
+    /// Three rotational degrees of freedom about a common point:
+    /// `q` = rotation coordinates, `u` = their rates (Euler) or the relative
+    /// angular velocity resolved in frame_b (quaternion).
+    Spherical(RotationCoordinates),
+    /// Rotation `q[0]` about `n_a` (fixed in frame_a), then `q[1]` about
+    /// `n_b` (fixed in frame_b).
+    Universal { n_a: Vec3, n_b: Vec3 },
+    /// Translation `q[0]` along and rotation `q[1]` about the same axis.
+    Cylindrical { axis: Vec3 },
+    /// Translations `q[0]` along `n_x` and `q[1]` along `n_y` (both in
+    /// frame_a), then rotation `q[2]` about the plane normal `n`.
+    Planar { n: Vec3, n_x: Vec3, n_y: Vec3 },
 }
 
 /// The kinematics of a joint at one state, in frame_b coordinates.
@@ -59,13 +71,68 @@ pub struct Singularity {
 /// represent a bounded angular velocity would exceed a million times it.
 pub const EULER_SINGULARITY: f64 = 1e-6;
 
+impl RotationCoordinates {
+    pub fn nq(&self) -> usize {
+        match self {
+            RotationCoordinates::Quaternion { .. } => 4,
+            RotationCoordinates::Euler { .. } => 3,
+        }
+    }
+
+    /// Fills the angular columns of `S`, and returns the angular velocity
+    /// (frame_b) and the angular velocity-product acceleration.
+    #[inline]
+    fn angular(&self, q: &[f64], rates: &Vec3, s: &mut [Motion]) -> (Vec3, Vec3) {
+        match *self {
+            RotationCoordinates::Quaternion { .. } => {
+                for (k, col) in s.iter_mut().enumerate().take(3) {
+                    *col = Motion::new(crate::math::unit(k), Vec3::zeros());
+                }
+                (*rates, Vec3::zeros())
+            }
+            RotationCoordinates::Euler { sequence } => {
+                let phi = Vec3::new(q[0], q[1], q[2]);
+                let j = axes_rotations_rate_matrix(sequence, &phi);
+                for (k, col) in s.iter_mut().enumerate().take(3) {
+                    *col = Motion::new(j.column(k).into(), Vec3::zeros());
+                }
+                (j * rates, axes_rotations_rate_bias(sequence, &phi, rates))
+            }
+        }
+    }
+
+    /// Rates of the rotation coordinates `q` for the velocity coordinates `rates`.
+    #[inline]
+    fn qdot(&self, q: &[f64], rates: &[f64], qd: &mut [f64]) {
+        match *self {
+            RotationCoordinates::Quaternion { k } => {
+                let qh = Quat::new(q[0], q[1], q[2], q[3]);
+                let d = quaternion_rate(&qh, &Vec3::new(rates[0], rates[1], rates[2]), k);
+                qd[..4].copy_from_slice(d.as_slice());
+            }
+            RotationCoordinates::Euler { .. } => qd[..3].copy_from_slice(&rates[..3]),
+        }
+    }
+
+    fn singularity(&self, q: &[f64]) -> Option<Singularity> {
+        if let RotationCoordinates::Euler { sequence } = self {
+            let measure = axes_rotations_rate_matrix(*sequence, &Vec3::new(q[0], q[1], q[2])).determinant().abs();
+            if measure < EULER_SINGULARITY {
+                return Some(Singularity { measure });
+            }
+        }
+        None
+    }
+}
+
 impl JointModel {
     pub fn nq(&self) -> usize {
         match self {
             JointModel::Revolute { .. } | JointModel::Prismatic { .. } => 1,
-            JointModel::Free(RotationCoordinates::Quaternion { .. }) => 7,
-            JointModel::Free(RotationCoordinates::Euler { .. }) => 6,
-            JointModel::Translation => 3,
+            JointModel::Free(rot) => 3 + rot.nq(),
+            JointModel::Spherical(rot) => rot.nq(),
+            JointModel::Translation | JointModel::Planar { .. } => 3,
+            JointModel::Universal { .. } | JointModel::Cylindrical { .. } => 2,
         }
     }
 
@@ -73,15 +140,25 @@ impl JointModel {
         match self {
             JointModel::Revolute { .. } | JointModel::Prismatic { .. } => 1,
             JointModel::Free(_) => 6,
-            JointModel::Translation => 3,
+            JointModel::Translation | JointModel::Spherical(_) | JointModel::Planar { .. } => 3,
+            JointModel::Universal { .. } | JointModel::Cylindrical { .. } => 2,
+        }
+    }
+
+    /// Where the rotation coordinates start in `q`, for joints that have them.
+    pub fn rotation_coordinates(&self) -> Option<(usize, RotationCoordinates)> {
+        match *self {
+            JointModel::Free(rot) => Some((3, rot)),
+            JointModel::Spherical(rot) => Some((0, rot)),
+            _ => None,
         }
     }
 
     /// Coordinates of the zero displacement.
     pub fn neutral(&self, q: &mut [f64]) {
         q.fill(0.0);
-        if let JointModel::Free(RotationCoordinates::Quaternion { .. }) = self {
-            q[3] = 1.0;
+        if let Some((k, RotationCoordinates::Quaternion { .. })) = self.rotation_coordinates() {
+            q[k] = 1.0;
         }
     }
 
@@ -102,6 +179,12 @@ impl JointModel {
             JointModel::Prismatic { axis } => Transform::translation(axis * q[0]),
             JointModel::Free(rot) => Transform::new(rotation_of(&rot, &q[3..]), Vec3::new(q[0], q[1], q[2])),
             JointModel::Translation => Transform::translation(Vec3::new(q[0], q[1], q[2])),
+            JointModel::Spherical(rot) => Transform::rotation(rotation_of(&rot, q)),
+            JointModel::Universal { n_a, n_b } => {
+                Transform::rotation(planar_rotation(&n_b, q[1]) * planar_rotation(&n_a, q[0]))
+            }
+            JointModel::Cylindrical { axis } => Transform::new(planar_rotation(&axis, q[1]), axis * q[0]),
+            JointModel::Planar { n, n_x, n_y } => Transform::new(planar_rotation(&n, q[2]), n_x * q[0] + n_y * q[1]),
         }
     }
 
@@ -128,25 +211,44 @@ impl JointModel {
                 for k in 0..3 {
                     m.s[k] = Motion::new(Vec3::zeros(), r.column(k).into());
                 }
-                let rates = Vec3::new(u[3], u[4], u[5]);
-                let (w, bias) = match rot {
-                    RotationCoordinates::Quaternion { .. } => {
-                        for k in 0..3 {
-                            m.s[3 + k] = Motion::new(crate::math::unit(k), Vec3::zeros());
-                        }
-                        (rates, Vec3::zeros())
-                    }
-                    RotationCoordinates::Euler { sequence } => {
-                        let phi = Vec3::new(q[3], q[4], q[5]);
-                        let j = axes_rotations_rate_matrix(sequence, &phi);
-                        for k in 0..3 {
-                            m.s[3 + k] = Motion::new(j.column(k).into(), Vec3::zeros());
-                        }
-                        (j * rates, axes_rotations_rate_bias(sequence, &phi, &rates))
-                    }
-                };
+                let (w, bias) = rot.angular(&q[3..], &Vec3::new(u[3], u[4], u[5]), &mut m.s[3..6]);
                 m.vj = Motion::new(w, v_b);
                 m.cj = Motion::new(bias, -w.cross(&v_b));
+            }
+            JointModel::Spherical(rot) => {
+                m.x = Transform::rotation(rotation_of(&rot, q));
+                let (w, bias) = rot.angular(q, &Vec3::new(u[0], u[1], u[2]), &mut m.s[0..3]);
+                m.vj = Motion::new(w, Vec3::zeros());
+                m.cj = Motion::new(bias, Vec3::zeros());
+            }
+            JointModel::Universal { n_a, n_b } => {
+                let rb = planar_rotation(&n_b, q[1]);
+                m.x = Transform::rotation(rb * planar_rotation(&n_a, q[0]));
+                let a_in_b = rb * n_a;
+                m.s[0] = Motion::new(a_in_b, Vec3::zeros());
+                m.s[1] = Motion::new(n_b, Vec3::zeros());
+                m.vj = Motion::new(a_in_b * u[0] + n_b * u[1], Vec3::zeros());
+                // d(rb n_a)/dt = -w_b n_b x (rb n_a)
+                m.cj = Motion::new(-n_b.cross(&a_in_b) * (u[0] * u[1]), Vec3::zeros());
+            }
+            JointModel::Cylindrical { axis } => {
+                m.x = Transform::new(planar_rotation(&axis, q[1]), axis * q[0]);
+                m.s[0] = Motion::new(Vec3::zeros(), axis);
+                m.s[1] = Motion::new(axis, Vec3::zeros());
+                m.vj = Motion::new(axis * u[1], axis * u[0]);
+                m.cj = Motion::ZERO;
+            }
+            JointModel::Planar { n, n_x, n_y } => {
+                let r = planar_rotation(&n, q[2]);
+                m.x = Transform::new(r, n_x * q[0] + n_y * q[1]);
+                let (ex, ey) = (r * n_x, r * n_y);
+                m.s[0] = Motion::new(Vec3::zeros(), ex);
+                m.s[1] = Motion::new(Vec3::zeros(), ey);
+                m.s[2] = Motion::new(n, Vec3::zeros());
+                let v_b = ex * u[0] + ey * u[1];
+                let w = n * u[2];
+                m.vj = Motion::new(w, v_b);
+                m.cj = Motion::new(Vec3::zeros(), -w.cross(&v_b));
             }
             JointModel::Translation => {
                 m.x = Transform::translation(Vec3::new(q[0], q[1], q[2]));
@@ -164,30 +266,34 @@ impl JointModel {
     pub fn qdot(&self, q: &[f64], u: &[f64], qd: &mut [f64]) {
         match *self {
             JointModel::Revolute { .. } | JointModel::Prismatic { .. } => qd[0] = u[0],
-            JointModel::Translation => qd[..3].copy_from_slice(&u[..3]),
+            JointModel::Translation | JointModel::Planar { .. } => qd[..3].copy_from_slice(&u[..3]),
+            JointModel::Universal { .. } | JointModel::Cylindrical { .. } => qd[..2].copy_from_slice(&u[..2]),
             JointModel::Free(rot) => {
                 qd[..3].copy_from_slice(&u[..3]);
-                match rot {
-                    RotationCoordinates::Quaternion { k } => {
-                        let qh = Quat::new(q[3], q[4], q[5], q[6]);
-                        let d = quaternion_rate(&qh, &Vec3::new(u[3], u[4], u[5]), k);
-                        qd[3..7].copy_from_slice(d.as_slice());
-                    }
-                    RotationCoordinates::Euler { .. } => qd[3..6].copy_from_slice(&u[3..6]),
-                }
+                rot.qdot(&q[3..], &u[3..6], &mut qd[3..]);
             }
+            JointModel::Spherical(rot) => rot.qdot(q, &u[..3], qd),
         }
     }
 
     /// Whether the coordinates are at (or too near) a singular configuration.
     pub fn singularity(&self, q: &[f64]) -> Option<Singularity> {
-        if let JointModel::Free(RotationCoordinates::Euler { sequence }) = self {
-            let measure = axes_rotations_rate_matrix(*sequence, &Vec3::new(q[3], q[4], q[5])).determinant().abs();
-            if measure < EULER_SINGULARITY {
-                return Some(Singularity { measure });
-            }
+        let (k, rot) = self.rotation_coordinates()?;
+        rot.singularity(&q[k..])
+    }
+
+    /// The motion of frame_a relative to frame_b, in frame_a coordinates,
+    /// from the motion `m` of frame_b relative to frame_a: a joint traversed
+    /// backwards. `S' = -X^-1 S`, `c' = -X^-1 c` (the cross term of the
+    /// apparent derivative vanishes).
+    pub fn invert(m: &mut JointMotion, nv: usize) {
+        let x = m.x;
+        for s in m.s.iter_mut().take(nv) {
+            *s = -x.inv_apply_motion(s);
         }
-        None
+        m.vj = -x.inv_apply_motion(&m.vj);
+        m.cj = -x.inv_apply_motion(&m.cj);
+        m.x = x.inverse();
     }
 }
 
@@ -216,26 +322,16 @@ mod tests {
     use super::*;
     use approx::assert_relative_eq;
 
-    /// Spatial velocity of frame_b relative to frame_a, in frame_b, by
-    /// finite differences of the transform along the motion.
-    fn velocity_by_differences(model: &JointModel, q: &[f64], u: &[f64]) -> Motion {
-        let h = 1e-6;
-        let mut qd = vec![0.0; q.len()];
-        model.qdot(q, u, &mut qd);
-        let plus: Vec<f64> = q.iter().zip(&qd).map(|(a, b)| a + h * b).collect();
-        let minus: Vec<f64> = q.iter().zip(&qd).map(|(a, b)| a - h * b).collect();
-        let (xp, xm, x) = (model.transform(&plus), model.transform(&minus), model.transform(q));
-        let rdot = (xp.rot - xm.rot) / (2.0 * h);
-        let wx = -rdot * x.rot.transpose();
-        let w = Vec3::new(wx[(2, 1)], wx[(0, 2)], wx[(1, 0)]);
-        let rdot_origin = (xp.trans - xm.trans) / (2.0 * h);
-        Motion::new(w, x.rot * rdot_origin)
-    }
-
-    #[test]
-    fn subspace_velocity_matches_finite_differences() {
-        let models = [
-            (JointModel::Revolute { axis: Vec3::new(1.0, 2.0, -1.0).normalize() }, vec![0.4], vec![1.3]),
+    fn samples() -> Vec<(JointModel, Vec<f64>, Vec<f64>)> {
+        let unit = |x: f64, y: f64, z: f64| Vec3::new(x, y, z).normalize();
+        let quat = |v: [f64; 4]| {
+            let n = Quat::from(v).norm();
+            v.iter().map(|x| x / n).collect::<Vec<f64>>()
+        };
+        let mut free_q = vec![0.1, -0.2, 0.3];
+        free_q.extend(quat([0.9, 0.1, -0.3, 0.2]));
+        vec![
+            (JointModel::Revolute { axis: unit(1.0, 2.0, -1.0) }, vec![0.4], vec![1.3]),
             (JointModel::Prismatic { axis: Vec3::new(0.0, -1.0, 0.0) }, vec![0.4], vec![-0.7]),
             (
                 JointModel::Free(RotationCoordinates::Euler { sequence: [3, 1, 2] }),
@@ -244,47 +340,98 @@ mod tests {
             ),
             (
                 JointModel::Free(RotationCoordinates::Quaternion { k: 0.0 }),
-                vec![0.1, -0.2, 0.3, 0.9, 0.1, -0.3, 0.2],
+                free_q,
                 vec![0.3, 0.1, -0.2, 1.0, -0.4, 0.7],
             ),
             (JointModel::Translation, vec![1.0, 2.0, 3.0], vec![0.5, -0.5, 0.25]),
-        ];
-        for (model, q, u) in models {
-            let mut q = q;
-            if let JointModel::Free(RotationCoordinates::Quaternion { .. }) = model {
-                let n = Quat::new(q[3], q[4], q[5], q[6]).norm();
-                q[3..7].iter_mut().for_each(|x| *x /= n);
+            (
+                JointModel::Spherical(RotationCoordinates::Euler { sequence: [1, 2, 3] }),
+                vec![0.3, -0.6, 1.1],
+                vec![0.7, 0.2, -0.9],
+            ),
+            (
+                JointModel::Spherical(RotationCoordinates::Quaternion { k: 0.0 }),
+                quat([0.5, -0.5, 0.1, 0.7]),
+                vec![0.7, 0.2, -0.9],
+            ),
+            (
+                JointModel::Universal { n_a: unit(1.0, 0.0, 0.0), n_b: unit(0.0, 1.0, 0.2) },
+                vec![0.8, -0.4],
+                vec![1.1, 0.6],
+            ),
+            (JointModel::Cylindrical { axis: unit(0.0, 1.0, 1.0) }, vec![0.3, 0.9], vec![-0.4, 1.5]),
+            (
+                JointModel::Planar { n: Vec3::z(), n_x: Vec3::x(), n_y: Vec3::y() },
+                vec![0.3, -0.2, 0.7],
+                vec![0.5, 0.4, -1.2],
+            ),
+        ]
+    }
+
+    /// Motion of the joint, forward or traversed backwards.
+    fn motion(model: &JointModel, q: &[f64], u: &[f64], inverted: bool) -> JointMotion {
+        let mut m = JointMotion::default();
+        model.motion(q, u, &mut m);
+        if inverted {
+            JointModel::invert(&mut m, model.nv());
+        }
+        m
+    }
+
+    /// Spatial velocity of the child frame relative to the parent frame, in
+    /// child coordinates, by central differences of the transform.
+    fn velocity_by_differences(model: &JointModel, q: &[f64], u: &[f64], inverted: bool) -> Motion {
+        let h = 1e-6;
+        let mut qd = vec![0.0; q.len()];
+        model.qdot(q, u, &mut qd);
+        let at = |sign: f64| -> Transform {
+            let shifted: Vec<f64> = q.iter().zip(&qd).map(|(a, b)| a + sign * h * b).collect();
+            let x = model.transform(&shifted);
+            if inverted {
+                x.inverse()
+            } else {
+                x
             }
-            let mut m = JointMotion::default();
-            model.motion(&q, &u, &mut m);
-            let fd = velocity_by_differences(&model, &q, &u);
-            assert_relative_eq!(m.vj.ang, fd.ang, epsilon = 1e-7);
-            assert_relative_eq!(m.vj.lin, fd.lin, epsilon = 1e-7);
-            // vj = S u
-            let su = (0..model.nv()).fold(Motion::ZERO, |acc, k| acc + m.s[k] * u[k]);
-            assert_relative_eq!(su.ang, m.vj.ang, epsilon = 1e-14);
-            assert_relative_eq!(su.lin, m.vj.lin, epsilon = 1e-14);
+        };
+        let (xp, xm, x) = (at(1.0), at(-1.0), at(0.0));
+        let rdot = (xp.rot - xm.rot) / (2.0 * h);
+        let wx = -rdot * x.rot.transpose();
+        let w = Vec3::new(wx[(2, 1)], wx[(0, 2)], wx[(1, 0)]);
+        Motion::new(w, x.rot * ((xp.trans - xm.trans) / (2.0 * h)))
+    }
+
+    #[test]
+    fn subspace_velocity_matches_finite_differences() {
+        for (model, q, u) in samples() {
+            for inverted in [false, true] {
+                let m = motion(&model, &q, &u, inverted);
+                let fd = velocity_by_differences(&model, &q, &u, inverted);
+                assert_relative_eq!(m.vj.ang, fd.ang, epsilon = 1e-7);
+                assert_relative_eq!(m.vj.lin, fd.lin, epsilon = 1e-7);
+                let su = (0..model.nv()).fold(Motion::ZERO, |acc, k| acc + m.s[k] * u[k]);
+                assert_relative_eq!(su.ang, m.vj.ang, epsilon = 1e-14);
+                assert_relative_eq!(su.lin, m.vj.lin, epsilon = 1e-14);
+            }
         }
     }
 
     #[test]
     fn bias_acceleration_matches_differentiated_subspace() {
-        // cj = (d/dt S) u with u held fixed, in frame_b coordinates.
-        let model = JointModel::Free(RotationCoordinates::Euler { sequence: [1, 2, 3] });
-        let q = [0.1, -0.2, 0.3, 0.4, -0.5, 0.6];
-        let u = [0.3, 0.1, -0.2, 1.0, -0.4, 0.7];
-        let h = 1e-6;
-        let mut qd = [0.0; 6];
-        model.qdot(&q, &u, &mut qd);
-        let step = |s: f64| -> Vec<f64> { q.iter().zip(&qd).map(|(a, b)| a + s * h * b).collect() };
-        let (mut mp, mut mm, mut m) = (JointMotion::default(), JointMotion::default(), JointMotion::default());
-        model.motion(&step(1.0), &u, &mut mp);
-        model.motion(&step(-1.0), &u, &mut mm);
-        model.motion(&q, &u, &mut m);
-        // The derivative of vj in frame_b coordinates, as seen from frame_b (apparent derivative).
-        let dv = (mp.vj - mm.vj) * (0.5 / h);
-        assert_relative_eq!(m.cj.ang, dv.ang, epsilon = 1e-7);
-        assert_relative_eq!(m.cj.lin, dv.lin, epsilon = 1e-7);
+        // cj = (d/dt S) u with u held fixed, in child coordinates: the
+        // apparent derivative of vj.
+        for (model, q, u) in samples() {
+            for inverted in [false, true] {
+                let h = 1e-6;
+                let mut qd = vec![0.0; q.len()];
+                model.qdot(&q, &u, &mut qd);
+                let step = |s: f64| -> Vec<f64> { q.iter().zip(&qd).map(|(a, b)| a + s * h * b).collect() };
+                let (mp, mm) = (motion(&model, &step(1.0), &u, inverted), motion(&model, &step(-1.0), &u, inverted));
+                let m = motion(&model, &q, &u, inverted);
+                let dv = (mp.vj - mm.vj) * (0.5 / h);
+                assert_relative_eq!(m.cj.ang, dv.ang, epsilon = 1e-7);
+                assert_relative_eq!(m.cj.lin, dv.lin, epsilon = 1e-7);
+            }
+        }
     }
 
     #[test]

@@ -5,6 +5,7 @@
 //! (`outputs`).
 
 mod aba;
+mod forces;
 pub mod joint;
 pub(crate) mod outputs;
 
@@ -21,6 +22,8 @@ pub enum DynamicsError {
     SingularInertia { link: usize },
     /// A value became infinite or NaN.
     NotFinite,
+    /// No position of a massless group balances the forces on it.
+    MasslessWithoutBalance { group: usize },
 }
 
 /// Scratch memory of the dynamics for one mechanism: everything the
@@ -34,6 +37,11 @@ pub struct Workspace {
     pub(crate) multi_index: Vec<usize>,
     /// Generalised forces of the 1-D elements, one per velocity coordinate.
     pub(crate) tau: Vec<f64>,
+    /// Signal values at the current time; the last slot is always zero.
+    pub(crate) signals: Vec<f64>,
+    /// Positions and velocities of the massless groups.
+    pub(crate) massless_pos: Vec<Vec3>,
+    pub(crate) massless_vel: Vec<Vec3>,
 }
 
 /// What the articulated-body algorithm keeps per link.
@@ -79,7 +87,15 @@ impl Workspace {
             }
         }
         let ground = LinkWork { rot: Mat3::identity(), ..LinkWork::default() };
-        Self { links: vec![ground; n], multi, multi_index, tau: vec![0.0; mechanism.states.nv] }
+        Self {
+            links: vec![ground; n],
+            multi,
+            multi_index,
+            tau: vec![0.0; mechanism.states.nv],
+            signals: vec![0.0; mechanism.sources.len() + 1],
+            massless_pos: mechanism.massless.iter().map(|g| g.guess).collect(),
+            massless_vel: vec![Vec3::zeros(); mechanism.massless.len()],
+        }
     }
 }
 
@@ -111,8 +127,8 @@ impl Mechanism {
         let name = |link: usize| self.components[self.links[link].source.0].name.clone();
         match *error {
             DynamicsError::EulerSingularity { link } => {
-                let seq = match self.links[link].joint {
-                    joint::JointModel::Free(joint::RotationCoordinates::Euler { sequence }) => sequence,
+                let seq = match self.links[link].joint.rotation_coordinates() {
+                    Some((_, joint::RotationCoordinates::Euler { sequence })) => sequence,
                     _ => [1, 2, 3],
                 };
                 format!(
@@ -128,6 +144,10 @@ impl Mechanism {
                 name(link)
             ),
             DynamicsError::NotFinite => "a value became infinite or NaN (the motion blew up)".into(),
+            DynamicsError::MasslessWithoutBalance { group } => format!(
+                "no position of the frames without mass between {} balances the forces on them (springs that cannot hold them, or pulled apart without limit); give them mass or change the springs",
+                self.massless[group].components.iter().map(|c| format!("`{c}`")).collect::<Vec<_>>().join(", ")
+            ),
         }
     }
 }

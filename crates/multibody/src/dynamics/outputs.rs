@@ -5,7 +5,7 @@
 use super::{DynamicsError, Workspace};
 use crate::components::{ConnectorType, Element1DState, EvalContext, FrameState, JointState, Part};
 use crate::math::{Motion, Vec3};
-use crate::mechanism::{FlangeRef, GROUND};
+use crate::mechanism::{Anchor, FlangeRef, GROUND};
 use crate::Mechanism;
 
 /// The name, unit and description of one scalar output signal.
@@ -19,6 +19,7 @@ pub struct Signal {
 #[derive(Debug, Default)]
 pub(crate) struct OutputScratch {
     frames: Vec<FrameState>,
+    signals: Vec<f64>,
     node_wrench: Vec<(Vec3, Vec3)>,
     flows: Vec<(Vec3, Vec3)>,
     dy: Vec<f64>,
@@ -71,7 +72,9 @@ impl Mechanism {
             w.a += Motion::new(Vec3::zeros(), w.rot * self.uniform_gravity);
         }
         self.frame_states(ws, scratch);
-        self.cut_forces(scratch);
+        self.cut_forces(ws, scratch);
+        scratch.signals.clear();
+        scratch.signals.extend(self.signal_of_connector.iter().map(|&slot| ws.signals[slot]));
         let (q, u) = y.split_at(nq);
         let (qd, ud) = scratch.dy.split_at(nq);
 
@@ -103,8 +106,11 @@ impl Mechanism {
                 let v_rel = b.1 - a.1;
                 elements.push(Element1DState { s_rel, v_rel, a_rel: b.2 - a.2, force: el.law.force(s_rel, v_rel) });
             }
-            let frames = &scratch.frames[c.first_connector..c.first_connector + c.spec.connectors.len()];
-            let ctx = EvalContext { time: t, world: &self.world, frames, joints: &joints, elements: &elements };
+            let own = c.first_connector..c.first_connector + c.spec.connectors.len();
+            let frames = &scratch.frames[own.clone()];
+            let signals = &scratch.signals[own];
+            let ctx =
+                EvalContext { time: t, world: &self.world, frames, joints: &joints, elements: &elements, signals };
             let before = row.len();
             c.component.evaluate(&ctx, row);
             debug_assert_eq!(
@@ -131,9 +137,21 @@ impl Mechanism {
         scratch.frames.clear();
         scratch.frames.resize(self.connectors.len(), FrameState::default());
         for node in &self.nodes {
-            let lw = &ws.links[node.link];
-            let (v_link, a_link) = if node.link == GROUND { (Motion::ZERO, Motion::ZERO) } else { (lw.v, lw.a) };
             let x = &node.pose;
+            if let Anchor::Massless(m) = node.anchor {
+                let state = FrameState {
+                    r_0: ws.massless_pos[m] + x.trans,
+                    rot: x.rot,
+                    v_0: ws.massless_vel[m],
+                    ..FrameState::default()
+                };
+                for &c in &node.connectors {
+                    scratch.frames[c] = state;
+                }
+                continue;
+            }
+            let lw = &ws.links[node.link()];
+            let (v_link, a_link) = if node.link() == GROUND { (Motion::ZERO, Motion::ZERO) } else { (lw.v, lw.a) };
             let rot = x.rot * lw.rot;
             let v = x.apply_motion(&v_link);
             let a = x.apply_motion(&a_link);
@@ -156,7 +174,7 @@ impl Mechanism {
     /// Cut forces: loads at each node (masses), summed from the leaves of
     /// the flow tree towards the ground. Each transmitting part carries the
     /// sum of the loads beyond it.
-    fn cut_forces(&self, scratch: &mut OutputScratch) {
+    fn cut_forces(&self, ws: &Workspace, scratch: &mut OutputScratch) {
         let n = self.nodes.len();
         scratch.node_wrench.clear();
         scratch.node_wrench.resize(n, (Vec3::zeros(), Vec3::zeros()));
@@ -181,6 +199,21 @@ impl Mechanism {
                     scratch.node_wrench[node].0 += fs.rot.tr_mul(&f);
                     scratch.node_wrench[node].1 += fs.rot.tr_mul(&tau);
                 }
+            }
+        }
+
+        // Force elements: their flows are the opposite of what they apply.
+        for el in &self.force_elements {
+            let (on_a, on_b) = self.applied(ws, el);
+            let ends = [(el.connectors.0, on_a), (Some(el.connectors.1), on_b)];
+            for (connector, (force, moment)) in ends {
+                let Some(id) = connector else { continue };
+                let rot = scratch.frames[id].rot;
+                scratch.flows[id].0 -= rot * force;
+                scratch.flows[id].1 -= rot * moment;
+                let node = self.connectors[id].node;
+                scratch.node_wrench[node].0 -= force;
+                scratch.node_wrench[node].1 -= moment;
             }
         }
 

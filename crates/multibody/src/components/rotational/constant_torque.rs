@@ -10,8 +10,8 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     doc: "Constant torque tau_constant driving spline relative to support (if negative, the torque acts as a load).",
     params: &[ParamSpec::required("tau_constant", ParamType::Real, "N.m", "Constant torque")],
     connectors: &[
-        ConnectorSpec::flange("spline", ConnectorType::Spline, "Driven spline", None),
-        ConnectorSpec::flange("support", ConnectorType::Spline, "Support spline (reaction)", None),
+        ConnectorSpec::flange("spline", ConnectorType::Spline, "Driven spline"),
+        ConnectorSpec::flange("support", ConnectorType::Spline, "Support spline (reaction)"),
     ],
     variables: &[
         VarSpec::scalar("phi", "rad", "Angle of spline with respect to support"),

@@ -15,8 +15,8 @@ pub static SPEC: ComponentSpec = ComponentSpec {
         "Damping coefficient, relating torque to relative angular velocity",
     )],
     connectors: &[
-        ConnectorSpec::flange("spline_a", ConnectorType::Spline, "First spline", None),
-        ConnectorSpec::flange("spline_b", ConnectorType::Spline, "Second spline", None),
+        ConnectorSpec::flange("spline_a", ConnectorType::Spline, "First spline"),
+        ConnectorSpec::flange("spline_b", ConnectorType::Spline, "Second spline"),
     ],
     variables: &[
         VarSpec::scalar("phi_rel", "rad", "Relative rotation angle between spline_b and spline_a"),

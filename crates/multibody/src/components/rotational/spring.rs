@@ -13,8 +13,8 @@ pub static SPEC: ComponentSpec = ComponentSpec {
         ParamSpec::real("phi_rel0", 0.0, "rad", "Unstretched spring angle"),
     ],
     connectors: &[
-        ConnectorSpec::flange("spline_a", ConnectorType::Spline, "First spline", None),
-        ConnectorSpec::flange("spline_b", ConnectorType::Spline, "Second spline", None),
+        ConnectorSpec::flange("spline_a", ConnectorType::Spline, "First spline"),
+        ConnectorSpec::flange("spline_b", ConnectorType::Spline, "Second spline"),
     ],
     variables: &[
         VarSpec::scalar("phi_rel", "rad", "Relative rotation angle between spline_b and spline_a"),

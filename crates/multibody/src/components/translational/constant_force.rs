@@ -10,8 +10,8 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     doc: "Constant force f_constant driving flange relative to support (if negative, the force acts as a load).",
     params: &[ParamSpec::required("f_constant", ParamType::Real, "N", "Constant force")],
     connectors: &[
-        ConnectorSpec::flange("flange", ConnectorType::Flange, "Driven flange", None),
-        ConnectorSpec::flange("support", ConnectorType::Flange, "Support flange (reaction)", None),
+        ConnectorSpec::flange("flange", ConnectorType::Flange, "Driven flange"),
+        ConnectorSpec::flange("support", ConnectorType::Flange, "Support flange (reaction)"),
     ],
     variables: &[
         VarSpec::scalar("s", "m", "Position of flange with respect to support"),

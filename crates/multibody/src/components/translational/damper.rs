@@ -15,8 +15,8 @@ pub static SPEC: ComponentSpec = ComponentSpec {
         "Damping coefficient, relating force to relative velocity",
     )],
     connectors: &[
-        ConnectorSpec::flange("flange_a", ConnectorType::Flange, "First flange", None),
-        ConnectorSpec::flange("flange_b", ConnectorType::Flange, "Second flange", None),
+        ConnectorSpec::flange("flange_a", ConnectorType::Flange, "First flange"),
+        ConnectorSpec::flange("flange_b", ConnectorType::Flange, "Second flange"),
     ],
     variables: &[
         VarSpec::scalar("s_rel", "m", "Relative displacement between flange_b and flange_a"),

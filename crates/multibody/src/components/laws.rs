@@ -1,0 +1,152 @@
+//! The laws that components hand to the dynamics: 1-D force laws, frame
+//! force laws and signal sources. Plain data, evaluated in the hot loop.
+
+/// The force law of a 1-D element between two flanges, with the relative
+/// position `s_rel = s_b - s_a` and its rate `v_rel`. `force` is the
+/// element's internal force (or torque): it pushes flange_b back by `force`
+/// and flange_a forward by `force`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Law1D {
+    /// `force = c (s_rel - s_rel0)`.
+    Spring { c: f64, s_rel0: f64 },
+    /// `force = d v_rel`.
+    Damper { d: f64 },
+    /// `force = c (s_rel - s_rel0) + d v_rel`.
+    SpringDamper { c: f64, d: f64, s_rel0: f64 },
+    /// A source driving flange_b forward by `value` (reaction on flange_a).
+    Source { value: f64 },
+}
+
+impl Law1D {
+    #[inline]
+    pub fn force(&self, s_rel: f64, v_rel: f64) -> f64 {
+        match *self {
+            Law1D::Spring { c, s_rel0 } => c * (s_rel - s_rel0),
+            Law1D::Damper { d } => d * v_rel,
+            Law1D::SpringDamper { c, d, s_rel0 } => c * (s_rel - s_rel0) + d * v_rel,
+            Law1D::Source { value } => -value,
+        }
+    }
+}
+
+/// The frame in which a force or torque input vector is resolved.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Resolve {
+    World,
+    FrameA,
+    FrameB,
+}
+
+impl Resolve {
+    pub const VARIANTS: &'static [&'static str] = &["World", "FrameA", "FrameB"];
+
+    pub fn from_variant(v: &str) -> Self {
+        match v {
+            "World" => Resolve::World,
+            "FrameA" => Resolve::FrameA,
+            _ => Resolve::FrameB,
+        }
+    }
+}
+
+/// How a force element acts between its frames.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ForceLaw {
+    /// Along the line from frame_a to frame_b with
+    /// `f = c (s - s_unstretched) + d ds/dt`, where `s = max(|r_ab|, s_small)`;
+    /// `f > 0` pulls the frames together. No torques.
+    Line { c: f64, d: f64, s_unstretched: f64, s_small: f64 },
+    /// A force at frame_b's origin from the input connectors `inputs`
+    /// (x, y, z), resolved in `resolve`; the reaction acts on frame_a.
+    Force { inputs: [usize; 3], resolve: Resolve },
+    /// A torque on frame_b from `inputs`; the reaction acts on frame_a.
+    Torque { inputs: [usize; 3], resolve: Resolve },
+}
+
+/// A signal as a function of time.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SignalSource {
+    Constant {
+        k: f64,
+    },
+    Step {
+        height: f64,
+        offset: f64,
+        start_time: f64,
+    },
+    Ramp {
+        height: f64,
+        duration: f64,
+        offset: f64,
+        start_time: f64,
+    },
+    Sine {
+        amplitude: f64,
+        frequency: f64,
+        phase: f64,
+        offset: f64,
+        start_time: f64,
+    },
+    /// Linear interpolation in a table of `(time, value)` rows, held
+    /// constant outside it.
+    Table {
+        points: Vec<(f64, f64)>,
+    },
+}
+
+impl SignalSource {
+    pub fn value(&self, t: f64) -> f64 {
+        match *self {
+            SignalSource::Constant { k } => k,
+            SignalSource::Step { height, offset, start_time } => offset + if t >= start_time { height } else { 0.0 },
+            SignalSource::Ramp { height, duration, offset, start_time } => {
+                if t < start_time {
+                    offset
+                } else if t < start_time + duration {
+                    offset + (t - start_time) * height / duration
+                } else {
+                    offset + height
+                }
+            }
+            SignalSource::Sine { amplitude, frequency, phase, offset, start_time } => {
+                if t < start_time {
+                    offset
+                } else {
+                    offset + amplitude * (2.0 * std::f64::consts::PI * frequency * (t - start_time) + phase).sin()
+                }
+            }
+            SignalSource::Table { ref points } => {
+                let k = points.partition_point(|p| p.0 <= t);
+                match k {
+                    0 => points.first().map_or(0.0, |p| p.1),
+                    k if k >= points.len() => points.last().map_or(0.0, |p| p.1),
+                    k => {
+                        let ((t0, y0), (t1, y1)) = (points[k - 1], points[k]);
+                        if t1 > t0 {
+                            y0 + (y1 - y0) * (t - t0) / (t1 - t0)
+                        } else {
+                            y1
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sources_follow_their_definitions() {
+        let ramp = SignalSource::Ramp { height: 2.0, duration: 4.0, offset: 1.0, start_time: 1.0 };
+        assert_eq!([ramp.value(0.0), ramp.value(3.0), ramp.value(9.0)], [1.0, 2.0, 3.0]);
+        let step = SignalSource::Step { height: 2.0, offset: -1.0, start_time: 0.5 };
+        assert_eq!([step.value(0.4), step.value(0.5)], [-1.0, 1.0]);
+        let sine = SignalSource::Sine { amplitude: 2.0, frequency: 0.25, phase: 0.0, offset: 1.0, start_time: 0.0 };
+        assert!((sine.value(1.0) - 3.0).abs() < 1e-15);
+        let table = SignalSource::Table { points: vec![(0.0, 0.0), (1.0, 10.0), (2.0, 10.0)] };
+        assert_eq!([table.value(-1.0), table.value(0.25), table.value(5.0)], [0.0, 2.5, 10.0]);
+    }
+}

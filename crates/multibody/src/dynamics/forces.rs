@@ -1,0 +1,189 @@
+//! Force elements between frames: where their ends are, what they apply,
+//! and the position of massless groups that only they hold.
+
+use super::{DynamicsError, Workspace};
+use crate::components::Resolve;
+use crate::math::{Force, Mat3, Vec3};
+use crate::mechanism::{Anchor, Attachment, ForceElement, Load, GROUND};
+use crate::Mechanism;
+
+/// The motion of a frame a force element acts on.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PointState {
+    /// Origin, world coordinates.
+    pub r: Vec3,
+    /// World to frame rotation.
+    pub rot: Mat3,
+    /// Velocity of the origin, world coordinates.
+    pub v: Vec3,
+}
+
+/// A force (world coordinates) at a frame's origin and a moment (world
+/// coordinates) about that origin.
+pub(crate) type Wrench = (Vec3, Vec3);
+
+/// Newton iterations allowed for massless groups, and the step that counts
+/// as converged relative to the group's distance from the origin.
+const MASSLESS_ITERATIONS: usize = 60;
+const MASSLESS_STEP_TOLERANCE: f64 = 1e-13;
+
+impl Mechanism {
+    /// The motion of an attachment, from the link kinematics of `ws`.
+    #[inline]
+    pub(crate) fn point_state(&self, ws: &Workspace, att: &Attachment) -> PointState {
+        match att.anchor {
+            Anchor::Link(k) => {
+                let lw = &ws.links[k];
+                let p = att.pose.trans;
+                PointState {
+                    r: lw.pos + lw.rot.tr_mul(&p),
+                    rot: att.pose.rot * lw.rot,
+                    v: lw.rot.tr_mul(&(lw.v.lin + lw.v.ang.cross(&p))),
+                }
+            }
+            Anchor::Massless(m) => {
+                PointState { r: ws.massless_pos[m] + att.pose.trans, rot: att.pose.rot, v: ws.massless_vel[m] }
+            }
+        }
+    }
+
+    /// What element `el` applies to the frames at its ends: `(on a, on b)`.
+    #[inline]
+    pub(crate) fn applied(&self, ws: &Workspace, el: &ForceElement) -> (Wrench, Wrench) {
+        let kb = self.point_state(ws, &el.b);
+        let ka = el.a.map(|a| self.point_state(ws, &a));
+        let zero = Vec3::zeros();
+        let input = |slots: [usize; 3]| Vec3::new(ws.signals[slots[0]], ws.signals[slots[1]], ws.signals[slots[2]]);
+        let resolved = |u: Vec3, resolve: Resolve| match (resolve, ka) {
+            (Resolve::World, _) => u,
+            (Resolve::FrameA, Some(a)) => a.rot.tr_mul(&u),
+            (Resolve::FrameA, None) => u,
+            (Resolve::FrameB, _) => kb.rot.tr_mul(&u),
+        };
+        match el.load {
+            Load::Line { c, d, s_unstretched, s_small } => {
+                let ka = ka.expect("line forces have two ends");
+                let f = line_force(c, d, s_unstretched, s_small, &ka, &kb).1;
+                ((f, zero), (-f, zero))
+            }
+            Load::Force { signals, resolve } => {
+                let f = resolved(input(signals), resolve);
+                let lever = ka.map_or(zero, |a| kb.r - a.r);
+                ((-f, -lever.cross(&f)), (f, zero))
+            }
+            Load::Torque { signals, resolve } => {
+                let t = resolved(input(signals), resolve);
+                ((zero, -t), (zero, t))
+            }
+        }
+    }
+
+    /// Adds the force elements' wrenches to the links' bias forces.
+    pub(crate) fn apply_force_elements(&self, ws: &mut Workspace) {
+        for el in &self.force_elements {
+            let (on_a, on_b) = self.applied(ws, el);
+            apply(ws, &el.b, on_b);
+            if let Some(a) = &el.a {
+                apply(ws, a, on_a);
+            }
+        }
+    }
+
+    /// Positions (and velocities) of the massless groups: each group sits
+    /// where the forces on it balance. Newton's method with the springs'
+    /// stiffness, started from the last solution.
+    pub(crate) fn solve_massless(&self, ws: &mut Workspace) -> Result<(), DynamicsError> {
+        for (m, group) in self.massless.iter().enumerate() {
+            let mut converged = false;
+            for _ in 0..MASSLESS_ITERATIONS {
+                let (force, stiffness, _) = self.balance(ws, m, &group.elements);
+                let Some(k_inv) = stiffness.try_inverse() else { break };
+                let step = k_inv * force;
+                let before = force.norm();
+                // Halve the step while it does not reduce the imbalance.
+                let x0 = ws.massless_pos[m];
+                let mut scale = 1.0;
+                loop {
+                    ws.massless_pos[m] = x0 + step * scale;
+                    if self.balance(ws, m, &group.elements).0.norm() <= before || scale < 1e-3 {
+                        break;
+                    }
+                    scale *= 0.5;
+                }
+                if (step * scale).norm() <= MASSLESS_STEP_TOLERANCE * (1.0 + x0.norm()) {
+                    converged = true;
+                    break;
+                }
+            }
+            let (force, stiffness, coupling) = self.balance(ws, m, &group.elements);
+            let scale = group.elements.len() as f64 * (1.0 + stiffness.norm() * (1.0 + ws.massless_pos[m].norm()));
+            if !converged && force.norm() > 1e-9 * scale {
+                return Err(DynamicsError::MasslessWithoutBalance { group: m });
+            }
+            // Differentiating the balance K (v - v_j) = 0 gives the velocity.
+            ws.massless_vel[m] = stiffness.try_inverse().map_or(Vec3::zeros(), |k| k * coupling);
+        }
+        Ok(())
+    }
+
+    /// Net force on massless group `m`, its stiffness `-dF/dx`, and the
+    /// stiffness-weighted velocities of the other ends.
+    fn balance(&self, ws: &Workspace, m: usize, elements: &[usize]) -> (Vec3, Mat3, Vec3) {
+        let (mut force, mut stiffness, mut coupling) = (Vec3::zeros(), Mat3::zeros(), Vec3::zeros());
+        for &e in elements {
+            let el = &self.force_elements[e];
+            let (on_a, on_b) = self.applied(ws, el);
+            let a_here = el.a.is_some_and(|a| a.anchor == Anchor::Massless(m));
+            let b_here = el.b.anchor == Anchor::Massless(m);
+            if a_here {
+                force += on_a.0;
+            }
+            if b_here {
+                force += on_b.0;
+            }
+            if let (Load::Line { c, s_unstretched, s_small, .. }, Some(a)) = (el.load, el.a) {
+                if a_here != b_here {
+                    let (ka, kb) = (self.point_state(ws, &a), self.point_state(ws, &el.b));
+                    let k = line_stiffness(c, s_unstretched, s_small, &ka, &kb);
+                    stiffness += k;
+                    coupling += k * if a_here { kb.v } else { ka.v };
+                }
+            }
+        }
+        (force, stiffness, coupling)
+    }
+}
+
+/// The line force's geometry and the force it applies on frame_a:
+/// `(unit vector a to b, force on a)`; the force on b is the opposite.
+#[inline]
+pub(crate) fn line_force(c: f64, d: f64, s0: f64, s_small: f64, a: &PointState, b: &PointState) -> (Vec3, Vec3) {
+    let r_ab = b.r - a.r;
+    let s = r_ab.norm().max(s_small);
+    let e = r_ab / s;
+    let s_dot = e.dot(&(b.v - a.v));
+    let f = c * (s - s0) + d * s_dot;
+    (e, e * f)
+}
+
+/// `-dF/dr` of a spring's force on one end with respect to that end's
+/// position: `c e e' + (f / s) (I - e e')`.
+fn line_stiffness(c: f64, s0: f64, s_small: f64, a: &PointState, b: &PointState) -> Mat3 {
+    let r_ab = b.r - a.r;
+    let s = r_ab.norm().max(s_small);
+    let e = r_ab / s;
+    let ee = e * e.transpose();
+    ee * c + (Mat3::identity() - ee) * (c * (s - s0) / s)
+}
+
+#[inline]
+fn apply(ws: &mut Workspace, att: &Attachment, (force, moment): Wrench) {
+    if let Anchor::Link(k) = att.anchor {
+        if k != GROUND {
+            let lw = &mut ws.links[k];
+            let f = lw.rot * force;
+            let n = att.pose.trans.cross(&f) + lw.rot * moment;
+            lw.pa -= Force::new(n, f);
+        }
+    }
+}
