@@ -90,3 +90,191 @@ fn point_gravity() {
     let pairs: Vec<(&str, &str)> = pairs.iter().map(|(a, b)| (a.as_str(), b.as_str())).collect();
     assert_within_tube(&reference, &solution, &pairs);
 }
+
+/// DoublePendulum.md with real BodyBoxes (width 0.06, height = width).
+#[test]
+fn double_pendulum_with_body_boxes() {
+    let mut model = Model::new("DoublePendulum");
+    model.add("world", "World");
+    model.add("revolute1", "Revolute");
+    model.add("damper", "RotationalComponents.Damper").set("d", 0.1);
+    model.add("revolute2", "Revolute");
+    model.add("boxBody1", "BodyBox").set("r", [0.5, 0.0, 0.0]).set("width", 0.06);
+    model.add("boxBody2", "BodyBox").set("r", [0.5, 0.0, 0.0]).set("width", 0.06);
+    model.connect(["world.frame_b", "revolute1.frame_a"]);
+    model.connect(["revolute1.frame_b", "boxBody1.frame_a"]);
+    model.connect(["boxBody1.frame_b", "revolute2.frame_a"]);
+    model.connect(["revolute2.frame_b", "boxBody2.frame_a"]);
+    model.connect(["damper.spline_a", "revolute1.support"]);
+    model.connect(["damper.spline_b", "revolute1.axis"]);
+    let reference = Reference::load("DoublePendulum");
+    let solution = model.assemble().unwrap().simulate(&options_for(&reference)).unwrap();
+    let pairs: Vec<(&str, &str)> =
+        ["revolute1.phi", "revolute1.w", "revolute2.phi", "revolute2.w"].iter().map(|s| (*s, *s)).collect();
+    assert_within_tube(&reference, &solution, &pairs);
+}
+
+fn vector_pairs(ours: &str, theirs: &str, names: &[&str]) -> Vec<(String, String)> {
+    names
+        .iter()
+        .flat_map(|n| (1..=3).map(move |i| (format!("{theirs}.{n}[{i}]"), format!("{ours}.{n}[{i}]"))))
+        .collect()
+}
+
+fn as_pairs(pairs: &[(String, String)]) -> Vec<(&str, &str)> {
+    pairs.iter().map(|(a, b)| (a.as_str(), b.as_str())).collect()
+}
+
+/// FreeBody.md: a free BodyShape (quaternion states) hung from two
+/// zero-length springs, released at angles (10, 10, 10) degrees.
+#[test]
+fn free_body() {
+    use multibody::math::{axes_rotations, to_q, Quat, Vec3};
+    let angle = 10f64.to_radians();
+    let q0 = to_q(&axes_rotations([1, 2, 3], &Vec3::new(angle, angle, angle)), &Quat::new(1.0, 0.0, 0.0, 0.0));
+    let mut model = Model::new("FreeBody");
+    model.add("world", "World");
+    model.add("bar2", "FixedTranslation").set("r", [0.8, 0.0, 0.0]);
+    model.add("spring1", "Spring").set("c", 20.0);
+    model.add("spring2", "Spring").set("c", 20.0);
+    model
+        .add("body", "BodyShape")
+        .set("m", 1.0)
+        .set("I_11", 1.0)
+        .set("I_22", 1.0)
+        .set("I_33", 1.0)
+        .set("r", [0.4, 0.0, 0.0])
+        .set("r_cm", [0.2, 0.0, 0.0])
+        .set("orientation_state", OrientationState::Quaternion)
+        .initial("r_0", [0.2, -0.5, 0.1])
+        .initial("Q_hat", q0.as_slice());
+    model.connect(["world.frame_b", "bar2.frame_a"]);
+    model.connect(["spring1.frame_a", "world.frame_b"]);
+    model.connect(["spring1.frame_b", "body.frame_a"]);
+    model.connect(["spring2.frame_a", "bar2.frame_b"]);
+    model.connect(["spring2.frame_b", "body.frame_b"]);
+    let reference = Reference::load("FreeBody");
+    let solution = model.assemble().unwrap().simulate(&options_for(&reference)).unwrap();
+    let mut pairs = vector_pairs("body.frame_a", "body.body.frame_a", &["r_0"]);
+    pairs.extend(vector_pairs("body", "body.body", &["w_a"]));
+    pairs.extend(vector_pairs("body", "body", &["v_0"]));
+    assert_within_tube(&reference, &solution, &as_pairs(&pairs));
+}
+
+/// ThreeSprings.md: a free body hanging from a spring whose upper end is a
+/// massless node held by two more springs (solved in every evaluation).
+#[test]
+fn three_springs() {
+    let mut model = Model::new("ThreeSprings");
+    model.add("world", "World");
+    model.add("bar1", "FixedTranslation").set("r", [0.3, 0.0, 0.0]);
+    model.add("bar2", "FixedTranslation").set("r", [0.0, 0.0, 0.3]);
+    model.add("spring1", "Spring").set("c", 20.0).set("s_unstretched", 0.1);
+    model.add("spring2", "Spring").set("c", 40.0).set("s_unstretched", 0.1);
+    model.add("spring3", "Spring").set("c", 20.0).set("s_unstretched", 0.1).set("fixed_rotation_at_frame_b", true);
+    model
+        .add("body1", "Body")
+        .set("m", 0.8)
+        .set("r_cm", [0.0, -0.2, 0.0])
+        .set("I_11", 0.1)
+        .set("I_22", 0.1)
+        .set("I_33", 0.1)
+        .set("orientation_state", OrientationState::Quaternion)
+        .initial("r_0", [0.5, -0.3, 0.0]);
+    model.connect(["world.frame_b", "bar1.frame_a", "bar2.frame_a"]);
+    model.connect(["bar1.frame_b", "spring1.frame_a"]);
+    model.connect(["bar2.frame_b", "spring3.frame_a"]);
+    model.connect(["spring1.frame_b", "spring3.frame_b", "spring2.frame_a"]);
+    model.connect(["spring2.frame_b", "body1.frame_a"]);
+    let reference = Reference::load("ThreeSprings");
+    let solution = model.assemble().unwrap().simulate(&options_for(&reference)).unwrap();
+    let mut pairs = vector_pairs("body1.frame_a", "body1.frame_a", &["r_0"]);
+    pairs.extend(vector_pairs("body1", "body1", &["v_0", "w_a"]));
+    assert_within_tube(&reference, &solution, &as_pairs(&pairs));
+}
+
+/// ForceAndTorque.md: a cylinder on two revolutes, pushed at its tip by a
+/// constant force and torque given in a frame rotated 30 degrees about z
+/// (here resolved in the world, with the vectors rotated accordingly).
+#[test]
+fn force_and_torque() {
+    let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+    let force = [-s * 1000.0, c * 1000.0, 0.0];
+    let torque = [-c * 100.0 - s * 100.0, -s * 100.0 + c * 100.0, 0.0];
+    let mut model = Model::new("ForceAndTorque");
+    model.add("world", "World");
+    model.add("fixed1", "Fixed").set("r", [0.0, -0.5, 0.0]);
+    model.add("revolute1", "Revolute");
+    model.add("revolute2", "Revolute").set("n", [0.0, 1.0, 0.0]);
+    model.add("body", "BodyCylinder").set("r", [1.0, 0.0, 0.0]);
+    model.add("fixed2", "Fixed").set("r", [1.5, 0.25, 0.0]);
+    model.add("force", "Force").set("resolve_in_frame", multibody::Value::Enum("World".into()));
+    model.add("torque", "Torque").set("resolve_in_frame", multibody::Value::Enum("World".into()));
+    model.connect(["fixed1.frame_b", "revolute1.frame_a"]);
+    model.connect(["revolute1.frame_b", "revolute2.frame_a"]);
+    model.connect(["revolute2.frame_b", "body.frame_a"]);
+    model.connect(["fixed2.frame_b", "force.frame_a", "torque.frame_a"]);
+    model.connect(["body.frame_b", "force.frame_b", "torque.frame_b"]);
+    for (i, axis) in ["x", "y", "z"].iter().enumerate() {
+        model.add(format!("f{axis}"), "BlockComponents.Constant").set("k", force[i]);
+        model.add(format!("t{axis}"), "BlockComponents.Constant").set("k", torque[i]);
+        model.connect([format!("f{axis}.y"), format!("force.force_{axis}")]);
+        model.connect([format!("t{axis}.y"), format!("torque.torque_{axis}")]);
+    }
+    let reference = Reference::load("ForceAndTorque");
+    let solution = model.assemble().unwrap().simulate(&options_for(&reference)).unwrap();
+    let pairs: Vec<(&str, &str)> =
+        ["revolute1.phi", "revolute1.w", "revolute2.phi", "revolute2.w"].iter().map(|s| (*s, *s)).collect();
+    assert_within_tube(&reference, &solution, &pairs);
+}
+
+/// PendulumWithSpringDamper.md: a mass sliding on a prismatic joint on a
+/// revolute, with a 3-D spring and damper from the pivot.
+#[test]
+fn pendulum_with_spring_damper() {
+    let mut model = Model::new("PendulumWithSpringDamper");
+    model.add("world", "World");
+    model.add("bar1", "FixedTranslation").set("r", [0.3, 0.0, 0.0]);
+    model.add("revolute", "Revolute");
+    model.add("prismatic", "Prismatic").set("n", [1.0, 0.0, 0.0]).initial("s", 0.5);
+    model.add("body1", "Body").set("m", 1.0).set("I_11", 1.0).set("I_22", 1.0).set("I_33", 1.0);
+    model.add("spring1", "Spring").set("c", 20.0).set("s_unstretched", 0.2);
+    model.add("damper1", "Damper").set("d", 1.0);
+    model.connect(["world.frame_b", "bar1.frame_a"]);
+    model.connect(["bar1.frame_b", "revolute.frame_a", "spring1.frame_a", "damper1.frame_a"]);
+    model.connect(["revolute.frame_b", "prismatic.frame_a"]);
+    model.connect(["prismatic.frame_b", "body1.frame_a", "spring1.frame_b", "damper1.frame_b"]);
+    let reference = Reference::load("PendulumWithSpringDamper");
+    let solution = model.assemble().unwrap().simulate(&options_for(&reference)).unwrap();
+    let pairs: Vec<(&str, &str)> =
+        ["prismatic.s", "prismatic.v", "revolute.phi", "revolute.w"].iter().map(|s| (*s, *s)).collect();
+    assert_within_tube(&reference, &solution, &pairs);
+}
+
+/// SpringMassSystem.md: the same spring-mass system twice, once with a 1-D
+/// spring on the prismatic axis and once with a 3-D spring.
+#[test]
+fn spring_mass_system() {
+    let mut model = Model::new("SpringMassSystem");
+    model.add("world", "World");
+    model.add("bar1", "FixedTranslation").set("r", [0.3, 0.0, 0.0]);
+    model.add("bar2", "FixedTranslation").set("r", [0.3, 0.0, 0.0]);
+    for p in ["p1", "p2"] {
+        model.add(p, "Prismatic").set("n", [0.0, -1.0, 0.0]).initial("s", 0.1);
+    }
+    model.add("spring1", "TranslationalComponents.Spring").set("c", 30.0).set("s_rel0", 0.1);
+    model.add("spring2", "Spring").set("c", 30.0).set("s_unstretched", 0.1);
+    model.add("body1", "Body").set("m", 1.0);
+    model.add("body2", "Body").set("m", 1.0);
+    model.connect(["world.frame_b", "bar1.frame_a"]);
+    model.connect(["bar1.frame_b", "p1.frame_a", "bar2.frame_a"]);
+    model.connect(["p1.frame_b", "body1.frame_a"]);
+    model.connect(["spring1.flange_a", "p1.support"]);
+    model.connect(["spring1.flange_b", "p1.axis"]);
+    model.connect(["bar2.frame_b", "p2.frame_a", "spring2.frame_a"]);
+    model.connect(["p2.frame_b", "body2.frame_a", "spring2.frame_b"]);
+    let reference = Reference::load("SpringMassSystem");
+    let solution = model.assemble().unwrap().simulate(&options_for(&reference)).unwrap();
+    let pairs: Vec<(&str, &str)> = ["p1.s", "p1.v", "p2.s", "p2.v"].iter().map(|s| (*s, *s)).collect();
+    assert_within_tube(&reference, &solution, &pairs);
+}

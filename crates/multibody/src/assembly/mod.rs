@@ -33,6 +33,12 @@ use crate::{Error, Model};
 pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     let world = instances::world_settings(model)?;
     let mut components = instances::build(model, &world)?;
+    if let Some(c) = components.iter().find(|c| c.parts.iter().any(|p| matches!(p, Part::Constraint { .. }))) {
+        return Err(Error::Unsupported {
+            component: c.name.clone(),
+            what: "a joint without states (a constraint); give it an orientation_state".into(),
+        });
+    }
     let conn = connections::resolve(model, &components)?;
     let groups = links::rigid_groups(&components, &conn)?;
     let mut tree = links::spanning_tree(&components, &conn, &groups)?;

@@ -1,6 +1,8 @@
 //! The laws that components hand to the dynamics: 1-D force laws, frame
 //! force laws and signal sources. Plain data, evaluated in the hot loop.
 
+use crate::math::{Mat3, Vec3};
+
 /// The force law of a 1-D element between two flanges, with the relative
 /// position `s_rel = s_b - s_a` and its rate `v_rel`. `force` is the
 /// element's internal force (or torque): it pushes flange_b back by `force`
@@ -49,6 +51,17 @@ impl Resolve {
     }
 }
 
+/// An input vector resolved in `resolve` expressed in world coordinates,
+/// given the world-to-frame rotations of frame_a (if any) and frame_b.
+#[inline]
+pub fn resolve_input(u: Vec3, resolve: Resolve, rot_a: Option<&Mat3>, rot_b: &Mat3) -> Vec3 {
+    match (resolve, rot_a) {
+        (Resolve::FrameA, Some(a)) => a.tr_mul(&u),
+        (Resolve::FrameB, _) => rot_b.tr_mul(&u),
+        _ => u,
+    }
+}
+
 /// How a force element acts between its frames.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ForceLaw {
@@ -61,6 +74,14 @@ pub enum ForceLaw {
     Force { inputs: [usize; 3], resolve: Resolve },
     /// A torque on frame_b from `inputs`; the reaction acts on frame_a.
     Torque { inputs: [usize; 3], resolve: Resolve },
+}
+
+/// What a constraint (a joint without states, or a cut joint) keeps equal
+/// between its frames.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ConstraintKind {
+    /// The origins coincide along the locked axes of frame_a.
+    Spherical,
 }
 
 /// A signal as a function of time.

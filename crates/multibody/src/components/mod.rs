@@ -12,20 +12,39 @@ pub mod laws;
 pub mod params;
 pub mod spec;
 
-mod axial_joint;
+mod blocks;
 mod body;
+mod body_box;
+mod body_cylinder;
+mod body_shape;
+mod coordinate_joint;
+mod cylindrical;
+mod damper;
+mod external_load;
 mod fixed;
 mod fixed_rotation;
 mod fixed_translation;
+mod force;
+mod free_motion;
+mod line_force;
 mod one_d;
+mod orientation;
+mod planar;
 mod point_mass;
 mod prismatic;
 mod revolute;
 mod rotational;
+mod spherical;
+mod spring;
+mod spring_damper_parallel;
+mod torque;
 mod translational;
+mod universal;
 pub mod world;
+mod world_force;
+mod world_torque;
 
-pub use laws::{ForceLaw, Law1D, Resolve, SignalSource};
+pub use laws::{resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, SignalSource};
 pub use params::ParamSet;
 pub use spec::{ComponentSpec, ConnectorSpec, ConnectorType, Default, ParamSpec, ParamType, Shape, VarSpec};
 pub use world::WorldSettings;
@@ -42,11 +61,26 @@ static REGISTRY: &[&ComponentSpec] = &[
     &world::SPEC,
     &body::SPEC,
     &point_mass::SPEC,
+    &body_shape::SPEC,
+    &body_box::SPEC,
+    &body_cylinder::SPEC,
     &fixed::SPEC,
     &fixed_translation::SPEC,
     &fixed_rotation::SPEC,
     &revolute::SPEC,
     &prismatic::SPEC,
+    &spherical::SPEC,
+    &universal::SPEC,
+    &cylindrical::SPEC,
+    &planar::SPEC,
+    &free_motion::SPEC,
+    &spring::SPEC,
+    &damper::SPEC,
+    &spring_damper_parallel::SPEC,
+    &force::SPEC,
+    &torque::SPEC,
+    &world_force::SPEC,
+    &world_torque::SPEC,
     &rotational::damper::SPEC,
     &rotational::spring::SPEC,
     &rotational::spring_damper::SPEC,
@@ -55,6 +89,11 @@ static REGISTRY: &[&ComponentSpec] = &[
     &translational::spring::SPEC,
     &translational::spring_damper::SPEC,
     &translational::constant_force::SPEC,
+    &blocks::constant::SPEC,
+    &blocks::step::SPEC,
+    &blocks::ramp::SPEC,
+    &blocks::sine::SPEC,
+    &blocks::time_table::SPEC,
 ];
 
 /// The kind named `kind`. Accepts the library prefix
@@ -124,6 +163,9 @@ pub enum Part {
     /// A force element on frame `b` with its reaction on frame `a` (or on
     /// the world when `a` is `None`); inputs are connector numbers.
     Force { a: Option<usize>, b: usize, law: ForceLaw },
+    /// A relation between two frames kept by constraint forces (a joint
+    /// without states, or the cut of a kinematic loop).
+    Constraint { a: usize, b: usize, kind: ConstraintKind },
     /// A line-force end that fixes its frame's orientation to the world's
     /// (`fixed_rotation_at_frame_a/b`): it owns the orientation of a
     /// group that nothing else orients.
@@ -207,12 +249,16 @@ mod tests {
     fn every_kind_builds_with_its_defaults_and_defaults_fit_their_types() {
         let world = WorldSettings::default();
         for spec in registry() {
-            // Parameters without a default get 1.
+            // Parameters without a default get 1 (or a one-row table).
             let required = spec.params.iter().filter(|p| p.default == Default::Required);
+            let one = |p: &ParamSpec| match p.ty {
+                ParamType::Matrix(n) => crate::Value::Matrix(vec![vec![1.0; n]]),
+                _ => crate::Value::Number(1.0),
+            };
             let instance = crate::ComponentInstance {
                 name: "c".into(),
                 kind: spec.kind.into(),
-                params: required.map(|p| (p.name.to_string(), crate::Value::Number(1.0))).collect(),
+                params: required.map(|p| (p.name.to_string(), one(p))).collect(),
                 initial: vec![],
                 guess: vec![],
             };

@@ -1,6 +1,6 @@
 //! Prismatic: translation along one axis.
 
-use super::axial_joint::AxialJoint;
+use super::coordinate_joint::{CoordinateJoint, FLANGES};
 use super::spec::{ComponentSpec, ConnectorSpec, ConnectorType, ParamSpec, ParamType, VarSpec};
 use super::{Component, ParamSet, StateNames};
 use crate::dynamics::joint::JointModel;
@@ -56,9 +56,10 @@ const VARIABLES: &[VarSpec] = &[
 const STATES: StateNames = StateNames { q: &[("s", 1)], u: &[("v", 1)] };
 
 fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
-    Ok(Box::new(AxialJoint {
+    Ok(Box::new(CoordinateJoint {
         model: JointModel::Prismatic { axis: p.direction("n")? },
         states: STATES,
         variables: VARIABLES,
+        flanges: Some(FLANGES),
     }))
 }

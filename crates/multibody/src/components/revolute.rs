@@ -1,6 +1,6 @@
 //! Revolute: rotation about one axis.
 
-use super::axial_joint::AxialJoint;
+use super::coordinate_joint::{CoordinateJoint, FLANGES};
 use super::spec::{ComponentSpec, ConnectorSpec, ConnectorType, Default, ParamSpec, ParamType, VarSpec};
 use super::{Component, ParamSet, StateNames};
 use crate::dynamics::joint::JointModel;
@@ -49,9 +49,10 @@ const VARIABLES: &[VarSpec] = &[
 const STATES: StateNames = StateNames { q: &[("phi", 1)], u: &[("w", 1)] };
 
 fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
-    Ok(Box::new(AxialJoint {
+    Ok(Box::new(CoordinateJoint {
         model: JointModel::Revolute { axis: p.direction("n")? },
         states: STATES,
         variables: VARIABLES,
+        flanges: Some(FLANGES),
     }))
 }

@@ -247,3 +247,15 @@ impl VarSpec {
         Self { name, shape: Shape::Vector(n), unit, doc }
     }
 }
+
+/// `a` followed by `b`: tables built from shared parts.
+pub const fn concat<T: Copy, const N: usize>(a: &[T], b: &[T]) -> [T; N] {
+    assert!(a.len() + b.len() == N, "concat: N must be the sum of the lengths");
+    let mut out = [if a.is_empty() { b[0] } else { a[0] }; N];
+    let mut i = 0;
+    while i < N {
+        out[i] = if i < a.len() { a[i] } else { b[i - a.len()] };
+        i += 1;
+    }
+    out
+}

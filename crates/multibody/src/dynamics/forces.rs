@@ -2,7 +2,7 @@
 //! and the position of massless groups that only they hold.
 
 use super::{DynamicsError, Workspace};
-use crate::components::Resolve;
+use crate::components::{resolve_input, Resolve};
 use crate::math::{Force, Mat3, Vec3};
 use crate::mechanism::{Anchor, Attachment, ForceElement, Load, GROUND};
 use crate::Mechanism;
@@ -54,12 +54,7 @@ impl Mechanism {
         let ka = el.a.map(|a| self.point_state(ws, &a));
         let zero = Vec3::zeros();
         let input = |slots: [usize; 3]| Vec3::new(ws.signals[slots[0]], ws.signals[slots[1]], ws.signals[slots[2]]);
-        let resolved = |u: Vec3, resolve: Resolve| match (resolve, ka) {
-            (Resolve::World, _) => u,
-            (Resolve::FrameA, Some(a)) => a.rot.tr_mul(&u),
-            (Resolve::FrameA, None) => u,
-            (Resolve::FrameB, _) => kb.rot.tr_mul(&u),
-        };
+        let resolved = |u: Vec3, resolve: Resolve| resolve_input(u, resolve, ka.as_ref().map(|a| &a.rot), &kb.rot);
         match el.load {
             Load::Line { c, d, s_unstretched, s_small } => {
                 let ka = ka.expect("line forces have two ends");

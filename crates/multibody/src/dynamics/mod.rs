@@ -5,7 +5,7 @@
 //! (`outputs`).
 
 mod aba;
-mod forces;
+pub(crate) mod forces;
 pub mod joint;
 pub(crate) mod outputs;
 

@@ -182,6 +182,24 @@ pub fn angular_velocity_of_q(q: &Quat, qd: &Quat) -> Vec3 {
     )
 }
 
+/// The rotation whose x axis is along `n_x` and whose y axis is `n_y` made
+/// orthogonal to it (Modelica's `from_nxy`); when `n_y` is parallel to
+/// `n_x`, another axis stands in for it.
+pub fn from_nxy(n_x: &Vec3, n_y: &Vec3) -> Mat3 {
+    let e_x = if n_x.norm() < 1e-10 { Vec3::new(1.0, 0.0, 0.0) } else { n_x.normalize() };
+    let n_z_aux = e_x.cross(n_y);
+    let n_y_aux = if n_z_aux.norm_squared() > 1e-6 {
+        *n_y
+    } else if e_x[0].abs() > 1e-6 {
+        Vec3::new(0.0, 1.0, 0.0)
+    } else {
+        Vec3::new(1.0, 0.0, 0.0)
+    };
+    let e_z = e_x.cross(&n_y_aux).normalize();
+    let e_y = e_z.cross(&e_x);
+    Mat3::from_rows(&[e_x.transpose(), e_y.transpose(), e_z.transpose()])
+}
+
 /// The rotation vector (axis times angle, resolved in either frame) of a
 /// rotation matrix: small-rotation residue used by equality constraints.
 pub fn rotation_vector(r: &Mat3) -> Vec3 {
@@ -310,6 +328,19 @@ mod tests {
         let w = Vec3::new(0.3, -2.0, 0.8);
         let qd = omega_matrix(&w) * q * 0.5;
         assert_relative_eq!(angular_velocity_of_q(&q, &qd), w, epsilon = 1e-14);
+    }
+
+    #[test]
+    fn from_nxy_puts_x_along_n_x_and_y_in_the_plane() {
+        let r = from_nxy(&Vec3::new(1.0, 1.0, 0.0), &Vec3::new(0.0, 1.0, 0.0));
+        let s = 0.5f64.sqrt();
+        assert_relative_eq!(r.transpose() * Vec3::x(), Vec3::new(s, s, 0.0), epsilon = 1e-15);
+        assert_relative_eq!(r.transpose() * Vec3::z(), Vec3::z(), epsilon = 1e-15);
+        assert_relative_eq!(r * r.transpose(), Mat3::identity(), epsilon = 1e-15);
+        // Parallel n_y: a valid rotation all the same.
+        let r = from_nxy(&Vec3::new(0.0, 2.0, 0.0), &Vec3::new(0.0, 1.0, 0.0));
+        assert_relative_eq!(r.determinant(), 1.0, epsilon = 1e-15);
+        assert_relative_eq!(r.transpose() * Vec3::x(), Vec3::y(), epsilon = 1e-15);
     }
 
     #[test]

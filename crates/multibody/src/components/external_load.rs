@@ -1,0 +1,71 @@
+//! What Force, Torque, WorldForce and WorldTorque share: a vector from
+//! three signal inputs, resolved in a chosen frame, applied at frame_b with
+//! its reaction on frame_a (or on the world).
+
+use super::spec::{Default, ParamSpec, ParamType, VarSpec};
+use super::{resolve_input, Component, EvalContext, ForceLaw, Part, Resolve};
+use crate::math::Vec3;
+
+/// The `resolve_in_frame` parameter with a given default.
+pub const fn resolve_param(default: &'static str, variants: &'static [&'static str]) -> ParamSpec {
+    ParamSpec {
+        name: "resolve_in_frame",
+        ty: ParamType::Enum("ResolveInFrame", variants),
+        default: Default::Enum(default),
+        unit: "",
+        doc: "Frame in which the input vector is resolved",
+    }
+}
+
+#[derive(Debug)]
+pub struct ExternalLoad {
+    /// A torque rather than a force.
+    pub torque: bool,
+    pub resolve: Resolve,
+    /// Between frame_a and frame_b (connectors 0, 1, inputs 2..5), or on
+    /// frame_b alone (connector 0, inputs 1..4).
+    pub two_frames: bool,
+    pub variables: &'static [VarSpec],
+}
+
+impl ExternalLoad {
+    fn inputs(&self) -> [usize; 3] {
+        if self.two_frames {
+            [2, 3, 4]
+        } else {
+            [1, 2, 3]
+        }
+    }
+}
+
+impl Component for ExternalLoad {
+    fn parts(&self) -> Vec<Part> {
+        let (inputs, resolve) = (self.inputs(), self.resolve);
+        let law = if self.torque { ForceLaw::Torque { inputs, resolve } } else { ForceLaw::Force { inputs, resolve } };
+        if self.two_frames {
+            vec![Part::Force { a: Some(0), b: 1, law }]
+        } else {
+            vec![Part::Force { a: None, b: 0, law }]
+        }
+    }
+
+    fn variables(&self) -> Vec<VarSpec> {
+        self.variables.to_vec()
+    }
+
+    /// Between two frames: the vector from frame_a to frame_b and the cut
+    /// force (or torque) at frame_b in world coordinates; on one frame: the
+    /// applied vector in world coordinates.
+    fn evaluate(&self, ctx: &EvalContext, out: &mut Vec<f64>) {
+        let [x, y, z] = self.inputs().map(|i| ctx.signals[i]);
+        let b = if self.two_frames { &ctx.frames[1] } else { &ctx.frames[0] };
+        let a = self.two_frames.then(|| &ctx.frames[0]);
+        let applied = resolve_input(Vec3::new(x, y, z), self.resolve, a.map(|a| &a.rot), &b.rot);
+        if let Some(a) = a {
+            out.extend_from_slice((b.r_0 - a.r_0).as_slice());
+            out.extend_from_slice((-applied).as_slice());
+        } else {
+            out.extend_from_slice(applied.as_slice());
+        }
+    }
+}

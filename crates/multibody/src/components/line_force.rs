@@ -1,0 +1,68 @@
+//! What the line forces (Spring, Damper, SpringDamperParallel) share: a
+//! force along the line between the frames' origins, no torques, and
+//! optionally ends that fix their frame's orientation.
+
+use super::spec::{ParamSpec, VarSpec};
+use super::{Component, EvalContext, ForceLaw, Part};
+use crate::dynamics::forces::{line_force, PointState};
+
+pub const FIXED_ROTATION_A: ParamSpec = ParamSpec::boolean(
+    "fixed_rotation_at_frame_a",
+    false,
+    "Fix frame_a's orientation to the world's (for frames nothing else orients, e.g. a point mass held by springs)",
+);
+pub const FIXED_ROTATION_B: ParamSpec = ParamSpec::boolean(
+    "fixed_rotation_at_frame_b",
+    false,
+    "Fix frame_b's orientation to the world's (for frames nothing else orients, e.g. a point mass held by springs)",
+);
+pub const S_SMALL: ParamSpec =
+    ParamSpec::real("s_small", 1e-10, "m", "Prevents a division by zero when the frames' origins coincide");
+
+pub const VARIABLES: &[VarSpec] = &[
+    VarSpec::scalar("length", "m", "Distance between the origin of frame_a and the origin of frame_b"),
+    VarSpec::scalar(
+        "s",
+        "m",
+        "(Guarded) distance between the origin of frame_a and the origin of frame_b (>= s_small)",
+    ),
+    VarSpec::scalar("f", "N", "Line force, positive when it pulls the frames together"),
+    VarSpec::vector("r_rel_0", 3, "m", "Position vector from frame_a to frame_b resolved in world frame"),
+    VarSpec::vector("e_rel_0", 3, "", "Unit vector in direction from frame_a to frame_b, resolved in world frame"),
+];
+
+#[derive(Debug)]
+pub struct LineForce {
+    pub c: f64,
+    pub d: f64,
+    pub s_unstretched: f64,
+    pub s_small: f64,
+    pub fixed_rotation: [bool; 2],
+}
+
+impl Component for LineForce {
+    fn parts(&self) -> Vec<Part> {
+        let law = ForceLaw::Line { c: self.c, d: self.d, s_unstretched: self.s_unstretched, s_small: self.s_small };
+        let mut parts = vec![Part::Force { a: Some(0), b: 1, law }];
+        for (frame, fixed) in self.fixed_rotation.iter().enumerate() {
+            if *fixed {
+                parts.push(Part::FixedRotationEnd { frame });
+            }
+        }
+        parts
+    }
+
+    fn variables(&self) -> Vec<VarSpec> {
+        VARIABLES.to_vec()
+    }
+
+    fn evaluate(&self, ctx: &EvalContext, out: &mut Vec<f64>) {
+        let point = |k: usize| PointState { r: ctx.frames[k].r_0, rot: ctx.frames[k].rot, v: ctx.frames[k].v_0 };
+        let (a, b) = (point(0), point(1));
+        let (e, on_a) = line_force(self.c, self.d, self.s_unstretched, self.s_small, &a, &b);
+        let r_rel = b.r - a.r;
+        out.extend([r_rel.norm(), r_rel.norm().max(self.s_small), on_a.dot(&e)]);
+        out.extend_from_slice(r_rel.as_slice());
+        out.extend_from_slice(e.as_slice());
+    }
+}

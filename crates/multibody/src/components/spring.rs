@@ -1,0 +1,63 @@
+//! Spring: a linear spring acting as a line force between two frames.
+
+use super::line_force::{LineForce, FIXED_ROTATION_A, FIXED_ROTATION_B, VARIABLES};
+use super::spec::{ComponentSpec, ConnectorSpec, ParamSpec, ParamType};
+use super::{Component, ParamSet};
+use crate::Error;
+
+pub static SPEC: ComponentSpec = ComponentSpec {
+    kind: "Spring",
+    doc: "Linear spring acting as a line force between frame_a and frame_b: f = c (s - s_unstretched) pulls the \
+          origins together along the line between them (pushes them apart when compressed). No torques.",
+    params: &[
+        FIXED_ROTATION_A,
+        FIXED_ROTATION_B,
+        ParamSpec::boolean(
+            "hasmass",
+            false,
+            "Put a point mass m on the line (not supported yet: use a PointMass between two springs)",
+        ),
+        ParamSpec::boolean("render", true, "Render the spring in animations"),
+        ParamSpec::world("color", ParamType::Vector(4), "default_spring_color", 1.0, "", "Colour (RGBA)"),
+        ParamSpec::real("specular_coefficient", 1.5, "", "Reflection of light in animations"),
+        ParamSpec::real("c", 1.0, "N/m", "spring constant"),
+        ParamSpec::real("s_unstretched", 0.0, "m", "unstretched length of spring"),
+        ParamSpec::real("m", 1.0, "kg", "mass (used only with hasmass)"),
+        ParamSpec::real(
+            "lengthfraction",
+            0.5,
+            "",
+            "Location of the point mass from frame_a, as a fraction of the distance to frame_b",
+        ),
+        ParamSpec::world(
+            "radius",
+            ParamType::Real,
+            "default_force_width",
+            1.0,
+            "m",
+            "Radius of spring coil when rendered",
+        ),
+        ParamSpec::real("num_windings", 6.0, "", "Number of spring coil windings"),
+        ParamSpec::integer("N", 200.0, "Number of points used to render each winding"),
+        ParamSpec::real("end_ratio", 0.1, "", "Fraction of total length used for the tapered ends"),
+    ],
+    connectors: &[ConnectorSpec::frame("frame_a", "First end"), ConnectorSpec::frame("frame_b", "Second end")],
+    variables: VARIABLES,
+    build,
+};
+
+fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
+    if p.boolean("hasmass") {
+        return Err(Error::Unsupported {
+            component: p.component.into(),
+            what: "a spring with mass (hasmass = true); put a PointMass between two springs instead".into(),
+        });
+    }
+    Ok(Box::new(LineForce {
+        c: p.non_negative("c", true)?,
+        d: 0.0,
+        s_unstretched: p.non_negative("s_unstretched", true)?,
+        s_small: 1e-10,
+        fixed_rotation: [p.boolean("fixed_rotation_at_frame_a"), p.boolean("fixed_rotation_at_frame_b")],
+    }))
+}
