@@ -58,6 +58,8 @@ pub(crate) struct CompiledComponent {
     pub elements: Vec<usize>,
     /// Its variables (besides frame signals), as it reports them.
     pub variables: Vec<VarSpec>,
+    /// What it draws in animations.
+    pub shapes: Vec<crate::components::shapes::Shape>,
 }
 
 #[derive(Debug, Clone)]
@@ -255,6 +257,11 @@ impl Mechanism {
 
     pub fn world(&self) -> &WorldSettings {
         &self.world
+    }
+
+    /// The shapes every component draws, placed by frames of the solution.
+    pub fn shapes(&self) -> Vec<crate::components::shapes::Shape> {
+        self.components.iter().flat_map(|c| c.shapes.iter().cloned()).collect()
     }
 
     /// Number of moving links (rigid bodies of the tree).

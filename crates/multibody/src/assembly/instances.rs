@@ -36,6 +36,7 @@ pub fn build(model: &Model, world: &WorldSettings) -> Result<Vec<CompiledCompone
         let component = (spec.build)(&params)?;
         let parts = component.parts();
         let variables = component.variables();
+        let shapes = (spec.shapes)(&params).into_iter().map(|s| s.named(&instance.name)).collect();
         built.push(CompiledComponent {
             name: instance.name.clone(),
             spec,
@@ -45,6 +46,7 @@ pub fn build(model: &Model, world: &WorldSettings) -> Result<Vec<CompiledCompone
             joint_links: Vec::new(),
             elements: Vec::new(),
             variables,
+            shapes,
         });
         first_connector += spec.connectors.len();
     }

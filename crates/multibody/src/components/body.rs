@@ -3,6 +3,7 @@
 //! with a second frame.
 
 use super::orientation::{self, INITIALIZE_ORIENTATION, K, SEQUENCE, STATE_PRIORITY};
+use super::shapes::{look, LocalShape, ShapeKind};
 use super::spec::{concat, ComponentSpec, ConnectorSpec, ParamSpec, ParamType, VarSpec};
 use super::{Component, EvalContext, ParamSet, Part, StateNames};
 use crate::dynamics::joint::{JointModel, RotationCoordinates};
@@ -68,7 +69,54 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     connectors: &[ConnectorSpec::frame("frame_a", "The body's frame")],
     variables: &VARIABLES,
     build,
+    shapes,
 };
+
+/// The shaped bodies' look: `kind` from `start` along `length` (frame_a
+/// coordinates), and a sphere at the centre of mass.
+pub fn shaped_body_shapes(
+    p: &ParamSet,
+    kind: ShapeKind,
+    start: Vec3,
+    length: Vec3,
+    width: f64,
+    height: f64,
+) -> Vec<LocalShape> {
+    if !p.boolean("render") {
+        return Vec::new();
+    }
+    let (color, specular) = look(p);
+    let mut shape = LocalShape::in_frame(kind, "frame_a", start, length, width, height).colored(color, specular);
+    if let (Ok(dir), super::shapes::Placement::InFrame { width_dir, .. }) =
+        (p.vec3_opt("width_dir").ok_or(()), &mut shape.placement)
+    {
+        let w = dir - length.normalize() * length.normalize().dot(&dir);
+        if w.norm() > 1e-10 {
+            *width_dir = w.normalize();
+        }
+    }
+    vec![shape]
+}
+
+/// A sphere at the centre of mass and a cylinder from frame_a towards it.
+fn shapes(p: &ParamSet) -> Vec<LocalShape> {
+    if !p.boolean("render") {
+        return Vec::new();
+    }
+    let (color, specular) = look(p);
+    let r_cm = p.vec3("r_cm");
+    let radius = p.real("radius");
+    let mut out = vec![LocalShape::in_frame(ShapeKind::Sphere, "frame_a", r_cm, r_cm, 2.0 * radius, 2.0 * radius)
+        .colored(color, specular)];
+    if r_cm.norm() > 1e-10 {
+        let length = r_cm * p.real("length_fraction");
+        let d = 2.0 * p.real("cylinder_radius");
+        out.push(
+            LocalShape::in_frame(ShapeKind::Cylinder, "frame_a", Vec3::zeros(), length, d, d).colored(color, specular),
+        );
+    }
+    out
+}
 
 static PARAMS: [ParamSpec; 21] = concat(
     &COMMON_PARAMS,

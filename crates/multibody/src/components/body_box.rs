@@ -1,6 +1,7 @@
 //! BodyBox: a body whose mass and inertia come from a (possibly hollow) box.
 
-use super::body::{MassProperties, RigidBody, COMMON_PARAMS, VARIABLES};
+use super::body::{shaped_body_shapes, MassProperties, RigidBody, COMMON_PARAMS, VARIABLES};
+use super::shapes::{LocalShape, ShapeKind};
 use super::spec::{concat, ComponentSpec, ConnectorSpec, ParamSpec, ParamType};
 use super::{Component, ParamSet};
 use crate::math::{from_nxy, Mat3};
@@ -17,7 +18,16 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     ],
     variables: &VARIABLES,
     build,
+    shapes,
 };
+
+/// The box.
+fn shapes(p: &ParamSet) -> Vec<LocalShape> {
+    let (r, r_shape) = (p.vec3("r"), p.vec3("r_shape"));
+    let width = p.real_opt("width").unwrap_or(0.3 * (r - r_shape).norm());
+    let height = p.real_opt("height").unwrap_or(width);
+    shaped_body_shapes(p, ShapeKind::Box, r_shape, r - r_shape, width, height)
+}
 
 static PARAMS: [ParamSpec; 18] = concat(
     &COMMON_PARAMS,

@@ -1,7 +1,8 @@
 //! BodyCylinder: a body whose mass and inertia come from a (possibly hollow)
 //! cylinder.
 
-use super::body::{MassProperties, RigidBody, COMMON_PARAMS, VARIABLES};
+use super::body::{shaped_body_shapes, MassProperties, RigidBody, COMMON_PARAMS, VARIABLES};
+use super::shapes::{LocalShape, ShapeKind};
 use super::spec::{concat, ComponentSpec, ConnectorSpec, ParamSpec};
 use super::{Component, ParamSet};
 use crate::math::Mat3;
@@ -18,7 +19,15 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     ],
     variables: &VARIABLES,
     build,
+    shapes,
 };
+
+/// The cylinder.
+fn shapes(p: &ParamSet) -> Vec<LocalShape> {
+    let (r, r_shape) = (p.vec3("r"), p.vec3("r_shape"));
+    let d = p.real("diameter");
+    shaped_body_shapes(p, ShapeKind::Cylinder, r_shape, r - r_shape, d, d)
+}
 
 static PARAMS: [ParamSpec; 15] = concat(
     &COMMON_PARAMS,

@@ -1,8 +1,10 @@
 //! BodyShape: a body with a second frame, frame_b, at `r` from frame_a.
 
-use super::body::{MassProperties, RigidBody, COMMON_PARAMS, INERTIA_PARAMS, VARIABLES};
+use super::body::{shaped_body_shapes, MassProperties, RigidBody, COMMON_PARAMS, INERTIA_PARAMS, VARIABLES};
+use super::shapes::{LocalShape, ShapeKind};
 use super::spec::{concat, ComponentSpec, ConnectorSpec, ParamSpec, ParamType};
 use super::{Component, ParamSet};
+use crate::math::Vec3;
 use crate::Error;
 
 pub static SPEC: ComponentSpec = ComponentSpec {
@@ -16,7 +18,27 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     ],
     variables: &VARIABLES,
     build,
+    shapes,
 };
+
+/// A cylinder from frame_a to frame_b and a sphere at the centre of mass.
+fn shapes(p: &ParamSet) -> Vec<LocalShape> {
+    let r = p.vec3("r");
+    let width = match p.real("width") {
+        w if w > 0.0 => w,
+        _ => r.norm() / p.world.number("default_width_fraction"),
+    };
+    let height = if p.real("height") > 0.0 { p.real("height") } else { width };
+    let mut out = shaped_body_shapes(p, ShapeKind::Cylinder, Vec3::zeros(), r, width, height);
+    if !out.is_empty() {
+        let r_cm = p.vec3_opt("r_cm").unwrap_or(r / 2.0);
+        let d = 2.0 * p.real("radius");
+        out.push(
+            LocalShape::in_frame(ShapeKind::Sphere, "frame_a", r_cm, r_cm, d, d).colored(out[0].color, out[0].specular),
+        );
+    }
+    out
+}
 
 static PARAMS: [ParamSpec; 23] = concat(
     &COMMON_PARAMS,

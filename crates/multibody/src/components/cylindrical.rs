@@ -1,6 +1,7 @@
 //! Cylindrical: translation along and rotation about one axis.
 
 use super::coordinate_joint::CoordinateJoint;
+use super::shapes::{joint_cylinder, LocalShape};
 use super::spec::{ComponentSpec, ConnectorSpec, ParamSpec, ParamType, VarSpec};
 use super::{Component, ParamSet, StateNames};
 use crate::dynamics::joint::JointModel;
@@ -31,7 +32,15 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     ],
     variables: VARIABLES,
     build,
+    shapes,
 };
+
+/// A cylinder along the axis, centred on frame_a.
+fn shapes(p: &ParamSet) -> Vec<LocalShape> {
+    let Ok(n) = p.direction("n") else { return Vec::new() };
+    let d = p.real("cylinder_diameter");
+    joint_cylinder(p, "frame_a", n, p.world.number("default_joint_length"), d)
+}
 
 const VARIABLES: &[VarSpec] = &[
     VarSpec::scalar("s", "m", "Translational displacement"),

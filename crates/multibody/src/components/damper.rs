@@ -1,6 +1,7 @@
 //! Damper: a linear damper acting as a line force between two frames.
 
 use super::line_force::{LineForce, FIXED_ROTATION_A, FIXED_ROTATION_B, S_SMALL, VARIABLES};
+use super::shapes::{between, look, LocalShape, ShapeKind};
 use super::spec::{ComponentSpec, ConnectorSpec, ParamSpec, ParamType};
 use super::{Component, ParamSet};
 use crate::Error;
@@ -30,7 +31,18 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     connectors: &[ConnectorSpec::frame("frame_a", "First end"), ConnectorSpec::frame("frame_b", "Second end")],
     variables: VARIABLES,
     build,
+    shapes,
 };
+
+/// A cylinder between the frames.
+fn shapes(p: &ParamSet) -> Vec<LocalShape> {
+    if !p.boolean("render") {
+        return Vec::new();
+    }
+    let (color, specular) = look(p);
+    let d = 2.0 * p.real("radius");
+    vec![between(ShapeKind::Cylinder, "frame_a", "frame_b", d, d).colored(color, specular)]
+}
 
 fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
     Ok(Box::new(LineForce {

@@ -21,6 +21,7 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     connectors: &[ConnectorSpec::frame("frame_b", "The fixed frame")],
     variables: &[],
     build,
+    shapes: super::shapes::none,
 };
 
 #[derive(Debug)]

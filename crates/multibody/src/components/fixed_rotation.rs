@@ -28,6 +28,7 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     ],
     variables: &[],
     build,
+    shapes: super::shapes::none,
 };
 
 #[derive(Debug)]

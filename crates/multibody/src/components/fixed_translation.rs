@@ -1,5 +1,6 @@
 //! FixedTranslation: a massless rod from frame_a to frame_b.
 
+use super::shapes::{look, LocalShape, ShapeKind};
 use super::spec::{ComponentSpec, ConnectorSpec, ParamSpec, ParamType};
 use super::{Component, ParamSet, Part};
 use crate::math::{Transform, Vec3};
@@ -28,7 +29,19 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     ],
     variables: &[],
     build,
+    shapes,
 };
+
+/// A rod (cylinder) from frame_a to frame_b.
+fn shapes(p: &ParamSet) -> Vec<LocalShape> {
+    let r = p.vec3("r");
+    if !p.boolean("render") || r.norm() < 1e-10 {
+        return Vec::new();
+    }
+    let (color, specular) = look(p);
+    let d = 2.0 * p.real_opt("radius").unwrap_or(r.norm() / p.world.number("default_width_fraction"));
+    vec![LocalShape::in_frame(ShapeKind::Cylinder, "frame_a", Vec3::zeros(), r, d, d).colored(color, specular)]
+}
 
 #[derive(Debug)]
 struct FixedTranslation {

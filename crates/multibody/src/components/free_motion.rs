@@ -23,6 +23,7 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     ],
     variables: &VARIABLES,
     build,
+    shapes: super::shapes::none,
 };
 
 const MOTION: [VarSpec; 4] = [

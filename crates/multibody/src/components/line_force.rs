@@ -66,3 +66,14 @@ impl Component for LineForce {
         out.extend_from_slice(e.as_slice());
     }
 }
+
+/// A coil of `windings` between the frames, with the line force's colour and radius.
+pub fn helix(p: &super::ParamSet, windings: f64) -> Vec<super::shapes::LocalShape> {
+    if !p.boolean("render") {
+        return Vec::new();
+    }
+    let (color, specular) = super::shapes::look(p);
+    let d = 2.0 * p.real("radius");
+    vec![super::shapes::between(super::shapes::ShapeKind::Helix { windings }, "frame_a", "frame_b", d, d / 10.0)
+        .colored(color, specular)]
+}

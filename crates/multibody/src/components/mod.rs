@@ -10,6 +10,7 @@
 
 pub mod laws;
 pub mod params;
+pub mod shapes;
 pub mod spec;
 
 mod blocks;

@@ -24,6 +24,7 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     ],
     variables: VARIABLES,
     build,
+    shapes: super::shapes::none,
 };
 
 const VARIABLES: &[VarSpec] = &[

@@ -1,5 +1,6 @@
 //! PointMass: mass without an inertia tensor, with a single frame connector.
 
+use super::shapes::{look, LocalShape, ShapeKind};
 use super::spec::{ComponentSpec, ConnectorSpec, ParamSpec, ParamType, VarSpec};
 use super::{Component, EvalContext, ParamSet, Part, StateNames};
 use crate::dynamics::joint::JointModel;
@@ -48,7 +49,18 @@ pub static SPEC: ComponentSpec = ComponentSpec {
         VarSpec::vector("g_0", 3, "m/s2", "gravity acceleration"),
     ],
     build,
+    shapes,
 };
+
+/// A sphere at frame_a.
+fn shapes(p: &ParamSet) -> Vec<LocalShape> {
+    if !p.boolean("render") {
+        return Vec::new();
+    }
+    let (color, specular) = look(p);
+    let d = 2.0 * p.real("radius");
+    vec![LocalShape::in_frame(ShapeKind::Sphere, "frame_a", Vec3::zeros(), Vec3::x(), d, d).colored(color, specular)]
+}
 
 const ROOT_STATES: StateNames = StateNames { q: &[("r_0", 3)], u: &[("v_0", 3)] };
 

@@ -1,6 +1,7 @@
 //! Prismatic: translation along one axis.
 
 use super::coordinate_joint::{CoordinateJoint, FLANGES};
+use super::shapes::{between, look, LocalShape, ShapeKind};
 use super::spec::{ComponentSpec, ConnectorSpec, ConnectorType, ParamSpec, ParamType, VarSpec};
 use super::{Component, ParamSet, StateNames};
 use crate::dynamics::joint::JointModel;
@@ -44,7 +45,18 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     ],
     variables: VARIABLES,
     build,
+    shapes,
 };
+
+/// A box from frame_a to frame_b.
+fn shapes(p: &ParamSet) -> Vec<LocalShape> {
+    if !p.boolean("render") {
+        return Vec::new();
+    }
+    let (color, specular) = look(p);
+    vec![between(ShapeKind::Box, "frame_a", "frame_b", p.real("box_width"), p.real("box_height"))
+        .colored(color, specular)]
+}
 
 const VARIABLES: &[VarSpec] = &[
     VarSpec::scalar("s", "m", "Relative distance between frame_a and frame_b along n"),

@@ -1,6 +1,7 @@
 //! Revolute: rotation about one axis.
 
 use super::coordinate_joint::{CoordinateJoint, FLANGES};
+use super::shapes::{joint_cylinder, LocalShape};
 use super::spec::{ComponentSpec, ConnectorSpec, ConnectorType, Default, ParamSpec, ParamType, VarSpec};
 use super::{Component, ParamSet, StateNames};
 use crate::dynamics::joint::JointModel;
@@ -37,7 +38,14 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     ],
     variables: VARIABLES,
     build,
+    shapes,
 };
+
+/// A cylinder along the axis, centred on the joint.
+fn shapes(p: &ParamSet) -> Vec<LocalShape> {
+    let Ok(n) = p.direction("n") else { return Vec::new() };
+    joint_cylinder(p, "frame_a", n, p.real("cylinder_length"), 2.0 * p.real("radius"))
+}
 
 const VARIABLES: &[VarSpec] = &[
     VarSpec::scalar("phi", "rad", "Relative rotation angle from frame_a to frame_b"),

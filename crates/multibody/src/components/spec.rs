@@ -2,6 +2,7 @@
 //! connectors and variables. The same tables drive validation, the
 //! `describe` command and the output names.
 
+use super::shapes::LocalShape;
 use super::{Component, ParamSet};
 use crate::Error;
 
@@ -17,6 +18,8 @@ pub struct ComponentSpec {
     pub variables: &'static [VarSpec],
     /// Builds the component from validated parameters.
     pub build: fn(&ParamSet) -> Result<Box<dyn Component>, Error>,
+    /// The shapes it draws in animations (none when `render = false`).
+    pub shapes: fn(&ParamSet) -> Vec<LocalShape>,
 }
 
 impl ComponentSpec {

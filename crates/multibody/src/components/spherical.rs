@@ -1,9 +1,11 @@
 //! Spherical: a ball joint, three rotational degrees of freedom.
 
 use super::orientation::{self, INITIALIZE_ORIENTATION, K, SEQUENCE, STATE_PRIORITY};
+use super::shapes::{look, LocalShape, ShapeKind};
 use super::spec::{ComponentSpec, ConnectorSpec, ParamSpec, ParamType, VarSpec};
 use super::{Component, EvalContext, ParamSet, Part, StateNames};
 use crate::dynamics::joint::{JointModel, RotationCoordinates};
+use crate::math::Vec3;
 use crate::Error;
 
 pub static SPEC: ComponentSpec = ComponentSpec {
@@ -40,7 +42,18 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     ],
     variables: &VARIABLES,
     build,
+    shapes,
 };
+
+/// A sphere at the joint.
+fn shapes(p: &ParamSet) -> Vec<LocalShape> {
+    if !p.boolean("render") {
+        return Vec::new();
+    }
+    let (color, specular) = look(p);
+    let d = 2.0 * p.real("radius");
+    vec![LocalShape::in_frame(ShapeKind::Sphere, "frame_a", Vec3::zeros(), Vec3::x(), d, d).colored(color, specular)]
+}
 
 const W_REL: VarSpec = VarSpec::vector(
     "w_rel",

@@ -1,6 +1,8 @@
 //! Spring: a linear spring acting as a line force between two frames.
 
+use super::line_force::helix;
 use super::line_force::{LineForce, FIXED_ROTATION_A, FIXED_ROTATION_B, VARIABLES};
+use super::shapes::LocalShape;
 use super::spec::{ComponentSpec, ConnectorSpec, ParamSpec, ParamType};
 use super::{Component, ParamSet};
 use crate::Error;
@@ -44,7 +46,13 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     connectors: &[ConnectorSpec::frame("frame_a", "First end"), ConnectorSpec::frame("frame_b", "Second end")],
     variables: VARIABLES,
     build,
+    shapes,
 };
+
+/// A coil between the frames.
+fn shapes(p: &ParamSet) -> Vec<LocalShape> {
+    helix(p, p.real("num_windings"))
+}
 
 fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
     if p.boolean("hasmass") {

@@ -1,6 +1,8 @@
 //! SpringDamperParallel: a linear spring and damper in parallel, as a line force.
 
+use super::line_force::helix;
 use super::line_force::{LineForce, FIXED_ROTATION_A, FIXED_ROTATION_B, S_SMALL, VARIABLES};
+use super::shapes::LocalShape;
 use super::spec::{ComponentSpec, ConnectorSpec, ParamSpec, ParamType};
 use super::{Component, ParamSet};
 use crate::Error;
@@ -27,7 +29,13 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     connectors: &[ConnectorSpec::frame("frame_a", "First end"), ConnectorSpec::frame("frame_b", "Second end")],
     variables: VARIABLES,
     build,
+    shapes,
 };
+
+/// A coil between the frames.
+fn shapes(p: &ParamSet) -> Vec<LocalShape> {
+    helix(p, p.real("num_windings"))
+}
 
 fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
     Ok(Box::new(LineForce {

@@ -1,6 +1,7 @@
 //! Torque: a torque between two frames from three signal inputs.
 
 use super::external_load::{resolve_param, ExternalLoad};
+use super::shapes::{LocalShape, Placement, ShapeKind};
 use super::spec::{ComponentSpec, ConnectorSpec, VarSpec};
 use super::{Component, ParamSet, Resolve};
 use crate::Error;
@@ -19,7 +20,27 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     ],
     variables: VARIABLES,
     build,
+    shapes,
 };
+
+/// An arrow along the applied vector (the opposite of the cut vector at frame_b).
+fn shapes(p: &ParamSet) -> Vec<LocalShape> {
+    let world = p.world;
+    let d = world.number("default_arrow_diameter");
+    let color = match world.scaled("default_force_color", 1.0) {
+        crate::Value::Array(c) if c.len() == 4 => [c[0], c[1], c[2], c[3]],
+        _ => [0.0, 1.0, 0.0, 0.5],
+    };
+    let scale = -1.0 / world.number("default_Nm_to_m");
+    vec![LocalShape {
+        kind: ShapeKind::Arrow,
+        color,
+        specular: 0.7,
+        width: d,
+        height: d,
+        placement: Placement::Vector { frame: "frame_b".into(), vector: "t_b_0".into(), scale },
+    }]
+}
 
 const VARIABLES: &[VarSpec] = &[
     VarSpec::vector("r_0", 3, "m", "Position vector from frame_a to frame_b in world frame"),

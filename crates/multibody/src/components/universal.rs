@@ -1,6 +1,7 @@
 //! Universal: two revolutes in series with perpendicular axes.
 
 use super::coordinate_joint::CoordinateJoint;
+use super::shapes::{joint_cylinder, LocalShape};
 use super::spec::{ComponentSpec, ConnectorSpec, Default, ParamSpec, ParamType, VarSpec};
 use super::{Component, ParamSet, StateNames};
 use crate::dynamics::joint::JointModel;
@@ -33,7 +34,17 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     ],
     variables: VARIABLES,
     build,
+    shapes,
 };
+
+/// A cylinder along each axis.
+fn shapes(p: &ParamSet) -> Vec<LocalShape> {
+    let (Ok(n_a), Ok(n_b)) = (p.direction("n_a"), p.direction("n_b")) else { return Vec::new() };
+    let (l, d) = (p.real("cylinder_length"), 2.0 * p.real("radius"));
+    let mut out = joint_cylinder(p, "frame_a", n_a, l, d);
+    out.extend(joint_cylinder(p, "frame_b", n_b, l, d));
+    out
+}
 
 const VARIABLES: &[VarSpec] = &[
     VarSpec::scalar("phi_a", "rad", "Angle of revolute joint a"),

@@ -78,7 +78,25 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     connectors: &[ConnectorSpec::frame("frame_b", "The world frame: origin at 0, identity orientation")],
     variables: &[],
     build,
+    shapes,
 };
+
+/// The world axes: red x, green y, blue z.
+fn shapes(p: &ParamSet) -> Vec<super::shapes::LocalShape> {
+    use super::shapes::{LocalShape, ShapeKind};
+    if !p.boolean("render") {
+        return Vec::new();
+    }
+    let length = p.real_opt("axis_length").unwrap_or(p.real("nominal_length"));
+    let d = p.real_opt("axis_radius").unwrap_or(p.real("nominal_length") / 20.0) / 2.0;
+    let colors = [[1.0, 0.0, 0.0, 1.0], [0.0, 0.6, 0.0, 1.0], [0.0, 0.0, 1.0, 1.0]];
+    (0..3)
+        .map(|k| {
+            LocalShape::in_frame(ShapeKind::Arrow, "frame_b", Vec3::zeros(), crate::math::unit(k) * length, d, d)
+                .colored(colors[k], 0.7)
+        })
+        .collect()
+}
 
 /// The World's settings as every other component sees them.
 #[derive(Clone, Debug, PartialEq)]

@@ -19,6 +19,7 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     connectors: &OUTPUT,
     variables: &VARIABLES,
     build,
+    shapes: crate::components::shapes::none,
 };
 
 fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {

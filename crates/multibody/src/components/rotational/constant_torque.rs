@@ -19,6 +19,7 @@ pub static SPEC: ComponentSpec = ComponentSpec {
         VarSpec::scalar("tau", "N.m", "Accelerating torque acting at spline"),
     ],
     build,
+    shapes: crate::components::shapes::none,
 };
 
 fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {

@@ -25,6 +25,7 @@ pub static SPEC: ComponentSpec = ComponentSpec {
         VarSpec::scalar("tau", "N.m", "Torque transmitted between the splines"),
     ],
     build,
+    shapes: crate::components::shapes::none,
 };
 
 fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {

@@ -26,6 +26,7 @@ pub static SPEC: ComponentSpec = ComponentSpec {
         VarSpec::scalar("tau_d", "N.m", "Damper torque"),
     ],
     build,
+    shapes: crate::components::shapes::none,
 };
 
 fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {

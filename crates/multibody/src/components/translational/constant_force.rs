@@ -19,6 +19,7 @@ pub static SPEC: ComponentSpec = ComponentSpec {
         VarSpec::scalar("f", "N", "Accelerating force acting at flange"),
     ],
     build,
+    shapes: crate::components::shapes::none,
 };
 
 fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {

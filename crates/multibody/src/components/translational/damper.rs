@@ -25,6 +25,7 @@ pub static SPEC: ComponentSpec = ComponentSpec {
         VarSpec::scalar("f", "N", "Force transmitted between the flanges"),
     ],
     build,
+    shapes: crate::components::shapes::none,
 };
 
 fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {

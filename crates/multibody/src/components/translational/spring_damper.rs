@@ -26,6 +26,7 @@ pub static SPEC: ComponentSpec = ComponentSpec {
         VarSpec::scalar("f_d", "N", "Damper force"),
     ],
     build,
+    shapes: crate::components::shapes::none,
 };
 
 fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
