@@ -1,1 +1,198 @@
-//! Reads Dyad model files into [`multibody::Model`]s.
+//! Reads Dyad model files (`.dyad`) into [`multibody::Model`]s.
+//!
+//! The supported part of the language composes models: components with
+//! sub-components and modifiers, parameters, `connect` and `initial`
+//! relations, metadata (accepted and ignored), and analyses extending
+//! `TransientAnalysis`. Everything else is reported as not supported yet,
+//! pointing at it.
+//!
+//! ```
+//! use multibody_dyad::Package;
+//!
+//! let mut package = Package::new();
+//! package.add_source("pendulum.dyad", r#"
+//! example component Pendulum
+//!   world = MultibodyComponents.World()
+//!   joint = MultibodyComponents.Revolute(phi(initial = 0.5))
+//!   body = MultibodyComponents.Body(m = 1, r_cm = [0.5, 0, 0])
+//! relations
+//!   connect(world.frame_b, joint.frame_a)
+//!   connect(joint.frame_b, body.frame_a)
+//! end
+//! analysis PendulumSim
+//!   extends TransientAnalysis(stop = 1, saveat = 0.01)
+//!   model = Pendulum()
+//! end
+//! "#).unwrap();
+//! let lowered = package.lower_analysis("PendulumSim").unwrap();
+//! let mechanism = lowered.assemble().unwrap();
+//! let solution = mechanism.simulate(&lowered.options).unwrap();
+//! assert_eq!(solution.time().last(), Some(&1.0));
+//! ```
+
+mod analysis;
+pub mod ast;
+mod connections;
+pub mod diagnostics;
+mod engine_errors;
+pub mod eval;
+pub mod lexer;
+mod lower;
+mod modifiers;
+pub mod parser;
+mod scope;
+pub mod source;
+pub mod source_map;
+mod types;
+
+pub use diagnostics::{Diagnostic, Severity};
+pub use engine_errors::engine_diagnostic;
+pub use source::{FileId, Sources, Span};
+pub use source_map::SourceMap;
+
+use ast::{ComponentKind, Item};
+use multibody::{Mechanism, Model, SimulationOptions};
+
+/// Model files read as one package: a file may use what another defines.
+#[derive(Debug, Default, Clone)]
+pub struct Package {
+    sources: Sources,
+    files: Vec<ast::File>,
+}
+
+/// A model ready to assemble: the engine model, the simulation options,
+/// and where everything came from.
+#[derive(Debug, Clone)]
+pub struct Lowered {
+    /// The analysis's name, or the component's when there is no analysis.
+    pub name: String,
+    pub model: Model,
+    /// The analysis's options, or the defaults.
+    pub options: SimulationOptions,
+    pub from_analysis: bool,
+    pub warnings: Vec<Diagnostic>,
+    pub source_map: SourceMap,
+}
+
+impl Lowered {
+    /// Assembles the model; the engine's errors point at the source.
+    pub fn assemble(&self) -> Result<Mechanism, Diagnostic> {
+        self.model.assemble().map_err(|e| engine_errors::engine_diagnostic(&e, &self.source_map))
+    }
+}
+
+/// A definition of the package, for listing.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Definition {
+    pub name: String,
+    pub kind: DefinitionKind,
+    pub doc: Option<String>,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DefinitionKind {
+    Component(ComponentKind),
+    Analysis,
+}
+
+impl Package {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds and parses a source file. The text is kept either way, so that
+    /// a syntax error can be shown with it.
+    pub fn add_source(&mut self, name: impl Into<String>, text: impl Into<String>) -> Result<FileId, Diagnostic> {
+        let id = self.sources.add(name, text);
+        let file = parser::parse(id, self.sources.text(id))?;
+        self.files.push(file);
+        Ok(id)
+    }
+
+    pub fn sources(&self) -> &Sources {
+        &self.sources
+    }
+
+    /// Every component and analysis, in file order.
+    pub fn definitions(&self) -> Vec<Definition> {
+        let mut out = Vec::new();
+        for item in self.files.iter().flat_map(|f| &f.items) {
+            match item {
+                Item::Component(c) => out.push(Definition {
+                    name: c.name.name.clone(),
+                    kind: DefinitionKind::Component(c.kind),
+                    doc: c.doc.clone(),
+                    span: c.header,
+                }),
+                Item::Analysis(a) => out.push(Definition {
+                    name: a.name.name.clone(),
+                    kind: DefinitionKind::Analysis,
+                    doc: a.doc.clone(),
+                    span: a.header,
+                }),
+                Item::TypeAlias(_) => {}
+            }
+        }
+        out
+    }
+
+    /// Components that no other component uses and that are not partial:
+    /// the candidates to simulate on their own.
+    pub fn top_components(&self) -> Vec<Definition> {
+        let used: Vec<String> = self
+            .files
+            .iter()
+            .flat_map(|f| &f.items)
+            .flat_map(|item| match item {
+                Item::Component(c) => c
+                    .declarations
+                    .iter()
+                    .filter_map(|d| match d {
+                        ast::Declaration::Component(c) => Some(c.kind.text()),
+                        _ => None,
+                    })
+                    .collect(),
+                Item::Analysis(a) => a.model.iter().map(|m| m.kind.text()).collect(),
+                Item::TypeAlias(_) => Vec::new(),
+            })
+            .collect();
+        self.definitions()
+            .into_iter()
+            .filter(|d| matches!(d.kind, DefinitionKind::Component(k) if k != ComponentKind::Partial))
+            .filter(|d| !used.contains(&d.name))
+            .collect()
+    }
+
+    /// Lowers the analysis `name`: its model and simulation options.
+    pub fn lower_analysis(&self, name: &str) -> Result<Lowered, Diagnostic> {
+        let index = lower::Index::new(&self.files)?;
+        let analysis = index.analyses.get(name).copied().ok_or_else(|| self.not_found(name, "analysis"))?;
+        lower::Lowerer::analysis(&index, analysis)
+    }
+
+    /// Lowers the component `name` as a whole model, with default options.
+    pub fn lower_component(&self, name: &str) -> Result<Lowered, Diagnostic> {
+        let index = lower::Index::new(&self.files)?;
+        let def = index.components.get(name).copied().ok_or_else(|| self.not_found(name, "component"))?;
+        lower::Lowerer::component(&index, def)
+    }
+
+    fn not_found(&self, name: &str, what: &str) -> Diagnostic {
+        let names: Vec<String> = self
+            .definitions()
+            .into_iter()
+            .filter(|d| (what == "analysis") == (d.kind == DefinitionKind::Analysis))
+            .map(|d| d.name)
+            .collect();
+        let mut d = Diagnostic::error(format!("there is no {what} `{name}`"));
+        if let Some(s) = diagnostics::did_you_mean(name, names.iter().map(String::as_str)) {
+            d = d.help(s);
+        }
+        if names.is_empty() {
+            d.note(format!("the files define no {what}"))
+        } else {
+            d.note(format!("the files define: {}", names.join(", ")))
+        }
+    }
+}

@@ -1,0 +1,126 @@
+//! Modifiers after evaluation, and how modifiers from different levels
+//! combine: the outer declaration wins over the inner one, except where the
+//! inner one is `final`.
+
+use crate::ast::{self, Ident};
+use crate::diagnostics::Diagnostic;
+use crate::eval::{eval, Scope, Val};
+use crate::source::Span;
+
+/// `name = value` and/or `name(nested...)`, with the value computed where
+/// it was written.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mod {
+    pub name: Ident,
+    pub is_final: bool,
+    /// The value and the span of its expression.
+    pub value: Option<(Val, Span)>,
+    pub nested: Vec<Mod>,
+    /// Whether `name(...)` was written (possibly empty).
+    pub has_nested: bool,
+    pub span: Span,
+}
+
+impl Mod {
+    /// A start value `target(initial = value)` for `initial a.b.target = value`:
+    /// `path` is the part after the sub-component (`b`, `target`).
+    pub fn initial_at(path: &[Ident], value: Val, value_span: Span, span: Span) -> Mod {
+        let initial = Mod {
+            name: Ident { name: "initial".into(), span: path.last().map_or(span, |p| p.span) },
+            is_final: false,
+            value: Some((value, value_span)),
+            nested: vec![],
+            has_nested: false,
+            span,
+        };
+        path.iter().rev().fold(initial, |inner, part| Mod {
+            name: part.clone(),
+            is_final: false,
+            value: None,
+            nested: vec![inner],
+            has_nested: true,
+            span,
+        })
+    }
+}
+
+/// Evaluates a modifier list in `scope`; a name given twice is an error.
+pub fn eval_modifiers(modifiers: &[ast::Modifier], scope: &mut dyn Scope) -> Result<Vec<Mod>, Diagnostic> {
+    let mut out: Vec<Mod> = Vec::with_capacity(modifiers.len());
+    for m in modifiers {
+        if let Some(first) = out.iter().find(|o| o.name.name == m.name.name) {
+            return Err(Diagnostic::error(format!("`{}` is modified twice", m.name.name))
+                .primary(m.name.span, "second time")
+                .secondary(first.name.span, "first time")
+                .help("keep one of them"));
+        }
+        let value = match &m.value {
+            Some(e) => Some((eval(e, scope)?, e.span)),
+            None => None,
+        };
+        let nested = match &m.nested {
+            Some(n) => eval_modifiers(n, scope)?,
+            None => Vec::new(),
+        };
+        out.push(Mod {
+            name: m.name.clone(),
+            is_final: m.is_final,
+            value,
+            nested,
+            has_nested: m.nested.is_some(),
+            span: m.span,
+        });
+    }
+    Ok(out)
+}
+
+/// Combines modifiers written at the same level (a declaration's own and its
+/// component's `initial` relations): giving one thing twice is an error.
+pub fn merge_same_level(mut own: Vec<Mod>, extra: Vec<Mod>) -> Result<Vec<Mod>, Diagnostic> {
+    for m in extra {
+        match own.iter_mut().find(|o| o.name.name == m.name.name) {
+            None => own.push(m),
+            Some(o) => {
+                if let (Some(_), Some(_)) = (&o.value, &m.value) {
+                    let what = if m.name.name == "initial" { "the start value" } else { "this value" };
+                    return Err(Diagnostic::error(format!("{what} is given twice"))
+                        .primary(m.span, "given again here")
+                        .secondary(o.span, "first given here")
+                        .help("keep one of them"));
+                }
+                if o.value.is_none() {
+                    o.value = m.value;
+                }
+                o.has_nested |= m.has_nested;
+                o.nested = merge_same_level(std::mem::take(&mut o.nested), m.nested)?;
+            }
+        }
+    }
+    Ok(own)
+}
+
+/// Applies modifiers from an enclosing declaration (`outer`) over a
+/// declaration's own (`own`): the outer value wins unless the own is final.
+pub fn merge_outer(outer: Vec<Mod>, mut own: Vec<Mod>) -> Result<Vec<Mod>, Diagnostic> {
+    for m in outer {
+        match own.iter_mut().find(|o| o.name.name == m.name.name) {
+            None => own.push(m),
+            Some(o) => {
+                if o.is_final {
+                    return Err(Diagnostic::error(format!("`{}` is final and cannot be changed", m.name.name))
+                        .primary(m.span, "changes a final modifier")
+                        .secondary(o.span, "declared final here")
+                        .help("remove this modifier, or remove `final` where it is declared"));
+                }
+                if m.value.is_some() {
+                    o.value = m.value;
+                    o.span = m.span;
+                    o.name.span = m.name.span;
+                }
+                o.has_nested |= m.has_nested;
+                o.nested = merge_outer(m.nested, std::mem::take(&mut o.nested))?;
+            }
+        }
+    }
+    Ok(own)
+}

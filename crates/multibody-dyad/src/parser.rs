@@ -1,0 +1,980 @@
+//! A recursive-descent parser for the model-composing subset of Dyad.
+//! Constructs outside the subset are recognised where they start and
+//! reported as "not supported yet", pointing at them.
+
+use crate::ast::*;
+use crate::diagnostics::Diagnostic;
+use crate::lexer::{tokenize, Token, TokenKind};
+use crate::source::{FileId, Span};
+
+/// How deeply expressions and modifiers may nest; deeper input is refused
+/// rather than risking the stack.
+const MAX_DEPTH: usize = 64;
+
+/// Parses one file.
+pub fn parse(file: FileId, text: &str) -> Result<File, Diagnostic> {
+    let tokens = tokenize(file, text)?;
+    Parser { tokens, pos: 0, depth: 0, text }.file()
+}
+
+struct Parser<'a> {
+    tokens: Vec<Token>,
+    pos: usize,
+    depth: usize,
+    text: &'a str,
+}
+
+type PResult<T> = Result<T, Diagnostic>;
+
+/// Words that start a section or end a definition inside a component.
+const SECTION_WORDS: &[&str] = &["relations", "metadata", "end"];
+
+fn unsupported(what: &str, span: Span) -> Diagnostic {
+    Diagnostic::error(format!("{what} not supported yet")).primary(span, "not supported yet")
+}
+
+impl<'a> Parser<'a> {
+    // ---- token helpers -------------------------------------------------
+
+    fn peek(&self) -> &Token {
+        &self.tokens[self.pos.min(self.tokens.len() - 1)]
+    }
+
+    fn nth(&self, k: usize) -> &TokenKind {
+        &self.tokens[(self.pos + k).min(self.tokens.len() - 1)].kind
+    }
+
+    fn span(&self) -> Span {
+        self.peek().span
+    }
+
+    fn prev_span(&self) -> Span {
+        self.tokens[self.pos.saturating_sub(1)].span
+    }
+
+    fn at(&self, kind: &TokenKind) -> bool {
+        &self.peek().kind == kind
+    }
+
+    fn at_word(&self, word: &str) -> bool {
+        matches!(&self.peek().kind, TokenKind::Ident(w) if w == word)
+    }
+
+    fn word(&self) -> Option<&str> {
+        match &self.peek().kind {
+            TokenKind::Ident(w) => Some(w),
+            _ => None,
+        }
+    }
+
+    fn bump(&mut self) -> Token {
+        let token = self.peek().clone();
+        if token.kind != TokenKind::Eof {
+            self.pos += 1;
+        }
+        token
+    }
+
+    fn eat(&mut self, kind: &TokenKind) -> bool {
+        if self.at(kind) {
+            self.bump();
+            true
+        } else {
+            false
+        }
+    }
+
+    fn eat_word(&mut self, word: &str) -> bool {
+        if self.at_word(word) {
+            self.bump();
+            true
+        } else {
+            false
+        }
+    }
+
+    fn skip_semicolons(&mut self) {
+        while self.eat(&TokenKind::Semicolon) {}
+    }
+
+    /// "expected X, found Y" at the current token, or just after the
+    /// previous one when the current token is on a later line (a missing
+    /// `)` at the end of a line is reported there).
+    fn expected(&self, what: &str) -> Diagnostic {
+        let found = self.peek().kind.describe();
+        let d = Diagnostic::error(format!("expected {what}, found {found}"));
+        let previous = self.prev_span();
+        let between = self.text.get(previous.end..self.span().start).unwrap_or("");
+        if self.pos > 0 && between.contains('\n') {
+            let after = Span::new(previous.file, previous.end, previous.end);
+            d.primary(after, format!("expected {what} here")).secondary(self.span(), format!("found {found}"))
+        } else {
+            d.primary(self.span(), format!("expected {what}"))
+        }
+    }
+
+    fn expect(&mut self, kind: TokenKind, what: &str) -> PResult<Token> {
+        if self.at(&kind) {
+            Ok(self.bump())
+        } else {
+            Err(self.expected(what))
+        }
+    }
+
+    fn expect_word(&mut self, word: &str) -> PResult<Span> {
+        if self.at_word(word) {
+            Ok(self.bump().span)
+        } else {
+            Err(self.expected(&format!("`{word}`")))
+        }
+    }
+
+    fn ident(&mut self, what: &str) -> PResult<Ident> {
+        match &self.peek().kind {
+            TokenKind::Ident(name) => {
+                let ident = Ident { name: name.clone(), span: self.span() };
+                self.bump();
+                Ok(ident)
+            }
+            _ => Err(self.expected(what)),
+        }
+    }
+
+    fn path(&mut self, what: &str) -> PResult<Path> {
+        let first = self.ident(what)?;
+        let mut span = first.span;
+        let mut parts = vec![first];
+        while self.at(&TokenKind::Dot) && matches!(self.nth(1), TokenKind::Ident(_)) {
+            self.bump();
+            let part = self.ident("a name")?;
+            span = span.to(part.span);
+            parts.push(part);
+        }
+        Ok(Path { parts, span })
+    }
+
+    fn enter(&mut self) -> PResult<()> {
+        self.depth += 1;
+        if self.depth > MAX_DEPTH {
+            return Err(Diagnostic::error(format!("this is nested more than {MAX_DEPTH} levels deep"))
+                .primary(self.span(), "too deep")
+                .help("split the expression, or compute the value in a parameter"));
+        }
+        Ok(())
+    }
+
+    fn leave(&mut self, levels: usize) {
+        self.depth -= levels;
+    }
+
+    /// Doc strings before a definition or declaration.
+    fn doc(&mut self) -> Option<String> {
+        let mut doc: Option<String> = None;
+        while let TokenKind::Str(s) | TokenKind::TripleStr(s) = &self.peek().kind {
+            let s = s.trim().to_string();
+            doc = Some(match doc {
+                Some(d) => format!("{d}\n{s}"),
+                None => s,
+            });
+            self.bump();
+        }
+        doc
+    }
+
+    // ---- metadata ------------------------------------------------------
+
+    /// `{ json }` or the older `[{ json }]` after a declaration or relation.
+    fn optional_annotation(&mut self) -> PResult<()> {
+        if self.at(&TokenKind::LBrace) {
+            self.json_object()
+        } else if self.at(&TokenKind::LBracket) && self.nth(1) == &TokenKind::LBrace {
+            self.bump();
+            self.json_object()?;
+            self.expect(TokenKind::RBracket, "`]` after the metadata")?;
+            Ok(())
+        } else {
+            Ok(())
+        }
+    }
+
+    /// A JSON object: skipped by matching brackets, then checked as JSON.
+    fn json_object(&mut self) -> PResult<()> {
+        let open = self.expect(TokenKind::LBrace, "`{`")?.span;
+        let mut stack = vec![TokenKind::RBrace];
+        while let Some(closer) = stack.last().cloned() {
+            let token = self.bump();
+            match token.kind {
+                TokenKind::LBrace => stack.push(TokenKind::RBrace),
+                TokenKind::LBracket => stack.push(TokenKind::RBracket),
+                TokenKind::RBrace | TokenKind::RBracket if token.kind == closer => {
+                    stack.pop();
+                }
+                TokenKind::RBrace | TokenKind::RBracket => {
+                    return Err(Diagnostic::error("mismatched bracket in metadata")
+                        .primary(token.span, format!("expected {}", closer.describe()))
+                        .secondary(open, "the metadata starts here"));
+                }
+                TokenKind::Eof => {
+                    return Err(Diagnostic::error("this metadata `{` is never closed")
+                        .primary(open, "opened here")
+                        .help("metadata is a JSON object: close every `{` and `[`"));
+                }
+                _ => {}
+            }
+        }
+        let span = open.to(self.prev_span());
+        let json = &self.text[span.range()];
+        if let Err(e) = serde_json::from_str::<serde_json::Value>(json) {
+            let offset = json_error_offset(json, e.line(), e.column());
+            let mut at = span.start + offset;
+            while at < span.end && !self.text.is_char_boundary(at) {
+                at += 1;
+            }
+            let end = (at + 1..=span.end).find(|&i| self.text.is_char_boundary(i)).unwrap_or(span.end);
+            let message = e.to_string();
+            let what = message.split(" at line").next().unwrap_or(&message).to_string();
+            return Err(Diagnostic::error("metadata must be a JSON object")
+                .primary(Span::new(span.file, at.min(span.end), end), what)
+                .secondary(open, "in this metadata")
+                .help("metadata is JSON: keys in double quotes, no trailing commas, e.g. {\"Dyad\": {\"tags\": []}}"));
+        }
+        Ok(())
+    }
+
+    /// `metadata { json }` before `end`.
+    fn metadata_section(&mut self) -> PResult<()> {
+        self.expect_word("metadata")?;
+        if !self.at(&TokenKind::LBrace) {
+            return Err(self.expected("`{` to start the metadata object"));
+        }
+        self.json_object()?;
+        self.skip_semicolons();
+        Ok(())
+    }
+
+    // ---- definitions ---------------------------------------------------
+
+    fn file(mut self) -> PResult<File> {
+        let mut items = Vec::new();
+        loop {
+            self.skip_semicolons();
+            let doc_span = self.span();
+            let doc = self.doc();
+            if self.at(&TokenKind::Eof) {
+                if doc.is_some() {
+                    return Err(Diagnostic::error("a doc string must be followed by what it documents")
+                        .primary(doc_span, "documents nothing")
+                        .help("put the doc string right before a `component` or `analysis`, or remove it"));
+                }
+                break;
+            }
+            items.push(self.definition(doc)?);
+        }
+        Ok(File { items })
+    }
+
+    fn definition(&mut self, doc: Option<String>) -> PResult<Item> {
+        let start = self.span();
+        let Some(word) = self.word().map(str::to_string) else {
+            return Err(self.expected("a definition (`component`, `example component` or `analysis`)"));
+        };
+        let prefix = match word.as_str() {
+            "partial" => Some(ComponentKind::Partial),
+            "example" => Some(ComponentKind::Example),
+            "test" => Some(ComponentKind::Test),
+            "external" => {
+                return Err(unsupported("`external` components are", start)
+                    .help("define the component with sub-components and connections instead"))
+            }
+            _ => None,
+        };
+        if prefix.is_some() {
+            self.bump();
+        }
+        if self.at_word("component") {
+            return self.component(prefix.unwrap_or(ComponentKind::Component), doc, start).map(Item::Component);
+        }
+        if self.at_word("analysis") {
+            return self.analysis(doc, start).map(Item::Analysis);
+        }
+        if prefix.is_some() {
+            return Err(self.expected("`component` or `analysis`"));
+        }
+        match word.as_str() {
+            "type" => self.type_alias().map(Item::TypeAlias),
+            "connector" => Err(unsupported("`connector` definitions are", start)
+                .help("use the library's connectors in components: `frame_a = Frame3D()`, `axis = Spline()`, `flange = Flange()`")),
+            "enum" => Err(unsupported("`enum` definitions are", start)
+                .help("use the library's enumerations, e.g. `orientation_state = OrientationState.Quaternion()`")),
+            "using" | "import" => Err(unsupported(&format!("`{word}` is"), start)
+                .help("write library names in full, e.g. `MultibodyComponents.Body()`, or without the library: `Body()`")),
+            "struct" => Err(unsupported("`struct` definitions are", start)),
+            "function" | "func" => Err(unsupported("function definitions are", start)),
+            _ => Err(self.expected("a definition (`component`, `example component` or `analysis`)")),
+        }
+    }
+
+    fn component(&mut self, kind: ComponentKind, doc: Option<String>, start: Span) -> PResult<ComponentDef> {
+        self.expect_word("component")?;
+        let name = self.ident("the name of the component")?;
+        let header = start.to(name.span);
+        let mut declarations = Vec::new();
+        loop {
+            self.skip_semicolons();
+            let doc_span = self.span();
+            let doc = self.doc();
+            if self.word().is_some_and(|w| SECTION_WORDS.contains(&w)) || self.at(&TokenKind::Eof) {
+                if doc.is_some() {
+                    return Err(Diagnostic::error("a doc string must be followed by what it documents")
+                        .primary(doc_span, "documents nothing")
+                        .help("put the doc string right before a declaration, or remove it"));
+                }
+                break;
+            }
+            declarations.push(self.declaration(doc)?);
+        }
+        let mut relations = Vec::new();
+        if self.eat_word("relations") {
+            relations = self.relations()?;
+        }
+        if self.at_word("metadata") {
+            self.metadata_section()?;
+        }
+        if !self.at_word("end") {
+            let mut d = self.expected("`end`");
+            if self.at(&TokenKind::Eof) {
+                d = d.secondary(header, "this component is not closed").help("end the component with `end`");
+            }
+            return Err(d);
+        }
+        self.bump();
+        self.skip_semicolons();
+        Ok(ComponentDef { kind, name, doc, header, declarations, relations })
+    }
+
+    fn declaration(&mut self, doc: Option<String>) -> PResult<Declaration> {
+        let start = self.span();
+        let Some(word) = self.word().map(str::to_string) else {
+            return Err(self.expected("a declaration (`name = Kind(...)` or `parameter ...`), `relations` or `end`"));
+        };
+        match word.as_str() {
+            "parameter" | "structural" | "final" => return self.parameter(doc).map(Declaration::Parameter),
+            "extends" => {
+                return Err(unsupported("`extends` in a component is", start)
+                    .help("declare the base's sub-components and connections in this component instead"))
+            }
+            "variable" | "constant" | "path" => {
+                return Err(unsupported(&format!("`{word}` declarations are"), start).help(
+                    "this front end composes library components; use a `parameter`, or a library component that has the variable",
+                ))
+            }
+            "potential" | "flow" | "stream" | "input" | "output" => {
+                return Err(unsupported(&format!("`{word}` variables are"), start)
+                    .help("declare connectors with the library's types: `frame_a = Frame3D()`, `axis = Spline()`"))
+            }
+            _ => {}
+        }
+        if matches!(self.nth(1), TokenKind::Eq | TokenKind::ColonColon) {
+            return self.component_decl(doc).map(Declaration::Component);
+        }
+        Err(self.expected("a declaration (`name = Kind(...)` or `parameter ...`), `relations` or `end`"))
+    }
+
+    /// `name = Kind(modifiers) {metadata}`.
+    fn component_decl(&mut self, doc: Option<String>) -> PResult<ComponentDecl> {
+        let name = self.ident("a name")?;
+        if self.at(&TokenKind::ColonColon) {
+            return Err(unsupported("type constraints on sub-components (`name::Type = ...`) are", self.span())
+                .help(format!("write `{} = Kind(...)`", name.name)));
+        }
+        self.expect(TokenKind::Eq, "`=`")?;
+        if self.at(&TokenKind::LBracket) {
+            return Err(unsupported("arrays of components are", self.span()).help("declare each component by name"));
+        }
+        let kind = self.path("a component kind, e.g. `MultibodyComponents.Body`")?;
+        if !self.at(&TokenKind::LParen) {
+            return Err(self.expected("`(`").help(format!("write `{} = {}()`", name.name, kind.text())));
+        }
+        let modifiers = self.modifiers()?;
+        let span = name.span.to(self.prev_span());
+        if self.at_word("if") {
+            return Err(unsupported("conditional declarations (`... if condition`) are", self.span())
+                .help("declare the component unconditionally, or leave it out"));
+        }
+        self.optional_annotation()?;
+        self.skip_semicolons();
+        Ok(ComponentDecl { doc, name, kind, modifiers, span })
+    }
+
+    /// `(a = 1, b(initial = 2), final c = 3)`.
+    fn modifiers(&mut self) -> PResult<Vec<Modifier>> {
+        self.enter()?;
+        self.expect(TokenKind::LParen, "`(`")?;
+        let mut modifiers = Vec::new();
+        while !self.at(&TokenKind::RParen) {
+            modifiers.push(self.modifier()?);
+            if !self.eat(&TokenKind::Comma) {
+                break;
+            }
+        }
+        if !self.at(&TokenKind::RParen) {
+            return Err(self.expected("`,` or `)`"));
+        }
+        self.bump();
+        self.leave(1);
+        Ok(modifiers)
+    }
+
+    fn modifier(&mut self) -> PResult<Modifier> {
+        let start = self.span();
+        let is_final = self.at_word("final") && matches!(self.nth(1), TokenKind::Ident(_));
+        if is_final {
+            self.bump();
+        }
+        if self.at_word("each") || self.at_word("redeclare") {
+            return Err(unsupported(&format!("`{}` modifiers are", self.word().unwrap_or_default()), self.span()));
+        }
+        let TokenKind::Ident(_) = self.peek().kind else {
+            return Err(self
+                .expected("a modifier `name = value`")
+                .help("arguments are written by name, e.g. `Body(m = 1, r_cm = [0.5, 0, 0])`"));
+        };
+        let name = self.ident("a name")?;
+        let mut nested = None;
+        if self.at(&TokenKind::LParen) {
+            nested = Some(self.modifiers()?);
+        }
+        let mut value = None;
+        if self.eat(&TokenKind::Eq) {
+            value = Some(self.expr()?);
+        }
+        if nested.is_none() && value.is_none() {
+            return Err(self
+                .expected("`=` or `(`")
+                .help(format!("give a value, `{} = ...`, or attributes, `{}(initial = ...)`", name.name, name.name)));
+        }
+        Ok(Modifier { is_final, name, value, nested, span: start.to(self.prev_span()) })
+    }
+
+    /// `[final | structural] parameter name::Type[dims] = default`.
+    fn parameter(&mut self, doc: Option<String>) -> PResult<ParameterDecl> {
+        let start = self.span();
+        let variability = if self.eat_word("final") {
+            self.eat_word("structural");
+            Variability::Final
+        } else if self.eat_word("structural") {
+            Variability::Structural
+        } else {
+            Variability::Parameter
+        };
+        self.expect_word("parameter")?;
+        let name = self.ident("the parameter's name")?;
+        if !self.at(&TokenKind::ColonColon) {
+            return Err(self.expected("`::` and a type").help(format!(
+                "parameters have a type: `parameter {}::Real = 1` or `parameter {}::Length[3] = [0, 0, 0]`",
+                name.name, name.name
+            )));
+        }
+        self.bump();
+        let ty = self.type_ref()?;
+        let default = if self.eat(&TokenKind::Eq) { Some(self.expr()?) } else { None };
+        let span = start.to(self.prev_span());
+        if self.at_word("if") {
+            return Err(unsupported("conditional declarations (`... if condition`) are", self.span()));
+        }
+        self.optional_annotation()?;
+        self.skip_semicolons();
+        Ok(ParameterDecl { doc, variability, name, ty, default, span })
+    }
+
+    fn type_ref(&mut self) -> PResult<TypeRef> {
+        let name = self.path("a type, e.g. `Real` or `Length`")?;
+        let attributes = if self.at(&TokenKind::LParen) { self.modifiers()? } else { Vec::new() };
+        let mut dims = Vec::new();
+        if self.at(&TokenKind::LBracket) && self.nth(1) != &TokenKind::LBrace {
+            self.bump();
+            loop {
+                if self.at(&TokenKind::Colon) {
+                    dims.push(Dim::Any(self.bump().span));
+                } else {
+                    dims.push(Dim::Size(self.expr()?));
+                }
+                if !self.eat(&TokenKind::Comma) {
+                    break;
+                }
+            }
+            self.expect(TokenKind::RBracket, "`]`")?;
+        }
+        let span = name.span.to(self.prev_span());
+        Ok(TypeRef { name, attributes, dims, span })
+    }
+
+    fn relations(&mut self) -> PResult<Vec<Relation>> {
+        let mut relations = Vec::new();
+        loop {
+            self.skip_semicolons();
+            let doc_span = self.span();
+            let doc = self.doc();
+            if self.at_word("metadata") || self.at_word("end") || self.at(&TokenKind::Eof) {
+                if doc.is_some() {
+                    return Err(Diagnostic::error("a doc string must be followed by what it documents")
+                        .primary(doc_span, "documents nothing"));
+                }
+                return Ok(relations);
+            }
+            relations.push(self.relation()?);
+        }
+    }
+
+    fn relation(&mut self) -> PResult<Relation> {
+        let start = self.span();
+        let word = self.word().unwrap_or_default().to_string();
+        match word.as_str() {
+            "connect" if self.nth(1) == &TokenKind::LParen => return self.connect(),
+            "initial" => return self.initial(),
+            "if" | "for" | "switch" | "when" => {
+                return Err(unsupported(&format!("`{word}` in relations is"), start)
+                    .help("write the relations for one case without the condition"))
+            }
+            "assert" | "transition" | "continuity" | "analysis_point" | "state" => {
+                return Err(unsupported(&format!("`{word}` is"), start))
+            }
+            _ => {}
+        }
+        if word.is_empty() && !matches!(self.peek().kind, TokenKind::Number(_) | TokenKind::LParen | TokenKind::Minus) {
+            return Err(self.expected("a relation (`connect(...)` or `initial x.y = value`), `metadata` or `end`"));
+        }
+        if !word.is_empty() && self.nth(1) == &TokenKind::Colon {
+            return Err(unsupported("named relations (`name: ...`) are", start));
+        }
+        // Anything else is an equation: parse it to point at all of it.
+        let lhs = self.expr()?;
+        if self.at(&TokenKind::Eq) {
+            self.bump();
+            let rhs = self.expr()?;
+            return Err(unsupported("equations such as this one are", lhs.span.to(rhs.span)).help(
+                "relations here connect components, `connect(a.frame_b, b.frame_a)`, and give start values, `initial joint.phi = 0.5`; use a library component for the behaviour you want",
+            ));
+        }
+        Err(Diagnostic::error("expected a relation (`connect(...)` or `initial x.y = value`)")
+            .primary(lhs.span, "this is not a relation"))
+    }
+
+    fn connect(&mut self) -> PResult<Relation> {
+        let start = self.expect_word("connect")?;
+        self.expect(TokenKind::LParen, "`(`")?;
+        let mut ends = Vec::new();
+        loop {
+            ends.push(self.path("a connector, e.g. `joint.frame_a`")?);
+            if self.at(&TokenKind::LBracket) {
+                return Err(unsupported("connecting elements of arrays is", self.span()));
+            }
+            if !self.eat(&TokenKind::Comma) {
+                break;
+            }
+        }
+        if !self.at(&TokenKind::RParen) {
+            return Err(self.expected("`,` or `)`"));
+        }
+        self.bump();
+        let span = start.to(self.prev_span());
+        if ends.len() < 2 {
+            return Err(Diagnostic::error("`connect` needs at least two connectors")
+                .primary(span, "only one connector")
+                .help("connect two or more connectors: `connect(a.frame_b, b.frame_a)`"));
+        }
+        self.optional_annotation()?;
+        self.skip_semicolons();
+        Ok(Relation::Connect { ends, span })
+    }
+
+    /// `initial joint.phi = value`.
+    fn initial(&mut self) -> PResult<Relation> {
+        let start = self.expect_word("initial")?;
+        if !matches!(self.peek().kind, TokenKind::Ident(_)) {
+            return Err(self.expected("a variable, e.g. `initial joint.phi = 0`"));
+        }
+        if self.nth(1) == &TokenKind::LParen {
+            let name = self.word().unwrap_or_default().to_string();
+            return Err(unsupported(&format!("`initial {name}(...)` is"), self.span())
+                .help("give the start value of a state variable: `initial joint.w = 0`"));
+        }
+        let target = self.path("a variable")?;
+        if self.at(&TokenKind::LBracket) {
+            return Err(unsupported("start values of single array elements are", self.span())
+                .help(format!("give the whole array: `initial {} = [..., ..., ...]`", target.text())));
+        }
+        self.expect(TokenKind::Eq, "`=`")?;
+        let value = self.expr()?;
+        let span = start.to(value.span);
+        self.optional_annotation()?;
+        self.skip_semicolons();
+        Ok(Relation::Initial { target, value, span })
+    }
+
+    fn analysis(&mut self, doc: Option<String>, start: Span) -> PResult<AnalysisDef> {
+        self.expect_word("analysis")?;
+        let name = self.ident("the name of the analysis")?;
+        let header = start.to(name.span);
+        let mut base: Option<(Path, Vec<Modifier>, Span)> = None;
+        let mut parameters = Vec::new();
+        let mut model: Option<ComponentDecl> = None;
+        loop {
+            self.skip_semicolons();
+            let doc = self.doc();
+            if self.word().is_some_and(|w| SECTION_WORDS.contains(&w)) || self.at(&TokenKind::Eof) {
+                break;
+            }
+            let here = self.span();
+            match self.word() {
+                Some("extends") => {
+                    self.bump();
+                    let path = self.path("the analysis to extend, e.g. `TransientAnalysis`")?;
+                    let modifiers = if self.at(&TokenKind::LParen) { self.modifiers()? } else { Vec::new() };
+                    let span = here.to(self.prev_span());
+                    if let Some((_, _, first)) = &base {
+                        return Err(Diagnostic::error("an analysis extends exactly one base")
+                            .primary(span, "second `extends`")
+                            .secondary(*first, "first `extends`"));
+                    }
+                    self.optional_annotation()?;
+                    base = Some((path, modifiers, span));
+                }
+                Some("parameter" | "structural" | "final") => parameters.push(self.parameter(doc)?),
+                Some(_) if matches!(self.nth(1), TokenKind::Eq | TokenKind::ColonColon) => {
+                    let decl = self.component_decl(doc)?;
+                    if decl.name.name != "model" {
+                        return Err(unsupported("components other than `model` in an analysis are", decl.name.span)
+                            .help("an analysis simulates one model: `model = MyModel()`"));
+                    }
+                    if let Some(first) = &model {
+                        return Err(Diagnostic::error("the analysis declares `model` twice")
+                            .primary(decl.name.span, "second declaration")
+                            .secondary(first.name.span, "first declaration"));
+                    }
+                    model = Some(decl);
+                }
+                _ => {
+                    return Err(self.expected("`extends TransientAnalysis(...)`, `model = ...`, a parameter, or `end`"))
+                }
+            }
+        }
+        if self.eat_word("relations") {
+            self.skip_semicolons();
+            if !self.at_word("metadata") && !self.at_word("end") {
+                return Err(unsupported("relations in an analysis are", self.span())
+                    .help("put the relations in the model's component"));
+            }
+        }
+        if self.at_word("metadata") {
+            self.metadata_section()?;
+        }
+        if !self.at_word("end") {
+            return Err(self.expected("`end`"));
+        }
+        self.bump();
+        self.skip_semicolons();
+        let Some((base, base_modifiers, base_span)) = base else {
+            return Err(Diagnostic::error(format!("the analysis `{}` extends no analysis", name.name))
+                .primary(header, "no `extends`")
+                .help("add `extends TransientAnalysis(stop = 10)` to simulate the model"));
+        };
+        Ok(AnalysisDef { name, doc, header, base, base_modifiers, base_span, parameters, model })
+    }
+
+    fn type_alias(&mut self) -> PResult<TypeAlias> {
+        let start = self.expect_word("type")?;
+        let name = self.ident("the type's name")?;
+        self.expect(TokenKind::Eq, "`=`")?;
+        if self.at_word("func") {
+            return Err(unsupported("function types are", self.span()));
+        }
+        let base = self.type_ref()?;
+        let span = start.to(self.prev_span());
+        if self.at_word("metadata") {
+            self.metadata_section()?;
+        } else {
+            self.optional_annotation()?;
+        }
+        self.skip_semicolons();
+        Ok(TypeAlias { name, base, span })
+    }
+
+    // ---- expressions ---------------------------------------------------
+
+    pub fn expr(&mut self) -> PResult<Expr> {
+        self.enter()?;
+        let e = if self.at_word("if") { self.if_expr()? } else { self.or_expr()? };
+        self.leave(1);
+        Ok(e)
+    }
+
+    fn if_expr(&mut self) -> PResult<Expr> {
+        let start = self.expect_word("if")?;
+        self.or_expr()?;
+        self.expect_word("then")?;
+        self.expr()?;
+        while self.eat_word("elseif") {
+            self.or_expr()?;
+            self.expect_word("then")?;
+            self.expr()?;
+        }
+        self.expect_word("else")?;
+        let last = self.expr()?;
+        Ok(Expr { kind: ExprKind::Unsupported("`if` expressions are"), span: start.to(last.span) })
+    }
+
+    /// A chain `a op b op c ...` of one precedence level.
+    fn chain(
+        &mut self,
+        next: fn(&mut Self) -> PResult<Expr>,
+        op_of: fn(&TokenKind) -> Option<Result<BinaryOp, &'static str>>,
+    ) -> PResult<Expr> {
+        let mut lhs = next(self)?;
+        let mut levels = 0;
+        while let Some(op) = op_of(&self.peek().kind) {
+            self.enter()?;
+            levels += 1;
+            self.bump();
+            let rhs = next(self)?;
+            let span = lhs.span.to(rhs.span);
+            lhs = match op {
+                Ok(op) => Expr { kind: ExprKind::Binary { op, lhs: Box::new(lhs), rhs: Box::new(rhs) }, span },
+                Err(what) => Expr { kind: ExprKind::Unsupported(what), span },
+            };
+        }
+        self.leave(levels);
+        Ok(lhs)
+    }
+
+    fn or_expr(&mut self) -> PResult<Expr> {
+        self.chain(Self::and_expr, |k| matches!(k, TokenKind::Ident(w) if w == "or").then_some(Err("`or` is")))
+    }
+
+    fn and_expr(&mut self) -> PResult<Expr> {
+        self.chain(Self::comparison, |k| matches!(k, TokenKind::Ident(w) if w == "and").then_some(Err("`and` is")))
+    }
+
+    fn comparison(&mut self) -> PResult<Expr> {
+        self.chain(Self::additive, |k| {
+            matches!(
+                k,
+                TokenKind::EqEq | TokenKind::NotEq | TokenKind::Lt | TokenKind::Le | TokenKind::Gt | TokenKind::Ge
+            )
+            .then_some(Err("comparisons are"))
+        })
+    }
+
+    fn additive(&mut self) -> PResult<Expr> {
+        self.chain(Self::multiplicative, |k| match k {
+            TokenKind::Plus => Some(Ok(BinaryOp::Add)),
+            TokenKind::Minus => Some(Ok(BinaryOp::Sub)),
+            TokenKind::DotPlus => Some(Ok(BinaryOp::ElemAdd)),
+            TokenKind::DotMinus => Some(Ok(BinaryOp::ElemSub)),
+            _ => None,
+        })
+    }
+
+    fn multiplicative(&mut self) -> PResult<Expr> {
+        self.chain(Self::unary, |k| match k {
+            TokenKind::Star => Some(Ok(BinaryOp::Mul)),
+            TokenKind::Slash => Some(Ok(BinaryOp::Div)),
+            TokenKind::DotStar => Some(Ok(BinaryOp::ElemMul)),
+            TokenKind::DotSlash => Some(Ok(BinaryOp::ElemDiv)),
+            TokenKind::Percent => Some(Err("`%` is")),
+            _ => None,
+        })
+    }
+
+    fn unary(&mut self) -> PResult<Expr> {
+        let start = self.span();
+        let op = match self.peek().kind {
+            TokenKind::Minus => Some(Ok(UnaryOp::Neg)),
+            TokenKind::Plus => Some(Ok(UnaryOp::Plus)),
+            TokenKind::Bang => Some(Err("`!` is")),
+            _ => None,
+        };
+        let Some(op) = op else { return self.power() };
+        self.enter()?;
+        self.bump();
+        let operand = self.unary()?;
+        self.leave(1);
+        let span = start.to(operand.span);
+        Ok(match op {
+            Ok(op) => Expr { kind: ExprKind::Unary { op, operand: Box::new(operand) }, span },
+            Err(what) => Expr { kind: ExprKind::Unsupported(what), span },
+        })
+    }
+
+    fn power(&mut self) -> PResult<Expr> {
+        let base = self.postfix()?;
+        let op = match self.peek().kind {
+            TokenKind::Caret => BinaryOp::Pow,
+            TokenKind::DotCaret => BinaryOp::ElemPow,
+            _ => return Ok(base),
+        };
+        self.enter()?;
+        self.bump();
+        // Right-associative, and `2^-1` is allowed.
+        let exponent = self.unary()?;
+        self.leave(1);
+        let span = base.span.to(exponent.span);
+        Ok(Expr { kind: ExprKind::Binary { op, lhs: Box::new(base), rhs: Box::new(exponent) }, span })
+    }
+
+    fn postfix(&mut self) -> PResult<Expr> {
+        let mut e = self.primary()?;
+        let mut levels = 0;
+        // Indexing follows a name or a call; `[{` after a value starts metadata.
+        while self.at(&TokenKind::LBracket)
+            && self.nth(1) != &TokenKind::LBrace
+            && matches!(e.kind, ExprKind::Name(_) | ExprKind::Call { .. } | ExprKind::Index { .. })
+        {
+            self.enter()?;
+            levels += 1;
+            self.bump();
+            let mut indices = Vec::new();
+            loop {
+                indices.push(self.expr()?);
+                if !self.eat(&TokenKind::Comma) {
+                    break;
+                }
+            }
+            self.expect(TokenKind::RBracket, "`,` or `]`")?;
+            let span = e.span.to(self.prev_span());
+            e = Expr { kind: ExprKind::Index { base: Box::new(e), indices }, span };
+        }
+        self.leave(levels);
+        Ok(e)
+    }
+
+    fn primary(&mut self) -> PResult<Expr> {
+        let token = self.peek().clone();
+        match &token.kind {
+            TokenKind::Number(x) => {
+                self.bump();
+                Ok(Expr { kind: ExprKind::Number(*x), span: token.span })
+            }
+            TokenKind::Str(s) => {
+                self.bump();
+                Ok(Expr { kind: ExprKind::Str(s.clone()), span: token.span })
+            }
+            TokenKind::LParen => {
+                self.bump();
+                let inner = self.expr()?;
+                self.expect(TokenKind::RParen, "`)`")?;
+                Ok(Expr { kind: inner.kind, span: token.span.to(self.prev_span()) })
+            }
+            TokenKind::LBracket => self.array(),
+            TokenKind::Ident(w) if w == "true" || w == "false" => {
+                self.bump();
+                Ok(Expr { kind: ExprKind::Bool(w == "true"), span: token.span })
+            }
+            TokenKind::Ident(_) => {
+                let path = self.path("a name")?;
+                if !self.at(&TokenKind::LParen) {
+                    let span = path.span;
+                    return Ok(Expr { kind: ExprKind::Name(path), span });
+                }
+                self.bump();
+                let mut args = Vec::new();
+                while !self.at(&TokenKind::RParen) {
+                    if matches!(self.peek().kind, TokenKind::Ident(_)) && self.nth(1) == &TokenKind::Eq {
+                        return Err(unsupported("named arguments in function calls are", self.span()));
+                    }
+                    args.push(self.expr()?);
+                    if !self.eat(&TokenKind::Comma) {
+                        break;
+                    }
+                }
+                self.expect(TokenKind::RParen, "`,` or `)`")?;
+                let span = path.span.to(self.prev_span());
+                Ok(Expr { kind: ExprKind::Call { callee: path, args }, span })
+            }
+            _ => Err(self.expected("a value (a number, a name, `[...]` or `(...)`)")),
+        }
+    }
+
+    fn array(&mut self) -> PResult<Expr> {
+        let open = self.expect(TokenKind::LBracket, "`[`")?.span;
+        let mut items = Vec::new();
+        while !self.at(&TokenKind::RBracket) {
+            items.push(self.expr()?);
+            if self.at_word("for") {
+                return Err(unsupported("array comprehensions (`[... for i in ...]`) are", self.span())
+                    .help("write the elements out: `[1, 2, 3]`"));
+            }
+            if self.at(&TokenKind::Semicolon) {
+                return Err(unsupported("`;` rows in array literals are", self.span())
+                    .help("write a matrix as an array of rows: `[[1, 0], [0, 1]]`"));
+            }
+            if !self.eat(&TokenKind::Comma) {
+                break;
+            }
+        }
+        self.expect(TokenKind::RBracket, "`,` or `]`")?;
+        Ok(Expr { kind: ExprKind::Array(items), span: open.to(self.prev_span()) })
+    }
+}
+
+/// The byte offset in `json` of serde_json's 1-based line and column.
+fn json_error_offset(json: &str, line: usize, column: usize) -> usize {
+    let line_start: usize = json.split_inclusive('\n').take(line.saturating_sub(1)).map(str::len).sum();
+    (line_start + column.saturating_sub(1)).min(json.len().saturating_sub(1))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_a_pendulum_with_metadata_and_an_analysis() {
+        let text = r#"
+"A pendulum"
+example component Pend
+  world = MultibodyComponents.World() {"Dyad": {"placement": {"x1": -50}}}
+  # a comment
+  "the joint"
+  joint = MultibodyComponents.Revolute(phi(initial = pi / 3), w(initial = 0)) [{"JuliaSim": {}}]
+  parameter L::Length[3] = [1, 0, 0]
+relations
+  connect(world.frame_b, joint.frame_a) {"Dyad": {"edges": [{"S": 1, "M": [], "E": 2}]}}
+  initial joint.phi = 0.3
+metadata {}
+end
+
+analysis PendSim
+  extends Dyad.TransientAnalysis(stop = 5, alg = ODEAlg.Auto())
+  model = Pend()
+relations
+end
+"#;
+        let file = parse(0, text).unwrap();
+        assert_eq!(file.items.len(), 2);
+        let Item::Component(c) = &file.items[0] else { panic!() };
+        assert_eq!(c.kind, ComponentKind::Example);
+        assert_eq!(c.doc.as_deref(), Some("A pendulum"));
+        assert_eq!(c.declarations.len(), 3);
+        assert_eq!(c.relations.len(), 2);
+        let Item::Analysis(a) = &file.items[1] else { panic!() };
+        assert_eq!(a.base.text(), "Dyad.TransientAnalysis");
+        assert_eq!(a.model.as_ref().unwrap().kind.text(), "Pend");
+    }
+
+    #[test]
+    fn power_binds_tighter_than_unary_minus() {
+        let mut p = Parser { tokens: tokenize(0, "-2^2").unwrap(), pos: 0, depth: 0, text: "-2^2" };
+        let e = p.expr().unwrap();
+        assert!(matches!(e.kind, ExprKind::Unary { op: UnaryOp::Neg, .. }));
+    }
+
+    #[test]
+    fn deep_nesting_is_refused_not_overflowed() {
+        let text = format!("component A\n parameter x::Real = {}1{}\nend", "(".repeat(5000), ")".repeat(5000));
+        assert!(parse(0, &text).unwrap_err().message.contains("nested"));
+        let long = format!("component A\n parameter x::Real = 1{}\nend", "+1".repeat(100_000));
+        assert!(parse(0, &long).is_err());
+        let unary = format!("component A\n parameter x::Real = {}1\nend", "-".repeat(100_000));
+        assert!(parse(0, &unary).is_err());
+    }
+}

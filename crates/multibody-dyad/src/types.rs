@@ -1,0 +1,102 @@
+//! Types of parameters declared in model files: `Real`, `Integer`,
+//! `Boolean`, `String`, the library's enumerations, unit types such as
+//! `Length` (numbers), arrays `Length[3]`, and aliases `type X = ...`.
+
+use crate::ast::{Dim, Modifier, TypeAlias, TypeRef};
+use crate::diagnostics::Diagnostic;
+use crate::eval::Val;
+use multibody::components::{registry, ParamType};
+use std::collections::HashMap;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BaseType {
+    /// `Real` and the unit types (`Length`, `Angle`, ...).
+    Real,
+    Integer,
+    Boolean,
+    String,
+    /// An enumeration of the library, with its variants.
+    Enum(&'static str, &'static [&'static str]),
+}
+
+impl BaseType {
+    fn describe(&self) -> String {
+        match self {
+            BaseType::Real => "a number".into(),
+            BaseType::Integer => "a whole number".into(),
+            BaseType::Boolean => "`true` or `false`".into(),
+            BaseType::String => "a string".into(),
+            BaseType::Enum(ty, variants) => {
+                format!("one of {}", variants.iter().map(|v| format!("{ty}.{v}()")).collect::<Vec<_>>().join(", "))
+            }
+        }
+    }
+}
+
+/// A declared type, aliases followed.
+pub struct ResolvedType<'a> {
+    pub base: BaseType,
+    pub dims: &'a [Dim],
+    /// `min`, `max`, `units`, ... of the declaration and of its aliases.
+    pub attributes: Vec<&'a Modifier>,
+}
+
+/// The enumerations the library's parameters use, e.g. `OrientationState`.
+pub fn library_enum(name: &str) -> Option<(&'static str, &'static [&'static str])> {
+    registry().iter().flat_map(|s| s.params.iter()).find_map(|p| match p.ty {
+        ParamType::Enum(ty, variants) if ty == name => Some((ty, variants)),
+        _ => None,
+    })
+}
+
+/// Follows aliases to the base type.
+pub fn resolve<'a>(ty: &'a TypeRef, aliases: &HashMap<&str, &'a TypeAlias>) -> Result<ResolvedType<'a>, Diagnostic> {
+    let mut current = ty;
+    let mut dims: &'a [Dim] = &ty.dims;
+    let mut attributes: Vec<&'a Modifier> = ty.attributes.iter().collect();
+    for _ in 0..32 {
+        let name = current.name.text();
+        let Some(alias) = aliases.get(name.as_str()) else {
+            let last = current.name.last().name.as_str();
+            let base = match last {
+                "Integer" => BaseType::Integer,
+                "Boolean" => BaseType::Boolean,
+                "String" => BaseType::String,
+                _ => match library_enum(last) {
+                    Some((ty, variants)) => BaseType::Enum(ty, variants),
+                    None => BaseType::Real,
+                },
+            };
+            return Ok(ResolvedType { base, dims, attributes });
+        };
+        current = &alias.base;
+        if dims.is_empty() {
+            dims = &current.dims;
+        }
+        attributes.extend(current.attributes.iter());
+    }
+    Err(Diagnostic::error(format!("the type `{}` is an alias of itself", ty.name.text()))
+        .primary(ty.name.span, "aliases go round in a circle")
+        .help("make one of the `type` definitions name a base type such as `Real`"))
+}
+
+/// Checks a value against a base type (no dimensions); enumeration values
+/// come back as `Type.Variant`.
+pub fn check_scalar(base: BaseType, value: &Val) -> Result<Val, String> {
+    let wrong = || format!("it takes {}, but this is {}", base.describe(), value.describe());
+    match (base, value) {
+        (BaseType::Real, Val::Number(_)) | (BaseType::Boolean, Val::Bool(_)) | (BaseType::String, Val::Str(_)) => {
+            Ok(value.clone())
+        }
+        (BaseType::Integer, Val::Number(x)) if x.fract() == 0.0 => Ok(value.clone()),
+        (BaseType::Enum(ty, variants), Val::Enum(v)) => {
+            let (prefix, variant) = v.rsplit_once('.').unwrap_or(("", v));
+            if (prefix.is_empty() || prefix == ty) && variants.contains(&variant) {
+                Ok(Val::Enum(format!("{ty}.{variant}")))
+            } else {
+                Err(wrong())
+            }
+        }
+        _ => Err(wrong()),
+    }
+}
