@@ -1,1 +1,100 @@
-fn main() {}
+//! The `multibody` command: run, check and describe Dyad multibody models.
+
+mod catalog;
+mod check;
+mod exit;
+mod load;
+mod progress;
+mod run;
+
+use clap::{Args, Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+const AFTER_HELP: &str = "\
+Exit codes:
+  0  success
+  1  the model files have errors (syntax, lowering or assembly); nothing was simulated
+  2  usage error: bad arguments, or an analysis, model or component kind that does not exist
+  3  the simulation failed part way; the results computed so far were written
+  4  input/output error: a file could not be read or written
+
+Examples:
+  multibody run examples/pendulum.dyad
+  multibody run examples/ --analysis PendulumSimulation --signals 'rev.*' --out pendulum.csv
+  multibody check examples/free_body.dyad
+  multibody describe Body";
+
+#[derive(Parser)]
+#[command(name = "multibody", version, about = "Simulate multibody models written in Dyad", after_help = AFTER_HELP)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Simulate a model and write its signals to a CSV file
+    Run(RunArgs),
+    /// Assemble a model without simulating: degrees of freedom, states, orientation owners, warnings
+    Check(Selection),
+    /// Show a library component: its parameters, connectors and variables
+    Describe {
+        /// The component kind, e.g. Body, Revolute or RotationalComponents.Damper
+        kind: String,
+    },
+    /// List every library component with a line about it
+    List,
+}
+
+/// Which model files, and which analysis or component in them.
+#[derive(Args, Clone)]
+pub struct Selection {
+    /// Model files (.dyad), or folders to read every .dyad file from
+    #[arg(required = true, value_name = "FILE")]
+    pub files: Vec<PathBuf>,
+    /// The analysis to run (needed when the files have several)
+    #[arg(long, value_name = "NAME", conflicts_with = "model")]
+    pub analysis: Option<String>,
+    /// Simulate this component with default options instead of an analysis
+    #[arg(long, value_name = "NAME")]
+    pub model: Option<String>,
+}
+
+#[derive(Args)]
+pub struct RunArgs {
+    #[command(flatten)]
+    pub selection: Selection,
+    /// Stop time [s] (default: the analysis's, or 1 s with --model)
+    #[arg(long, value_name = "T")]
+    pub stop: Option<f64>,
+    /// Output interval [s]; 0 saves every integrator step
+    #[arg(long, value_name = "DT")]
+    pub saveat: Option<f64>,
+    /// Absolute tolerance of the integrator
+    #[arg(long, value_name = "X")]
+    pub abstol: Option<f64>,
+    /// Relative tolerance of the integrator
+    #[arg(long, value_name = "X")]
+    pub reltol: Option<f64>,
+    /// Output CSV file (default: NAME.csv in the current folder)
+    #[arg(long, short, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Signals to write, as glob patterns such as 'body.r_0[*]' or '*.phi' (default: all)
+    #[arg(long, value_name = "PATTERN", num_args = 1..)]
+    pub signals: Vec<String>,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run(args) => run::run(&args),
+        Command::Check(selection) => check::check(&selection),
+        Command::Describe { kind } => catalog::describe(&kind),
+        Command::List => catalog::list(),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(failure) => failure.report(),
+    }
+}

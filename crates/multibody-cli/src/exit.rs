@@ -1,0 +1,52 @@
+//! How the command fails, and the exit code for each way.
+
+use std::io::IsTerminal;
+use std::process::ExitCode;
+
+/// Why the command stopped. What went wrong has been printed (or is in
+/// the message) when this is returned.
+#[derive(Debug)]
+pub enum Failure {
+    /// The model files have errors; the diagnostics were printed.
+    Model,
+    /// Bad arguments, or names that do not exist.
+    Usage(String),
+    /// The simulation stopped part way; partial results were written.
+    Simulation,
+    /// A file could not be read or written.
+    Io(String),
+}
+
+impl Failure {
+    pub fn code(&self) -> u8 {
+        match self {
+            Failure::Model => 1,
+            Failure::Usage(_) => 2,
+            Failure::Simulation => 3,
+            Failure::Io(_) => 4,
+        }
+    }
+
+    /// Prints the message (if not printed yet) and gives the exit code.
+    pub fn report(self) -> ExitCode {
+        match &self {
+            Failure::Usage(message) | Failure::Io(message) => eprintln!("{}: {message}", error_word()),
+            Failure::Model | Failure::Simulation => {}
+        }
+        ExitCode::from(self.code())
+    }
+}
+
+/// Whether to colour what goes to stderr.
+pub fn color() -> bool {
+    std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none()
+}
+
+/// "error" in red on a terminal.
+pub fn error_word() -> &'static str {
+    if color() {
+        "\x1b[1;31merror\x1b[0m"
+    } else {
+        "error"
+    }
+}

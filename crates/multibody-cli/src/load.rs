@@ -1,0 +1,150 @@
+//! Reading model files into a package, and choosing what to run.
+
+use crate::exit::{color, Failure};
+use crate::Selection;
+use multibody_dyad::{diagnostics::did_you_mean, DefinitionKind, Diagnostic, Lowered, Package};
+use std::path::{Path, PathBuf};
+
+/// What to simulate: an analysis, or a component with default options.
+pub enum Target {
+    Analysis(String),
+    Component(String),
+}
+
+/// Reads every file (folders: every `.dyad` file in them, sorted). Syntax
+/// errors of all files are printed before failing.
+pub fn read_package(paths: &[PathBuf]) -> Result<Package, Failure> {
+    let mut files = Vec::new();
+    for path in paths {
+        if path.is_dir() {
+            let before = files.len();
+            collect_dyad_files(path, &mut files)?;
+            if files.len() == before {
+                return Err(Failure::Usage(format!("the folder {} has no .dyad files", path.display())));
+            }
+        } else {
+            files.push(path.clone());
+        }
+    }
+    let mut package = Package::new();
+    let mut errors = Vec::new();
+    for file in &files {
+        let text = match std::fs::read(file) {
+            Ok(bytes) => {
+                String::from_utf8(bytes).map_err(|_| Failure::Io(format!("{} is not UTF-8 text", file.display())))?
+            }
+            Err(e) => return Err(Failure::Io(format!("cannot read {}: {e}", file.display()))),
+        };
+        if let Err(d) = package.add_source(file.display().to_string(), text) {
+            errors.push(d);
+        }
+    }
+    if !errors.is_empty() {
+        print_diagnostics(&package, &errors);
+        return Err(Failure::Model);
+    }
+    Ok(package)
+}
+
+fn collect_dyad_files(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), Failure> {
+    let entries = std::fs::read_dir(dir).map_err(|e| Failure::Io(format!("cannot read {}: {e}", dir.display())))?;
+    let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
+    paths.sort();
+    for path in paths {
+        if path.is_dir() {
+            collect_dyad_files(&path, out)?;
+        } else if path.extension().is_some_and(|e| e == "dyad") {
+            out.push(path);
+        }
+    }
+    Ok(())
+}
+
+/// The analysis or component the selection names, or the only candidate.
+pub fn choose(package: &Package, selection: &Selection) -> Result<Target, Failure> {
+    let definitions = package.definitions();
+    let analyses: Vec<&str> =
+        definitions.iter().filter(|d| d.kind == DefinitionKind::Analysis).map(|d| d.name.as_str()).collect();
+    let components: Vec<&str> = definitions
+        .iter()
+        .filter(|d| matches!(d.kind, DefinitionKind::Component(_)))
+        .map(|d| d.name.as_str())
+        .collect();
+    let missing = |what: &str, name: &str, names: &[&str]| {
+        let mut message = format!("there is no {what} `{name}` in the files");
+        if let Some(s) = did_you_mean(name, names.iter().copied()) {
+            message.push_str(&format!("; {s}"));
+        } else if !names.is_empty() {
+            message.push_str(&format!(" (they define: {})", names.join(", ")));
+        }
+        Failure::Usage(message)
+    };
+    if let Some(name) = &selection.analysis {
+        return if analyses.contains(&name.as_str()) {
+            Ok(Target::Analysis(name.clone()))
+        } else {
+            Err(missing("analysis", name, &analyses))
+        };
+    }
+    if let Some(name) = &selection.model {
+        return if components.contains(&name.as_str()) {
+            Ok(Target::Component(name.clone()))
+        } else {
+            Err(missing("component", name, &components))
+        };
+    }
+    match analyses.as_slice() {
+        [one] => return Ok(Target::Analysis(one.to_string())),
+        [] => {}
+        many => {
+            return Err(Failure::Usage(format!(
+                "the files have {} analyses ({}); choose one with --analysis NAME",
+                many.len(),
+                many.join(", ")
+            )))
+        }
+    }
+    let top: Vec<String> = package.top_components().into_iter().map(|d| d.name).collect();
+    match top.as_slice() {
+        [one] => Ok(Target::Component(one.clone())),
+        [] => Err(Failure::Usage("the files define no analysis and no component to simulate".into())),
+        many => Err(Failure::Usage(format!(
+            "the files have no analysis; choose a component with --model NAME ({})",
+            many.join(", ")
+        ))),
+    }
+}
+
+/// Lowers the target, printing the warnings; errors are printed too.
+pub fn lower(package: &Package, target: &Target) -> Result<Lowered, Failure> {
+    let lowered = match target {
+        Target::Analysis(name) => package.lower_analysis(name),
+        Target::Component(name) => package.lower_component(name),
+    };
+    match lowered {
+        Ok(l) => {
+            print_diagnostics(package, &l.warnings);
+            Ok(l)
+        }
+        Err(d) => {
+            print_diagnostics(package, &[d]);
+            Err(Failure::Model)
+        }
+    }
+}
+
+pub fn print_diagnostics(package: &Package, diagnostics: &[Diagnostic]) {
+    for d in diagnostics {
+        eprint!("{}", d.render(package.sources(), color()));
+    }
+}
+
+/// The file a target is defined in, for the summary.
+pub fn file_of(package: &Package, name: &str) -> String {
+    package
+        .definitions()
+        .into_iter()
+        .find(|d| d.name == name)
+        .map(|d| package.sources().name(d.span.file).to_string())
+        .unwrap_or_default()
+}

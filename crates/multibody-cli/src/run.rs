@@ -1,0 +1,201 @@
+//! `multibody run`: simulate and write a CSV.
+
+use crate::exit::{error_word, Failure};
+use crate::load::{choose, file_of, lower, print_diagnostics, read_package, Target};
+use crate::progress::Progress;
+use crate::RunArgs;
+use multibody::simulate::glob;
+use multibody::{Mechanism, Method, SimulationOptions, Solution};
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// How many states the summary shows.
+const SUMMARY_STATES: usize = 6;
+
+pub fn run(args: &RunArgs) -> Result<(), Failure> {
+    let package = read_package(&args.selection.files)?;
+    let target = choose(&package, &args.selection)?;
+    let lowered = lower(&package, &target)?;
+    let mut options = lowered.options.clone();
+    let overrides = [
+        (args.stop, &mut options.stop),
+        (args.saveat, &mut options.saveat),
+        (args.abstol, &mut options.abstol),
+        (args.reltol, &mut options.reltol),
+    ];
+    for (given, field) in overrides {
+        if let Some(x) = given {
+            *field = x;
+        }
+    }
+    if let (Some(saveat), Method::Rk4 { dt }) = (args.saveat, &mut options.method) {
+        if saveat > 0.0 {
+            *dt = saveat;
+        }
+    }
+    let mechanism = lowered.assemble().map_err(|d| {
+        print_diagnostics(&package, &[d]);
+        Failure::Model
+    })?;
+    for w in mechanism.warnings() {
+        eprintln!("warning: {w}");
+    }
+    let signals = chosen_signals(&mechanism, &args.signals)?;
+    let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("{}.csv", lowered.name)));
+
+    let what = match &target {
+        Target::Analysis(name) => format!("analysis {name} (model {})", lowered.model.name),
+        Target::Component(name) => format!("component {name} with default options"),
+    };
+    eprintln!("Simulating {what} from {}", file_of(&package, &lowered.name));
+    eprintln!(
+        "  {} degree{} of freedom, t = {} … {} s, {}",
+        mechanism.degrees_of_freedom(),
+        if mechanism.degrees_of_freedom() == 1 { "" } else { "s" },
+        number(options.start),
+        number(options.stop),
+        method(&options)
+    );
+
+    let started = Instant::now();
+    let mut progress = Progress::new(options.start, options.stop);
+    let mut on_step = |t: f64| progress.update(t);
+    let result = mechanism.simulate_from(&mechanism.states().start, &options, Some(&mut on_step));
+    progress.finish();
+    let elapsed = started.elapsed();
+    match result {
+        Ok(solution) => {
+            write_csv(&solution, &signals, &out)?;
+            eprintln!("  {} samples × {} signals → {} ({:.0?})", solution.len(), signals.len(), out.display(), elapsed);
+            print_final_states(&mechanism, &solution);
+            Ok(())
+        }
+        Err(e) => {
+            eprintln!("{}: the simulation stopped at t = {}: {}", error_word(), number(e.time), e.reason);
+            let partial = &e.partial;
+            write_csv(partial, &signals, &out)?;
+            match (partial.time().first(), partial.time().last()) {
+                (Some(first), Some(last)) => eprintln!(
+                    "  wrote what was computed: {} samples (t = {} … {} s) × {} signals → {}",
+                    partial.len(),
+                    number(*first),
+                    number(*last),
+                    signals.len(),
+                    out.display()
+                ),
+                _ => eprintln!("  nothing was computed; wrote the header to {}", out.display()),
+            }
+            Err(Failure::Simulation)
+        }
+    }
+}
+
+/// The signals the patterns select (all without patterns); a pattern that
+/// selects nothing is an error, caught before simulating.
+fn chosen_signals(mechanism: &Mechanism, patterns: &[String]) -> Result<Vec<String>, Failure> {
+    let names: Vec<String> = mechanism.signals().into_iter().map(|s| s.name).collect();
+    for p in patterns {
+        if !names.iter().any(|n| glob(p, n)) {
+            let close = multibody::closest(p, names.iter().map(String::as_str));
+            let hint = if close.is_empty() {
+                "`multibody check` lists the states; signals are named like `body.r_0[1]`".to_string()
+            } else {
+                format!("did you mean {}?", close.join(", "))
+            };
+            return Err(Failure::Usage(format!("the pattern `{p}` matches no signal; {hint}")));
+        }
+    }
+    Ok(names.into_iter().filter(|n| patterns.is_empty() || patterns.iter().any(|p| glob(p, n))).collect())
+}
+
+/// Writes the CSV through a temporary file, so that a failed write leaves
+/// no half file behind under the final name.
+fn write_csv(solution: &Solution, signals: &[String], out: &Path) -> Result<(), Failure> {
+    let temporary = PathBuf::from(format!("{}.tmp", out.display()));
+    let io = |e: std::io::Error| Failure::Io(format!("cannot write {}: {e}", out.display()));
+    let file = std::fs::File::create(&temporary).map_err(io)?;
+    let mut writer = BufWriter::new(file);
+    let names: Vec<&str> = signals.iter().map(String::as_str).collect();
+    let written = solution.write_csv(&mut writer, &names).and_then(|_| writer.flush());
+    if let Err(e) = written {
+        let _ = std::fs::remove_file(&temporary);
+        return Err(io(e));
+    }
+    drop(writer);
+    std::fs::rename(&temporary, out).map_err(io)
+}
+
+fn print_final_states(mechanism: &Mechanism, solution: &Solution) {
+    let Some(t) = solution.time().last() else { return };
+    let values: Vec<String> = mechanism
+        .states()
+        .names
+        .iter()
+        .filter_map(|n| solution.last(n).map(|x| format!("{n} = {}", number(x))))
+        .collect();
+    if values.is_empty() {
+        return;
+    }
+    let more = values.len().saturating_sub(SUMMARY_STATES);
+    let shown = values.into_iter().take(SUMMARY_STATES).collect::<Vec<_>>().join(", ");
+    let tail = if more > 0 { format!(" (and {more} more)") } else { String::new() };
+    eprintln!("  at t = {}: {shown}{tail}", number(*t));
+}
+
+fn method(options: &SimulationOptions) -> String {
+    match options.method {
+        Method::DormandPrince45 => format!(
+            "adaptive Dormand-Prince 4(5), abstol {}, reltol {}",
+            number(options.abstol),
+            number(options.reltol)
+        ),
+        Method::Rk4 { dt } => format!("fixed-step RK4, dt = {} s", number(dt)),
+        #[allow(unreachable_patterns)]
+        _ => "the engine's method".into(),
+    }
+}
+
+/// A number for people: up to 6 significant digits.
+pub fn number(x: f64) -> String {
+    if x == 0.0 || x.abs() >= 1e-4 && x.abs() < 1e6 {
+        let s = format!("{x:.6}");
+        let s = s.trim_end_matches('0').trim_end_matches('.');
+        // Keep 6 significant digits for numbers below 1.
+        if x.abs() < 1.0 && x != 0.0 {
+            let digits = (-x.abs().log10().floor()) as usize + 5;
+            let s = format!("{x:.digits$}");
+            return s.trim_end_matches('0').trim_end_matches('.').to_string();
+        }
+        if s == "-0" {
+            "0".into()
+        } else {
+            s.to_string()
+        }
+    } else {
+        // Scientific, without trailing zeros in the mantissa: 1e-6, 3.98600e14 -> 3.986e14.
+        let s = format!("{x:.5e}");
+        match s.split_once('e') {
+            Some((mantissa, exponent)) if mantissa.contains('.') => {
+                format!("{}e{exponent}", mantissa.trim_end_matches('0').trim_end_matches('.'))
+            }
+            _ => s,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::number;
+
+    #[test]
+    fn numbers_read_well() {
+        assert_eq!(number(5.0), "5");
+        assert_eq!(number(0.001), "0.001");
+        assert_eq!(number(-1.23456789), "-1.234568");
+        assert_eq!(number(0.000123456789), "0.000123457");
+        assert_eq!(number(1e-6), "1e-6");
+        assert_eq!(number(-4.657091e-17), "-4.65709e-17");
+        assert_eq!(number(0.0), "0");
+    }
+}
