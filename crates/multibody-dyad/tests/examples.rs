@@ -1,0 +1,173 @@
+//! Every model file in `examples/` runs, and gives exactly (bit for bit) the
+//! result of the same model built by hand with the Rust API.
+
+use multibody::{Model, OrientationState, SimulationOptions, Solution};
+use multibody_dyad::{DefinitionKind, Package};
+use std::path::{Path, PathBuf};
+
+fn examples_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
+}
+
+/// Reads an example and runs its only analysis.
+fn run_file(relative: &str) -> (Model, SimulationOptions, Solution) {
+    let path = examples_dir().join(relative);
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut package = Package::new();
+    if let Err(d) = package.add_source(relative, text) {
+        panic!("{}", d.render(package.sources(), false));
+    }
+    let analyses: Vec<String> =
+        package.definitions().into_iter().filter(|d| d.kind == DefinitionKind::Analysis).map(|d| d.name).collect();
+    assert_eq!(analyses.len(), 1, "{relative} should have exactly one analysis");
+    let lowered =
+        package.lower_analysis(&analyses[0]).unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false)));
+    assert!(lowered.warnings.is_empty(), "{relative}: {:?}", lowered.warnings);
+    let mechanism = lowered.assemble().unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false)));
+    let solution = mechanism.simulate(&lowered.options).unwrap();
+    (lowered.model, lowered.options, solution)
+}
+
+/// Runs the file and the hand-built model and compares every signal exactly.
+fn assert_same(relative: &str, expected: Model, options: SimulationOptions) {
+    let (model, file_options, from_file) = run_file(relative);
+    assert_eq!(file_options, options, "{relative}: simulation options");
+    assert_eq!(model.name, expected.name);
+    let by_hand = expected.assemble().unwrap().simulate(&options).unwrap();
+    assert_eq!(from_file.names(), by_hand.names(), "{relative}: the signals differ");
+    assert_eq!(from_file.time(), by_hand.time(), "{relative}: the output times differ");
+    for name in by_hand.names() {
+        let (a, b) = (from_file.get(name).unwrap(), by_hand.get(name).unwrap());
+        let same = a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
+        assert!(same, "{relative}: {name} differs from the hand-built model");
+    }
+    assert!(from_file.len() > 10, "{relative}: too few samples");
+}
+
+fn options(stop: f64, saveat: f64) -> SimulationOptions {
+    SimulationOptions { stop, saveat, ..SimulationOptions::default() }
+}
+
+#[test]
+fn pendulum() {
+    let mut m = Model::new("Pendulum");
+    m.add("world", "World");
+    m.add("rev", "Revolute").set("n", [0.0, 0.0, 1.0]).initial("phi", 0.0).initial("w", 0.0);
+    m.add("damper", "RotationalComponents.Damper").set("d", 0.1);
+    m.add("body", "Body").set("m", 1.0).set("r_cm", [0.5, 0.0, 0.0]);
+    m.connect(["world.frame_b", "rev.frame_a"]);
+    m.connect(["rev.frame_b", "body.frame_a"]);
+    m.connect(["damper.spline_a", "rev.support"]);
+    m.connect(["damper.spline_b", "rev.axis"]);
+    assert_same("pendulum.dyad", m, options(5.0, 0.01));
+}
+
+#[test]
+fn double_pendulum() {
+    let mut m = Model::new("DoublePendulum");
+    m.add("world", "World");
+    for (link, d) in [("link1", 0.1), ("link2", 0.0)] {
+        m.add(format!("{link}.joint"), "Revolute").set("n", [0.0, 0.0, 1.0]).initial("phi", 0.0).initial("w", 0.0);
+        m.add(format!("{link}.damper"), "RotationalComponents.Damper").set("d", d);
+        m.add(format!("{link}.box"), "BodyBox").set("r", [0.5, 0.0, 0.0]).set("width", 0.06);
+    }
+    m.connect(["world.frame_b", "link1.joint.frame_a"]);
+    for link in ["link1", "link2"] {
+        m.connect([format!("{link}.joint.frame_b"), format!("{link}.box.frame_a")]);
+        m.connect([format!("{link}.damper.spline_a"), format!("{link}.joint.support")]);
+        m.connect([format!("{link}.damper.spline_b"), format!("{link}.joint.axis")]);
+    }
+    m.connect(["link1.box.frame_b", "link2.joint.frame_a"]);
+    assert_same("double_pendulum.dyad", m, options(3.0, 0.006));
+}
+
+#[test]
+fn free_body() {
+    let mut m = Model::new("FreeBody");
+    m.add("world", "World");
+    m.add("body", "Body")
+        .set("m", 2.0)
+        .set("I_11", 0.1)
+        .set("I_22", 0.2)
+        .set("I_33", 0.3)
+        .set("orientation_state", OrientationState::Quaternion)
+        .initial("r_0", [0.0, 10.0, 0.0])
+        .initial("v_0", [1.0, 5.0, 0.0])
+        .initial("w_a", [0.3, 2.0, 0.1]);
+    assert_same("free_body.dyad", m, options(3.0, 0.01));
+}
+
+#[test]
+fn orbits() {
+    let mut m = Model::new("Orbits");
+    m.add("world", "World").set("point_gravity", true).set("mu", 1.0);
+    let circular = (1.0f64 / 0.6).sqrt();
+    for (name, r, v) in
+        [("circle", [0.0, 0.6, 0.0], [circular, 0.0, 0.0]), ("ellipse", [0.6, 0.6, 0.0], [0.6, 0.0, 0.0])]
+    {
+        m.add(format!("{name}.body"), "Body")
+            .set("m", 1.0)
+            .set("I_11", 0.1)
+            .set("I_22", 0.1)
+            .set("I_33", 0.1)
+            .set("orientation_state", OrientationState::Quaternion)
+            .initial("r_0", r)
+            .initial("v_0", v);
+    }
+    assert_same("orbits.dyad", m, options(5.0, 0.01));
+}
+
+#[test]
+fn spring_mass() {
+    let mut m = Model::new("SpringMass");
+    m.add("world", "World");
+    m.add("slider", "Prismatic").set("n", [0.0, -1.0, 0.0]).initial("v", 0.0).initial("s", 0.1);
+    m.add("spring", "TranslationalComponents.Spring").set("c", 30.0).set("s_rel0", 0.1);
+    m.add("body", "Body").set("m", 1.0);
+    m.connect(["world.frame_b", "slider.frame_a"]);
+    m.connect(["slider.frame_b", "body.frame_a"]);
+    m.connect(["spring.flange_a", "slider.support"]);
+    m.connect(["spring.flange_b", "slider.axis"]);
+    assert_same("spring_mass.dyad", m, options(5.0, 0.01));
+}
+
+#[test]
+fn documentation_pend() {
+    let mut m = Model::new("Pend");
+    m.add("world", "World");
+    m.add("body", "Body").set("r_cm", [1.0, 0.0, 0.0]);
+    m.add("joint", "Revolute").initial("phi", std::f64::consts::PI / 3.0).initial("w", 0.0);
+    m.connect(["world.frame_b", "joint.frame_a"]);
+    m.connect(["joint.frame_b", "body.frame_a"]);
+    assert_same("docs/pend.dyad", m, options(5.0, 0.01));
+}
+
+/// A new example must get a hand-built twin above.
+#[test]
+fn every_example_is_checked() {
+    let checked = [
+        "pendulum.dyad",
+        "double_pendulum.dyad",
+        "free_body.dyad",
+        "orbits.dyad",
+        "spring_mass.dyad",
+        "docs/pend.dyad",
+    ];
+    let mut found = Vec::new();
+    let mut dirs = vec![examples_dir()];
+    while let Some(dir) = dirs.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                dirs.push(path);
+            } else if path.extension().is_some_and(|e| e == "dyad") {
+                let relative = path.strip_prefix(examples_dir()).unwrap().to_string_lossy().replace('\\', "/");
+                found.push(relative);
+            }
+        }
+    }
+    for file in &found {
+        assert!(checked.contains(&file.as_str()), "examples/{file} has no hand-built twin in tests/examples.rs");
+    }
+    assert_eq!(found.len(), checked.len(), "an example listed here is missing: {found:?}");
+}
