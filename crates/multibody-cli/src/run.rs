@@ -116,14 +116,33 @@ fn write_csv(solution: &Solution, signals: &[String], out: &Path) -> Result<(), 
     let io = |e: std::io::Error| Failure::Io(format!("cannot write {}: {e}", out.display()));
     let file = std::fs::File::create(&temporary).map_err(io)?;
     let mut writer = BufWriter::new(file);
-    let names: Vec<&str> = signals.iter().map(String::as_str).collect();
-    let written = solution.write_csv(&mut writer, &names).and_then(|_| writer.flush());
+    let written = write_table(&mut writer, solution, signals).and_then(|_| writer.flush());
     if let Err(e) = written {
         let _ = std::fs::remove_file(&temporary);
         return Err(io(e));
     }
     drop(writer);
     std::fs::rename(&temporary, out).map_err(io)
+}
+
+/// The CSV itself: a quoted header (`"time","rev.phi",...`; matrix signals
+/// such as `body.frame_a.R[1,2]` contain commas) and one row per sample.
+/// (The engine's `Solution::write_csv` leaves names unquoted.)
+fn write_table(out: &mut impl Write, solution: &Solution, signals: &[String]) -> std::io::Result<()> {
+    let columns: Vec<&[f64]> = signals.iter().filter_map(|s| solution.get(s)).collect();
+    write!(out, "\"time\"")?;
+    for name in signals {
+        write!(out, ",\"{}\"", name.replace('"', "\"\""))?;
+    }
+    writeln!(out)?;
+    for (k, t) in solution.time().iter().enumerate() {
+        write!(out, "{t}")?;
+        for column in &columns {
+            write!(out, ",{}", column[k])?;
+        }
+        writeln!(out)?;
+    }
+    Ok(())
 }
 
 fn print_final_states(mechanism: &Mechanism, solution: &Solution) {

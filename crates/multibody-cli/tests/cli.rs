@@ -1,0 +1,225 @@
+//! The `multibody` command as a user meets it: exit codes, what `run`,
+//! `check`, `describe` and `list` print, and partial output on failure.
+
+mod common;
+
+use common::{crate_path, multibody, scratch, Table};
+use std::process::Output;
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn code(o: &Output) -> i32 {
+    o.status.code().expect("exited normally")
+}
+
+fn example(name: &str) -> String {
+    crate_path(&format!("../../examples/{name}"))
+}
+
+#[test]
+fn run_writes_a_csv_named_after_the_analysis_and_summarises() {
+    let dir = scratch("run-default");
+    let o = multibody(&dir, &["run", &example("pendulum.dyad")]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let table = Table::load(&dir.join("PendulumSimulation.csv"));
+    assert_eq!(table.time.len(), 501);
+    assert_eq!(table.stop(), 5.0);
+    assert!(table.names.iter().any(|n| n == "rev.phi"));
+    assert!(table.names.iter().any(|n| n == "body.frame_a.R[1,2]"), "matrix signals keep their names");
+    let err = stderr(&o);
+    assert!(err.contains("Simulating analysis PendulumSimulation (model Pendulum)"), "{err}");
+    assert!(err.contains("501 samples"), "{err}");
+    assert!(err.contains("PendulumSimulation.csv"), "{err}");
+    assert!(err.contains("rev.phi = "), "{err}");
+    assert!(stdout(&o).is_empty());
+}
+
+#[test]
+fn run_selects_signals_and_overrides_options() {
+    let dir = scratch("run-signals");
+    let o = multibody(
+        &dir,
+        &[
+            "run",
+            &example("pendulum.dyad"),
+            "--signals",
+            "rev.?",
+            "rev.phi",
+            "body.r_0[?]",
+            "--stop",
+            "1",
+            "--saveat",
+            "0.1",
+            "--out",
+            "short.csv",
+        ],
+    );
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let table = Table::load(&dir.join("short.csv"));
+    assert_eq!(table.time.len(), 11);
+    let mut names = table.names.clone();
+    names.sort();
+    assert_eq!(names, ["body.r_0[1]", "body.r_0[2]", "body.r_0[3]", "rev.a", "rev.phi", "rev.w"]);
+}
+
+#[test]
+fn run_a_component_of_a_folder_with_default_options() {
+    let dir = scratch("run-model");
+    let examples = crate_path("../../examples");
+    let o = multibody(&dir, &["run", &examples, "--model", "FreeBody", "--stop", "0.5"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(stderr(&o).contains("component FreeBody with default options"), "{}", stderr(&o));
+    let table = Table::load(&dir.join("FreeBody.csv"));
+    assert_eq!(table.stop(), 0.5);
+}
+
+#[test]
+fn usage_errors_exit_with_2() {
+    let dir = scratch("usage");
+    let examples = crate_path("../../examples");
+    // Several analyses and none chosen.
+    let o = multibody(&dir, &["run", &examples]);
+    assert_eq!(code(&o), 2);
+    assert!(stderr(&o).contains("choose one with --analysis"), "{}", stderr(&o));
+    // A misspelt analysis.
+    let o = multibody(&dir, &["run", &examples, "--analysis", "PendulumSimulaton"]);
+    assert_eq!(code(&o), 2);
+    assert!(stderr(&o).contains("did you mean `PendulumSimulation`?"), "{}", stderr(&o));
+    // A pattern that matches nothing, caught before simulating.
+    let o = multibody(&dir, &["run", &example("pendulum.dyad"), "--signals", "rev.ph"]);
+    assert_eq!(code(&o), 2);
+    assert!(stderr(&o).contains("matches no signal"), "{}", stderr(&o));
+    assert!(!dir.join("PendulumSimulation.csv").exists());
+    // clap's own errors.
+    assert_eq!(code(&multibody(&dir, &["run"])), 2);
+    assert_eq!(code(&multibody(&dir, &["frobnicate"])), 2);
+    let o = multibody(&dir, &["describe", "Revolut"]);
+    assert_eq!(code(&o), 2);
+    assert!(stderr(&o).contains("did you mean Revolute?"), "{}", stderr(&o));
+}
+
+#[test]
+fn model_errors_exit_with_1_and_point_at_the_source() {
+    let dir = scratch("model-error");
+    let bad = crate_path("../multibody-dyad/tests/bad/unknown_parameter_of_user_component.dyad");
+    let o = multibody(&dir, &["run", &bad]);
+    assert_eq!(code(&o), 1);
+    let err = stderr(&o);
+    assert!(err.contains("unknown_parameter_of_user_component.dyad:3:13"), "{err}");
+    assert!(err.contains("did you mean `length`?"), "{err}");
+    assert!(!err.contains("\x1b["), "no colours when stderr is not a terminal");
+    // Every file's syntax errors are reported, not only the first file's.
+    let other = crate_path("../multibody-dyad/tests/bad/syntax_si_suffix.dyad");
+    let third = crate_path("../multibody-dyad/tests/bad/syntax_missing_end.dyad");
+    let o = multibody(&dir, &["check", &other, &third]);
+    assert_eq!(code(&o), 1);
+    assert!(stderr(&o).contains("syntax_si_suffix.dyad:3:41"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("syntax_missing_end.dyad:4:39"), "{}", stderr(&o));
+    // Assembly errors too.
+    let owner = crate_path("../multibody-dyad/tests/bad/no_owner_of_orientation.dyad");
+    let o = multibody(&dir, &["check", &owner]);
+    assert_eq!(code(&o), 1);
+    assert!(stderr(&o).contains("nothing owns the orientation"), "{}", stderr(&o));
+}
+
+#[test]
+fn io_errors_exit_with_4() {
+    let dir = scratch("io");
+    let o = multibody(&dir, &["run", "no/such/file.dyad"]);
+    assert_eq!(code(&o), 4);
+    assert!(stderr(&o).contains("cannot read no/such/file.dyad"), "{}", stderr(&o));
+    let o = multibody(&dir, &["run", &example("pendulum.dyad"), "--stop", "0.1", "--out", "missing-folder/out.csv"]);
+    assert_eq!(code(&o), 4);
+    assert!(stderr(&o).contains("cannot write missing-folder/out.csv"), "{}", stderr(&o));
+}
+
+#[test]
+fn a_failed_simulation_writes_what_it_computed_and_exits_with_3() {
+    let dir = scratch("partial");
+    let model = crate_path("tests/models/EulerSingularity.dyad");
+    let o = multibody(&dir, &["run", &model, "--out", "partial.csv"]);
+    assert_eq!(code(&o), 3, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("the simulation stopped at t = 1.5"), "{err}");
+    assert!(err.contains("`body`"), "the message names the body: {err}");
+    assert!(err.contains("singular"), "{err}");
+    assert!(err.contains("wrote what was computed"), "{err}");
+    let table = Table::load(&dir.join("partial.csv"));
+    let last = table.stop();
+    assert!(last > 1.5 && last < std::f64::consts::FRAC_PI_2, "stopped at {last}");
+    let phi2 = table.column("body.phi[2]");
+    assert!((phi2.last().unwrap() - last).abs() < 1e-9, "phi[2] grows at 1 rad/s");
+}
+
+#[test]
+fn check_prints_the_states_and_orientation_owners() {
+    let dir = scratch("check");
+    let o = multibody(&dir, &["check", &example("pendulum.dyad")]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let out = stdout(&o);
+    assert!(out.contains("analysis PendulumSimulation, model Pendulum"), "{out}");
+    assert!(out.contains("degrees of freedom: 1"), "{out}");
+    assert!(out.contains("rev.phi  0") && out.contains("rev.w    0"), "{out}");
+    assert!(out.contains("every part is positioned from the World"), "{out}");
+    assert!(out.contains("warnings: none"), "{out}");
+
+    let o = multibody(&dir, &["check", &example("free_body.dyad")]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let out = stdout(&o);
+    assert!(out.contains("degrees of freedom: 6"), "{out}");
+    let w2 = out.lines().find(|l| l.trim_start().starts_with("body.w_a[2] ")).expect("w_a[2] is a state");
+    assert_eq!(w2.split_whitespace().last(), Some("2"), "{out}");
+    assert!(out.contains("orientation owners") && out.contains("body: quaternion"), "{out}");
+}
+
+#[test]
+fn describe_shows_parameters_connectors_and_variables() {
+    let dir = scratch("describe");
+    let o = multibody(&dir, &["describe", "MultibodyComponents.Body"]);
+    assert_eq!(code(&o), 0);
+    let out = stdout(&o);
+    assert!(out.starts_with("Body\n"), "{out}");
+    for line in
+        ["m ", "= 1 ", "kg", "r_cm", "= [0, 0, 0]", "frame_a", "Frame3D", "w_a[3]", "rad/s", "orientation_state"]
+    {
+        assert!(out.contains(line), "describe Body lacks `{line}`:\n{out}");
+    }
+    let o = multibody(&dir, &["describe", "RotationalComponents.Components.Damper"]);
+    assert_eq!(code(&o), 0);
+    assert!(stdout(&o).contains("(required)"), "{}", stdout(&o));
+}
+
+#[test]
+fn list_shows_every_kind_once() {
+    let dir = scratch("list");
+    let o = multibody(&dir, &["list"]);
+    assert_eq!(code(&o), 0);
+    let out = stdout(&o);
+    let kinds = multibody::components::registry();
+    assert_eq!(out.lines().count(), kinds.len());
+    for spec in kinds {
+        assert!(out.lines().any(|l| l.split_whitespace().next() == Some(spec.kind)), "{} missing", spec.kind);
+    }
+}
+
+#[test]
+fn help_documents_the_exit_codes() {
+    let o = multibody(&scratch("help"), &["--help"]);
+    assert_eq!(code(&o), 0);
+    let out = stdout(&o);
+    for line in [
+        "0  success",
+        "1  the model files have errors",
+        "2  usage error",
+        "3  the simulation failed",
+        "4  input/output error",
+    ] {
+        assert!(out.contains(line), "--help lacks `{line}`:\n{out}");
+    }
+}
