@@ -73,6 +73,12 @@ pub enum Error {
     #[error("`{component}.{variable}` is not a state here: {reason}")]
     NotAState { component: String, variable: String, reason: String },
 
+    #[error("the kinematic loop through {} cannot close: its constraints stay violated by {residual:.3e} (m or rad) at best.{}\nCheck the lengths and axes of the loop's parts, or fix fewer start values (use `guess` instead of `initial`).", list(joints), if fixed.is_empty() { String::new() } else { format!(" The fixed start values are {}.", fixed.join(", ")) })]
+    LoopCannotClose { joints: Vec<String>, residual: f64, fixed: Vec<String> },
+
+    #[error("the start velocities of the loop through {} contradict its constraints (by {violation:.3e}).{}\nFix fewer start velocities (use `guess` instead of `initial`).", list(joints), if fixed.is_empty() { String::new() } else { format!(" The fixed start velocities are {}.", fixed.join(", ")) })]
+    LoopCannotMove { joints: Vec<String>, violation: f64, fixed: Vec<String> },
+
     #[error("`{component}`: {what} is not supported yet")]
     Unsupported { component: String, what: String },
 
@@ -101,6 +107,9 @@ impl Error {
             | NotAState { component, .. }
             | Unsupported { component, .. } => vec![component],
             DuplicateName { name } => vec![name],
+            LoopCannotClose { joints, .. } | LoopCannotMove { joints, .. } => {
+                joints.iter().map(String::as_str).collect()
+            }
             NoOrientationOwner { components } | InconsistentRigidLoop { components } => {
                 components.iter().map(String::as_str).collect()
             }

@@ -34,6 +34,17 @@ pub struct Mechanism {
     /// Groups of frames without mass whose position the force elements
     /// on them decide (solved in every evaluation).
     pub(crate) massless: Vec<MasslessGroup>,
+    /// Constraints: cut joints of loops and constraint components.
+    pub(crate) constraints: Vec<Constraint>,
+    /// Total number of constraint rows.
+    pub(crate) constraint_rows: usize,
+    /// Sizes of the coordinate arrays of cut joints (outputs only).
+    pub(crate) cut_nq: usize,
+    pub(crate) cut_nv: usize,
+    /// The kinematic loops, for reports.
+    pub(crate) loops: Vec<LoopInfo>,
+    /// Degrees of freedom: velocity coordinates less independent constraints.
+    pub(crate) dof: usize,
     /// Masses that feel point gravity (or any field other than `uniform_gravity`).
     pub(crate) point_masses: Vec<PointGravityMass>,
     /// The uniform gravity every mass feels, handled as an acceleration of the ground.
@@ -52,8 +63,8 @@ pub(crate) struct CompiledComponent {
     pub parts: Vec<Part>,
     /// Global number of its connector 0.
     pub first_connector: usize,
-    /// For each `Joint`/`Owner` part, in order: the link it moves.
-    pub joint_links: Vec<usize>,
+    /// For each `Joint`/`Owner` part, in order: where its coordinates are.
+    pub joints: Vec<JointRef>,
     /// For each `Element1D` part, in order: its index in `axis_elements`.
     pub elements: Vec<usize>,
     /// Its variables (besides frame signals), as it reports them.
@@ -69,6 +80,51 @@ pub(crate) struct ConnectorInfo {
     pub node: usize,
     /// Whether it appears in a connection.
     pub connected: bool,
+}
+
+/// Where a component's joint has its coordinates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum JointRef {
+    /// A tree joint: the link it moves (its coordinates are states).
+    Link(usize),
+    /// A cut joint: its constraint (its coordinates are computed for outputs).
+    Cut(usize),
+}
+
+/// A relation kept by constraint forces.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Constraint {
+    pub component: usize,
+    pub a: Attachment,
+    pub b: Attachment,
+    /// The component's connectors at `a` and `b` (global numbers).
+    pub connectors: (usize, usize),
+    pub kind: crate::components::ConstraintKind,
+    /// Its first row among all constraint rows.
+    pub row: usize,
+    pub rows: usize,
+    /// A cut joint: its model and where its output coordinates go.
+    pub joint: Option<CutJoint>,
+}
+
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct CutJoint {
+    pub model: JointModel,
+    pub q_offset: usize,
+    pub v_offset: usize,
+}
+
+/// A closed kinematic loop, as `check` reports it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoopInfo {
+    /// The component whose constraint closes the loop (a cut joint or a constraint component).
+    pub cut: String,
+    /// The joints around the loop, the cut included.
+    pub joints: Vec<String>,
+    /// Constraint equations of the cut.
+    pub equations: usize,
+    /// How many of them repeat what the others already say.
+    pub redundant: usize,
 }
 
 /// A set of connected frames, fixed in a link (or in a massless group).
@@ -212,6 +268,9 @@ pub struct StateLayout {
     pub nv: usize,
     pub names: Vec<String>,
     pub start: Vec<f64>,
+    /// Which start values the model fixed (`initial`), as opposed to
+    /// defaults and guesses that closing a loop may change.
+    pub fixed: Vec<bool>,
 }
 
 /// How cut forces travel from the loads to the ground: a spanning tree over
@@ -240,9 +299,15 @@ impl Mechanism {
         &self.name
     }
 
-    /// Number of degrees of freedom (velocity coordinates).
+    /// Number of degrees of freedom: velocity coordinates less the
+    /// independent constraint equations.
     pub fn degrees_of_freedom(&self) -> usize {
-        self.states.nv
+        self.dof
+    }
+
+    /// The kinematic loops and how they are closed.
+    pub fn loops(&self) -> &[LoopInfo] {
+        &self.loops
     }
 
     /// The states, with their names and start values.

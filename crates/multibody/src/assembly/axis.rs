@@ -4,7 +4,7 @@
 use super::connections::Connectors;
 use super::links::Tree;
 use crate::components::Part;
-use crate::mechanism::{AxisElement, CompiledComponent, FlangeRef};
+use crate::mechanism::{AxisElement, CompiledComponent, FlangeRef, JointRef};
 use crate::Error;
 
 /// The elements, and for each component the indices of its own.
@@ -19,8 +19,8 @@ pub fn elements(
         for part in &c.parts {
             match part {
                 Part::Joint { flanges, .. } => {
-                    if let Some(f) = flanges {
-                        let link = &tree.links[c.joint_links[joint_index]];
+                    if let (Some(f), JointRef::Link(k)) = (flanges, c.joints[joint_index]) {
+                        let link = &tree.links[k];
                         let coordinate = FlangeRef::Coordinate { q: link.q_offset, v: link.v_offset };
                         for (local, r) in [(f.axis, coordinate), (f.support, FlangeRef::Fixed)] {
                             let id = c.first_connector + local;

@@ -43,7 +43,7 @@ pub fn build(model: &Model, world: &WorldSettings) -> Result<Vec<CompiledCompone
             component,
             parts,
             first_connector,
-            joint_links: Vec::new(),
+            joints: Vec::new(),
             elements: Vec::new(),
             variables,
             shapes,

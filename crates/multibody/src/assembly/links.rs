@@ -4,7 +4,7 @@
 
 use super::connections::Connectors;
 use super::union_find::UnionFind;
-use crate::components::{Part, StateNames};
+use crate::components::{ConstraintKind, Part, RotationLock, StateNames};
 use crate::dynamics::joint::JointModel;
 use crate::math::Vec3;
 use crate::math::{RigidInertia, Transform};
@@ -124,6 +124,12 @@ struct JointEdge {
     a: usize,
     b: usize,
     model: JointModel,
+    /// 1-D elements act on its axis: it cannot be cut.
+    elements: bool,
+    /// The model gave it start values: better kept in the tree.
+    fixed: bool,
+    /// The model asks for it to be cut.
+    iscut: bool,
 }
 
 /// An orientation owner, as it appears in the model.
@@ -137,6 +143,19 @@ struct OwnerRef {
     line_end: bool,
 }
 
+/// A relation kept by constraint forces: a joint left out of the tree (it
+/// closes a loop), or a constraint component.
+#[derive(Clone, Copy, Debug)]
+pub struct Cut {
+    pub component: usize,
+    pub part: usize,
+    pub a: usize,
+    pub b: usize,
+    pub kind: ConstraintKind,
+    /// The joint, when a joint was cut (its coordinates become outputs).
+    pub joint: Option<JointModel>,
+}
+
 /// The tree: links in topological order, and each frame node's place.
 pub struct Tree {
     pub links: Vec<Link>,
@@ -144,22 +163,37 @@ pub struct Tree {
     /// State names of each link's joint (parallel to `links`, empty for ground).
     pub state_names: Vec<StateNames>,
     pub massless: Vec<MasslessGroup>,
+    pub cuts: Vec<Cut>,
 }
 
 const TRANSLATION_STATES: StateNames = StateNames { q: &[("r_0", 3)], u: &[("v_0", 3)] };
 
-pub fn spanning_tree(components: &[CompiledComponent], conn: &Connectors, groups: &RigidGroups) -> Result<Tree, Error> {
+/// The tree of `groups`; `fixed[c]` says whether component `c` has start
+/// values that hold (its joints are better kept in the tree).
+pub fn spanning_tree(
+    components: &[CompiledComponent],
+    conn: &Connectors,
+    groups: &RigidGroups,
+    fixed: &[bool],
+) -> Result<Tree, Error> {
     let node = |ci: usize, local: usize| conn.node(Connectors::id(components, ci, local));
     let mut joints = Vec::new();
     let mut owners = Vec::new();
+    let mut cuts = Vec::new();
     // Mass and inertia of each rigid group, and its first massive component.
     let mut group_inertia = vec![0.0f64; groups.count];
     let mut group_first_mass: Vec<Option<usize>> = vec![None; groups.count];
     for (ci, c) in components.iter().enumerate() {
         for (pi, part) in c.parts.iter().enumerate() {
             match *part {
-                Part::Joint { a, b, model, .. } => {
-                    joints.push(JointEdge { component: ci, part: pi, a: node(ci, a), b: node(ci, b), model })
+                Part::Joint { a, b, model, flanges, iscut, .. } => {
+                    let elements =
+                        flanges.is_some_and(|f| conn.infos[Connectors::id(components, ci, f.axis)].connected);
+                    let (a, b, fixed) = (node(ci, a), node(ci, b), fixed[ci]);
+                    joints.push(JointEdge { component: ci, part: pi, a, b, model, elements, fixed, iscut })
+                }
+                Part::Constraint { a, b, kind } => {
+                    cuts.push(Cut { component: ci, part: pi, a: node(ci, a), b: node(ci, b), kind, joint: None })
                 }
                 Part::Owner { frame, model, .. } => {
                     owners.push(OwnerRef { component: ci, part: pi, node: node(ci, frame), model, line_end: false })
@@ -184,68 +218,22 @@ pub fn spanning_tree(components: &[CompiledComponent], conn: &Connectors, groups
         }
     }
     let group = |node: usize| groups.group_of[node];
-    let mut incident: Vec<Vec<usize>> = vec![Vec::new(); groups.count];
-    for (k, j) in joints.iter().enumerate() {
-        incident[group(j.a)].push(k);
-        if group(j.b) != group(j.a) {
-            incident[group(j.b)].push(k);
-        }
+
+    // Groups joined by joints (whatever the tree): the ground's cluster,
+    // and floating clusters that need one owner each.
+    let mut joined = UnionFind::new(groups.count);
+    for j in &joints {
+        joined.union(group(j.a), group(j.b));
     }
-
-    // Each group becomes a link (or a massless group); `link_of[group]` once placed.
-    let mut link_of = vec![usize::MAX; groups.count];
-    let mut reached_by: Vec<Option<usize>> = vec![None; groups.count];
-    let mut used = vec![false; joints.len()];
-    let mut order: Vec<(usize, Parent)> = Vec::new();
-    link_of[groups.ground] = GROUND;
-
-    let grow = |start: usize,
-                link_of: &mut Vec<usize>,
-                order: &mut Vec<(usize, Parent)>,
-                used: &mut Vec<bool>,
-                reached_by: &mut Vec<Option<usize>>|
-     -> Result<(), Error> {
-        let mut queue = VecDeque::from([start]);
-        while let Some(g) = queue.pop_front() {
-            for &k in &incident[g] {
-                if used[k] {
-                    continue;
-                }
-                used[k] = true;
-                let j = joints[k];
-                let reversed = group(j.b) == g && group(j.a) != g;
-                let other = if reversed { group(j.a) } else { group(j.b) };
-                if link_of[other] != usize::MAX {
-                    return Err(Error::Unsupported {
-                        component: components[j.component].name.clone(),
-                        what: "a kinematic loop (this joint closes a loop of joints)".into(),
-                    });
-                }
-                link_of[other] = order.len() + 1;
-                reached_by[other] = Some(k);
-                order.push((other, Parent::Joint { edge: k, reversed }));
-                queue.push_back(other);
-            }
-        }
-        Ok(())
-    };
-
-    grow(groups.ground, &mut link_of, &mut order, &mut used, &mut reached_by)?;
-
+    let ground_cluster = joined.find(groups.ground);
     for o in &owners {
-        if link_of[group(o.node)] != usize::MAX {
-            // Walk back to the ground to name the joints that position it.
-            let mut through = Vec::new();
-            let mut g = group(o.node);
-            while let Some(k) = reached_by[g] {
-                through.push(components[joints[k].component].name.clone());
-                let j = joints[k];
-                g = if group(j.a) == g { group(j.b) } else { group(j.a) };
-            }
-            through.reverse();
-            if through.is_empty() {
-                through = components_at_group(components, conn, groups, group(o.node));
-            }
+        if joined.find(group(o.node)) == ground_cluster {
+            let through = joint_path(&joints, &group, groups.ground, group(o.node))
+                .into_iter()
+                .map(|k| components[joints[k].component].name.clone())
+                .collect::<Vec<_>>();
+            let through =
+                if through.is_empty() { components_at_group(components, conn, groups, group(o.node)) } else { through };
             return Err(Error::OwnerPositionedByJoints { component: components[o.component].name.clone(), through });
         }
         if let (JointModel::Translation, false) = (o.model, o.line_end) {
@@ -263,14 +251,18 @@ pub fn spanning_tree(components: &[CompiledComponent], conn: &Connectors, groups
         }
     }
 
-    // Floating clusters: groups not reached from the ground, joined by joints.
+    // One owner per floating cluster; massless clusters held by force elements.
+    let mut root_of_cluster: Vec<Option<(OwnerRef, usize)>> = vec![None; groups.count];
     let mut massless_of_group: Vec<Option<usize>> = vec![None; groups.count];
     let mut massless = Vec::new();
+    let mut seen = vec![false; groups.count];
     for start in 0..groups.count {
-        if link_of[start] != usize::MAX || massless_of_group[start].is_some() {
+        let cluster_id = joined.find(start);
+        if cluster_id == ground_cluster || seen[cluster_id] {
             continue;
         }
-        let cluster = cluster_of(start, &incident, &joints, &group);
+        seen[cluster_id] = true;
+        let cluster: Vec<usize> = (0..groups.count).filter(|&g| joined.find(g) == cluster_id).collect();
         let names = || {
             let mut names: Vec<String> = Vec::new();
             for &g in &cluster {
@@ -282,7 +274,8 @@ pub fn spanning_tree(components: &[CompiledComponent], conn: &Connectors, groups
             }
             names
         };
-        let cluster_owners: Vec<&OwnerRef> = owners.iter().filter(|o| cluster.contains(&group(o.node))).collect();
+        let cluster_owners: Vec<&OwnerRef> =
+            owners.iter().filter(|o| joined.find(group(o.node)) == cluster_id).collect();
         match cluster_owners.as_slice() {
             [] => return Err(Error::NoOrientationOwner { components: names() }),
             [owner] => {
@@ -295,9 +288,7 @@ pub fn spanning_tree(components: &[CompiledComponent], conn: &Connectors, groups
                 }
                 let states_of =
                     if owner.line_end { group_first_mass[g].unwrap_or(owner.component) } else { owner.component };
-                link_of[g] = order.len() + 1;
-                order.push((g, Parent::Owner(**owner, states_of)));
-                grow(g, &mut link_of, &mut order, &mut used, &mut reached_by)?;
+                root_of_cluster[cluster_id] = Some((**owner, states_of));
             }
             [first, second, ..] => {
                 return Err(Error::TwoOwners {
@@ -309,7 +300,158 @@ pub fn spanning_tree(components: &[CompiledComponent], conn: &Connectors, groups
         }
     }
 
-    build_links(components, groups, &joints, &order, &link_of, &massless_of_group, massless)
+    // The tree keeps the joints with elements on their axis, then the ones
+    // with the fewest degrees of freedom: each loop is cut at the joint whose
+    // cut leaves the fewest constraint equations, `iscut` joints first.
+    let mut by_priority: Vec<usize> = (0..joints.len()).collect();
+    by_priority.sort_by_key(|&k| {
+        let j = &joints[k];
+        (
+            if j.elements || (j.fixed && !j.iscut) {
+                0
+            } else if j.iscut {
+                2
+            } else {
+                1
+            },
+            j.model.nv(),
+        )
+    });
+    let mut in_tree = vec![false; joints.len()];
+    let mut spanning = UnionFind::new(groups.count);
+    for k in by_priority {
+        let j = &joints[k];
+        if spanning.find(group(j.a)) != spanning.find(group(j.b)) {
+            spanning.union(group(j.a), group(j.b));
+            in_tree[k] = true;
+        } else {
+            if j.elements {
+                return Err(Error::Unsupported {
+                    component: components[j.component].name.clone(),
+                    what: "1-D elements on the axis of a joint that must be cut to close a loop; move them to another joint of the loop".into(),
+                });
+            }
+            cuts.push(Cut {
+                component: j.component,
+                part: j.part,
+                a: j.a,
+                b: j.b,
+                kind: constraint_of_joint(&j.model),
+                joint: Some(j.model),
+            });
+        }
+    }
+    for c in &cuts {
+        for n in [c.a, c.b] {
+            if massless_of_group[group(n)].is_some() {
+                return Err(Error::Unsupported {
+                    component: components[c.component].name.clone(),
+                    what: "a constraint on frames without mass; give them mass".into(),
+                });
+            }
+        }
+    }
+
+    // Topological order: from the ground, then from each floating cluster's owner.
+    let mut incident: Vec<Vec<usize>> = vec![Vec::new(); groups.count];
+    for (k, j) in joints.iter().enumerate().filter(|(k, _)| in_tree[*k]) {
+        incident[group(j.a)].push(k);
+        incident[group(j.b)].push(k);
+    }
+    let mut link_of = vec![usize::MAX; groups.count];
+    let mut order: Vec<(usize, Parent)> = Vec::new();
+    link_of[groups.ground] = GROUND;
+    let grow = |start: usize, link_of: &mut Vec<usize>, order: &mut Vec<(usize, Parent)>| {
+        let mut queue = VecDeque::from([start]);
+        while let Some(g) = queue.pop_front() {
+            for &k in &incident[g] {
+                let j = joints[k];
+                let reversed = group(j.b) == g;
+                let other = if reversed { group(j.a) } else { group(j.b) };
+                if link_of[other] == usize::MAX {
+                    link_of[other] = order.len() + 1;
+                    order.push((other, Parent::Joint { edge: k, reversed }));
+                    queue.push_back(other);
+                }
+            }
+        }
+    };
+    grow(groups.ground, &mut link_of, &mut order);
+    for g in 0..groups.count {
+        if let Some((owner, states_of)) = root_of_cluster[joined.find(g)] {
+            let root = group(owner.node);
+            if link_of[root] == usize::MAX {
+                link_of[root] = order.len() + 1;
+                order.push((root, Parent::Owner(owner, states_of)));
+                grow(root, &mut link_of, &mut order);
+            }
+        }
+    }
+
+    let mut tree = build_links(components, groups, &joints, &order, &link_of, &massless_of_group, massless)?;
+    tree.cuts = cuts;
+    Ok(tree)
+}
+
+/// The constraint that a joint's relation becomes when it is cut.
+fn constraint_of_joint(model: &JointModel) -> ConstraintKind {
+    let all = [true; 3];
+    let perpendicular = |n: Vec3| {
+        let e1 = crate::components::shapes::width_direction(&n);
+        [e1, n.cross(&e1), Vec3::zeros()]
+    };
+    match *model {
+        JointModel::Revolute { axis } => ConstraintKind::locking_axes(RotationLock::AllBut(axis), all),
+        JointModel::Prismatic { axis } => {
+            ConstraintKind::Locks { rotation: RotationLock::All, directions: perpendicular(axis), count: 2 }
+        }
+        JointModel::Spherical(_) => ConstraintKind::locking_axes(RotationLock::Free, all),
+        JointModel::Universal { n_a, n_b } => ConstraintKind::locking_axes(RotationLock::Universal { n_a, n_b }, all),
+        JointModel::Cylindrical { axis } => {
+            ConstraintKind::Locks { rotation: RotationLock::AllBut(axis), directions: perpendicular(axis), count: 2 }
+        }
+        JointModel::Planar { n, .. } => ConstraintKind::Locks {
+            rotation: RotationLock::AllBut(n),
+            directions: [n, Vec3::zeros(), Vec3::zeros()],
+            count: 1,
+        },
+        JointModel::Free(_) => ConstraintKind::locking_axes(RotationLock::Free, [false; 3]),
+        JointModel::Translation => ConstraintKind::locking_axes(RotationLock::All, [false; 3]),
+    }
+}
+
+/// The joints on a path between two groups (breadth-first over all joints).
+fn joint_path(joints: &[JointEdge], group: &dyn Fn(usize) -> usize, from: usize, to: usize) -> Vec<usize> {
+    let mut came_by: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
+    let mut queue = VecDeque::from([from]);
+    let mut visited = std::collections::HashSet::from([from]);
+    while let Some(g) = queue.pop_front() {
+        if g == to {
+            break;
+        }
+        for (k, j) in joints.iter().enumerate() {
+            let (ga, gb) = (group(j.a), group(j.b));
+            let other = if ga == g {
+                gb
+            } else if gb == g {
+                ga
+            } else {
+                continue;
+            };
+            if visited.insert(other) {
+                came_by.insert(other, k);
+                queue.push_back(other);
+            }
+        }
+    }
+    let mut path = Vec::new();
+    let mut g = to;
+    while let Some(&k) = came_by.get(&g) {
+        path.push(k);
+        g = if group(joints[k].a) == g { group(joints[k].b) } else { group(joints[k].a) };
+    }
+    path.reverse();
+    path
 }
 
 #[derive(Clone, Copy)]
@@ -325,28 +467,6 @@ enum Parent {
 /// Whether the node shares its rigid group with other nodes.
 fn groups_with_other_nodes(groups: &RigidGroups, node: usize) -> bool {
     groups.group_of.iter().enumerate().any(|(n, &g)| n != node && g == groups.group_of[node])
-}
-
-/// Groups reachable from `start` through joints.
-fn cluster_of(
-    start: usize,
-    incident: &[Vec<usize>],
-    joints: &[JointEdge],
-    group: &dyn Fn(usize) -> usize,
-) -> Vec<usize> {
-    let mut cluster = vec![start];
-    let mut k = 0;
-    while k < cluster.len() {
-        for &e in &incident[cluster[k]] {
-            for g in [group(joints[e].a), group(joints[e].b)] {
-                if !cluster.contains(&g) {
-                    cluster.push(g);
-                }
-            }
-        }
-        k += 1;
-    }
-    cluster
 }
 
 /// The names of the components with a frame in group `g`.
@@ -475,5 +595,5 @@ fn build_links(
         nq += joint.nq();
         nv += joint.nv();
     }
-    Ok(Tree { links, nodes, state_names, massless })
+    Ok(Tree { links, nodes, state_names, massless, cuts: Vec::new() })
 }

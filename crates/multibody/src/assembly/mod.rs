@@ -20,6 +20,7 @@ mod flows;
 mod forces;
 mod instances;
 mod links;
+mod loops;
 mod signals;
 mod states;
 mod union_find;
@@ -27,43 +28,38 @@ mod union_find;
 use crate::components::Part;
 use crate::dynamics::joint::JointMotion;
 use crate::math::{Mat3, Transform, Vec3};
-use crate::mechanism::{Anchor, Attachment, Link, Mechanism, PointGravityMass, GROUND};
+use crate::mechanism::{Anchor, Attachment, JointRef, Link, Mechanism, PointGravityMass, GROUND};
 use crate::{Error, Model};
 
 pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     let world = instances::world_settings(model)?;
     let mut components = instances::build(model, &world)?;
-    if let Some(c) = components.iter().find(|c| c.parts.iter().any(|p| matches!(p, Part::Constraint { .. }))) {
-        return Err(Error::Unsupported {
-            component: c.name.clone(),
-            what: "a joint without states (a constraint); give it an orientation_state".into(),
-        });
-    }
     let conn = connections::resolve(model, &components)?;
     let groups = links::rigid_groups(&components, &conn)?;
-    let mut tree = links::spanning_tree(&components, &conn, &groups)?;
+    let fixed: Vec<bool> = model.components.iter().map(|c| !c.initial.is_empty()).collect();
+    let mut tree = links::spanning_tree(&components, &conn, &groups, &fixed)?;
     for (n, node) in tree.nodes.iter_mut().enumerate() {
         node.connectors = conn.frame_nodes[n].clone();
     }
     let mut warnings = groups.warnings.clone();
 
     // Which links each component's joints and owners move (in part order),
-    // or whose states it names.
+    // or whose states it names; cut joints come with the constraints.
     for (k, link) in tree.links.iter().enumerate().skip(1) {
         let (ci, pi) = link.source;
-        let joint_links = &mut components[link.states_of].joint_links;
         if link.states_of != ci {
-            joint_links.push(k);
+            components[link.states_of].joints.push(JointRef::Link(k));
             continue;
         }
         let position =
             components[ci].parts[..pi].iter().filter(|p| matches!(p, Part::Joint { .. } | Part::Owner { .. })).count();
-        let joint_links = &mut components[ci].joint_links;
-        if joint_links.len() <= position {
-            joint_links.resize(position + 1, usize::MAX);
+        let joints = &mut components[ci].joints;
+        if joints.len() <= position {
+            joints.resize(position + 1, JointRef::Link(usize::MAX));
         }
-        joint_links[position] = k;
+        joints[position] = JointRef::Link(k);
     }
+    let (constraints, constraint_rows, cut_nq, cut_nv) = loops::constraints(&mut components, &tree);
 
     // Masses into link inertias.
     let uniform_gravity = world.uniform_gravity();
@@ -108,7 +104,8 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     }
     let flow_tree = flows::flow_tree(&components, &conn, &tree);
 
-    Ok(Mechanism {
+    let dof = states.nv;
+    let mut mechanism = Mechanism {
         name: model.name.clone(),
         world,
         components,
@@ -125,7 +122,17 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         states,
         flow_tree,
         warnings,
-    })
+        constraints,
+        constraint_rows,
+        cut_nq,
+        cut_nv,
+        loops: Vec::new(),
+        dof,
+    };
+    if !mechanism.constraints.is_empty() {
+        loops::close(&mut mechanism)?;
+    }
+    Ok(mechanism)
 }
 
 /// World pose (world-to-link rotation, origin) of every link at `q`.

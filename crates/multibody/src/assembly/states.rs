@@ -3,7 +3,7 @@
 
 use super::links::Tree;
 use crate::error::closest;
-use crate::mechanism::{CompiledComponent, StateLayout};
+use crate::mechanism::{CompiledComponent, JointRef, StateLayout};
 use crate::{Error, Model, Value};
 
 pub fn layout(model: &Model, components: &[CompiledComponent], tree: &Tree) -> Result<StateLayout, Error> {
@@ -11,6 +11,7 @@ pub fn layout(model: &Model, components: &[CompiledComponent], tree: &Tree) -> R
     let nv: usize = tree.links.iter().skip(1).map(|l| l.joint.nv()).sum();
     let mut names = vec![String::new(); nq + nv];
     let mut start = vec![0.0; nq + nv];
+    let mut fixed = vec![false; nq + nv];
     for (k, link) in tree.links.iter().enumerate().skip(1) {
         let component = &components[link.states_of].name;
         let sn = &tree.state_names[k];
@@ -34,10 +35,12 @@ pub fn layout(model: &Model, components: &[CompiledComponent], tree: &Tree) -> R
         let c = &components[ci];
         // Initial values hold; guesses fill in where no initial value is given.
         let guesses = instance.guess.iter().filter(|(g, _)| !instance.initial.iter().any(|(i, _)| i == g));
-        for (variable, value) in instance.initial.iter().chain(guesses) {
+        let given = instance.initial.iter().map(|e| (e, true)).chain(guesses.map(|e| (e, false)));
+        for ((variable, value), holds) in given {
             let (index, size) = locate(c, tree, nq, variable).ok_or_else(|| not_a_state(c, tree, variable))?;
             let values = numbers(&c.name, variable, value, size)?;
             start[index..index + size].copy_from_slice(&values);
+            fixed[index..index + size].fill(holds);
         }
     }
     for link in tree.links.iter().skip(1) {
@@ -56,12 +59,13 @@ pub fn layout(model: &Model, components: &[CompiledComponent], tree: &Tree) -> R
             }
         }
     }
-    Ok(StateLayout { nq, nv, names, start })
+    Ok(StateLayout { nq, nv, names, start, fixed })
 }
 
 /// Where the state `variable` of component `c` sits in the state vector.
 fn locate(c: &CompiledComponent, tree: &Tree, nq: usize, variable: &str) -> Option<(usize, usize)> {
-    for &link in &c.joint_links {
+    for &joint in &c.joints {
+        let JointRef::Link(link) = joint else { continue };
         let l = &tree.links[link];
         let sn = &tree.state_names[link];
         for (offset, entries) in [(l.q_offset, sn.q), (nq + l.v_offset, sn.u)] {
@@ -78,14 +82,13 @@ fn locate(c: &CompiledComponent, tree: &Tree, nq: usize, variable: &str) -> Opti
 }
 
 fn not_a_state(c: &CompiledComponent, tree: &Tree, variable: &str) -> Error {
-    let states: Vec<&str> = c
-        .joint_links
-        .iter()
-        .flat_map(|&l| tree.state_names[l].q.iter().chain(tree.state_names[l].u))
-        .map(|(n, _)| *n)
-        .collect();
+    let links = c.joints.iter().filter_map(|j| if let JointRef::Link(l) = j { Some(*l) } else { None });
+    let states: Vec<&str> =
+        links.flat_map(|l| tree.state_names[l].q.iter().chain(tree.state_names[l].u)).map(|(n, _)| *n).collect();
     if c.spec.variables.iter().any(|v| v.name == variable) {
-        let reason = if c.joint_links.is_empty() && matches!(c.spec.kind, "Body" | "PointMass") {
+        let reason = if c.joints.iter().any(|j| matches!(j, JointRef::Cut(_))) {
+            "this joint closes a kinematic loop, so its coordinates follow from the other joints of the loop. To give it a start value, mark another joint of the loop with iscut = true".to_string()
+        } else if c.joints.is_empty() && matches!(c.spec.kind, "Body" | "PointMass") {
             "its motion comes from what it is connected to. Set the start values of the joints between it and the World instead, or make it free (orientation_state = Quaternion for a Body, isroot = true for an unconnected PointMass)".to_string()
         } else if states.is_empty() {
             format!("{} has no states; it is computed from the motion", c.spec.kind)

@@ -87,10 +87,11 @@ pub fn shaped_body_shapes(
     }
     let (color, specular) = look(p);
     let mut shape = LocalShape::in_frame(kind, "frame_a", start, length, width, height).colored(color, specular);
-    if let (Ok(dir), super::shapes::Placement::InFrame { width_dir, .. }) =
-        (p.vec3_opt("width_dir").ok_or(()), &mut shape.placement)
-    {
-        let w = dir - length.normalize() * length.normalize().dot(&dir);
+    // A box keeps its width along width_dir (made perpendicular to its length).
+    let given_width_dir = p.spec.param("width_dir").and_then(|_| p.vec3_opt("width_dir"));
+    if let (Some(dir), super::shapes::Placement::InFrame { width_dir, .. }) = (given_width_dir, &mut shape.placement) {
+        let e = length.try_normalize(1e-12).unwrap_or_else(Vec3::x);
+        let w = dir - e * e.dot(&dir);
         if w.norm() > 1e-10 {
             *width_dir = w.normalize();
         }

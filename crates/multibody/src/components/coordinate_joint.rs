@@ -17,11 +17,20 @@ pub struct CoordinateJoint {
     /// Coordinates, rates, accelerations (and the drive force with flanges).
     pub variables: &'static [VarSpec],
     pub flanges: Option<AxisFlanges>,
+    /// Prefer cutting this joint when it closes a loop.
+    pub iscut: bool,
 }
 
 impl Component for CoordinateJoint {
     fn parts(&self) -> Vec<Part> {
-        vec![Part::Joint { a: 0, b: 1, model: self.model, states: self.states, flanges: self.flanges }]
+        vec![Part::Joint {
+            a: 0,
+            b: 1,
+            model: self.model,
+            states: self.states,
+            flanges: self.flanges,
+            iscut: self.iscut,
+        }]
     }
 
     fn variables(&self) -> Vec<VarSpec> {

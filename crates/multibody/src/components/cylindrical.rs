@@ -60,5 +60,6 @@ fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
         states: STATES,
         variables: VARIABLES,
         flanges: None,
+        iscut: false,
     }))
 }

@@ -71,7 +71,7 @@ impl Component for FreeMotion {
                 StateNames { q: &[("r_rel_a", 3), ("phi", 3)], u: &[("v_rel_a", 3), ("phid", 3)] }
             }
         };
-        vec![Part::Joint { a: 0, b: 1, model: JointModel::Free(self.rotation), states, flanges: None }]
+        vec![Part::Joint { a: 0, b: 1, model: JointModel::Free(self.rotation), states, flanges: None, iscut: false }]
     }
 
     fn variables(&self) -> Vec<VarSpec> {

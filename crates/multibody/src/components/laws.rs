@@ -76,12 +76,62 @@ pub enum ForceLaw {
     Torque { inputs: [usize; 3], resolve: Resolve },
 }
 
-/// What a constraint (a joint without states, or a cut joint) keeps equal
-/// between its frames.
+/// Which relative rotations of frame_b a constraint locks.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RotationLock {
+    Free,
+    /// All but the rotation about the unit axis `n` (resolved in frame_a).
+    AllBut(Vec3),
+    All,
+    /// Rotation about `n_a` (fixed in frame_a) and `n_b` (fixed in
+    /// frame_b) only: the axes keep their angle.
+    Universal {
+        n_a: Vec3,
+        n_b: Vec3,
+    },
+}
+
+/// What a constraint (a joint without states, or the cut of a loop)
+/// keeps between its frames.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ConstraintKind {
-    /// The origins coincide along the locked axes of frame_a.
-    Spherical,
+    /// Locked rotations, and locked translations of frame_b's origin along
+    /// the first `count` of `directions` (unit, resolved in frame_a).
+    Locks { rotation: RotationLock, directions: [Vec3; 3], count: usize },
+    /// The origins keep the distance `length` (a rod with spherical ends).
+    Distance { length: f64 },
+}
+
+impl ConstraintKind {
+    /// Locks of the translations along frame_a's axes that are `locked`,
+    /// with the given rotation lock.
+    pub fn locking_axes(rotation: RotationLock, locked: [bool; 3]) -> Self {
+        let mut directions = [Vec3::zeros(); 3];
+        let mut count = 0;
+        for (k, &l) in locked.iter().enumerate() {
+            if l {
+                directions[count] = crate::math::unit(k);
+                count += 1;
+            }
+        }
+        ConstraintKind::Locks { rotation, directions, count }
+    }
+
+    /// Number of scalar constraint equations.
+    pub fn rows(&self) -> usize {
+        match *self {
+            ConstraintKind::Locks { rotation, count, .. } => {
+                count
+                    + match rotation {
+                        RotationLock::Free => 0,
+                        RotationLock::AllBut(_) => 2,
+                        RotationLock::All => 3,
+                        RotationLock::Universal { .. } => 1,
+                    }
+            }
+            ConstraintKind::Distance { .. } => 1,
+        }
+    }
 }
 
 /// A signal as a function of time.

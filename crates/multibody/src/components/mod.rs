@@ -45,7 +45,7 @@ pub mod world;
 mod world_force;
 mod world_torque;
 
-pub use laws::{resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, SignalSource};
+pub use laws::{resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, RotationLock, SignalSource};
 pub use params::ParamSet;
 pub use spec::{ComponentSpec, ConnectorSpec, ConnectorType, Default, ParamSpec, ParamType, Shape, VarSpec};
 pub use world::WorldSettings;
@@ -152,8 +152,9 @@ pub enum Part {
     Rigid { a: usize, b: usize, pose: Transform },
     /// A mass fixed to `frame`, its inertia given in that frame.
     Mass { frame: usize, inertia: RigidInertia, point_gravity: bool },
-    /// A joint moving frame `b` relative to frame `a`.
-    Joint { a: usize, b: usize, model: JointModel, states: StateNames, flanges: Option<AxisFlanges> },
+    /// A joint moving frame `b` relative to frame `a`; `iscut` asks for it
+    /// to be the one cut when it closes a kinematic loop.
+    Joint { a: usize, b: usize, model: JointModel, states: StateNames, flanges: Option<AxisFlanges>, iscut: bool },
     /// Ownership of the orientation (and position) of `frame`: a joint from
     /// the world with the component's states.
     Owner { frame: usize, model: JointModel, states: StateNames },

@@ -52,5 +52,5 @@ fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
     }
     let n_x = n_x.normalize();
     let model = JointModel::Planar { n, n_x, n_y: n.cross(&n_x) };
-    Ok(Box::new(CoordinateJoint { model, states: STATES, variables: VARIABLES, flanges: None }))
+    Ok(Box::new(CoordinateJoint { model, states: STATES, variables: VARIABLES, flanges: None, iscut: false }))
 }

@@ -62,5 +62,6 @@ fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
         states: STATES,
         variables: VARIABLES,
         flanges: Some(FLANGES),
+        iscut: p.boolean("iscut"),
     }))
 }

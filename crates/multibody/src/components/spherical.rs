@@ -80,9 +80,13 @@ impl Component for Spherical {
                     RotationCoordinates::Quaternion { .. } => StateNames { q: &[("Q_hat", 4)], u: &[("w_rel", 3)] },
                     RotationCoordinates::Euler { .. } => StateNames { q: &[("phi", 3)], u: &[("phid", 3)] },
                 };
-                vec![Part::Joint { a: 0, b: 1, model: JointModel::Spherical(rot), states, flanges: None }]
+                vec![Part::Joint { a: 0, b: 1, model: JointModel::Spherical(rot), states, flanges: None, iscut: false }]
             }
-            None => vec![Part::Constraint { a: 0, b: 1, kind: crate::components::ConstraintKind::Spherical }],
+            None => vec![Part::Constraint {
+                a: 0,
+                b: 1,
+                kind: crate::components::ConstraintKind::locking_axes(crate::components::RotationLock::Free, [true; 3]),
+            }],
         }
     }
 

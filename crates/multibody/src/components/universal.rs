@@ -67,5 +67,6 @@ fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
         states: STATES,
         variables: VARIABLES,
         flanges: None,
+        iscut: false,
     }))
 }

@@ -32,12 +32,15 @@ impl Mechanism {
         self.apply_force_elements(ws);
         self.articulated_inertias(ws)?;
         self.accelerations(ws, ud);
+        if !self.constraints.is_empty() {
+            self.constrained_accelerations(ws, ud)?;
+        }
         Ok(())
     }
 
     /// Pass 1: link transforms, velocities, world poses, and the bias force
     /// of each link alone.
-    fn kinematics_and_bias(&self, ws: &mut Workspace, q: &[f64], u: &[f64]) -> Result<(), DynamicsError> {
+    pub(crate) fn kinematics_and_bias(&self, ws: &mut Workspace, q: &[f64], u: &[f64]) -> Result<(), DynamicsError> {
         let mut jm = JointMotion::default();
         for k in 1..self.links.len() {
             let link = &self.links[k];

@@ -282,6 +282,36 @@ impl JointModel {
         rot.singularity(&q[k..])
     }
 
+    /// Coordinates `q` with `transform(q) = x`, the ones nearest `guess`
+    /// where several exist (angles differing by turns, quaternion signs).
+    pub fn coordinates_of(&self, x: &Transform, guess: &[f64], q: &mut [f64]) {
+        let p = x.trans;
+        match *self {
+            JointModel::Revolute { axis } => q[0] = angle_about(&axis, &x.rot, guess[0]),
+            JointModel::Prismatic { axis } => q[0] = axis.dot(&p),
+            JointModel::Translation => q[..3].copy_from_slice(p.as_slice()),
+            JointModel::Free(rot) => {
+                q[..3].copy_from_slice(p.as_slice());
+                rotation_coordinates_of(&rot, &x.rot, &guess[3..], &mut q[3..]);
+            }
+            JointModel::Spherical(rot) => rotation_coordinates_of(&rot, &x.rot, guess, q),
+            JointModel::Universal { n_a, n_b } => {
+                // R' n_b is n_b turned by phi_a about n_a; R n_a is n_a turned by -phi_b about n_b.
+                q[0] = signed_angle(&n_a, &n_b, &x.rot.tr_mul(&n_b), guess[0]);
+                q[1] = -signed_angle(&n_b, &n_a, &(x.rot * n_a), -guess[1]);
+            }
+            JointModel::Cylindrical { axis } => {
+                q[0] = axis.dot(&p);
+                q[1] = angle_about(&axis, &x.rot, guess[1]);
+            }
+            JointModel::Planar { n, n_x, n_y } => {
+                q[0] = n_x.dot(&p);
+                q[1] = n_y.dot(&p);
+                q[2] = angle_about(&n, &x.rot, guess[2]);
+            }
+        }
+    }
+
     /// The motion of frame_a relative to frame_b, in frame_a coordinates,
     /// from the motion `m` of frame_b relative to frame_a: a joint traversed
     /// backwards. `S' = -X^-1 S`, `c' = -X^-1 c` (the cross term of the
@@ -306,6 +336,39 @@ pub fn rotation_of(rot: &RotationCoordinates, q: &[f64]) -> crate::math::Mat3 {
             from_q(&(qh / qh.norm()))
         }
         RotationCoordinates::Euler { sequence } => axes_rotations(*sequence, &Vec3::new(q[0], q[1], q[2])),
+    }
+}
+
+/// The angle `phi` with `planar_rotation(n, phi) = r` about the unit axis
+/// `n`, the one nearest `near`.
+pub fn angle_about(n: &Vec3, r: &crate::math::Mat3, near: f64) -> f64 {
+    let e = crate::components::shapes::width_direction(n);
+    signed_angle(n, &e, &r.tr_mul(&e), near)
+}
+
+/// The angle by which `from` turns into `to` about the unit axis `n`
+/// (both projected onto the plane normal to `n`), nearest `near`.
+fn signed_angle(n: &Vec3, from: &Vec3, to: &Vec3, near: f64) -> f64 {
+    let (f, t) = (from - n * n.dot(from), to - n * n.dot(to));
+    let angle = n.dot(&f.cross(&t)).atan2(f.dot(&t));
+    let turns = ((near - angle) / std::f64::consts::TAU).round();
+    angle + turns * std::f64::consts::TAU
+}
+
+/// Rotation coordinates of `r`, nearest `guess`.
+fn rotation_coordinates_of(rot: &RotationCoordinates, r: &crate::math::Mat3, guess: &[f64], q: &mut [f64]) {
+    match *rot {
+        RotationCoordinates::Quaternion { .. } => {
+            let g = Quat::new(guess[0], guess[1], guess[2], guess[3]);
+            q[..4].copy_from_slice(crate::math::to_q(r, &g).as_slice());
+        }
+        RotationCoordinates::Euler { sequence } => {
+            let phi = crate::math::axes_rotations_angles(r, sequence);
+            for k in 0..3 {
+                let turns = ((guess[k] - phi[k]) / std::f64::consts::TAU).round();
+                q[k] = phi[k] + if k == 1 { 0.0 } else { turns * std::f64::consts::TAU };
+            }
+        }
     }
 }
 
@@ -430,6 +493,18 @@ mod tests {
                 let dv = (mp.vj - mm.vj) * (0.5 / h);
                 assert_relative_eq!(m.cj.ang, dv.ang, epsilon = 1e-7);
                 assert_relative_eq!(m.cj.lin, dv.lin, epsilon = 1e-7);
+            }
+        }
+    }
+
+    #[test]
+    fn coordinates_of_inverts_transform() {
+        for (model, q, _) in samples() {
+            let x = model.transform(&q);
+            let mut back = vec![0.0; q.len()];
+            model.coordinates_of(&x, &q, &mut back);
+            for (a, b) in back.iter().zip(&q) {
+                assert!((a - b).abs() < 1e-12, "{model:?}: {back:?} vs {q:?}");
             }
         }
     }

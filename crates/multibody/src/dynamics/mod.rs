@@ -5,6 +5,8 @@
 //! (`outputs`).
 
 mod aba;
+mod constraints;
+pub(crate) mod dense;
 pub(crate) mod forces;
 pub mod joint;
 pub(crate) mod outputs;
@@ -42,6 +44,20 @@ pub struct Workspace {
     /// Positions and velocities of the massless groups.
     pub(crate) massless_pos: Vec<Vec3>,
     pub(crate) massless_vel: Vec<Vec3>,
+    // Constraint buffers: rows x nv Jacobian, nv x nv mass matrix (and its
+    // factor), rows x nv rows of M^-1 J', rows x rows Schur complement.
+    pub(crate) jac: Vec<f64>,
+    pub(crate) mass: Vec<f64>,
+    pub(crate) y_rows: Vec<f64>,
+    pub(crate) schur: Vec<f64>,
+    pub(crate) perm: Vec<usize>,
+    pub(crate) lambda: Vec<f64>,
+    pub(crate) residual: Vec<f64>,
+    pub(crate) bias: Vec<f64>,
+    pub(crate) work: Vec<f64>,
+    pub(crate) du: Vec<f64>,
+    pub(crate) composite: Vec<crate::math::RigidInertia>,
+    pub(crate) bias_acc: Vec<Motion>,
 }
 
 /// What the articulated-body algorithm keeps per link.
@@ -87,6 +103,7 @@ impl Workspace {
             }
         }
         let ground = LinkWork { rot: Mat3::identity(), ..LinkWork::default() };
+        let (m, nv) = (mechanism.constraint_rows, mechanism.states.nv);
         Self {
             links: vec![ground; n],
             multi,
@@ -95,6 +112,18 @@ impl Workspace {
             signals: vec![0.0; mechanism.sources.len() + 1],
             massless_pos: mechanism.massless.iter().map(|g| g.guess).collect(),
             massless_vel: vec![Vec3::zeros(); mechanism.massless.len()],
+            jac: vec![0.0; m * nv],
+            mass: vec![0.0; if m > 0 { nv * nv } else { 0 }],
+            y_rows: vec![0.0; m * nv],
+            schur: vec![0.0; m * m],
+            perm: vec![0; m],
+            lambda: vec![0.0; m],
+            residual: vec![0.0; m],
+            bias: vec![0.0; m],
+            work: vec![0.0; m.max(nv)],
+            du: vec![0.0; nv],
+            composite: vec![crate::math::RigidInertia::ZERO; if m > 0 { n } else { 0 }],
+            bias_acc: vec![Motion::ZERO; n],
         }
     }
 }

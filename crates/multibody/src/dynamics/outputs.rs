@@ -2,10 +2,12 @@
 //! every connector (a recursive Newton-Euler pass over the flow tree), and
 //! every component's own variables.
 
+use super::joint::JointMotion;
 use super::{DynamicsError, Workspace};
 use crate::components::{ConnectorType, Element1DState, EvalContext, FrameState, JointState, Part};
+use crate::math::Transform;
 use crate::math::{Motion, Vec3};
-use crate::mechanism::{Anchor, FlangeRef, GROUND};
+use crate::mechanism::{Anchor, FlangeRef, JointRef, GROUND};
 use crate::Mechanism;
 
 /// The name, unit and description of one scalar output signal.
@@ -23,6 +25,12 @@ pub(crate) struct OutputScratch {
     node_wrench: Vec<(Vec3, Vec3)>,
     flows: Vec<(Vec3, Vec3)>,
     dy: Vec<f64>,
+    /// Coordinates of cut joints, computed from their frames.
+    cut_q: Vec<f64>,
+    cut_qdot: Vec<f64>,
+    cut_u: Vec<f64>,
+    cut_udot: Vec<f64>,
+    cut_tau: Vec<f64>,
 }
 
 const FRAME_SIGNALS: [(&str, usize, &str); 4] = [("r_0", 3, "m"), ("R", 9, ""), ("f", 3, "N"), ("tau", 3, "N.m")];
@@ -52,6 +60,12 @@ impl Mechanism {
                 }
             }
         }
+        for constraint in &self.constraints {
+            let name = &self.components[constraint.component].name;
+            for k in 1..=constraint.rows {
+                out.push(Signal { name: format!("{name}.constraint_residual[{k}]"), unit: "" });
+            }
+        }
         out
     }
 
@@ -73,6 +87,7 @@ impl Mechanism {
         }
         self.frame_states(ws, scratch);
         self.cut_forces(ws, scratch);
+        self.cut_joint_coordinates(scratch);
         scratch.signals.clear();
         scratch.signals.extend(self.signal_of_connector.iter().map(|&slot| ws.signals[slot]));
         let (q, u) = y.split_at(nq);
@@ -83,15 +98,31 @@ impl Mechanism {
         let mut elements: Vec<Element1DState> = Vec::new();
         for c in &self.components {
             joints.clear();
-            for &k in &c.joint_links {
-                let l = &self.links[k];
-                let (qr, vr) = (l.q_offset..l.q_offset + l.joint.nq(), l.v_offset..l.v_offset + l.joint.nv());
-                joints.push(JointState {
-                    q: &q[qr.clone()],
-                    u: &u[vr.clone()],
-                    qdot: &qd[qr],
-                    udot: &ud[vr.clone()],
-                    tau: &ws.tau[vr],
+            for &joint in &c.joints {
+                joints.push(match joint {
+                    JointRef::Link(k) => {
+                        let l = &self.links[k];
+                        let (qr, vr) = (l.q_offset..l.q_offset + l.joint.nq(), l.v_offset..l.v_offset + l.joint.nv());
+                        JointState {
+                            q: &q[qr.clone()],
+                            u: &u[vr.clone()],
+                            qdot: &qd[qr],
+                            udot: &ud[vr.clone()],
+                            tau: &ws.tau[vr],
+                        }
+                    }
+                    JointRef::Cut(k) => {
+                        let cut = self.constraints[k].joint.expect("cut joints carry their model");
+                        let (qr, vr) =
+                            (cut.q_offset..cut.q_offset + cut.model.nq(), cut.v_offset..cut.v_offset + cut.model.nv());
+                        JointState {
+                            q: &scratch.cut_q[qr.clone()],
+                            u: &scratch.cut_u[vr.clone()],
+                            qdot: &scratch.cut_qdot[qr],
+                            udot: &scratch.cut_udot[vr.clone()],
+                            tau: &scratch.cut_tau[vr],
+                        }
+                    }
                 });
             }
             elements.clear();
@@ -129,7 +160,49 @@ impl Mechanism {
                 }
             }
         }
+        row.extend_from_slice(&ws.residual);
         Ok(())
+    }
+
+    /// The coordinates, rates and accelerations of cut joints, from the
+    /// motion of their frames (they are not states).
+    fn cut_joint_coordinates(&self, scratch: &mut OutputScratch) {
+        scratch.cut_q.resize(self.cut_nq, 0.0);
+        scratch.cut_qdot.resize(self.cut_nq, 0.0);
+        scratch.cut_u.resize(self.cut_nv, 0.0);
+        scratch.cut_udot.resize(self.cut_nv, 0.0);
+        scratch.cut_tau.resize(self.cut_nv, 0.0);
+        for c in &self.constraints {
+            let Some(cut) = c.joint else { continue };
+            let (a, b) = (scratch.frames[c.connectors.0], scratch.frames[c.connectors.1]);
+            let (nq, nv) = (cut.model.nq(), cut.model.nv());
+            let qr = cut.q_offset..cut.q_offset + nq;
+            // Relative pose, and the relative motion in frame_b as the joint would move it.
+            let x = Transform::new(b.rot * a.rot.transpose(), a.rot * (b.r_0 - a.r_0));
+            let mut guess = [0.0; 7];
+            guess[..nq].copy_from_slice(&scratch.cut_q[qr.clone()]);
+            if guess[..nq].iter().all(|g| *g == 0.0) {
+                cut.model.neutral(&mut guess[..nq]);
+            }
+            cut.model.coordinates_of(&x, &guess[..nq], &mut scratch.cut_q[qr.clone()]);
+            let (w_a, w_b) = (a.rot.tr_mul(&a.w), b.rot.tr_mul(&b.w));
+            let (alpha_a, alpha_b) = (a.rot.tr_mul(&a.z), b.rot.tr_mul(&b.z));
+            let r = b.r_0 - a.r_0;
+            let dv = b.v_0 - a.v_0;
+            let v_j = Motion::new(b.rot * (w_b - w_a), b.rot * (dv - w_a.cross(&r)));
+            let rate = Motion::new(alpha_b - alpha_a, b.a_0 - a.a_0 - alpha_a.cross(&r) - w_a.cross(&dv));
+            // The derivative of v_j as seen from frame_b.
+            let a_j =
+                Motion::new(b.rot * rate.ang, b.rot * rate.lin) - Motion::new(b.w, Vec3::zeros()).cross_motion(&v_j);
+            let mut m = JointMotion::default();
+            cut.model.motion(&scratch.cut_q[qr.clone()], &[0.0; 6][..nv], &mut m);
+            let (u, ud) = (least_squares(&m.s[..nv], &v_j), least_squares(&m.s[..nv], &(a_j - m.cj)));
+            scratch.cut_u[cut.v_offset..cut.v_offset + nv].copy_from_slice(&u[..nv]);
+            scratch.cut_udot[cut.v_offset..cut.v_offset + nv].copy_from_slice(&ud[..nv]);
+            let mut q = [0.0; 7];
+            q[..nq].copy_from_slice(&scratch.cut_q[qr.clone()]);
+            cut.model.qdot(&q[..nq], &u[..nv], &mut scratch.cut_qdot[qr]);
+        }
     }
 
     /// Motion of every frame connector (from its node); flows are zeroed.
@@ -202,10 +275,15 @@ impl Mechanism {
             }
         }
 
-        // Force elements: their flows are the opposite of what they apply.
-        for el in &self.force_elements {
-            let (on_a, on_b) = self.applied(ws, el);
-            let ends = [(el.connectors.0, on_a), (Some(el.connectors.1), on_b)];
+        // Force elements and constraints: their flows are the opposite of what they apply.
+        let applied =
+            self.force_elements.iter().map(|el| (el.connectors.0, el.connectors.1, self.applied(ws, el))).chain(
+                self.constraints
+                    .iter()
+                    .map(|c| (Some(c.connectors.0), c.connectors.1, self.constraint_wrenches(ws, c))),
+            );
+        for (a, b, (on_a, on_b)) in applied {
+            let ends = [(a, on_a), (Some(b), on_b)];
             for (connector, (force, moment)) in ends {
                 let Some(id) = connector else { continue };
                 let rot = scratch.frames[id].rot;
@@ -245,4 +323,19 @@ impl Mechanism {
             frame.tau = flow.1;
         }
     }
+}
+
+/// The coordinates `u` (up to 6) with `S u` closest to `v` (least squares).
+fn least_squares(s: &[Motion], v: &Motion) -> [f64; 6] {
+    let as6 = |m: &Motion| nalgebra::Vector6::new(m.ang.x, m.ang.y, m.ang.z, m.lin.x, m.lin.y, m.lin.z);
+    let mut normal = nalgebra::Matrix6::<f64>::identity();
+    let mut rhs = nalgebra::Vector6::<f64>::zeros();
+    for (i, si) in s.iter().enumerate() {
+        rhs[i] = as6(si).dot(&as6(v));
+        for (j, sj) in s.iter().enumerate() {
+            normal[(i, j)] = as6(si).dot(&as6(sj));
+        }
+    }
+    let x = normal.cholesky().map_or(nalgebra::Vector6::zeros(), |c| c.solve(&rhs));
+    [x[0], x[1], x[2], x[3], x[4], x[5]]
 }

@@ -1,0 +1,192 @@
+//! Kinematic loops: the constraints from cut joints and constraint
+//! components, the loops they close (for reports), and start values that
+//! satisfy them.
+
+use super::connections::Connectors;
+use super::links::Tree;
+use crate::dynamics::Workspace;
+use crate::mechanism::{Attachment, CompiledComponent, Constraint, CutJoint, JointRef, LoopInfo, GROUND};
+use crate::{Error, Mechanism};
+
+/// Start residuals below this (m or rad) count as closed.
+const CLOSED: f64 = 1e-10;
+const NEWTON_ITERATIONS: usize = 60;
+
+/// The constraints, in the order of `tree.cuts`, and each cut joint's place
+/// in its component's joint list.
+pub fn constraints(components: &mut [CompiledComponent], tree: &Tree) -> (Vec<Constraint>, usize, usize, usize) {
+    let mut constraints = Vec::new();
+    let (mut row, mut cut_nq, mut cut_nv) = (0, 0, 0);
+    for (index, cut) in tree.cuts.iter().enumerate() {
+        let attach = |node: usize| Attachment { anchor: tree.nodes[node].anchor, pose: tree.nodes[node].pose };
+        let c = &components[cut.component];
+        let (a_local, b_local) = match c.parts[cut.part] {
+            crate::components::Part::Joint { a, b, .. } | crate::components::Part::Constraint { a, b, .. } => (a, b),
+            _ => unreachable!("cuts are joints or constraints"),
+        };
+        let connectors =
+            (Connectors::id(components, cut.component, a_local), Connectors::id(components, cut.component, b_local));
+        let joint = cut.joint.map(|model| {
+            let j = CutJoint { model, q_offset: cut_nq, v_offset: cut_nv };
+            cut_nq += model.nq();
+            cut_nv += model.nv();
+            j
+        });
+        let rows = cut.kind.rows();
+        constraints.push(Constraint {
+            component: cut.component,
+            a: attach(cut.a),
+            b: attach(cut.b),
+            connectors,
+            kind: cut.kind,
+            row,
+            rows,
+            joint,
+        });
+        row += rows;
+        if cut.joint.is_some() {
+            // The cut joint's coordinates: its slot among the component's joints.
+            let position = components[cut.component].parts[..cut.part]
+                .iter()
+                .filter(|p| matches!(p, crate::components::Part::Joint { .. } | crate::components::Part::Owner { .. }))
+                .count();
+            let joints = &mut components[cut.component].joints;
+            if joints.len() <= position {
+                joints.resize(position + 1, JointRef::Cut(usize::MAX));
+            }
+            joints[position] = JointRef::Cut(index);
+        }
+    }
+    (constraints, row, cut_nq, cut_nv)
+}
+
+/// Each constraint's loop: the tree joints between its two ends, and how
+/// many of its equations are redundant at the start.
+pub fn loop_reports(mechanism: &Mechanism, ws: &mut Workspace) -> Vec<LoopInfo> {
+    let nv = mechanism.states.nv;
+    let mut reports = Vec::new();
+    for c in &mechanism.constraints {
+        let ends = [c.a.anchor, c.b.anchor].map(|a| match a {
+            crate::mechanism::Anchor::Link(k) => k,
+            crate::mechanism::Anchor::Massless(_) => GROUND,
+        });
+        let path = |mut k: usize| {
+            let mut links = vec![k];
+            while k != GROUND {
+                k = mechanism.links[k].parent;
+                links.push(k);
+            }
+            links
+        };
+        let (pa, pb) = (path(ends[0]), path(ends[1]));
+        let mut joints: Vec<String> = Vec::new();
+        for &k in pa.iter().chain(pb.iter()) {
+            if k != GROUND && !(pa.contains(&k) && pb.contains(&k)) {
+                let name = &mechanism.components[mechanism.links[k].source.0].name;
+                if !joints.contains(name) {
+                    joints.push(name.clone());
+                }
+            }
+        }
+        let cut = mechanism.components[c.component].name.clone();
+        joints.push(cut.clone());
+        // Rank of this constraint's rows alone.
+        let rows = &ws.jac[c.row * nv..(c.row + c.rows) * nv];
+        let mut gram = vec![0.0; c.rows * c.rows];
+        for r in 0..c.rows {
+            for s in 0..c.rows {
+                gram[r * c.rows + s] = (0..nv).map(|i| rows[r * nv + i] * rows[s * nv + i]).sum();
+            }
+        }
+        let mut perm = vec![0; c.rows];
+        let rank = crate::dynamics::dense::ldlt_pivoted(&mut gram, c.rows, &mut perm, 1e-10);
+        reports.push(LoopInfo { cut, joints, equations: c.rows, redundant: c.rows - rank });
+    }
+    reports
+}
+
+/// Moves the start positions and velocities that the model did not fix
+/// onto the constraints (least change), and counts the degrees of freedom.
+pub fn close(mechanism: &mut Mechanism) -> Result<(), Error> {
+    let mut ws = mechanism.workspace();
+    let (nq, nv) = (mechanism.states.nq, mechanism.states.nv);
+    let mut y = mechanism.states.start.clone();
+    let free = free_velocity_coordinates(mechanism);
+    let fixed_values = |range: std::ops::Range<usize>| -> Vec<String> {
+        range
+            .filter(|&i| mechanism.states.fixed[i])
+            .map(|i| format!("{} = {}", mechanism.states.names[i], mechanism.states.start[i]))
+            .collect()
+    };
+    let as_error = |e: crate::DynamicsError| Error::Unsupported {
+        component: mechanism.name.clone(),
+        what: format!("a start state where {}", mechanism.describe(&e)),
+    };
+    let mut best = f64::INFINITY;
+    for _ in 0..NEWTON_ITERATIONS {
+        mechanism.constraint_state(&mut ws, &y).map_err(as_error)?;
+        let size = ws.residual.iter().fold(0.0f64, |a, r| a.max(r.abs()));
+        best = best.min(size);
+        if size <= CLOSED * 1e-2 {
+            break;
+        }
+        mechanism.least_norm_step(&mut ws, Some(&free[..nv]), true);
+        mechanism.retract(&mut y, &mut ws);
+    }
+    mechanism.constraint_state(&mut ws, &y).map_err(as_error)?;
+    let (worst, size) =
+        ws.residual
+            .iter()
+            .enumerate()
+            .fold((0, 0.0f64), |acc, (i, r)| if r.abs() > acc.1 { (i, r.abs()) } else { acc });
+    if size > CLOSED {
+        let reports = loop_reports(mechanism, &mut ws);
+        let c = mechanism.constraints.iter().position(|c| c.row <= worst && worst < c.row + c.rows).unwrap_or(0);
+        return Err(Error::LoopCannotClose {
+            joints: reports[c].joints.clone(),
+            residual: best,
+            fixed: fixed_values(0..nq),
+        });
+    }
+    // Velocities: remove the part that violates the constraints, keeping the fixed ones.
+    mechanism.velocity_residual(&mut ws, &y).map_err(as_error)?;
+    mechanism.least_norm_step(&mut ws, Some(&free[nv..]), false);
+    for i in 0..nv {
+        y[nq + i] += ws.du[i];
+    }
+    mechanism.velocity_residual(&mut ws, &y).map_err(as_error)?;
+    let violation = ws.lambda.iter().fold(0.0f64, |a, r| a.max(r.abs()));
+    let scale = 1.0 + y[nq..].iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    if violation > 1e-9 * scale {
+        let reports = loop_reports(mechanism, &mut ws);
+        let joints = reports.iter().flat_map(|r| r.joints.clone()).collect();
+        return Err(Error::LoopCannotMove { joints, violation, fixed: fixed_values(nq..nq + nv) });
+    }
+    mechanism.constraint_state(&mut ws, &y).map_err(as_error)?;
+    mechanism.states.start = y;
+    mechanism.loops = loop_reports(mechanism, &mut ws);
+    mechanism.dof = nv - mechanism.constraint_rank(&mut ws);
+    Ok(())
+}
+
+/// For positions (first `nv`) and velocities (last `nv`): which velocity
+/// coordinates may change to close the loops.
+fn free_velocity_coordinates(mechanism: &Mechanism) -> Vec<bool> {
+    let (nq, nv) = (mechanism.states.nq, mechanism.states.nv);
+    let fixed = &mechanism.states.fixed;
+    let mut free = vec![true; 2 * nv];
+    for link in &mechanism.links[1..] {
+        for dof in 0..link.joint.nv() {
+            // A joint's rotation coordinates (quaternion or angles) are fixed together.
+            let position_fixed = match link.joint.rotation_coordinates() {
+                Some((offset, rot)) if dof >= link.joint.nv() - 3 => {
+                    (0..rot.nq()).any(|i| fixed[link.q_offset + offset + i])
+                }
+                _ => fixed[link.q_offset + dof.min(link.joint.nq() - 1)],
+            };
+            free[link.v_offset + dof] = !position_fixed;
+            free[nv + link.v_offset + dof] = !fixed[nq + link.v_offset + dof];
+        }
+    }
+    free
+}

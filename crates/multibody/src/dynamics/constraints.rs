@@ -1,0 +1,409 @@
+//! Constraints: the cuts of kinematic loops and the constraint components.
+//!
+//! Each constraint keeps rows `y = 0` between its frames A and B: locked
+//! rotations (`d . R_A (w_B - w_A)`), locked translations of B's origin in
+//! A (`d . R_A (v_B - v_A - w_A x r_AB)`), or a distance. The accelerations
+//! solve `M udot = tau - C + J' lambda`, `J udot = -Jdot u`: with the free
+//! accelerations of the ABA, `udot = udot_free + M^-1 J' lambda` where
+//! `(J M^-1 J') lambda = -Jdot u - J udot_free`. Redundant rows (planar
+//! loops of spatial joints) are handled by a pivoted LDL' that gives them
+//! zero multipliers. After each integration step, positions and velocities
+//! are projected back onto the constraints.
+
+use super::dense::{cholesky, cholesky_solve, ldlt_pivoted, ldlt_solve};
+use super::{DynamicsError, Workspace};
+use crate::components::{ConstraintKind, RotationLock};
+use crate::math::{rotation_vector, Force, Mat3, Motion, RigidInertia, Vec3};
+use crate::mechanism::{Anchor, Attachment, Constraint, GROUND};
+use crate::Mechanism;
+
+/// Rows whose pivot is below this fraction of the largest are redundant.
+const RANK_TOLERANCE: f64 = 1e-10;
+/// Positions are projected when a residual exceeds this (m or rad) ...
+const PROJECT_ABOVE: f64 = 1e-12;
+/// ... in at most this many Newton steps.
+const PROJECTION_ITERATIONS: usize = 10;
+
+/// Where a constraint end is and how it moves, in world coordinates; the
+/// accelerations are those with all joint accelerations zero and no gravity.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct EndState {
+    pub link: usize,
+    pub r: Vec3,
+    pub rot: Mat3,
+    pub w: Vec3,
+    pub v: Vec3,
+    pub alpha: Vec3,
+    pub a: Vec3,
+}
+
+/// One row of a constraint: its kind and direction (frame A coordinates).
+#[derive(Clone, Copy, Debug)]
+enum Row {
+    Rotation(Vec3),
+    Translation(Vec3),
+    Distance,
+}
+
+/// The rows of a constraint at the current state, and their residuals.
+fn rows(kind: &ConstraintKind, a: &EndState, b: &EndState, out: &mut [(Row, f64)]) -> usize {
+    let r_ab = b.r - a.r;
+    let p = a.rot * r_ab;
+    let r_rel = b.rot * a.rot.transpose();
+    let mut n = 0;
+    let mut push = |row: Row, residual: f64| {
+        out[n] = (row, residual);
+        n += 1;
+    };
+    match *kind {
+        ConstraintKind::Locks { rotation, directions, count } => {
+            match rotation {
+                RotationLock::Free => {}
+                RotationLock::All => {
+                    let theta = rotation_vector(&r_rel);
+                    for k in 0..3 {
+                        push(Row::Rotation(crate::math::unit(k)), theta[k]);
+                    }
+                }
+                RotationLock::AllBut(axis) => {
+                    let e1 = crate::components::shapes::width_direction(&axis);
+                    let e2 = axis.cross(&e1);
+                    let misalignment = axis.cross(&r_rel.tr_mul(&axis));
+                    push(Row::Rotation(e1), e1.dot(&misalignment));
+                    push(Row::Rotation(e2), e2.dot(&misalignment));
+                }
+                RotationLock::Universal { n_a, n_b } => {
+                    let n_b_in_a = r_rel.tr_mul(&n_b);
+                    push(Row::Rotation(n_b_in_a.cross(&n_a)), n_a.dot(&n_b_in_a) - n_a.dot(&n_b));
+                }
+            }
+            for d in directions.iter().take(count) {
+                push(Row::Translation(*d), d.dot(&p));
+            }
+        }
+        ConstraintKind::Distance { length } => push(Row::Distance, r_ab.norm() - length),
+    }
+    n
+}
+
+impl Mechanism {
+    /// World kinematics of a constraint end from the workspace's links.
+    pub(crate) fn end_state(&self, ws: &Workspace, att: &Attachment) -> EndState {
+        let Anchor::Link(k) = att.anchor else { return EndState::default() };
+        let lw = &ws.links[k];
+        let p = att.pose.trans;
+        let (v, a) = if k == GROUND { (Motion::ZERO, Motion::ZERO) } else { (lw.v, ws.bias_acc[k]) };
+        let w = lw.rot.tr_mul(&v.ang);
+        let v_point = v.lin + v.ang.cross(&p);
+        // Classical acceleration of the point: a_lin + alpha x p + w x v_point (link coordinates).
+        let a_point = a.lin + a.ang.cross(&p) + v.ang.cross(&v_point);
+        EndState {
+            link: k,
+            r: lw.pos + lw.rot.tr_mul(&p),
+            rot: att.pose.rot * lw.rot,
+            w,
+            v: lw.rot.tr_mul(&v_point),
+            alpha: lw.rot.tr_mul(&a.ang),
+            a: lw.rot.tr_mul(&a_point),
+        }
+    }
+
+    /// Residuals, and if `with_jacobian` the Jacobian rows and the
+    /// velocity-product terms `Jdot u`, of every constraint.
+    pub(crate) fn constraint_terms(&self, ws: &mut Workspace, with_jacobian: bool) {
+        let nv = self.states.nv;
+        let mut buffer = [(Row::Distance, 0.0); 6];
+        if with_jacobian {
+            ws.jac.fill(0.0);
+        }
+        for c in &self.constraints {
+            let (a, b) = (self.end_state(ws, &c.a), self.end_state(ws, &c.b));
+            let count = rows(&c.kind, &a, &b, &mut buffer);
+            let r_ab = b.r - a.r;
+            let w_rel = b.w - a.w;
+            let dv = b.v - a.v;
+            let dr = dv - a.w.cross(&r_ab);
+            for (i, &(row, residual)) in buffer[..count].iter().enumerate() {
+                ws.residual[c.row + i] = residual;
+                if !with_jacobian {
+                    continue;
+                }
+                ws.bias[c.row + i] = match row {
+                    Row::Rotation(d) => {
+                        let mut bias = d.dot(&(a.rot * (b.alpha - a.alpha - a.w.cross(&w_rel))));
+                        if let ConstraintKind::Locks { rotation: RotationLock::Universal { n_a, n_b }, .. } = c.kind {
+                            // The row's direction turns with frame B.
+                            let w_rel_a = a.rot * w_rel;
+                            let n_b_in_a = (b.rot * a.rot.transpose()).tr_mul(&n_b);
+                            bias += w_rel_a.cross(&n_b_in_a).cross(&n_a).dot(&w_rel_a);
+                        }
+                        bias
+                    }
+                    Row::Translation(d) => {
+                        let ddr = b.a - a.a - a.alpha.cross(&r_ab) - a.w.cross(&dv);
+                        d.dot(&(a.rot * (ddr - a.w.cross(&dr))))
+                    }
+                    Row::Distance => {
+                        let length = r_ab.norm().max(f64::MIN_POSITIVE);
+                        let e = r_ab / length;
+                        e.dot(&(b.a - a.a)) + (dv.norm_squared() - e.dot(&dv).powi(2)) / length
+                    }
+                };
+                let jac_row = &mut ws.jac[(c.row + i) * nv..(c.row + i + 1) * nv];
+                for (end, sign) in [(&b, 1.0), (&a, -1.0)] {
+                    // Translations are of B's origin relative to A's frame: for A, at B's origin too.
+                    let point = match row {
+                        Row::Distance => end.r,
+                        _ => b.r,
+                    };
+                    let mut k = end.link;
+                    while k != GROUND {
+                        let link = &self.links[k];
+                        let lw = &ws.links[k];
+                        for dof in 0..link.joint.nv() {
+                            let s = if link.joint.nv() == 1 { lw.s } else { ws.multi[ws.multi_index[k]].s[dof] };
+                            let dw = lw.rot.tr_mul(&s.ang);
+                            let dv_point = lw.rot.tr_mul(&s.lin) + dw.cross(&(point - lw.pos));
+                            let value = match row {
+                                Row::Rotation(d) => d.dot(&(a.rot * dw)),
+                                Row::Translation(d) => d.dot(&(a.rot * dv_point)),
+                                Row::Distance => (r_ab / r_ab.norm().max(f64::MIN_POSITIVE)).dot(&dv_point),
+                            };
+                            jac_row[link.v_offset + dof] += sign * value;
+                        }
+                        k = link.parent;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Link accelerations with every joint acceleration zero and no
+    /// gravity: what `Jdot u` is made of.
+    fn bias_accelerations(&self, ws: &mut Workspace) {
+        ws.bias_acc[GROUND] = Motion::ZERO;
+        for k in 1..self.links.len() {
+            let parent = ws.bias_acc[self.links[k].parent];
+            ws.bias_acc[k] = ws.links[k].x_up.apply_motion(&parent) + ws.links[k].c;
+        }
+    }
+
+    /// The joint-space mass matrix by the composite-rigid-body algorithm,
+    /// into `ws.mass` (from the transforms of the last kinematics pass).
+    fn mass_matrix(&self, ws: &mut Workspace) {
+        let nv = self.states.nv;
+        ws.mass.fill(0.0);
+        for (k, link) in self.links.iter().enumerate() {
+            ws.composite[k] = link.inertia;
+        }
+        for k in (1..self.links.len()).rev() {
+            let link = &self.links[k];
+            for dof in 0..link.joint.nv() {
+                let s = |ws: &Workspace, k: usize, d: usize| {
+                    if self.links[k].joint.nv() == 1 {
+                        ws.links[k].s
+                    } else {
+                        ws.multi[ws.multi_index[k]].s[d]
+                    }
+                };
+                let mut f: Force = ws.composite[k].apply(&s(ws, k, dof));
+                let col = link.v_offset + dof;
+                let mut j = k;
+                loop {
+                    let lj = &self.links[j];
+                    for d in 0..lj.joint.nv() {
+                        let value = s(ws, j, d).dot(&f);
+                        ws.mass[(lj.v_offset + d) * nv + col] = value;
+                        ws.mass[col * nv + lj.v_offset + d] = value;
+                    }
+                    if lj.parent == GROUND {
+                        break;
+                    }
+                    f = ws.links[j].x_up.inv_apply_force(&f);
+                    j = lj.parent;
+                }
+            }
+            if link.parent != GROUND {
+                let c: RigidInertia = ws.composite[k].expressed_in_parent(&ws.links[k].x_up);
+                ws.composite[link.parent] += c;
+            }
+        }
+    }
+
+    /// Corrects the free accelerations `ud` for the constraints, keeps the
+    /// multipliers in `ws.lambda`, and updates the link accelerations.
+    pub(crate) fn constrained_accelerations(&self, ws: &mut Workspace, ud: &mut [f64]) -> Result<(), DynamicsError> {
+        let (nv, m) = (self.states.nv, self.constraint_rows);
+        self.bias_accelerations(ws);
+        self.constraint_terms(ws, true);
+        self.mass_matrix(ws);
+        if !cholesky(&mut ws.mass, nv) {
+            return Err(DynamicsError::SingularInertia { link: 1 });
+        }
+        // Y' = (M^-1 J')': one solve per constraint row.
+        ws.y_rows.copy_from_slice(&ws.jac);
+        for r in 0..m {
+            cholesky_solve(&ws.mass, nv, &mut ws.y_rows[r * nv..(r + 1) * nv]);
+        }
+        for r in 0..m {
+            for s in 0..=r {
+                let v: f64 = (0..nv).map(|i| ws.jac[r * nv + i] * ws.y_rows[s * nv + i]).sum();
+                ws.schur[r * m + s] = v;
+                ws.schur[s * m + r] = v;
+            }
+            let j_ud: f64 = (0..nv).map(|i| ws.jac[r * nv + i] * ud[i]).sum();
+            ws.lambda[r] = -ws.bias[r] - j_ud;
+        }
+        let rank = ldlt_pivoted(&mut ws.schur, m, &mut ws.perm, RANK_TOLERANCE);
+        ldlt_solve(&ws.schur, m, &ws.perm, rank, &mut ws.lambda, &mut ws.work);
+        for r in 0..m {
+            let l = ws.lambda[r];
+            for i in 0..nv {
+                ud[i] += ws.y_rows[r * nv + i] * l;
+            }
+        }
+        // Link accelerations with the constrained joint accelerations.
+        for k in 1..self.links.len() {
+            let link = &self.links[k];
+            let mut a = ws.links[k].x_up.apply_motion(&ws.links[link.parent].a) + ws.links[k].c;
+            for d in 0..link.joint.nv() {
+                let s = if link.joint.nv() == 1 { ws.links[k].s } else { ws.multi[ws.multi_index[k]].s[d] };
+                a += s * ud[link.v_offset + d];
+            }
+            ws.links[k].a = a;
+        }
+        Ok(())
+    }
+
+    /// Moves `y` onto the constraints: positions by Newton steps of least
+    /// norm, then velocities by removing their constraint-violating part.
+    /// Returns whether anything changed.
+    pub fn project(&self, ws: &mut Workspace, y: &mut [f64]) -> Result<bool, DynamicsError> {
+        if self.constraints.is_empty() {
+            return Ok(false);
+        }
+        let (nq, nv) = (self.states.nq, self.states.nv);
+        let mut changed = false;
+        for _ in 0..PROJECTION_ITERATIONS {
+            self.constraint_state(ws, y)?;
+            if ws.residual.iter().all(|r| r.abs() <= PROJECT_ABOVE) {
+                break;
+            }
+            self.least_norm_step(ws, None, true);
+            self.retract(y, ws);
+            changed = true;
+        }
+        self.velocity_residual(ws, y)?;
+        if ws.lambda.iter().any(|v| *v != 0.0) {
+            self.least_norm_step(ws, None, false);
+            for i in 0..nv {
+                y[nq + i] += ws.du[i];
+            }
+            changed = true;
+        }
+        Ok(changed)
+    }
+
+    /// Kinematics, constraint residuals and Jacobian at the state `y`.
+    pub(crate) fn constraint_state(&self, ws: &mut Workspace, y: &[f64]) -> Result<(), DynamicsError> {
+        let (q, u) = y.split_at(self.states.nq);
+        self.kinematics_and_bias(ws, q, u)?;
+        ws.bias_acc.fill(Motion::ZERO);
+        self.constraint_terms(ws, true);
+        Ok(())
+    }
+
+    /// The constraint velocities `J u` at the state `y`, into `ws.lambda`.
+    pub(crate) fn velocity_residual(&self, ws: &mut Workspace, y: &[f64]) -> Result<(), DynamicsError> {
+        self.constraint_state(ws, y)?;
+        let (nq, nv, m) = (self.states.nq, self.states.nv, self.constraint_rows);
+        for r in 0..m {
+            ws.lambda[r] = (0..nv).map(|i| ws.jac[r * nv + i] * y[nq + i]).sum();
+        }
+        Ok(())
+    }
+
+    /// The least-norm step `du = -J' (J J')^+ e` in the velocity
+    /// coordinates marked `free` (all if `None`) that removes the position
+    /// residuals (`positions`) or the velocity residuals in `ws.lambda`.
+    pub(crate) fn least_norm_step(&self, ws: &mut Workspace, free: Option<&[bool]>, positions: bool) {
+        let (nv, m) = (self.states.nv, self.constraint_rows);
+        if let Some(free) = free {
+            for r in 0..m {
+                for i in 0..nv {
+                    if !free[i] {
+                        ws.jac[r * nv + i] = 0.0;
+                    }
+                }
+            }
+        }
+        if positions {
+            ws.lambda.copy_from_slice(&ws.residual);
+        }
+        for r in 0..m {
+            for s in 0..=r {
+                let v: f64 = (0..nv).map(|i| ws.jac[r * nv + i] * ws.jac[s * nv + i]).sum();
+                ws.schur[r * m + s] = v;
+                ws.schur[s * m + r] = v;
+            }
+        }
+        let rank = ldlt_pivoted(&mut ws.schur, m, &mut ws.perm, RANK_TOLERANCE);
+        ldlt_solve(&ws.schur, m, &ws.perm, rank, &mut ws.lambda, &mut ws.work);
+        for i in 0..nv {
+            ws.du[i] = -(0..m).map(|r| ws.jac[r * nv + i] * ws.lambda[r]).sum::<f64>();
+        }
+    }
+
+    /// `q <- q (+) du`: moves the positions by the velocity-coordinate step
+    /// `ws.du` (the linear part of each joint's `dq/dt`).
+    pub(crate) fn retract(&self, y: &mut [f64], ws: &mut Workspace) {
+        for link in &self.links[1..] {
+            let (nq, nv) = (link.joint.nq(), link.joint.nv());
+            let q = &y[link.q_offset..link.q_offset + nq];
+            let mut with = [0.0; 7];
+            let mut without = [0.0; 7];
+            link.joint.qdot(q, &ws.du[link.v_offset..link.v_offset + nv], &mut with[..nq]);
+            link.joint.qdot(q, &[0.0; 6][..nv], &mut without[..nq]);
+            for i in 0..nq {
+                y[link.q_offset + i] += with[i] - without[i];
+            }
+        }
+    }
+
+    /// Rank of the constraint Jacobian at the workspace's state.
+    pub(crate) fn constraint_rank(&self, ws: &mut Workspace) -> usize {
+        let (nv, m) = (self.states.nv, self.constraint_rows);
+        for r in 0..m {
+            for s in 0..=r {
+                let v: f64 = (0..nv).map(|i| ws.jac[r * nv + i] * ws.jac[s * nv + i]).sum();
+                ws.schur[r * m + s] = v;
+                ws.schur[s * m + r] = v;
+            }
+        }
+        ldlt_pivoted(&mut ws.schur, m, &mut ws.perm, RANK_TOLERANCE)
+    }
+
+    /// The wrenches (world force and moment about each end's origin) that
+    /// constraint `c` applies to its ends, from the multipliers.
+    pub(crate) fn constraint_wrenches(&self, ws: &Workspace, c: &Constraint) -> ((Vec3, Vec3), (Vec3, Vec3)) {
+        let (a, b) = (self.end_state(ws, &c.a), self.end_state(ws, &c.b));
+        let mut buffer = [(Row::Distance, 0.0); 6];
+        let count = rows(&c.kind, &a, &b, &mut buffer);
+        let (mut force, mut torque) = (Vec3::zeros(), Vec3::zeros());
+        for (i, &(row, _)) in buffer[..count].iter().enumerate() {
+            let l = ws.lambda[c.row + i];
+            match row {
+                Row::Rotation(d) => torque += a.rot.tr_mul(&d) * l,
+                Row::Translation(d) => force += a.rot.tr_mul(&d) * l,
+                Row::Distance => force += (b.r - a.r) / (b.r - a.r).norm().max(f64::MIN_POSITIVE) * l,
+            }
+        }
+        let r_ab = b.r - a.r;
+        let on_b = (force, torque);
+        let on_a = match c.kind {
+            ConstraintKind::Distance { .. } => (-force, Vec3::zeros()),
+            _ => (-force, -torque - r_ab.cross(&force)),
+        };
+        (on_a, on_b)
+    }
+}
