@@ -146,12 +146,25 @@ impl ConnectionGraph {
                 map.add_connection(written);
             }
         }
+        // A declared connector must reach a component inside its owner;
+        // otherwise connections to it from outside have no effect.
+        let mut leaves_of: HashMap<usize, Vec<&str>> = HashMap::new();
+        for i in 0..n {
+            if matches!(self.nodes[i].kind, NodeKind::Leaf(_)) {
+                leaves_of.entry(find(&mut parent, i)).or_default().push(&self.nodes[i].name);
+            }
+        }
         let mut warnings = Vec::new();
         let mut warned: Vec<Span> = Vec::new();
         for i in 0..n {
             if let NodeKind::Declared { declaration, owner, .. } = &self.nodes[i].kind {
                 let root = find(&mut parent, i);
-                if !representative.contains_key(&root) && !warned.contains(declaration) {
+                let inside = match self.nodes[i].name.rsplit_once('.') {
+                    Some((instance, _)) => format!("{instance}."),
+                    None => String::new(),
+                };
+                let reaches = leaves_of.get(&root).is_some_and(|l| l.iter().any(|name| name.starts_with(&inside)));
+                if !reaches && !warned.contains(declaration) {
                     warned.push(*declaration);
                     let local = self.nodes[i].name.rsplit('.').next().unwrap_or_default();
                     warnings.push(

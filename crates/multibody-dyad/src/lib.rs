@@ -138,7 +138,7 @@ impl Package {
     }
 
     /// Components that no other component uses and that are not partial:
-    /// the candidates to simulate on their own.
+    /// the candidates to simulate on their own (an analysis's model is one).
     pub fn top_components(&self) -> Vec<Definition> {
         let used: Vec<String> = self
             .files
@@ -153,8 +153,7 @@ impl Package {
                         _ => None,
                     })
                     .collect(),
-                Item::Analysis(a) => a.model.iter().map(|m| m.kind.text()).collect(),
-                Item::TypeAlias(_) => Vec::new(),
+                Item::Analysis(_) | Item::TypeAlias(_) => Vec::new(),
             })
             .collect();
         self.definitions()

@@ -1,0 +1,257 @@
+//! What the supported language means: modifiers, parameters, user
+//! components and their connectors, packages of several files, and the
+//! analysis options.
+
+use multibody::{Method, Value};
+use multibody_dyad::{Lowered, Package};
+
+fn package(files: &[(&str, &str)]) -> Package {
+    let mut p = Package::new();
+    for (name, text) in files {
+        if let Err(d) = p.add_source(*name, *text) {
+            panic!("{}", d.render(p.sources(), false));
+        }
+    }
+    p
+}
+
+fn analysis(text: &str, name: &str) -> Lowered {
+    let p = package(&[("test.dyad", text)]);
+    p.lower_analysis(name).unwrap_or_else(|d| panic!("{}", d.render(p.sources(), false)))
+}
+
+fn component(text: &str, name: &str) -> Lowered {
+    let p = package(&[("test.dyad", text)]);
+    p.lower_component(name).unwrap_or_else(|d| panic!("{}", d.render(p.sources(), false)))
+}
+
+fn error(text: &str, name: &str) -> String {
+    let p = package(&[("test.dyad", text)]);
+    let lowered =
+        if text.contains(&format!("analysis {name}")) { p.lower_analysis(name) } else { p.lower_component(name) };
+    match lowered {
+        Ok(l) => match l.assemble() {
+            Ok(_) => panic!("expected an error"),
+            Err(d) => d.render(p.sources(), false),
+        },
+        Err(d) => d.render(p.sources(), false),
+    }
+}
+
+const PENDULUM: &str = r#"
+example component Pendulum
+  parameter L::Length = 0.5
+  world = MultibodyComponents.World()
+  joint = MultibodyComponents.Revolute(phi(initial = 0.1))
+  body = MultibodyComponents.Body(r_cm = [L, 0, 0])
+relations
+  connect(world.frame_b, joint.frame_a)
+  connect(joint.frame_b, body.frame_a)
+end
+"#;
+
+fn with_analysis(extends: &str) -> String {
+    format!("{PENDULUM}\nanalysis Sim\n  extends {extends}\n  model = Pendulum()\nend\n")
+}
+
+#[test]
+fn analysis_options_map_to_the_engine() {
+    let l = analysis(&with_analysis("TransientAnalysis(start = 1, stop = 2, abstol = 1e-8, reltol = 1e-7, saveat = 0.1, dtmax = 0.05, alg = ODEAlg.Auto())"), "Sim");
+    let o = &l.options;
+    assert_eq!((o.start, o.stop, o.abstol, o.reltol, o.saveat, o.dtmax), (1.0, 2.0, 1e-8, 1e-7, 0.1, 0.05));
+    assert_eq!(o.method, Method::DormandPrince45);
+    assert!(l.warnings.is_empty());
+    assert!(l.from_analysis);
+    assert_eq!(l.name, "Sim");
+
+    let l = analysis(&with_analysis("Dyad.TransientAnalysis(stop = 1, saveat = 0.01, alg = \"RK4\")"), "Sim");
+    assert_eq!(l.options.method, Method::Rk4 { dt: 0.01 });
+    let l = analysis(&with_analysis("TransientAnalysis(stop = 1, dtmax = 0.002, alg = ODEAlg.RK4())"), "Sim");
+    assert_eq!(l.options.method, Method::Rk4 { dt: 0.002 });
+    let l = analysis(&with_analysis("TransientAnalysis(stop = 1, alg = \"auto\")"), "Sim");
+    assert_eq!(l.options.method, Method::DormandPrince45);
+
+    // Methods that are not available fall back to the default, with a warning that says so.
+    let l = analysis(&with_analysis("TransientAnalysis(stop = 1, alg = \"Rodas5P\", progress = false)"), "Sim");
+    assert_eq!(l.options.method, Method::DormandPrince45);
+    let warnings: Vec<&str> = l.warnings.iter().map(|w| w.message.as_str()).collect();
+    assert!(warnings.iter().any(|w| w.contains("`Rodas5P` is not available")), "{warnings:?}");
+    assert!(warnings.iter().any(|w| w.contains("`progress` has no effect")), "{warnings:?}");
+
+    let e = error(&with_analysis("TransientAnalysis(stop = 1, alg = \"RK4\")"), "Sim");
+    assert!(e.contains("RK4 takes a fixed step"), "{e}");
+}
+
+#[test]
+fn analysis_parameters_and_model_modifiers() {
+    let text = format!(
+        "{PENDULUM}\nanalysis Sim\n  extends TransientAnalysis(stop = T)\n  parameter T::Time = 3\n  parameter length::Length = 2\n  model = Pendulum(L = length / 2, joint(phi(initial = 0.7)))\nend\n"
+    );
+    let l = analysis(&text, "Sim");
+    assert_eq!(l.options.stop, 3.0);
+    let body = l.model.component("body").unwrap();
+    assert_eq!(body.param("r_cm"), Some(&Value::Array(vec![1.0, 0.0, 0.0])));
+    let joint = l.model.component("joint").unwrap();
+    assert_eq!(joint.initial, vec![("phi".to_string(), Value::Number(0.7))]);
+}
+
+const ARM: &str = r#"
+"An arm: a joint and a body, offered through two frames"
+component Arm
+  frame_a = Frame3D()
+  frame_b = Frame3D()
+  parameter L::Length = 1
+  parameter state::OrientationState = OrientationState.None()
+  joint = MultibodyComponents.Revolute(phi(initial = 0), w(guess = 0.5))
+  rod = MultibodyComponents.FixedTranslation(r = [L, 0, 0])
+  body = MultibodyComponents.Body(r_cm = [L / 2, 0, 0], orientation_state = state)
+relations
+  connect(frame_a, joint.frame_a)
+  connect(joint.frame_b, rod.frame_a, body.frame_a)
+  connect(rod.frame_b, frame_b)
+end
+"#;
+
+#[test]
+fn user_components_flatten_with_their_connectors() {
+    let text = format!(
+        "{ARM}\nexample component Robot\n  world = MultibodyComponents.World()\n  upper = Arm(L = 2)\n  lower = Arm(joint(phi(initial = 0.3)))\nrelations\n  connect(world.frame_b, upper.frame_a)\n  connect(upper.frame_b, lower.frame_a)\nend\n"
+    );
+    let l = component(&text, "Robot");
+    let names: Vec<&str> = l.model.components.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, ["world", "upper.joint", "upper.rod", "upper.body", "lower.joint", "lower.rod", "lower.body"]);
+    assert_eq!(l.model.component("upper.rod").unwrap().param("r"), Some(&Value::Array(vec![2.0, 0.0, 0.0])));
+    assert_eq!(l.model.component("lower.body").unwrap().param("r_cm"), Some(&Value::Array(vec![0.5, 0.0, 0.0])));
+    // The outer modifier wins over the inner start value; the guess stays.
+    let lower_joint = l.model.component("lower.joint").unwrap();
+    assert_eq!(lower_joint.initial, vec![("phi".to_string(), Value::Number(0.3))]);
+    assert_eq!(lower_joint.guess, vec![("w".to_string(), Value::Number(0.5))]);
+    // Only the engine's connectors are connected: the arms' frames are resolved.
+    let connections: Vec<Vec<&str>> =
+        l.model.connections.iter().map(|c| c.ends.iter().map(String::as_str).collect()).collect();
+    assert!(connections.contains(&vec!["world.frame_b", "upper.joint.frame_a"]), "{connections:?}");
+    assert!(connections.contains(&vec!["upper.rod.frame_b", "lower.joint.frame_a"]), "{connections:?}");
+    assert!(connections.iter().flatten().all(|e| !e.ends_with("frame_a") || e.matches('.').count() >= 1));
+    assert!(!connections.iter().flatten().any(|e| *e == "upper.frame_a" || *e == "lower.frame_b"));
+    let mechanism = l.assemble().unwrap();
+    assert_eq!(mechanism.degrees_of_freedom(), 2);
+}
+
+#[test]
+fn enumeration_parameters_pass_through_user_components() {
+    let text = format!("{ARM}\nexample component Free\n  world = MultibodyComponents.World()\n  arm = Arm(state = OrientationState.Quaternion())\nend\n");
+    let l = component(&text, "Free");
+    let body = l.model.component("arm.body").unwrap();
+    assert_eq!(body.param("orientation_state"), Some(&Value::Enum("OrientationState.Quaternion".into())));
+    let e = error(&text.replace("OrientationState.Quaternion()", "RootedFrame.FrameA()"), "Free");
+    assert!(e.contains("wrong type for the parameter `state`"), "{e}");
+}
+
+#[test]
+fn a_package_spans_files() {
+    let p = package(&[
+        ("arm.dyad", ARM),
+        (
+            "robot.dyad",
+            "example component Robot\n  world = World()\n  arm = Arm()\nrelations\n  connect(world.frame_b, arm.frame_a)\nend\nanalysis Go\n  extends TransientAnalysis(stop = 0.1)\n  model = Robot()\nend\n",
+        ),
+    ]);
+    let l = p.lower_analysis("Go").unwrap();
+    assert_eq!(l.model.components.len(), 4);
+    let names: Vec<String> = p.top_components().into_iter().map(|d| d.name).collect();
+    assert_eq!(names, ["Robot"]);
+    let solution = l.assemble().unwrap().simulate(&l.options).unwrap();
+    assert_eq!(solution.time().last(), Some(&0.1));
+}
+
+#[test]
+fn start_values_missing_guesses_and_relations() {
+    let text = r#"
+example component Free
+  world = MultibodyComponents.World()
+  body = MultibodyComponents.Body(orientation_state = OrientationState.Quaternion(), r_0(initial = missing), v_0(initial = [1, 0, 0], guess = [0, 0, 0]))
+relations
+  initial body.w_a = [0, 0, 1]
+end
+"#;
+    let l = component(text, "Free");
+    let body = l.model.component("body").unwrap();
+    assert_eq!(
+        body.initial,
+        vec![
+            ("v_0".to_string(), Value::Array(vec![1.0, 0.0, 0.0])),
+            ("w_a".to_string(), Value::Array(vec![0.0, 0.0, 1.0]))
+        ]
+    );
+    assert_eq!(body.guess, vec![("v_0".to_string(), Value::Array(vec![0.0, 0.0, 0.0]))]);
+    let e = error(&text.replace("r_0(initial = missing)", "r_00(initial = missing)"), "Free");
+    assert!(e.contains("Body has no variable `r_00`") && e.contains("did you mean `r_0`?"), "{e}");
+}
+
+#[test]
+fn expressions_types_and_bounds() {
+    let text = r#"
+type Len = Real(units = "m", min = 0)
+type Vec3 = Real[3]
+example component M
+  parameter n::Integer = 2
+  parameter L::Len = sqrt(2) ^ 2 / n
+  parameter r::Vec3 = [L, -L, abs(-3)] * 2
+  parameter diag::Real[2, 2] = [[1, 0], [0, 1]]
+  parameter picked::Real = r[3] + diag[2, 2]
+  parameter flag::Boolean = true
+  parameter C₁::Real = 1
+  world = MultibodyComponents.World()
+  body = MultibodyComponents.Body(m = picked + C₁, r_cm = r, orientation_state = OrientationState.Quaternion())
+end
+"#;
+    let l = component(text, "M");
+    let body = l.model.component("body").unwrap();
+    assert_eq!(body.param("m"), Some(&Value::Number(8.0)));
+    let Some(Value::Array(r)) = body.param("r_cm") else { panic!() };
+    assert!((r[0] - 2.0).abs() < 1e-15 && (r[1] + 2.0).abs() < 1e-15 && r[2] == 6.0, "{r:?}");
+    let e = error(&text.replace("parameter n::Integer = 2", "parameter n::Integer = -2"), "M");
+    assert!(e.contains("must be at least 0"), "{e}");
+    let e = error(&text.replace("parameter n::Integer = 2", "parameter n::Integer = 2.5"), "M");
+    assert!(e.contains("whole number"), "{e}");
+}
+
+#[test]
+fn declared_connectors_that_reach_nothing_are_reported() {
+    let text = "component Empty\n  frame_a = Frame3D()\nend\nexample component M\n  world = World()\n  e = Empty()\nrelations\n  connect(world.frame_b, e.frame_a)\nend\n";
+    let l = component(text, "M");
+    assert_eq!(l.warnings.len(), 1);
+    assert!(l.warnings[0].message.contains("`frame_a` of `Empty` reaches no component"), "{:?}", l.warnings);
+    assert!(l.model.connections.is_empty());
+}
+
+#[test]
+fn the_documentation_examples_parse() {
+    // From the notes on the language: old-style metadata, `#` docs, `;`, empty relations.
+    let text = r#"
+# Linear 1D rotational spring
+component Spring
+  spline_a = Spline() [{
+    "JuliaSim": {"placement": {"icon": {"x1": -50, "y1": 450, "x2": 50, "y2": 550}}}
+  }]
+  spline_b = Spline() [{
+    "JuliaSim": {"placement": {"icon": {"x1": 950, "y1": 450, "x2": 1050, "y2": 550}}}
+  }];
+  # Spring constant
+  parameter c::RotationalSpringConstant(final min = 0) = 100000
+relations
+metadata {"JuliaSim": {"icons": {"default": "jsml://RotationalComponents/Spring.svg"}}}
+end
+
+example component EulerBody
+  world = MultibodyComponents.World()
+  body = MultibodyComponents.Body(m = 1, r_cm = [0.0, 0, 0], orientation_state = OrientationState.Euler())
+relations
+metadata {}
+end
+"#;
+    let l = component(text, "EulerBody");
+    assert_eq!(l.assemble().unwrap().degrees_of_freedom(), 6);
+    let spring = component(text, "Spring");
+    assert!(spring.model.components.is_empty());
+}
