@@ -35,6 +35,22 @@ impl Val {
         }
     }
 
+    /// How deeply arrays nest in the value (0 for a number).
+    pub fn depth(&self) -> usize {
+        match self {
+            Val::Array(items) => 1 + items.iter().map(Val::depth).max().unwrap_or(0),
+            _ => 0,
+        }
+    }
+
+    /// How many values (numbers, ...) the value holds.
+    pub fn size(&self) -> usize {
+        match self {
+            Val::Array(items) => items.iter().map(Val::size).sum(),
+            _ => 1,
+        }
+    }
+
     /// The sizes of a rectangular array of numbers (`[]` for a number).
     pub fn shape(&self) -> Option<Vec<usize>> {
         match self {
@@ -103,6 +119,11 @@ const FUNCTIONS: &[(&str, usize)] = &[
     ("max", 2),
 ];
 
+/// Arrays may nest this deep and hold this many numbers in all: parameters
+/// built from parameters could otherwise grow without bound.
+const MAX_ARRAY_DEPTH: usize = 16;
+const MAX_ARRAY_SIZE: usize = 1_000_000;
+
 type EResult = Result<Val, Diagnostic>;
 
 /// Evaluates `expr` with the parameters of `scope`.
@@ -113,7 +134,7 @@ pub fn eval(expr: &Expr, scope: &mut dyn Scope) -> EResult {
         ExprKind::Str(s) => Val::Str(s.clone()),
         ExprKind::Name(path) => name(path, scope)?,
         ExprKind::Call { callee, args } => call(callee, args, expr.span, scope)?,
-        ExprKind::Array(items) => Val::Array(items.iter().map(|e| eval(e, scope)).collect::<Result<_, _>>()?),
+        ExprKind::Array(items) => array(items, expr.span, scope)?,
         ExprKind::Index { base, indices } => index(base, indices, scope)?,
         ExprKind::Unary { op, operand } => {
             let v = eval(operand, scope)?;
@@ -135,6 +156,24 @@ pub fn eval(expr: &Expr, scope: &mut dyn Scope) -> EResult {
         }
     };
     finite(value, expr.span)
+}
+
+/// An array literal, within the size limits.
+fn array(items: &[Expr], span: Span, scope: &mut dyn Scope) -> EResult {
+    let mut values = Vec::with_capacity(items.len());
+    let (mut depth, mut size) = (1, 0);
+    for item in items {
+        let value = eval(item, scope)?;
+        depth = depth.max(1 + value.depth());
+        size += value.size();
+        if depth > MAX_ARRAY_DEPTH || size > MAX_ARRAY_SIZE {
+            return Err(Diagnostic::error("this array is too large")
+                .primary(span, "too large")
+                .note(format!("arrays hold at most {MAX_ARRAY_SIZE} numbers, nested at most {MAX_ARRAY_DEPTH} deep")));
+        }
+        values.push(value);
+    }
+    Ok(Val::Array(values))
 }
 
 fn finite(value: Val, span: Span) -> EResult {

@@ -9,7 +9,7 @@ use crate::types::{self, BaseType};
 use std::collections::HashMap;
 
 /// How deeply parameters may refer to parameters.
-const MAX_CHAIN: usize = 100;
+const MAX_CHAIN: usize = 32;
 
 pub struct ParamScope<'a, 'i> {
     /// The component (or analysis) the parameters belong to, for messages.

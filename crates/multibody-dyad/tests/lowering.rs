@@ -255,3 +255,16 @@ end
     let spring = component(text, "Spring");
     assert!(spring.model.components.is_empty());
 }
+
+#[test]
+fn values_cannot_grow_without_bound() {
+    // Each parameter is four copies of the next: 4^12 numbers if unchecked.
+    let mut text = String::from("example component M\n  world = World()\n");
+    for i in 0..12 {
+        let dims = vec![":"; 12 - i].join(", ");
+        text.push_str(&format!("  parameter p{i}::Real[{dims}] = [p{n}, p{n}, p{n}, p{n}]\n", n = i + 1));
+    }
+    text.push_str("  parameter p12::Real = 1\nend\n");
+    let e = error(&text, "M");
+    assert!(e.contains("this array is too large"), "{e}");
+}
