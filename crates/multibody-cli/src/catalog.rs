@@ -2,7 +2,7 @@
 //! the engine's registry.
 
 use crate::exit::Failure;
-use multibody::components::{lookup, registry, ComponentSpec};
+use multibody::components::{lookup, registry, ComponentSpec, Shape};
 
 pub fn list() -> Result<(), Failure> {
     let width = registry().iter().map(|s| s.kind.len()).max().unwrap_or(0);
@@ -29,54 +29,50 @@ pub fn describe(kind: &str) -> Result<(), Failure> {
 
 fn description(spec: &ComponentSpec) -> String {
     let mut out = format!("{}\n\n{}", spec.kind, wrap(spec.doc, 100, ""));
-    let mut table = |title: &str, rows: Vec<[String; 4]>| {
-        if rows.is_empty() {
-            out.push_str(&format!("\n{title}: none\n"));
-            return;
-        }
-        out.push_str(&format!("\n{title}:\n"));
-        let widths: Vec<usize> = (0..3).map(|i| rows.iter().map(|r| r[i].chars().count()).max().unwrap_or(0)).collect();
-        for r in rows {
-            let line = format!(
-                "  {:w0$}  {:w1$}  {:w2$}  {}",
-                r[0],
-                r[1],
-                r[2],
-                r[3],
-                w0 = widths[0],
-                w1 = widths[1],
-                w2 = widths[2]
-            );
-            out.push_str(line.trim_end());
-            out.push('\n');
-        }
-    };
     let params = spec
         .params
         .iter()
-        .map(|p| [p.name.to_string(), format!("= {}", p.default), unit(p.unit), p.doc.to_string()])
+        .map(|p| vec![p.name.to_string(), format!("= {}", p.default), unit(p.unit), p.doc.to_string()])
         .collect();
-    table("Parameters (name, default, unit, description)", params);
-    let connectors = spec
-        .connectors
-        .iter()
-        .map(|c| [c.name.to_string(), c.ty.name().to_string(), String::new(), c.doc.to_string()])
-        .collect();
-    table("Connectors", connectors);
+    table(&mut out, "Parameters (name, default, unit, description)", params);
+    let connectors =
+        spec.connectors.iter().map(|c| vec![c.name.to_string(), c.ty.name().to_string(), c.doc.to_string()]).collect();
+    table(&mut out, "Connectors (name, type, description)", connectors);
     let variables = spec
         .variables
         .iter()
         .map(|v| {
             let shape = match v.shape {
-                multibody::components::Shape::Scalar => String::new(),
-                multibody::components::Shape::Vector(n) => format!("[{n}]"),
-                multibody::components::Shape::Matrix(r, c) => format!("[{r}, {c}]"),
+                Shape::Scalar => String::new(),
+                Shape::Vector(n) => format!("[{n}]"),
+                Shape::Matrix(r, c) => format!("[{r}, {c}]"),
             };
-            [format!("{}{shape}", v.name), unit(v.unit), String::new(), v.doc.to_string()]
+            vec![format!("{}{shape}", v.name), unit(v.unit), v.doc.to_string()]
         })
         .collect();
-    table("Variables (name, unit, description)", variables);
+    table(&mut out, "Variables (name, unit, description)", variables);
     out
+}
+
+/// Aligned columns; the last one (a description) is left ragged.
+fn table(out: &mut String, title: &str, rows: Vec<Vec<String>>) {
+    if rows.is_empty() {
+        out.push_str(&format!("\n{title}: none\n"));
+        return;
+    }
+    out.push_str(&format!("\n{title}:\n"));
+    let columns = rows[0].len();
+    let widths: Vec<usize> =
+        (0..columns).map(|i| rows.iter().map(|r| r[i].chars().count()).max().unwrap_or(0)).collect();
+    for row in rows {
+        let mut line = String::from(" ");
+        for (i, cell) in row.iter().enumerate() {
+            let width = if i + 1 == columns { 0 } else { widths[i] };
+            line.push_str(&format!(" {cell:width$} "));
+        }
+        out.push_str(line.trim_end());
+        out.push('\n');
+    }
 }
 
 fn unit(u: &str) -> String {

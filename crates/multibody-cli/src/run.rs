@@ -145,21 +145,33 @@ fn write_table(out: &mut impl Write, solution: &Solution, signals: &[String]) ->
     Ok(())
 }
 
+/// The final values of the first few states, a vector per line.
 fn print_final_states(mechanism: &Mechanism, solution: &Solution) {
     let Some(t) = solution.time().last() else { return };
-    let values: Vec<String> = mechanism
-        .states()
-        .names
-        .iter()
-        .filter_map(|n| solution.last(n).map(|x| format!("{n} = {}", number(x))))
-        .collect();
-    if values.is_empty() {
+    // Group `body.r_0[1]`, `body.r_0[2]`, ... into `body.r_0`.
+    let mut groups: Vec<(String, Vec<f64>)> = Vec::new();
+    for name in &mechanism.states().names {
+        let Some(value) = solution.last(name) else { continue };
+        let base = name.split_once('[').map_or(name.as_str(), |(b, _)| b);
+        match groups.last_mut() {
+            Some((b, values)) if b == base && name.contains('[') => values.push(value),
+            _ => groups.push((base.to_string(), vec![value])),
+        }
+    }
+    if groups.is_empty() {
         return;
     }
-    let more = values.len().saturating_sub(SUMMARY_STATES);
-    let shown = values.into_iter().take(SUMMARY_STATES).collect::<Vec<_>>().join(", ");
-    let tail = if more > 0 { format!(" (and {more} more)") } else { String::new() };
-    eprintln!("  at t = {}: {shown}{tail}", number(*t));
+    eprintln!("  final state at t = {}:", number(*t));
+    for (name, values) in groups.iter().take(SUMMARY_STATES) {
+        let shown: Vec<String> = values.iter().map(|x| number(*x)).collect();
+        match shown.as_slice() {
+            [one] => eprintln!("    {name} = {one}"),
+            many => eprintln!("    {name} = [{}]", many.join(", ")),
+        }
+    }
+    if groups.len() > SUMMARY_STATES {
+        eprintln!("    ... and {} more in the CSV", groups.len() - SUMMARY_STATES);
+    }
 }
 
 fn method(options: &SimulationOptions) -> String {
