@@ -55,7 +55,7 @@ pub enum Error {
     #[error("the model has {} Worlds ({}); keep exactly one", names.len(), names.join(", "))]
     SeveralWorlds { names: Vec<String> },
 
-    #[error("nothing owns the orientation of the assembly of {}: it is not connected to the World and has no Body with an orientation state.\nTo fix it, either connect it to the World (through joints or fixed parts), or set `orientation_state = Quaternion` (or `Euler`) on one of its Bodies.", list(components))]
+    #[error("nothing owns the orientation of the assembly of {}: it is not connected to the World and has no Body with an orientation state.\nTo fix it, either connect it to the World (through joints or fixed parts), or give it an owner: a Body with `orientation_state = Quaternion` (or `Euler`) rigidly attached to it.", list(components))]
     NoOrientationOwner { components: Vec<String> },
 
     #[error("the assembly of {} has two owners of its orientation, `{first}` and `{second}`; keep exactly one (set the other's `orientation_state` to None, or `isroot = false`)", list(group))]
@@ -69,6 +69,9 @@ pub enum Error {
 
     #[error("the {dof} of `{joint}` has no inertia behind it: what it moves ({}) has no mass or inertia for this motion. Give a body there mass and inertia, or move the mass off the joint axis", list(moved))]
     NoInertia { joint: String, dof: String, moved: Vec<String> },
+
+    #[error("`{component}` starts at the singular configuration of its Euler angles (sequence {sequence:?}, where the first and third axes line up); start it away from it, or use orientation_state = Quaternion")]
+    EulerSingularStart { component: String, sequence: [usize; 3] },
 
     #[error("`{component}.{variable}` is not a state here: {reason}")]
     NotAState { component: String, variable: String, reason: String },
@@ -105,6 +108,7 @@ impl Error {
             | ConnectedRootPointMass { component, .. }
             | OwnerPositionedByJoints { component, .. }
             | NotAState { component, .. }
+            | EulerSingularStart { component, .. }
             | Unsupported { component, .. } => vec![component],
             DuplicateName { name } => vec![name],
             LoopCannotClose { joints, .. } | LoopCannotMove { joints, .. } => {
@@ -178,6 +182,7 @@ pub fn closest<'a>(wanted: &str, candidates: impl IntoIterator<Item = &'a str>) 
         })
         .collect();
     scored.sort();
+    scored.dedup_by(|a, b| a.1 == b.1);
     let limit = (wanted.chars().count() / 3).clamp(1, 3);
     let best: Vec<String> = scored.iter().filter(|(d, _)| *d <= limit).take(3).map(|(_, c)| c.to_string()).collect();
     if best.is_empty() {

@@ -110,7 +110,7 @@ fn connected_root_point_mass_is_refused() {
 /// root point mass, and the fix is `isroot = false` (a PointMass has no
 /// orientation_state to set to None).
 #[test]
-#[ignore = "engine bug: reported as OwnerPositionedByJoints ('joints ... through `world` and `pm`; set its `orientation_state` to None'), a fix a PointMass cannot apply, instead of ConnectedRootPointMass with `isroot = false`"]
+
 fn root_point_mass_connected_to_the_world_is_told_to_drop_isroot() {
     let mut model = world("root_point_mass_on_the_world");
     model.add("pm", "PointMass").set("isroot", true);
@@ -320,7 +320,7 @@ fn initial_value_on_an_unknown_variable() {
 
 /// Each did-you-mean suggestion appears once.
 #[test]
-#[ignore = "engine bug: UnknownVariable suggests `phi` twice ('Did you mean one of these variables: `phi` and `phi`?'): the state names and the kind's variables are both searched"]
+
 fn unknown_variable_suggestions_are_not_repeated() {
     let mut model = world("unknown_variable_suggestions");
     model.add("rev", "Revolute").initial("phii", 0.3);

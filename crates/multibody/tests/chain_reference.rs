@@ -1,9 +1,9 @@
 //! Forward dynamics of the peers' benchmark chain against Pinocchio's ABA
 //! (which agrees with MuJoCo to 1e-13): ../shared/reference/chain_reference_ddq.json.
 
-mod common;
 #[path = "common/chain.rs"]
 mod chain;
+mod common;
 
 #[test]
 fn accelerations_match_pinocchio_and_mujoco() {
@@ -12,7 +12,8 @@ fn accelerations_match_pinocchio_and_mujoco() {
     let json: serde_json::Value = serde_json::from_str(&text).unwrap();
     for n in [1usize, 7, 30, 100] {
         let case = &json["chains"][n.to_string()];
-        let vec_of = |key: &str| -> Vec<f64> { case[key].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect() };
+        let vec_of =
+            |key: &str| -> Vec<f64> { case[key].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect() };
         let (q, v, ddq) = (vec_of("q"), vec_of("v"), vec_of("ddq"));
         let mechanism = chain::benchmark_chain(n).assemble().unwrap();
         let states = mechanism.states();

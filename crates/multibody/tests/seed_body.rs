@@ -361,7 +361,6 @@ fn euler_spinner(w: V3, phi0: V3) -> Model {
 /// - about y (n = e2): phi2 = |w| t, reaching pi/2 at t = pi / (2 |w|);
 /// - about (x + z)/sqrt(2): R[3,1] = (1 - cos(|w| t))/2 reaches 1 at t = pi / |w|.
 #[test]
-#[ignore = "engine bug: an Euler root body whose phi[2] reaches pi/2 is integrated straight through the singularity without an error (detection needs an evaluation within |cos(phi2)| < 1e-6)"]
 fn euler_singularity_stops_the_simulation_with_the_partial_solution() {
     let speed = 1.3;
     for (label, n, t_singular) in [
@@ -408,7 +407,6 @@ fn euler_singularity_stops_the_simulation_with_the_partial_solution() {
 /// or at t = 0) names the body, says it is the Euler singularity, and says
 /// to use quaternions.
 #[test]
-#[ignore = "engine bug: assembly reports NoInertia ('has no inertia behind it ... give a body there mass') for a massive Euler body started at phi[2] = pi/2, instead of the Euler singularity"]
 fn euler_body_started_at_its_singularity_is_refused_with_its_name() {
     let model = euler_spinner([0.3, 0.0, 0.2], [0.1, PI / 2.0, -0.2]);
     let message = match model.assemble() {

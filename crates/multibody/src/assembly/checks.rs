@@ -2,7 +2,7 @@
 
 use super::connections::Connectors;
 use super::links::Tree;
-use crate::dynamics::joint::{JointModel, JointMotion};
+use crate::dynamics::joint::{JointModel, JointMotion, RotationCoordinates};
 use crate::math::RigidInertia;
 use crate::mechanism::{CompiledComponent, GROUND};
 use crate::Error;
@@ -35,6 +35,11 @@ pub fn inertia_behind_every_joint(
     }
     for k in 1..n {
         let l = &links[k];
+        if let (Some(_), Some((_, RotationCoordinates::Euler { sequence }))) =
+            (l.joint.singularity(l.q(q)), l.joint.rotation_coordinates())
+        {
+            return Err(Error::EulerSingularStart { component: components[l.states_of].name.clone(), sequence });
+        }
         let m = &motions[k];
         let ic = &composite[k];
         let scale = ic.mass.max(ic.rot.norm()).max(f64::MIN_POSITIVE);

@@ -227,15 +227,6 @@ pub fn spanning_tree(
     }
     let ground_cluster = joined.find(groups.ground);
     for o in &owners {
-        if joined.find(group(o.node)) == ground_cluster {
-            let through = joint_path(&joints, &group, groups.ground, group(o.node))
-                .into_iter()
-                .map(|k| components[joints[k].component].name.clone())
-                .collect::<Vec<_>>();
-            let through =
-                if through.is_empty() { components_at_group(components, conn, groups, group(o.node)) } else { through };
-            return Err(Error::OwnerPositionedByJoints { component: components[o.component].name.clone(), through });
-        }
         if let (JointModel::Translation, false) = (o.model, o.line_end) {
             let others: Vec<String> = conn.frame_nodes[o.node]
                 .iter()
@@ -248,6 +239,15 @@ pub fn spanning_tree(
                     connected_to: others,
                 });
             }
+        }
+        if joined.find(group(o.node)) == ground_cluster {
+            let through = joint_path(&joints, &group, groups.ground, group(o.node))
+                .into_iter()
+                .map(|k| components[joints[k].component].name.clone())
+                .collect::<Vec<_>>();
+            let through =
+                if through.is_empty() { components_at_group(components, conn, groups, group(o.node)) } else { through };
+            return Err(Error::OwnerPositionedByJoints { component: components[o.component].name.clone(), through });
         }
     }
 

@@ -47,7 +47,7 @@ impl Mechanism {
             let nv = link.joint.nv();
             link.motion(q, u, &mut jm);
             if link.joint.singularity(link.q(q)).is_some() {
-                return Err(DynamicsError::EulerSingularity { link: k });
+                return Err(DynamicsError::EulerSingularity { link: k, time: f64::NAN });
             }
             let parent = ws.links[link.parent];
             let x_up = link.x_tree.then(&jm.x);

@@ -18,8 +18,8 @@ use nalgebra::{Matrix6, Vector6};
 /// Why the dynamics could not be evaluated at a state.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum DynamicsError {
-    /// The Euler angles of a free link reached their singular configuration.
-    EulerSingularity { link: usize },
+    /// The Euler angles of a link reached their singular configuration at `time`.
+    EulerSingularity { link: usize, time: f64 },
     /// The articulated inertia seen by a joint is not positive definite.
     SingularInertia { link: usize },
     /// A value became infinite or NaN.
@@ -148,14 +148,39 @@ impl Mechanism {
                 &mut qd[qo..qo + link.joint.nq()],
             );
         }
-        self.forward_dynamics(ws, t, q, u, ud)
+        self.forward_dynamics(ws, t, q, u, ud).map_err(|e| match e {
+            DynamicsError::EulerSingularity { link, .. } => DynamicsError::EulerSingularity { link, time: t },
+            other => other,
+        })
+    }
+
+    /// Between which singular configurations the middle angle of each
+    /// Euler-angle joint is at the state `y` (they are at pi/2 + k pi for
+    /// sequences of three different axes, at k pi otherwise), or the first
+    /// joint that is at one.
+    pub fn euler_sides(&self, y: &[f64], sides: &mut Vec<f64>) -> Result<(), usize> {
+        sides.clear();
+        for (index, link) in self.links.iter().enumerate().skip(1) {
+            let Some((offset, joint::RotationCoordinates::Euler { sequence })) = link.joint.rotation_coordinates()
+            else {
+                continue;
+            };
+            let q = &y[link.q_offset + offset..link.q_offset + offset + 3];
+            let det = crate::math::axes_rotations_rate_matrix(sequence, &Vec3::new(q[0], q[1], q[2])).determinant();
+            if det.abs() < joint::EULER_SINGULARITY {
+                return Err(index);
+            }
+            let first_singular = if sequence[0] == sequence[2] { 0.0 } else { std::f64::consts::FRAC_PI_2 };
+            sides.push(((q[1] - first_singular) / std::f64::consts::PI).floor());
+        }
+        Ok(())
     }
 
     /// Explains a dynamics error in the model's terms.
     pub fn describe(&self, error: &DynamicsError) -> String {
         let name = |link: usize| self.components[self.links[link].source.0].name.clone();
         match *error {
-            DynamicsError::EulerSingularity { link } => {
+            DynamicsError::EulerSingularity { link, .. } => {
                 let seq = match self.links[link].joint.rotation_coordinates() {
                     Some((_, joint::RotationCoordinates::Euler { sequence })) => sequence,
                     _ => [1, 2, 3],

@@ -153,6 +153,21 @@ impl DormandPrince {
                 if let Err(e) = observe(self) {
                     return stop(t, Failure::Observer(e), stats);
                 }
+                // The end state moves out while the system looks at the step's dense output.
+                let mut end = std::mem::take(&mut self.y);
+                let accepted = sys.accept(&*self, &mut end);
+                self.y = end;
+                match accepted {
+                    Err(e) => return stop(t, Failure::Rhs(e), stats),
+                    Ok(true) => {
+                        // The state moved: the derivative carried over to the next step is stale.
+                        if let Err(e) = sys.rhs(t, &self.y, &mut self.k[0]) {
+                            return stop(t, Failure::Rhs(e), stats);
+                        }
+                        stats.evaluations += 1;
+                    }
+                    Ok(false) => {}
+                }
                 let mut h_new = (h / fac).min(h_max);
                 if rejected_last {
                     h_new = h_new.min(h);

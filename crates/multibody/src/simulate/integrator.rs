@@ -6,6 +6,13 @@ pub trait OdeSystem {
     type Error;
     fn dim(&self) -> usize;
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Self::Error>;
+
+    /// Called after every accepted step (after the observer saw it), with
+    /// the step's dense output: may move the end state `y` (onto
+    /// constraints) and returns whether it did, or stops the integration.
+    fn accept(&mut self, _step: &dyn DenseStep, _y: &mut [f64]) -> Result<bool, Self::Error> {
+        Ok(false)
+    }
 }
 
 /// A solution between two accepted steps, as an observer sees it.

@@ -96,6 +96,8 @@ pub struct SimulationError {
 struct Dynamics<'a> {
     mechanism: &'a Mechanism,
     ws: Workspace,
+    /// Side of the singular configuration of each Euler-angle joint.
+    euler_sides: Vec<f64>,
 }
 
 impl OdeSystem for Dynamics<'_> {
@@ -105,6 +107,59 @@ impl OdeSystem for Dynamics<'_> {
     }
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
         self.mechanism.rhs(&mut self.ws, t, y, dy)
+    }
+
+    fn accept(&mut self, step: &dyn DenseStep, y: &mut [f64]) -> Result<bool, DynamicsError> {
+        if !self.euler_sides.is_empty() {
+            self.euler_crossing(step, y)?;
+        }
+        self.mechanism.project(&mut self.ws, y)
+    }
+}
+
+impl Dynamics<'_> {
+    /// Stops at an Euler-angle joint's singular configuration, also when the
+    /// step went across it (the motion may pass smoothly, the angles not):
+    /// the time is where `det J` changes sign, found on the dense output.
+    fn euler_crossing(&mut self, step: &dyn DenseStep, y: &[f64]) -> Result<(), DynamicsError> {
+        let (t0, t1) = step.span();
+        let sides = |mech: &Mechanism, y: &[f64], out: &mut Vec<f64>| mech.euler_sides(y, out);
+        let mut now = Vec::new();
+        let crossed = match sides(self.mechanism, y, &mut now) {
+            Err(link) => Some(link),
+            Ok(()) => now.iter().zip(&self.euler_sides).position(|(a, b)| a != b).map(|k| self.euler_link(k)),
+        };
+        let Some(link) = crossed else {
+            self.euler_sides = now;
+            return Ok(());
+        };
+        let (mut lo, mut hi) = (t0, t1);
+        let mut mid_state = vec![0.0; y.len()];
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            step.interpolate(mid, &mut mid_state);
+            match sides(self.mechanism, &mid_state, &mut now) {
+                Ok(()) if now == self.euler_sides => lo = mid,
+                _ => hi = mid,
+            }
+        }
+        Err(DynamicsError::EulerSingularity { link, time: hi })
+    }
+
+    /// The link of the k-th Euler-angle joint.
+    fn euler_link(&self, k: usize) -> usize {
+        self.mechanism
+            .links
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| {
+                matches!(
+                    l.joint.rotation_coordinates(),
+                    Some((_, crate::dynamics::joint::RotationCoordinates::Euler { .. }))
+                )
+            })
+            .nth(k)
+            .map_or(0, |(i, _)| i)
     }
 }
 
@@ -202,7 +257,11 @@ impl Mechanism {
         if let Err(e) = recorder.record(options.start, y0) {
             return Err(fail(options.start, self.describe(&e), recorder.solution));
         }
-        let mut system = Dynamics { mechanism: self, ws: self.workspace() };
+        let mut system = Dynamics { mechanism: self, ws: self.workspace(), euler_sides: Vec::new() };
+        if let Err(link) = self.euler_sides(y0, &mut system.euler_sides) {
+            let e = DynamicsError::EulerSingularity { link, time: options.start };
+            return Err(fail(options.start, self.describe(&e), recorder.solution));
+        }
         let (t0, tf) = (options.start, options.stop);
         let result = match options.method {
             Method::DormandPrince45 => {
@@ -216,6 +275,12 @@ impl Mechanism {
         match result {
             Ok(_) => Ok(recorder.solution),
             Err(Stopped { t, failure, .. }) => {
+                // A singularity inside the last step stops at its own time.
+                let t = match failure {
+                    Failure::Rhs(DynamicsError::EulerSingularity { time, .. }) if time.is_finite() => time,
+                    _ => t,
+                };
+                recorder.solution.truncate_after(t);
                 let reason = match failure {
                     Failure::Rhs(e) | Failure::Observer(e) => self.describe(&e),
                     Failure::StepTooSmall { h } => format!(

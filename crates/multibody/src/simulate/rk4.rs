@@ -86,6 +86,19 @@ impl Rk4 {
             if let Err(e) = observe(self) {
                 return Err(Stopped { t: t + h, failure: Failure::Observer(e), stats });
             }
+            let mut end = std::mem::take(&mut self.y);
+            let accepted = sys.accept(&*self, &mut end);
+            self.y = end;
+            match accepted {
+                Err(e) => return Err(Stopped { t: t + h, failure: Failure::Rhs(e), stats }),
+                Ok(true) => {
+                    if let Err(e) = sys.rhs(t + h, &self.y, &mut self.f_new) {
+                        return Err(Stopped { t: t + h, failure: Failure::Rhs(e), stats });
+                    }
+                    stats.evaluations += 1;
+                }
+                Ok(false) => {}
+            }
         }
         Ok(stats)
     }

@@ -29,6 +29,15 @@ impl Solution {
         }
     }
 
+    /// Drops the samples after `t`.
+    pub fn truncate_after(&mut self, t: f64) {
+        let keep = self.time.partition_point(|&s| s <= t);
+        self.time.truncate(keep);
+        for c in &mut self.columns {
+            c.truncate(keep);
+        }
+    }
+
     pub fn time(&self) -> &[f64] {
         &self.time
     }
