@@ -787,6 +787,11 @@
     }
   }
 
+  // Keeps a drag going outside the element (not possible for every pointer).
+  function capture(element, e) {
+    try { element.setPointerCapture(e.pointerId); } catch (err) { /* a synthetic or finished pointer */ }
+  }
+
   function attachSeek(p) {
     var seeking = false;
     function seek(e) {
@@ -794,7 +799,7 @@
       var f = (e.clientX - r.left - MARGIN.left) / Math.max(1, r.width - MARGIN.left - MARGIN.right);
       setTime(pt0 + Math.min(1, Math.max(0, f)) * (pt1 - pt0));
     }
-    p.canvas.addEventListener("pointerdown", function (e) { seeking = true; p.canvas.setPointerCapture(e.pointerId); seek(e); });
+    p.canvas.addEventListener("pointerdown", function (e) { seeking = true; capture(p.canvas, e); seek(e); });
     p.canvas.addEventListener("pointermove", function (e) { if (seeking) seek(e); });
     p.canvas.addEventListener("pointerup", function () { seeking = false; });
     p.canvas.addEventListener("pointercancel", function () { seeking = false; });
@@ -867,7 +872,7 @@
   canvas.addEventListener("contextmenu", function (e) { e.preventDefault(); });
   canvas.addEventListener("pointerdown", function (e) {
     drag = { x: e.clientX, y: e.clientY, pan: e.button === 2 || e.button === 1 || e.shiftKey };
-    canvas.setPointerCapture(e.pointerId);
+    capture(canvas, e);
     canvas.classList.add("mb-dragging");
   });
   canvas.addEventListener("pointermove", function (e) {
@@ -946,6 +951,62 @@
   } else {
     render();
   }
+  // Drives every control through DOM events, as a person would, and logs
+  // what changed: the tests use it to check that the controls work.
+  function exercise() {
+    var r = canvas.getBoundingClientRect();
+    var cx = r.left + r.width / 2, cy = r.top + r.height / 2;
+    function pointer(target, type, x, y, extra) {
+      var init = { clientX: x, clientY: y, pointerId: 7, button: 0, bubbles: true, cancelable: true };
+      for (var k in extra || {}) init[k] = extra[k];
+      target.dispatchEvent(new PointerEvent(type, init));
+    }
+    var before = { yaw: camera.yaw, pitch: camera.pitch, distance: camera.distance, target: camera.target.slice() };
+    var checks = {};
+    playButton.click();
+    checks.play = state.playing === (tEnd > tStart);
+    playButton.click();
+    checks.pause = !state.playing;
+    slider.value = String(tStart + 0.25 * (tEnd - tStart));
+    slider.dispatchEvent(new Event("input", { bubbles: true }));
+    checks.slider = Math.abs(state.t - (tStart + 0.25 * (tEnd - tStart))) < 1e-6 * Math.max(1, tEnd);
+    speedSelect.value = speedSelect.options[speedSelect.options.length - 1].value;
+    speedSelect.dispatchEvent(new Event("change", { bubbles: true }));
+    checks.speed = state.speed === parseFloat(speedSelect.value);
+    loopBox.click();
+    checks.loop = state.loop === !scene.loop;
+    loopBox.click();
+    var t = state.t;
+    document.body.dispatchEvent(new KeyboardEvent("keydown", { key: "ArrowRight", bubbles: true }));
+    checks.key = frameCount < 2 || state.t > t;
+    if (plots.length && plots[0].canvas.clientWidth) {
+      var pr = plots[0].canvas.getBoundingClientRect();
+      var px = pr.left + MARGIN.left + 0.75 * (pr.width - MARGIN.left - MARGIN.right);
+      pointer(plots[0].canvas, "pointerdown", px, pr.top + 40);
+      pointer(plots[0].canvas, "pointerup", px, pr.top + 40);
+      checks.plotSeek = Math.abs(state.t - (pt0 + 0.75 * (pt1 - pt0))) < 0.02 * (pt1 - pt0);
+    }
+    pointer(canvas, "pointerdown", cx, cy, { shiftKey: true });
+    pointer(canvas, "pointermove", cx + 40, cy + 15, { shiftKey: true });
+    pointer(canvas, "pointerup", cx + 40, cy + 15, { shiftKey: true });
+    checks.pan = norm(sub(camera.target, before.target)) > 0;
+    pointer(canvas, "pointerdown", cx, cy);
+    pointer(canvas, "pointermove", cx + 60, cy + 20);
+    pointer(canvas, "pointerup", cx + 60, cy + 20);
+    checks.rotate = camera.yaw < before.yaw && camera.pitch > before.pitch;
+    canvas.dispatchEvent(new WheelEvent("wheel", { deltaY: -240, clientX: cx, clientY: cy, bubbles: true, cancelable: true }));
+    checks.zoom = camera.distance < before.distance;
+    document.getElementById("mb-reset").click();
+    checks.reset = camera.yaw === before.yaw && Math.abs(camera.distance - before.distance) < 1e-9 * before.distance;
+    pointer(canvas, "pointerdown", cx, cy);
+    pointer(canvas, "pointermove", cx - 120, cy + 40);
+    pointer(canvas, "pointerup", cx - 120, cy + 40);
+    render();
+    var failed = Object.keys(checks).filter(function (k) { return !checks[k]; });
+    console.log("multibody-view: exercised " + Object.keys(checks).join(",") + (failed.length ? " FAILED " + failed.join(",") : " all ok"));
+  }
+  if (query.has("exercise")) exercise();
+
   if (query.has("bench")) {
     var n = Math.max(1, parseInt(query.get("bench"), 10) || 30);
     var started = performance.now();
