@@ -109,7 +109,9 @@ pub struct Token {
 /// Splits a file into tokens, ending with `Eof`. Stops at the first
 /// character that starts no token.
 pub fn tokenize(file: FileId, text: &str) -> Result<Vec<Token>, Diagnostic> {
-    Lexer { file, text, pos: 0, tokens: Vec::new() }.run()
+    // Editors on Windows may start a file with a byte-order mark.
+    let start = if text.starts_with('\u{feff}') { '\u{feff}'.len_utf8() } else { 0 };
+    Lexer { file, text, pos: start, tokens: Vec::new() }.run()
 }
 
 struct Lexer<'a> {
@@ -381,6 +383,12 @@ mod tests {
         let k = kinds("\"\"\"\n# Title \"quoted\"\n\"\"\" \"a\\n\\u0041\"");
         assert_eq!(k[0], TokenKind::TripleStr("\n# Title \"quoted\"\n".into()));
         assert_eq!(k[1], TokenKind::Str("a\nA".into()));
+    }
+
+    #[test]
+    fn a_byte_order_mark_and_windows_line_ends_are_accepted() {
+        use TokenKind::*;
+        assert_eq!(kinds("\u{feff}end\r\n# c\r\nend"), vec![Ident("end".into()), Ident("end".into()), Eof]);
     }
 
     #[test]
