@@ -278,3 +278,142 @@ fn spring_mass_system() {
     let pairs: Vec<(&str, &str)> = ["p1.s", "p1.v", "p2.s", "p2.v"].iter().map(|s| (*s, *s)).collect();
     assert_within_tube(&reference, &solution, &pairs);
 }
+
+/// Fourbar1.md: a spatial four-bar of elementary joints, one loop closed
+/// automatically (the cut is chosen by the engine).
+#[test]
+fn fourbar1() {
+    let mut model = Model::new("Fourbar1");
+    model.add("world", "World");
+    model.add("j1", "Revolute").set("n", [1.0, 0.0, 0.0]).initial("phi", 0.0).initial("w", 5.235987755982989);
+    model.add("j2", "Prismatic").set("n", [1.0, 0.0, 0.0]).guess("s", -0.2);
+    model.add("b0", "FixedTranslation").set("r", [1.2, 0.0, 0.0]);
+    model.add("b1", "BodyCylinder").set("r", [0.0, 0.5, 0.1]).set("diameter", 0.05);
+    model.add("b2", "BodyCylinder").set("r", [0.0, 0.2, 0.0]).set("diameter", 0.05);
+    model.add("b3", "BodyCylinder").set("r", [-1.0, 0.3, 0.1]).set("diameter", 0.05);
+    for (name, n) in [
+        ("rev", [0.0, 1.0, 0.0]),
+        ("rev1", [0.0, 0.0, 1.0]),
+        ("j3", [1.0, 0.0, 0.0]),
+        ("j4", [0.0, 1.0, 0.0]),
+        ("j5", [0.0, 0.0, 1.0]),
+    ] {
+        model.add(name, "Revolute").set("n", n);
+    }
+    for (a, b) in [
+        ("world.frame_b", "j1.frame_a"),
+        ("j1.frame_b", "b1.frame_a"),
+        ("b1.frame_b", "j3.frame_a"),
+        ("j3.frame_b", "j4.frame_a"),
+        ("j4.frame_b", "j5.frame_a"),
+        ("j5.frame_b", "b3.frame_b"),
+        ("world.frame_b", "b0.frame_a"),
+        ("b0.frame_b", "j2.frame_a"),
+        ("j2.frame_b", "b2.frame_a"),
+        ("b2.frame_b", "rev.frame_a"),
+        ("rev.frame_b", "rev1.frame_a"),
+        ("rev1.frame_b", "b3.frame_a"),
+    ] {
+        model.connect([a, b]);
+    }
+    let mechanism = model.assemble().unwrap();
+    assert_eq!(mechanism.degrees_of_freedom(), 1);
+    for l in mechanism.loops() {
+        println!("loop cut at {}: {:?}, {} equations, {} redundant", l.cut, l.joints, l.equations, l.redundant);
+    }
+    let reference = Reference::load("Fourbar1");
+    let solution = mechanism.simulate(&options_for(&reference)).unwrap();
+    assert_within_tube(&reference, &solution, &[("j1.phi", "j1.phi"), ("j1.w", "j1.w")]);
+}
+
+/// The shared environment of the Constraints examples: a frame F rotated
+/// by the sequence {1,2,3} with angles {10,55,68} degrees at (0.2,-0.3,0.2),
+/// and an anchor A at (0.8, 0, 0.3).
+fn constraint_environment(model: &mut Model) {
+    use multibody::math::{axes_rotations, rotation_vector, Vec3};
+    let angles = Vec3::new(10f64.to_radians(), 55f64.to_radians(), 68f64.to_radians());
+    let rot = axes_rotations([1, 2, 3], &angles);
+    let axis_angle = rotation_vector(&rot);
+    model.add("world", "World");
+    model
+        .add("fixedRotation", "FixedRotation")
+        .set("r", [0.2, -0.3, 0.2])
+        .set("n", axis_angle.normalize())
+        .set("angle", axis_angle.norm());
+    model.add("fixedTranslation", "FixedTranslation").set("r", [0.8, 0.0, 0.3]);
+    model.connect(["world.frame_b", "fixedRotation.frame_a", "fixedTranslation.frame_a"]);
+}
+
+fn constraint_body(model: &mut Model, name: &str, free: bool) {
+    let body = model
+        .add(name, "BodyShape")
+        .set("m", 1.0)
+        .set("I_11", 1.0)
+        .set("I_22", 1.0)
+        .set("I_33", 1.0)
+        .set("r", [0.4, 0.0, 0.0])
+        .set("r_cm", [0.2, 0.0, 0.0]);
+    if free {
+        body.set("orientation_state", OrientationState::Quaternion);
+    }
+    let spring = format!("springOf{}", &name[6..]);
+    model.add(&spring, "Spring").set("c", 20.0);
+    model.connect([format!("{spring}.frame_a"), "fixedTranslation.frame_b".into()]);
+    model.connect([format!("{spring}.frame_b"), format!("{name}.frame_b")]);
+}
+
+/// RevoluteConstraint.md: a body on a revolute, and the same free body tied
+/// by a RevoluteConstraint; both must move the same.
+#[test]
+fn revolute_constraint() {
+    use multibody::math::{axes_rotations, to_q, Quat, Vec3};
+    let mut model = Model::new("RevoluteConstraint");
+    constraint_environment(&mut model);
+    model.add("joint", "Revolute").set("n", [0.0, 1.0, 0.0]).initial("phi", 0.0).initial("w", 0.0);
+    constraint_body(&mut model, "bodyOfJoint", false);
+    model.connect(["fixedRotation.frame_b", "joint.frame_a"]);
+    model.connect(["joint.frame_b", "bodyOfJoint.frame_a"]);
+    model.add("constraint", "RevoluteConstraint").set("n", [0.0, 1.0, 0.0]);
+    constraint_body(&mut model, "bodyOfConstraint", true);
+    // The free body starts in frame F at rest (FreeMotionScalarInit in the reference).
+    let rot = axes_rotations([1, 2, 3], &Vec3::new(10f64.to_radians(), 55f64.to_radians(), 68f64.to_radians()));
+    let q0 = to_q(&rot, &Quat::new(1.0, 0.0, 0.0, 0.0));
+    model
+        .component_mut("bodyOfConstraint")
+        .unwrap()
+        .initial("Q_hat", q0.as_slice())
+        .initial("w_a", [0.0; 3])
+        .guess("r_0", [0.2, -0.5, 0.1]);
+    model.connect(["fixedRotation.frame_b", "constraint.frame_a"]);
+    model.connect(["constraint.frame_b", "bodyOfConstraint.frame_a"]);
+    let mechanism = model.assemble().unwrap();
+    assert_eq!(mechanism.degrees_of_freedom(), 2);
+    let reference = Reference::load("RevoluteConstraint");
+    let solution = mechanism.simulate(&options_for(&reference)).unwrap();
+    let mut pairs = vector_pairs("bodyOfConstraint", "bodyOfConstraint.body", &["w_a"]);
+    pairs.push(("bodyOfJoint.body.w_a[2]".into(), "bodyOfJoint.w_a[2]".into()));
+    pairs.push(("joint.phi".into(), "joint.phi".into()));
+    assert_within_tube(&reference, &solution, &as_pairs(&pairs));
+}
+
+/// SphericalConstraint.md: a free body tied by a SphericalConstraint to the
+/// rotated frame F: a spherical pendulum pulled by a spring.
+#[test]
+fn spherical_constraint() {
+    use multibody::math::{axes_rotations, to_q, Quat, Vec3};
+    let mut model = Model::new("SphericalConstraint");
+    constraint_environment(&mut model);
+    model.add("constraint", "SphericalConstraint");
+    constraint_body(&mut model, "bodyOfConstraint", true);
+    let rot = axes_rotations([1, 2, 3], &Vec3::new(10f64.to_radians(), 55f64.to_radians(), 68f64.to_radians()));
+    let q0 = to_q(&rot, &Quat::new(1.0, 0.0, 0.0, 0.0));
+    model.component_mut("bodyOfConstraint").unwrap().initial("Q_hat", q0.as_slice()).initial("w_a", [0.0; 3]);
+    model.connect(["fixedRotation.frame_b", "constraint.frame_a"]);
+    model.connect(["constraint.frame_b", "bodyOfConstraint.frame_a"]);
+    let mechanism = model.assemble().unwrap();
+    assert_eq!(mechanism.degrees_of_freedom(), 3);
+    let reference = Reference::load("SphericalConstraint");
+    let solution = mechanism.simulate(&options_for(&reference)).unwrap();
+    let pairs = vector_pairs("bodyOfConstraint", "bodyOfConstraint.body", &["w_a"]);
+    assert_within_tube(&reference, &solution, &as_pairs(&pairs));
+}

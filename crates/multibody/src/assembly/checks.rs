@@ -9,7 +9,9 @@ use crate::Error;
 
 /// Every degree of freedom must move some inertia: `S' Ic S` must be
 /// positive definite for each joint, with `Ic` the composite inertia of
-/// what the joint moves, at the start configuration.
+/// what the joint moves, at the start configuration. Joints whose subtree
+/// reaches a constraint are left to the check of the constrained system
+/// (a loop may determine the motion of massless links).
 pub fn inertia_behind_every_joint(
     components: &[CompiledComponent],
     conn: &Connectors,
@@ -33,6 +35,16 @@ pub fn inertia_behind_every_joint(
             composite[p] += c;
         }
     }
+    let mut constrained = vec![false; n];
+    for cut in &tree.cuts {
+        for node in [cut.a, cut.b] {
+            let mut k = tree.nodes[node].link();
+            while k != GROUND && !constrained[k] {
+                constrained[k] = true;
+                k = links[k].parent;
+            }
+        }
+    }
     for k in 1..n {
         let l = &links[k];
         if let (Some(_), Some((_, RotationCoordinates::Euler { sequence }))) =
@@ -52,7 +64,7 @@ pub fn inertia_behind_every_joint(
             }
         }
         let singular = (0..nv).any(|i| d[(i, i)] <= 1e-12 * scale) || d.clone().cholesky().is_none();
-        if singular {
+        if singular && !constrained[k] {
             let component = &components[l.source.0];
             let dof = match l.joint {
                 JointModel::Revolute { .. } => "rotation about the axis",

@@ -163,6 +163,17 @@ pub fn close(mechanism: &mut Mechanism) -> Result<(), Error> {
         return Err(Error::LoopCannotMove { joints, violation, fixed: fixed_values(nq..nq + nv) });
     }
     mechanism.constraint_state(&mut ws, &y).map_err(as_error)?;
+    // What has no inertia must be determined by the constraints.
+    let mut dy = vec![0.0; y.len()];
+    if let Err(crate::DynamicsError::SingularInertia { link }) = mechanism.rhs(&mut ws, 0.0, &y, &mut dy) {
+        let joint = mechanism.components[mechanism.links[link].source.0].name.clone();
+        return Err(Error::NoInertia {
+            joint,
+            dof: "motion".into(),
+            moved: vec!["(nothing the loops determine)".into()],
+        });
+    }
+    mechanism.constraint_state(&mut ws, &y).map_err(as_error)?;
     mechanism.states.start = y;
     mechanism.loops = loop_reports(mechanism, &mut ws);
     mechanism.dof = nv - mechanism.constraint_rank(&mut ws);

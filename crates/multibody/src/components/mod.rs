@@ -18,6 +18,7 @@ mod body;
 mod body_box;
 mod body_cylinder;
 mod body_shape;
+mod constraint_joint;
 mod coordinate_joint;
 mod cylindrical;
 mod damper;
@@ -33,14 +34,22 @@ mod orientation;
 mod planar;
 mod point_mass;
 mod prismatic;
+mod prismatic_constraint;
 mod revolute;
+mod revolute_constraint;
+mod revolute_planar_loop_constraint;
+mod rod;
 mod rotational;
 mod spherical;
+mod spherical_constraint;
+mod spherical_spherical;
 mod spring;
 mod spring_damper_parallel;
 mod torque;
 mod translational;
 mod universal;
+mod universal_constraint;
+mod universal_spherical;
 pub mod world;
 mod world_force;
 mod world_torque;
@@ -75,6 +84,13 @@ static REGISTRY: &[&ComponentSpec] = &[
     &cylindrical::SPEC,
     &planar::SPEC,
     &free_motion::SPEC,
+    &revolute_constraint::SPEC,
+    &prismatic_constraint::SPEC,
+    &spherical_constraint::SPEC,
+    &universal_constraint::SPEC,
+    &spherical_spherical::SPEC,
+    &universal_spherical::SPEC,
+    &revolute_planar_loop_constraint::SPEC,
     &spring::SPEC,
     &damper::SPEC,
     &spring_damper_parallel::SPEC,

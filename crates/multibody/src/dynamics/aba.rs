@@ -30,12 +30,15 @@ impl Mechanism {
         }
         self.apply_forces(ws, q, u);
         self.apply_force_elements(ws);
-        self.articulated_inertias(ws)?;
-        self.accelerations(ws, ud);
-        if !self.constraints.is_empty() {
-            self.constrained_accelerations(ws, ud)?;
+        if self.constraints.is_empty() {
+            self.articulated_inertias(ws)?;
+            self.accelerations(ws, ud);
+            Ok(())
+        } else {
+            // Loops may leave massless links in the tree: solve the
+            // constrained system as a whole instead of the ABA's recursion.
+            self.constrained_accelerations(ws, ud)
         }
-        Ok(())
     }
 
     /// Pass 1: link transforms, velocities, world poses, and the bias force

@@ -149,7 +149,7 @@ impl Mechanism {
                         e.dot(&(b.a - a.a)) + (dv.norm_squared() - e.dot(&dv).powi(2)) / length
                     }
                 };
-                let jac_row = &mut ws.jac[(c.row + i) * nv..(c.row + i + 1) * nv];
+                let row_start = (c.row + i) * nv;
                 for (end, sign) in [(&b, 1.0), (&a, -1.0)] {
                     // Translations are of B's origin relative to A's frame: for A, at B's origin too.
                     let point = match row {
@@ -161,7 +161,7 @@ impl Mechanism {
                         let link = &self.links[k];
                         let lw = &ws.links[k];
                         for dof in 0..link.joint.nv() {
-                            let s = if link.joint.nv() == 1 { lw.s } else { ws.multi[ws.multi_index[k]].s[dof] };
+                            let s = self.subspace(ws, k, dof);
                             let dw = lw.rot.tr_mul(&s.ang);
                             let dv_point = lw.rot.tr_mul(&s.lin) + dw.cross(&(point - lw.pos));
                             let value = match row {
@@ -169,7 +169,7 @@ impl Mechanism {
                                 Row::Translation(d) => d.dot(&(a.rot * dv_point)),
                                 Row::Distance => (r_ab / r_ab.norm().max(f64::MIN_POSITIVE)).dot(&dv_point),
                             };
-                            jac_row[link.v_offset + dof] += sign * value;
+                            ws.jac[row_start + link.v_offset + dof] += sign * value;
                         }
                         k = link.parent;
                     }
@@ -199,20 +199,13 @@ impl Mechanism {
         for k in (1..self.links.len()).rev() {
             let link = &self.links[k];
             for dof in 0..link.joint.nv() {
-                let s = |ws: &Workspace, k: usize, d: usize| {
-                    if self.links[k].joint.nv() == 1 {
-                        ws.links[k].s
-                    } else {
-                        ws.multi[ws.multi_index[k]].s[d]
-                    }
-                };
-                let mut f: Force = ws.composite[k].apply(&s(ws, k, dof));
+                let mut f: Force = ws.composite[k].apply(&self.subspace(ws, k, dof));
                 let col = link.v_offset + dof;
                 let mut j = k;
                 loop {
                     let lj = &self.links[j];
                     for d in 0..lj.joint.nv() {
-                        let value = s(ws, j, d).dot(&f);
+                        let value = self.subspace(ws, j, d).dot(&f);
                         ws.mass[(lj.v_offset + d) * nv + col] = value;
                         ws.mass[col * nv + lj.v_offset + d] = value;
                     }
@@ -230,17 +223,30 @@ impl Mechanism {
         }
     }
 
-    /// Corrects the free accelerations `ud` for the constraints, keeps the
-    /// multipliers in `ws.lambda`, and updates the link accelerations.
+    /// The joint accelerations under the constraints, with the multipliers
+    /// kept in `ws.lambda` and the link accelerations updated. Solves
+    /// `M ud = f + J' lambda`, `J ud = gamma` through the augmented
+    /// `M_a = M + w J' J`, positive definite whenever the constraints
+    /// determine what has no mass (the massless links of a loop of
+    /// joints): `M_a ud = f + J' lambda'` with `lambda' = lambda + w gamma`.
     pub(crate) fn constrained_accelerations(&self, ws: &mut Workspace, ud: &mut [f64]) -> Result<(), DynamicsError> {
         let (nv, m) = (self.states.nv, self.constraint_rows);
         self.bias_accelerations(ws);
         self.constraint_terms(ws, true);
+        self.bias_forces(ws, ud);
         self.mass_matrix(ws);
-        if !cholesky(&mut ws.mass, nv) {
-            return Err(DynamicsError::SingularInertia { link: 1 });
+        let w = self.augmentation(ws);
+        for i in 0..nv {
+            for j in 0..nv {
+                let jtj: f64 = (0..m).map(|r| ws.jac[r * nv + i] * ws.jac[r * nv + j]).sum();
+                ws.mass[i * nv + j] += w * jtj;
+            }
         }
-        // Y' = (M^-1 J')': one solve per constraint row.
+        if !cholesky(&mut ws.mass, nv) {
+            return Err(DynamicsError::SingularInertia { link: self.massless_link(ws) });
+        }
+        // ud0 = M_a^-1 f, Y' = (M_a^-1 J')'.
+        cholesky_solve(&ws.mass, nv, ud);
         ws.y_rows.copy_from_slice(&ws.jac);
         for r in 0..m {
             cholesky_solve(&ws.mass, nv, &mut ws.y_rows[r * nv..(r + 1) * nv]);
@@ -261,18 +267,74 @@ impl Mechanism {
             for i in 0..nv {
                 ud[i] += ws.y_rows[r * nv + i] * l;
             }
+            // The physical multiplier: lambda = lambda' - w gamma, gamma = -Jdot u.
+            ws.lambda[r] = l + w * ws.bias[r];
         }
         // Link accelerations with the constrained joint accelerations.
+        ws.links[GROUND].a = Motion::new(Vec3::zeros(), -self.uniform_gravity);
         for k in 1..self.links.len() {
             let link = &self.links[k];
             let mut a = ws.links[k].x_up.apply_motion(&ws.links[link.parent].a) + ws.links[k].c;
             for d in 0..link.joint.nv() {
-                let s = if link.joint.nv() == 1 { ws.links[k].s } else { ws.multi[ws.multi_index[k]].s[d] };
-                a += s * ud[link.v_offset + d];
+                a += self.subspace(ws, k, d) * ud[link.v_offset + d];
             }
             ws.links[k].a = a;
         }
         Ok(())
+    }
+
+    /// `f = tau - C`: the generalised forces that leave the joints
+    /// unaccelerated, by the recursive Newton-Euler algorithm with gravity
+    /// as an acceleration of the ground (into `f`).
+    fn bias_forces(&self, ws: &mut Workspace, f: &mut [f64]) {
+        ws.links[GROUND].a = Motion::new(Vec3::zeros(), -self.uniform_gravity);
+        for k in 1..self.links.len() {
+            let parent = ws.links[self.links[k].parent].a;
+            let a = ws.links[k].x_up.apply_motion(&parent) + ws.links[k].c;
+            ws.links[k].a = a;
+            // pa already holds v x* I v minus the external forces.
+            ws.links[k].pa += self.links[k].inertia.apply(&a);
+        }
+        for k in (1..self.links.len()).rev() {
+            let link = &self.links[k];
+            let force = ws.links[k].pa;
+            for d in 0..link.joint.nv() {
+                f[link.v_offset + d] = ws.tau[link.v_offset + d] - self.subspace(ws, k, d).dot(&force);
+            }
+            if link.parent != GROUND {
+                let up = ws.links[k].x_up.inv_apply_force(&force);
+                ws.links[link.parent].pa += up;
+            }
+        }
+    }
+
+    /// Column `d` of link `k`'s motion subspace (link coordinates).
+    #[inline]
+    fn subspace(&self, ws: &Workspace, k: usize, d: usize) -> Motion {
+        if self.links[k].joint.nv() == 1 {
+            ws.links[k].s
+        } else {
+            ws.multi[ws.multi_index[k]].s[d]
+        }
+    }
+
+    /// The weight of `J' J` in the augmented mass matrix: the mass
+    /// matrix's scale, so that the two are of similar size.
+    fn augmentation(&self, ws: &Workspace) -> f64 {
+        let nv = self.states.nv;
+        let trace: f64 = (0..nv).map(|i| ws.mass[i * nv + i]).sum();
+        if trace > 0.0 {
+            trace / nv as f64
+        } else {
+            1.0
+        }
+    }
+
+    /// The link of the coordinate with the least inertia, for a message.
+    fn massless_link(&self, ws: &Workspace) -> usize {
+        let nv = self.states.nv;
+        let i = (0..nv).min_by(|&a, &b| ws.mass[a * nv + a].total_cmp(&ws.mass[b * nv + b])).unwrap_or(0);
+        self.links.iter().position(|l| l.v_offset <= i && i < l.v_offset + l.joint.nv()).unwrap_or(1)
     }
 
     /// Moves `y` onto the constraints: positions by Newton steps of least
