@@ -16,8 +16,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../target/view-demo"));
     let chain_links: usize = std::env::var("VIEW_DEMO_CHAIN").ok().and_then(|s| s.parse().ok()).unwrap_or(100);
     let cases: Vec<(&str, multibody::Mechanism, f64, Vec<String>)> = vec![
-        ("pendulum", models::pendulum(), 3.0, vec![]),
-        ("double_pendulum", models::double_pendulum(), 5.0, vec![]),
+        ("pendulum", models::pendulum(), 10.0, vec![]),
+        ("double_pendulum", models::double_pendulum(), 10.0, vec![]),
         ("spring_mass", models::spring_mass(), 4.0, vec!["body.r_0[*]".into(), "spring.f".into()]),
         ("chain100", models::chain(chain_links), 10.0, vec![]),
     ];

@@ -13,7 +13,7 @@ pub const POSE_FLOATS: usize = 7;
 
 /// The most pose data a page embeds (bytes before base64); longer or larger
 /// runs get fewer frames per second.
-const MAX_POSE_BYTES: usize = 40 << 20;
+const MAX_POSE_BYTES: usize = 24 << 20;
 
 /// Everything the page needs to draw the motion.
 #[derive(Debug)]
