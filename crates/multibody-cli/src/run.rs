@@ -50,9 +50,8 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     };
     eprintln!("Simulating {what} from {}", file_of(&package, &lowered.name));
     eprintln!(
-        "  {} degree{} of freedom, t = {} … {} s, {}",
-        mechanism.degrees_of_freedom(),
-        if mechanism.degrees_of_freedom() == 1 { "" } else { "s" },
+        "  {} of freedom, t = {} … {} s, {}",
+        plural(mechanism.degrees_of_freedom(), "degree"),
         number(options.start),
         number(options.stop),
         method(&options)
@@ -67,7 +66,8 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     match result {
         Ok(solution) => {
             write_csv(&solution, &signals, &out)?;
-            eprintln!("  {} samples × {} signals → {} ({:.0?})", solution.len(), signals.len(), out.display(), elapsed);
+            let (samples, columns) = (plural(solution.len(), "sample"), plural(signals.len(), "signal"));
+            eprintln!("  {samples} × {columns} → {} ({elapsed:.0?})", out.display());
             print_final_states(&mechanism, &solution);
             Ok(())
         }
@@ -77,11 +77,11 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
             write_csv(partial, &signals, &out)?;
             match (partial.time().first(), partial.time().last()) {
                 (Some(first), Some(last)) => eprintln!(
-                    "  wrote what was computed: {} samples (t = {} … {} s) × {} signals → {}",
-                    partial.len(),
+                    "  wrote what was computed: {} (t = {} … {} s) × {} → {}",
+                    plural(partial.len(), "sample"),
                     number(*first),
                     number(*last),
-                    signals.len(),
+                    plural(signals.len(), "signal"),
                     out.display()
                 ),
                 _ => eprintln!("  nothing was computed; wrote the header to {}", out.display()),
@@ -184,6 +184,15 @@ fn method(options: &SimulationOptions) -> String {
         Method::Rk4 { dt } => format!("fixed-step RK4, dt = {} s", number(dt)),
         #[allow(unreachable_patterns)]
         _ => "the engine's method".into(),
+    }
+}
+
+/// "1 signal", "3 signals".
+fn plural(n: usize, word: &str) -> String {
+    if n == 1 {
+        format!("1 {word}")
+    } else {
+        format!("{n} {word}s")
     }
 }
 

@@ -268,3 +268,32 @@ fn values_cannot_grow_without_bound() {
     let e = error(&text, "M");
     assert!(e.contains("this array is too large"), "{e}");
 }
+
+#[test]
+fn signals_pass_through_declared_inputs() {
+    let text = r#"
+component Pushed
+  push = RealInput()
+  body = Body(m = 1, orientation_state = OrientationState.Quaternion())
+  force = WorldForce()
+relations
+  connect(body.frame_a, force.frame_b)
+  connect(push, force.force_x)
+end
+example component M
+  world = World(g = 0)
+  thing = Pushed()
+  strength = BlockComponents.Sources.Constant(k = 2)
+relations
+  connect(strength.y, thing.push)
+end
+"#;
+    let l = component(text, "M");
+    let connections: Vec<Vec<&str>> =
+        l.model.connections.iter().map(|c| c.ends.iter().map(String::as_str).collect()).collect();
+    assert!(connections.contains(&vec!["strength.y", "thing.force.force_x"]), "{connections:?}");
+    let options = multibody::SimulationOptions { stop: 1.0, saveat: 0.5, ..Default::default() };
+    let solution = l.assemble().unwrap().simulate(&options).unwrap();
+    // F = 2 N on 1 kg for 1 s.
+    assert!((solution.last("thing.body.v_0[1]").unwrap() - 2.0).abs() < 1e-9);
+}
