@@ -4,13 +4,24 @@ use std::collections::HashMap;
 use std::io::{self, Write};
 
 /// Named signals sampled at common times.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Default)]
 pub struct Solution {
     names: Vec<String>,
     units: Vec<&'static str>,
     index: HashMap<String, usize>,
     time: Vec<f64>,
     columns: Vec<Vec<f64>>,
+}
+
+impl std::fmt::Debug for Solution {
+    /// A summary: a solution can hold millions of numbers.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let span = match (self.time.first(), self.time.last()) {
+            (Some(a), Some(b)) => format!("t = {a} .. {b}"),
+            _ => "empty".into(),
+        };
+        write!(f, "Solution {{ {} signals, {} samples, {span} }}", self.names.len(), self.time.len())
+    }
 }
 
 impl Solution {
