@@ -141,8 +141,9 @@ impl Error {
     }
 }
 
+/// The component of `component.connector` (component names may contain dots).
 fn component_of(reference: &str) -> &str {
-    reference.split('.').next().unwrap_or(reference)
+    reference.rsplit_once('.').map_or(reference, |(component, _)| component)
 }
 
 fn list(names: &[String]) -> String {

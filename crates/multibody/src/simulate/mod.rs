@@ -57,7 +57,8 @@ impl SimulationOptions {
         Self { stop, ..Self::default() }
     }
 
-    fn check(&self) -> Result<(), String> {
+    /// Checks the options, saying what is wrong.
+    pub fn validate(&self) -> Result<(), String> {
         let finite =
             [self.start, self.stop, self.abstol, self.reltol, self.saveat, self.dtmax].iter().all(|x| x.is_finite());
         if !finite {
@@ -233,7 +234,7 @@ impl Mechanism {
         let solution =
             Solution::new(signals.iter().map(|s| s.name.clone()).collect(), signals.iter().map(|s| s.unit).collect());
         let fail = |time: f64, reason: String, partial: Solution| SimulationError { time, reason, partial };
-        if let Err(reason) = options.check() {
+        if let Err(reason) = options.validate() {
             return Err(fail(options.start, reason, solution));
         }
         if y0.len() != self.states.start.len() {

@@ -105,12 +105,15 @@ impl Solution {
             .collect()
     }
 
-    /// Writes a CSV file: a `time` column, then the chosen signals.
+    /// Writes a CSV file: a `time` column, then the chosen signals, with
+    /// the names quoted as in Modelica's result files (matrix entries like
+    /// `R[1,2]` contain commas).
     pub fn write_csv(&self, out: &mut impl Write, signals: &[&str]) -> io::Result<()> {
+        let signals: Vec<&str> = signals.iter().copied().filter(|s| self.get(s).is_some()).collect();
         let columns: Vec<&[f64]> = signals.iter().filter_map(|s| self.get(s)).collect();
-        write!(out, "time")?;
-        for s in signals {
-            write!(out, ",{s}")?;
+        write!(out, "\"time\"")?;
+        for s in &signals {
+            write!(out, ",\"{}\"", s.replace('"', "\"\""))?;
         }
         writeln!(out)?;
         for (k, t) in self.time.iter().enumerate() {
