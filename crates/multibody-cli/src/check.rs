@@ -31,6 +31,19 @@ pub fn check(selection: &Selection) -> Result<(), Failure> {
             println!("    {name:width$}  {}", number(*start));
         }
     }
+    let loops = mechanism.loops();
+    if !loops.is_empty() {
+        println!("  kinematic loops: {}", loops.len());
+        for l in loops {
+            println!(
+                "    through {}: cut at {}, {} constraint equations, {} of them redundant",
+                l.joints.join(", "),
+                l.cut,
+                l.equations,
+                l.redundant
+            );
+        }
+    }
     let owners = mechanism.orientation_owners();
     if owners.is_empty() {
         println!("  orientation: every part is positioned from the World through joints and fixed parts");

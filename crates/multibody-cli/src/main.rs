@@ -21,6 +21,7 @@ Exit codes:
 
 Examples:
   multibody run examples/pendulum.dyad
+  multibody run examples/double_pendulum.dyad --animate double_pendulum.html --plot double_pendulum.png
   multibody run examples/ --analysis PendulumSimulation --signals 'rev.*' --out pendulum.csv
   multibody check examples/free_body.dyad
   multibody describe Body";
@@ -80,9 +81,16 @@ pub struct RunArgs {
     /// Output CSV file (default: NAME.csv in the current folder)
     #[arg(long, short, value_name = "FILE")]
     pub out: Option<PathBuf>,
-    /// Signals to write, as glob patterns such as 'body.r_0[*]' or '*.phi' (default: all)
+    /// Signals to write, as glob patterns such as 'body.r_0[*]' or '*.phi' (default: all; the
+    /// plot and the page's plots default to the joint coordinates)
     #[arg(long, value_name = "PATTERN", num_args = 1..)]
     pub signals: Vec<String>,
+    /// Also write a 3-D animation: one self-contained HTML page that works offline
+    #[arg(long, value_name = "FILE.html")]
+    pub animate: Option<PathBuf>,
+    /// Also plot the signals against time (.png or .svg)
+    #[arg(long, value_name = "FILE.png")]
+    pub plot: Option<PathBuf>,
 }
 
 fn main() -> ExitCode {

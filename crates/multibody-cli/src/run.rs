@@ -68,6 +68,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
             write_csv(&solution, &signals, &out)?;
             let (samples, columns) = (plural(solution.len(), "sample"), plural(signals.len(), "signal"));
             eprintln!("  {samples} × {columns} → {} ({elapsed:.0?})", out.display());
+            write_views(args, &lowered.name, &mechanism, &solution)?;
             print_final_states(&mechanism, &solution);
             Ok(())
         }
@@ -75,6 +76,9 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
             eprintln!("{}: the simulation stopped at t = {}: {}", error_word(), number(e.time), e.reason);
             let partial = &e.partial;
             write_csv(partial, &signals, &out)?;
+            if !partial.is_empty() {
+                write_views(args, &lowered.name, &mechanism, partial)?;
+            }
             match (partial.time().first(), partial.time().last()) {
                 (Some(first), Some(last)) => eprintln!(
                     "  wrote what was computed: {} (t = {} … {} s) × {} → {}",
@@ -116,7 +120,8 @@ fn write_csv(solution: &Solution, signals: &[String], out: &Path) -> Result<(), 
     let io = |e: std::io::Error| Failure::Io(format!("cannot write {}: {e}", out.display()));
     let file = std::fs::File::create(&temporary).map_err(io)?;
     let mut writer = BufWriter::new(file);
-    let written = write_table(&mut writer, solution, signals).and_then(|_| writer.flush());
+    let names: Vec<&str> = signals.iter().map(String::as_str).collect();
+    let written = solution.write_csv(&mut writer, &names).and_then(|_| writer.flush());
     if let Err(e) = written {
         let _ = std::fs::remove_file(&temporary);
         return Err(io(e));
@@ -125,24 +130,45 @@ fn write_csv(solution: &Solution, signals: &[String], out: &Path) -> Result<(), 
     std::fs::rename(&temporary, out).map_err(io)
 }
 
-/// The CSV itself: a quoted header (`"time","rev.phi",...`; matrix signals
-/// such as `body.frame_a.R[1,2]` contain commas) and one row per sample.
-/// (The engine's `Solution::write_csv` leaves names unquoted.)
-fn write_table(out: &mut impl Write, solution: &Solution, signals: &[String]) -> std::io::Result<()> {
-    let columns: Vec<&[f64]> = signals.iter().filter_map(|s| solution.get(s)).collect();
-    write!(out, "\"time\"")?;
-    for name in signals {
-        write!(out, ",\"{}\"", name.replace('"', "\"\""))?;
+/// The animation page and the plot, when asked for.
+fn write_views(args: &RunArgs, title: &str, mechanism: &Mechanism, solution: &Solution) -> Result<(), Failure> {
+    let view_error = |e: multibody_view::ViewError| match e {
+        io @ multibody_view::ViewError::Io { .. } => Failure::Io(io.to_string()),
+        other => Failure::Usage(other.to_string()),
+    };
+    if let Some(path) = &args.animate {
+        let options = multibody_view::AnimationOptions { signals: args.signals.clone(), ..Default::default() };
+        let summary = multibody_view::write_animation(path, title, &mechanism.shapes(), solution, &options)
+            .map_err(view_error)?;
+        eprintln!(
+            "  animation: {} frames of {} shapes → {} ({})",
+            summary.frames,
+            summary.shapes,
+            path.display(),
+            size(summary.bytes)
+        );
     }
-    writeln!(out)?;
-    for (k, t) in solution.time().iter().enumerate() {
-        write!(out, "{t}")?;
-        for column in &columns {
-            write!(out, ",{}", column[k])?;
-        }
-        writeln!(out)?;
+    if let Some(path) = &args.plot {
+        let options = multibody_view::PlotOptions { signals: args.signals.clone(), ..Default::default() };
+        let summary = multibody_view::write_plot(path, title, solution, &options).map_err(view_error)?;
+        let signals: usize = summary.panels.iter().map(|(_, s)| s.len()).sum();
+        eprintln!(
+            "  plot: {} in {} → {}",
+            plural(signals, "signal"),
+            plural(summary.panels.len(), "panel"),
+            path.display()
+        );
     }
     Ok(())
+}
+
+/// "88.6 kB", "2.4 MB".
+fn size(bytes: usize) -> String {
+    if bytes < 1_000_000 {
+        format!("{:.1} kB", bytes as f64 / 1e3)
+    } else {
+        format!("{:.1} MB", bytes as f64 / 1e6)
+    }
 }
 
 /// The final values of the first few states, a vector per line.

@@ -48,11 +48,13 @@ pub fn choose_signals(solution: &Solution, patterns: &[String]) -> Result<Vec<St
 /// (`body.r_0[i]`), then whatever comes first; at most six.
 pub fn default_signals(solution: &Solution) -> Vec<String> {
     let names = solution.names();
-    // Component-level variables: `comp.var` or `comp.var[i]`, not connector
+    // Component-level variables: `comp.var` or `comp.var[i]` (components of
+    // user models have dotted names, `pend.joint.phi`), not connector
     // variables like `comp.frame_a.f[1]`.
     let split = |n: &str| -> Option<(String, String)> {
         let (component, var) = n.rsplit_once('.')?;
-        if component.contains('.') {
+        let last = component.rsplit('.').next().unwrap_or(component);
+        if last.starts_with("frame_") {
             return None;
         }
         let base = var.split('[').next().unwrap_or(var).to_string();
