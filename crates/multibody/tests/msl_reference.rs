@@ -23,7 +23,7 @@ fn pendulum() {
     model.connect(["rev.frame_b", "body.frame_a"]);
     model.connect(["damper.spline_a", "rev.support"]);
     model.connect(["damper.spline_b", "rev.axis"]);
-    let reference = Reference::load("Pendulum");
+    let reference = Reference::reference("Pendulum");
     let solution = model.assemble().unwrap().simulate(&options_for(&reference)).unwrap();
     assert_within_tube(&reference, &solution, &[("rev.phi", "rev.phi"), ("rev.w", "rev.w")]);
 }
@@ -54,7 +54,7 @@ fn double_pendulum() {
     model.connect(["revolute2.frame_b", "boxBody2.frame_a"]);
     model.connect(["damper.spline_a", "revolute1.support"]);
     model.connect(["damper.spline_b", "revolute1.axis"]);
-    let reference = Reference::load("DoublePendulum");
+    let reference = Reference::reference("DoublePendulum");
     let solution = model.assemble().unwrap().simulate(&options_for(&reference)).unwrap();
     let pairs: Vec<(&str, &str)> =
         ["revolute1.phi", "revolute1.w", "revolute2.phi", "revolute2.w"].iter().map(|s| (*s, *s)).collect();
@@ -77,7 +77,7 @@ fn point_gravity() {
             .initial("r_0", r)
             .initial("v_0", v);
     }
-    let reference = Reference::load("PointGravity");
+    let reference = Reference::reference("PointGravity");
     let solution = model.assemble().unwrap().simulate(&options_for(&reference)).unwrap();
     let mut pairs = Vec::new();
     for b in ["body1", "body2"] {
@@ -107,7 +107,7 @@ fn double_pendulum_with_body_boxes() {
     model.connect(["revolute2.frame_b", "boxBody2.frame_a"]);
     model.connect(["damper.spline_a", "revolute1.support"]);
     model.connect(["damper.spline_b", "revolute1.axis"]);
-    let reference = Reference::load("DoublePendulum");
+    let reference = Reference::reference("DoublePendulum");
     let solution = model.assemble().unwrap().simulate(&options_for(&reference)).unwrap();
     let pairs: Vec<(&str, &str)> =
         ["revolute1.phi", "revolute1.w", "revolute2.phi", "revolute2.w"].iter().map(|s| (*s, *s)).collect();
@@ -153,7 +153,7 @@ fn free_body() {
     model.connect(["spring1.frame_b", "body.frame_a"]);
     model.connect(["spring2.frame_a", "bar2.frame_b"]);
     model.connect(["spring2.frame_b", "body.frame_b"]);
-    let reference = Reference::load("FreeBody");
+    let reference = Reference::reference("FreeBody");
     let solution = model.assemble().unwrap().simulate(&options_for(&reference)).unwrap();
     let mut pairs = vector_pairs("body.frame_a", "body.body.frame_a", &["r_0"]);
     pairs.extend(vector_pairs("body", "body.body", &["w_a"]));
@@ -186,7 +186,7 @@ fn three_springs() {
     model.connect(["bar2.frame_b", "spring3.frame_a"]);
     model.connect(["spring1.frame_b", "spring3.frame_b", "spring2.frame_a"]);
     model.connect(["spring2.frame_b", "body1.frame_a"]);
-    let reference = Reference::load("ThreeSprings");
+    let reference = Reference::reference("ThreeSprings");
     let solution = model.assemble().unwrap().simulate(&options_for(&reference)).unwrap();
     let mut pairs = vector_pairs("body1.frame_a", "body1.frame_a", &["r_0"]);
     pairs.extend(vector_pairs("body1", "body1", &["v_0", "w_a"]));
@@ -221,7 +221,7 @@ fn force_and_torque() {
         model.connect([format!("f{axis}.y"), format!("force.force_{axis}")]);
         model.connect([format!("t{axis}.y"), format!("torque.torque_{axis}")]);
     }
-    let reference = Reference::load("ForceAndTorque");
+    let reference = Reference::reference("ForceAndTorque");
     let solution = model.assemble().unwrap().simulate(&options_for(&reference)).unwrap();
     let pairs: Vec<(&str, &str)> =
         ["revolute1.phi", "revolute1.w", "revolute2.phi", "revolute2.w"].iter().map(|s| (*s, *s)).collect();
@@ -244,7 +244,7 @@ fn pendulum_with_spring_damper() {
     model.connect(["bar1.frame_b", "revolute.frame_a", "spring1.frame_a", "damper1.frame_a"]);
     model.connect(["revolute.frame_b", "prismatic.frame_a"]);
     model.connect(["prismatic.frame_b", "body1.frame_a", "spring1.frame_b", "damper1.frame_b"]);
-    let reference = Reference::load("PendulumWithSpringDamper");
+    let reference = Reference::reference("PendulumWithSpringDamper");
     let solution = model.assemble().unwrap().simulate(&options_for(&reference)).unwrap();
     let pairs: Vec<(&str, &str)> =
         ["prismatic.s", "prismatic.v", "revolute.phi", "revolute.w"].iter().map(|s| (*s, *s)).collect();
@@ -273,7 +273,7 @@ fn spring_mass_system() {
     model.connect(["spring1.flange_b", "p1.axis"]);
     model.connect(["bar2.frame_b", "p2.frame_a", "spring2.frame_a"]);
     model.connect(["p2.frame_b", "body2.frame_a", "spring2.frame_b"]);
-    let reference = Reference::load("SpringMassSystem");
+    let reference = Reference::reference("SpringMassSystem");
     let solution = model.assemble().unwrap().simulate(&options_for(&reference)).unwrap();
     let pairs: Vec<(&str, &str)> = ["p1.s", "p1.v", "p2.s", "p2.v"].iter().map(|s| (*s, *s)).collect();
     assert_within_tube(&reference, &solution, &pairs);
@@ -321,7 +321,7 @@ fn fourbar1() {
     for l in mechanism.loops() {
         println!("loop cut at {}: {:?}, {} equations, {} redundant", l.cut, l.joints, l.equations, l.redundant);
     }
-    let reference = Reference::load("Fourbar1");
+    let reference = Reference::reference("Fourbar1");
     let solution = mechanism.simulate(&options_for(&reference)).unwrap();
     assert_within_tube(&reference, &solution, &[("j1.phi", "j1.phi"), ("j1.w", "j1.w")]);
 }
@@ -388,7 +388,7 @@ fn revolute_constraint() {
     model.connect(["constraint.frame_b", "bodyOfConstraint.frame_a"]);
     let mechanism = model.assemble().unwrap();
     assert_eq!(mechanism.degrees_of_freedom(), 2);
-    let reference = Reference::load("RevoluteConstraint");
+    let reference = Reference::reference("RevoluteConstraint");
     let solution = mechanism.simulate(&options_for(&reference)).unwrap();
     let mut pairs = vector_pairs("bodyOfConstraint", "bodyOfConstraint.body", &["w_a"]);
     pairs.push(("bodyOfJoint.body.w_a[2]".into(), "bodyOfJoint.w_a[2]".into()));
@@ -412,7 +412,7 @@ fn spherical_constraint() {
     model.connect(["constraint.frame_b", "bodyOfConstraint.frame_a"]);
     let mechanism = model.assemble().unwrap();
     assert_eq!(mechanism.degrees_of_freedom(), 3);
-    let reference = Reference::load("SphericalConstraint");
+    let reference = Reference::reference("SphericalConstraint");
     let solution = mechanism.simulate(&options_for(&reference)).unwrap();
     let pairs = vector_pairs("bodyOfConstraint", "bodyOfConstraint.body", &["w_a"]);
     assert_within_tube(&reference, &solution, &as_pairs(&pairs));

@@ -1,0 +1,214 @@
+//! Test support shared by the crates' tests: where the reference data is
+//! (outside the repository, found through `MULTIBODY_REFERENCE`), reading
+//! its CSV files, and the tube comparison its README describes.
+
+use multibody::Solution;
+use std::path::{Path, PathBuf};
+
+/// The reference folder: `$MULTIBODY_REFERENCE`, or `../shared/reference`
+/// next to the repository. Panics with instructions when it is missing.
+pub fn reference_dir() -> PathBuf {
+    let dir = match std::env::var_os("MULTIBODY_REFERENCE") {
+        Some(d) => PathBuf::from(d),
+        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/reference"),
+    };
+    assert!(
+        dir.join("msl").is_dir(),
+        "reference data not found at {}: set MULTIBODY_REFERENCE to the folder holding msl/, analytic/ and chain_reference_ddq.json",
+        dir.display()
+    );
+    dir
+}
+
+/// Signals over time, from a CSV file or a simulation.
+pub trait Signals {
+    fn times(&self) -> &[f64];
+    fn signal(&self, name: &str) -> Option<&[f64]>;
+    fn label(&self) -> &str;
+}
+
+/// A CSV table: quoted names (they may contain commas), times with
+/// duplicates removed (the last row of each time is kept, as the reference
+/// README asks).
+pub struct Table {
+    pub name: String,
+    pub names: Vec<String>,
+    pub time: Vec<f64>,
+    pub columns: Vec<Vec<f64>>,
+}
+
+impl Table {
+    pub fn load(path: &Path) -> Self {
+        let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+        let mut lines = text.lines();
+        let header = split_header(lines.next().unwrap_or_default());
+        let mut time: Vec<f64> = Vec::new();
+        let mut columns = vec![Vec::new(); header.len().saturating_sub(1)];
+        for line in lines.filter(|l| !l.trim().is_empty()) {
+            let values: Vec<f64> = line
+                .split(',')
+                .map(|s| s.trim().parse().unwrap_or_else(|_| panic!("{}: not a number in {line}", path.display())))
+                .collect();
+            if time.last() == Some(&values[0]) {
+                time.pop();
+                columns.iter_mut().for_each(|c| {
+                    c.pop();
+                });
+            }
+            time.push(values[0]);
+            for (c, v) in columns.iter_mut().zip(&values[1..]) {
+                c.push(*v);
+            }
+        }
+        let name = path.file_stem().map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+        Self { name, names: header.into_iter().skip(1).collect(), time, columns }
+    }
+
+    /// `msl/NAME.csv` of the reference folder.
+    pub fn reference(name: &str) -> Self {
+        Self::load(&reference_dir().join("msl").join(format!("{name}.csv")))
+    }
+
+    pub fn column(&self, name: &str) -> &[f64] {
+        self.signal(name).unwrap_or_else(|| panic!("{} has no column {name}", self.name))
+    }
+
+    pub fn stop(&self) -> f64 {
+        *self.time.last().expect("an empty table")
+    }
+
+    /// The output interval.
+    pub fn interval(&self) -> f64 {
+        self.time[1] - self.time[0]
+    }
+}
+
+impl Signals for Table {
+    fn times(&self) -> &[f64] {
+        &self.time
+    }
+    fn signal(&self, name: &str) -> Option<&[f64]> {
+        self.names.iter().position(|n| n == name).map(|i| self.columns[i].as_slice())
+    }
+    fn label(&self) -> &str {
+        &self.name
+    }
+}
+
+impl Signals for Solution {
+    fn times(&self) -> &[f64] {
+        self.time()
+    }
+    fn signal(&self, name: &str) -> Option<&[f64]> {
+        self.get(name)
+    }
+    fn label(&self) -> &str {
+        "simulation"
+    }
+}
+
+/// The fields of a CSV header line; quoted fields may contain commas.
+fn split_header(line: &str) -> Vec<String> {
+    let mut fields = vec![String::new()];
+    let mut quoted = false;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '"' if quoted && chars.peek() == Some(&'"') => {
+                chars.next();
+                fields.last_mut().unwrap().push('"');
+            }
+            '"' => quoted = !quoted,
+            ',' if !quoted => fields.push(String::new()),
+            c => fields.last_mut().unwrap().push(c),
+        }
+    }
+    fields
+}
+
+/// Linear interpolation of (time, values) at t.
+fn interp(time: &[f64], values: &[f64], t: f64) -> f64 {
+    let k = time.partition_point(|&s| s < t);
+    if k == 0 {
+        return values[0];
+    }
+    if k >= time.len() {
+        return *values.last().unwrap();
+    }
+    let w = (t - time[k - 1]) / (time[k] - time[k - 1]);
+    values[k - 1] * (1.0 - w) + values[k] * w
+}
+
+/// The tube half-height for signals that are zero up to rounding noise
+/// (the formula gives them a zero-height tube): they must stay below an
+/// absolute 1e-9, far stricter than any real tube here.
+pub const ZERO_SIGNAL_HALF_HEIGHT: f64 = 1e-9;
+
+/// How one signal compared.
+pub struct SignalReport {
+    pub name: String,
+    /// Largest deviation outside the reference's time window, over the tube
+    /// half-height (pass: <= 1).
+    pub tube_fraction: f64,
+    /// Largest plain difference at equal times, over the tube half-height.
+    pub pointwise_fraction: f64,
+}
+
+/// Compares `ours` with the reference signal by signal, pairing
+/// `(reference name, our name)`, with the tube of the reference README:
+/// half-height 0.2 % of the signal's range `max(y_max - y_min, |y_min|)`,
+/// half-width 0.2 % of the time span. Prints the worst fractions; panics if
+/// any sample leaves its tube or our run does not cover the reference's.
+pub fn assert_within_tube(reference: &Table, ours: &impl Signals, pairs: &[(&str, &str)]) -> Vec<SignalReport> {
+    let span = reference.stop() - reference.time[0];
+    let half_width = 2e-3 * span;
+    let our_stop = ours.times().last().copied().unwrap_or(f64::NEG_INFINITY);
+    assert!(
+        (our_stop - reference.stop()).abs() <= half_width,
+        "{}: our run ends at {our_stop}, the reference at {}",
+        reference.name,
+        reference.stop()
+    );
+    let mut reports = Vec::new();
+    for &(ref_name, our_name) in pairs {
+        let y_ref = reference.column(ref_name);
+        let y_ours = ours.signal(our_name).unwrap_or_else(|| panic!("{} has no signal {our_name}", ours.label()));
+        let (lo, hi) = y_ref.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &y| (a.min(y), b.max(y)));
+        let half_height = (2e-3 * (hi - lo).max(lo.abs())).max(ZERO_SIGNAL_HALF_HEIGHT);
+        let (mut tube, mut pointwise) = (0.0f64, 0.0f64);
+        let mut k0 = 0;
+        for (i, &t) in reference.time.iter().enumerate() {
+            let y = interp(ours.times(), y_ours, t);
+            pointwise = pointwise.max((y - y_ref[i]).abs() / half_height);
+            // The reference's extent over [t - w, t + w].
+            while reference.time[k0] < t - half_width {
+                k0 += 1;
+            }
+            let (mut lo_w, mut hi_w) =
+                (interp(&reference.time, y_ref, t - half_width), interp(&reference.time, y_ref, t + half_width));
+            if lo_w > hi_w {
+                std::mem::swap(&mut lo_w, &mut hi_w);
+            }
+            let mut k = k0;
+            while k < reference.time.len() && reference.time[k] <= t + half_width {
+                lo_w = lo_w.min(y_ref[k]);
+                hi_w = hi_w.max(y_ref[k]);
+                k += 1;
+            }
+            tube = tube.max((lo_w - y).max(y - hi_w).max(0.0) / half_height);
+        }
+        reports.push(SignalReport { name: ref_name.into(), tube_fraction: tube, pointwise_fraction: pointwise });
+    }
+    println!("{}: worst error as a fraction of the tube (pass <= 1); pointwise = at equal times", reference.name);
+    for r in &reports {
+        println!("  {:40} tube {:8.4}   pointwise {:8.4}", r.name, r.tube_fraction, r.pointwise_fraction);
+    }
+    let failed: Vec<&str> = reports.iter().filter(|r| r.tube_fraction > 1.0).map(|r| r.name.as_str()).collect();
+    assert!(failed.is_empty(), "{}: signals left the tube: {failed:?}", reference.name);
+    reports
+}
+
+/// Pairs of equal names.
+pub fn same<'a>(names: &[&'a str]) -> Vec<(&'a str, &'a str)> {
+    names.iter().map(|n| (*n, *n)).collect()
+}
