@@ -205,6 +205,8 @@ pub(crate) struct Link {
     /// Mass of everything fixed to the link, in the link frame (the joint's
     /// child-side frame).
     pub inertia: RigidInertia,
+    /// The same as an articulated inertia, where the ABA starts from.
+    pub articulated: crate::math::ArticulatedInertia,
     pub q_offset: usize,
     pub v_offset: usize,
     /// The component and part of the joint (or owner) that moves this link.

@@ -81,6 +81,10 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         }
     }
 
+    for link in &mut tree.links {
+        link.articulated = (&link.inertia).into();
+    }
+
     let axis_elements = axis::elements(&mut components, &conn, &tree)?;
     let signals = signals::resolve(&components, &conn)?;
     warnings.extend(signals.warnings);

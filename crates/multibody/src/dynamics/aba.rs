@@ -41,35 +41,62 @@ impl Mechanism {
         }
     }
 
-    /// Pass 1: link transforms, velocities, world poses, and the bias force
-    /// of each link alone.
+    /// Pass 1: link transforms, velocities, world poses (when something
+    /// needs them), and the bias force of each link alone.
     pub(crate) fn kinematics_and_bias(&self, ws: &mut Workspace, q: &[f64], u: &[f64]) -> Result<(), DynamicsError> {
         let mut jm = JointMotion::default();
+        let world_poses = self.needs_world_poses();
         for k in 1..self.links.len() {
             let link = &self.links[k];
-            let nv = link.joint.nv();
             link.motion(q, u, &mut jm);
             if link.joint.singularity(link.q(q)).is_some() {
                 return Err(DynamicsError::EulerSingularity { link: k, time: f64::NAN });
             }
-            let parent = ws.links[link.parent];
-            let x_up = link.x_tree.then(&jm.x);
-            let v = x_up.apply_motion(&parent.v) + jm.vj;
-            let w = &mut ws.links[k];
-            w.x_up = x_up;
-            w.v = v;
-            w.c = jm.cj + v.cross_motion(&jm.vj);
-            w.rot = x_up.rot * parent.rot;
-            w.pos = parent.pos + parent.rot.tr_mul(&x_up.trans);
-            w.ia = (&link.inertia).into();
-            w.pa = v.cross_force(&link.inertia.apply(&v));
-            if nv == 1 {
+            // Parents come before their children.
+            let (done, rest) = ws.links.split_at_mut(k);
+            let parent = &done[link.parent];
+            let w = &mut rest[0];
+            w.x_up = link.x_tree.then(&jm.x);
+            w.v = w.x_up.apply_motion(&parent.v) + jm.vj;
+            w.c = jm.cj + w.v.cross_motion(&jm.vj);
+            if world_poses {
+                w.rot = w.x_up.rot * parent.rot;
+                w.pos = parent.pos + parent.rot.tr_mul(&w.x_up.trans);
+            }
+            w.ia = link.articulated;
+            w.pa = w.v.cross_force(&link.inertia.apply(&w.v));
+            if link.joint.nv() == 1 {
                 w.s = jm.s[0];
             } else {
                 ws.multi[ws.multi_index[k]].s = jm.s;
             }
         }
         Ok(())
+    }
+
+    /// Whether the dynamics needs each link's pose in the world (forces
+    /// between frames, point gravity, massless groups, constraints).
+    #[inline]
+    fn needs_world_poses(&self) -> bool {
+        !(self.force_elements.is_empty()
+            && self.point_masses.is_empty()
+            && self.massless.is_empty()
+            && self.constraints.is_empty())
+    }
+
+    /// Each link's pose in the world from the transforms of pass 1 (for
+    /// outputs, when the dynamics did not need them).
+    pub(crate) fn world_poses(&self, ws: &mut Workspace) {
+        if self.needs_world_poses() {
+            return;
+        }
+        for k in 1..self.links.len() {
+            let (done, rest) = ws.links.split_at_mut(k);
+            let parent = &done[self.links[k].parent];
+            let w = &mut rest[0];
+            w.rot = w.x_up.rot * parent.rot;
+            w.pos = parent.pos + parent.rot.tr_mul(&w.x_up.trans);
+        }
     }
 
     /// Generalised forces of 1-D elements, and external forces on links
@@ -98,35 +125,33 @@ impl Mechanism {
 
     /// Pass 2: articulated inertias and bias forces from the leaves inwards.
     fn articulated_inertias(&self, ws: &mut Workspace) -> Result<(), DynamicsError> {
+        let Workspace { links, multi, multi_index, tau, .. } = ws;
         for k in (1..self.links.len()).rev() {
             let link = &self.links[k];
             let nv = link.joint.nv();
-            let w = ws.links[k];
+            let (done, rest) = links.split_at_mut(k);
+            let w = &mut rest[0];
             let (mut ia, mut pa);
             if nv == 1 {
-                let u_force = w.ia.apply(&w.s);
-                let d = w.s.dot(&u_force);
+                w.u_force = w.ia.apply(&w.s);
+                let d = w.s.dot(&w.u_force);
                 if !(d > 0.0) {
                     return Err(DynamicsError::SingularInertia { link: k });
                 }
-                let d_inv = 1.0 / d;
-                let uu = ws.tau[link.v_offset] - w.s.dot(&w.pa);
-                let wk = &mut ws.links[k];
-                wk.u_force = u_force;
-                wk.d_inv = d_inv;
-                wk.u = uu;
+                w.d_inv = 1.0 / d;
+                w.u = tau[link.v_offset] - w.s.dot(&w.pa);
                 if link.parent == GROUND {
                     continue;
                 }
                 ia = w.ia;
-                ia.sub_outer(&u_force, d_inv);
-                pa = w.pa + ia.apply(&w.c) + u_force * (uu * d_inv);
+                ia.sub_outer(&w.u_force, w.d_inv);
+                pa = w.pa + ia.apply(&w.c) + w.u_force * (w.u * w.d_inv);
             } else {
-                let m = &mut ws.multi[ws.multi_index[k]];
+                let m = &mut multi[multi_index[k]];
                 let mut d = nalgebra::Matrix6::<f64>::identity();
                 for i in 0..nv {
                     m.u_force[i] = w.ia.apply(&m.s[i]);
-                    m.u[i] = ws.tau[link.v_offset + i] - m.s[i].dot(&w.pa);
+                    m.u[i] = tau[link.v_offset + i] - m.s[i].dot(&w.pa);
                 }
                 for i in 0..nv {
                     for j in 0..nv {
@@ -150,28 +175,29 @@ impl Mechanism {
                 }
                 pa += ia.apply(&w.c);
             }
-            let parent = link.parent;
-            let (ia_p, pa_p) = (ia.expressed_in_parent(&w.x_up), w.x_up.inv_apply_force(&pa));
-            ws.links[parent].ia += ia_p;
-            ws.links[parent].pa += pa_p;
+            let parent = &mut done[link.parent];
+            parent.ia += ia.expressed_in_parent(&w.x_up);
+            parent.pa += w.x_up.inv_apply_force(&pa);
         }
         Ok(())
     }
 
     /// Pass 3: accelerations from the ground outwards.
     fn accelerations(&self, ws: &mut Workspace, ud: &mut [f64]) {
-        ws.links[GROUND].a = Motion::new(Vec3::zeros(), -self.uniform_gravity);
+        let Workspace { links, multi, multi_index, .. } = ws;
+        links[GROUND].a = Motion::new(Vec3::zeros(), -self.uniform_gravity);
         for k in 1..self.links.len() {
             let link = &self.links[k];
             let nv = link.joint.nv();
-            let w = ws.links[k];
-            let a_in = w.x_up.apply_motion(&ws.links[link.parent].a) + w.c;
-            let a = if nv == 1 {
+            let (done, rest) = links.split_at_mut(k);
+            let w = &mut rest[0];
+            let a_in = w.x_up.apply_motion(&done[link.parent].a) + w.c;
+            w.a = if nv == 1 {
                 let qdd = w.d_inv * (w.u - a_in.dot(&w.u_force));
                 ud[link.v_offset] = qdd;
                 a_in + w.s * qdd
             } else {
-                let m = &ws.multi[ws.multi_index[k]];
+                let m = &multi[multi_index[k]];
                 let mut rhs = nalgebra::Vector6::<f64>::zeros();
                 for i in 0..nv {
                     rhs[i] = m.u[i] - a_in.dot(&m.u_force[i]);
@@ -184,7 +210,6 @@ impl Mechanism {
                 }
                 a
             };
-            ws.links[k].a = a;
         }
     }
 }

@@ -81,6 +81,7 @@ impl Mechanism {
         let (nq, nv) = (self.states.nq, self.states.nv);
         scratch.dy.resize(nq + nv, 0.0);
         self.rhs(ws, t, y, &mut scratch.dy)?;
+        self.world_poses(ws);
         // True link accelerations: the ABA ran in a frame falling with gravity.
         for w in ws.links.iter_mut() {
             w.a += Motion::new(Vec3::zeros(), w.rot * self.uniform_gravity);

@@ -250,6 +250,21 @@ impl AddAssign for RigidInertia {
     }
 }
 
+/// `E' S E` for a symmetric `S`, computing each symmetric pair once.
+#[inline]
+fn symmetric_congruence(e: &Mat3, s: &Mat3) -> Mat3 {
+    let t = s * e;
+    let mut out = Mat3::zeros();
+    for i in 0..3 {
+        for j in i..3 {
+            let v = e[(0, i)] * t[(0, j)] + e[(1, i)] * t[(1, j)] + e[(2, i)] * t[(2, j)];
+            out[(i, j)] = v;
+            out[(j, i)] = v;
+        }
+    }
+    out
+}
+
 /// `m [c]x [c]x' = m (|c|^2 I - c c')`: the parallel-axis term.
 fn shift_term(mass: f64, c: &Vec3) -> Mat3 {
     (Mat3::identity() * c.norm_squared() - c * c.transpose()) * mass
@@ -300,16 +315,30 @@ impl ArticulatedInertia {
     }
 
     /// The same inertia given in frame B, expressed in frame A, with `x`
-    /// mapping A to B: `X' I X`.
+    /// mapping A to B: `X' I X`, as a rotation of the blocks (the diagonal
+    /// ones symmetric) followed by a shift of the origin by `r`:
+    /// `A'' = A' + M + M' - [r]x C' [r]x`, `B'' = B' + [r]x C'`, `C'' = C'`
+    /// with `M = [r]x B''`.
+    #[inline]
     pub fn expressed_in_parent(&self, x: &Transform) -> ArticulatedInertia {
         let e = &x.rot;
-        let a = e.tr_mul(&(self.a * e));
+        let a = symmetric_congruence(e, &self.a);
+        let c = symmetric_congruence(e, &self.c);
         let b = e.tr_mul(&(self.b * e));
-        let c = e.tr_mul(&(self.c * e));
-        let rx = super::skew(&x.trans);
-        let m = rx * b.transpose();
-        let rc = rx * c;
-        ArticulatedInertia { a: a + m + m.transpose() - rc * rx, b: b + rc, c }
+        let r = x.trans;
+        // [r]x applied to the columns of a matrix: each column crossed with r.
+        let cross_columns = |m: &Mat3| {
+            let col = |k: usize| -> Vec3 { r.cross(&m.column(k).into_owned()) };
+            Mat3::from_columns(&[col(0), col(1), col(2)])
+        };
+        let m = cross_columns(&b.transpose());
+        let rc = cross_columns(&c);
+        // ([r]x C') [r]x = -([r]x ([r]x C')')' since [r]x' = -[r]x.
+        let rcr = -cross_columns(&rc.transpose()).transpose();
+        let mut a2 = a + m + m.transpose() - rcr;
+        // Keep the diagonal blocks exactly symmetric.
+        a2 = (a2 + a2.transpose()) * 0.5;
+        ArticulatedInertia { a: a2, b: b + rc, c }
     }
 }
 

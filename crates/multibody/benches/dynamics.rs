@@ -1,0 +1,37 @@
+//! Forward dynamics (ABA) and the full right-hand side on the peers'
+//! benchmark chain (shared/bench/peers/chain_common.py), at its test state.
+//! `scripts/bench.sh` runs this with the peers and prints the ratios.
+
+use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion};
+
+#[path = "../tests/common/chain.rs"]
+mod chain;
+
+fn dynamics(c: &mut Criterion) {
+    let mut aba = c.benchmark_group("aba");
+    for n in [1usize, 7, 30, 100, 1000] {
+        let mechanism = chain::benchmark_chain(n).assemble().unwrap();
+        let y = mechanism.states().start.clone();
+        let (q, u) = y.split_at(n);
+        let mut ws = mechanism.workspace();
+        let mut ud = vec![0.0; n];
+        aba.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+            b.iter(|| mechanism.forward_dynamics(&mut ws, 0.0, black_box(q), black_box(u), &mut ud).unwrap())
+        });
+    }
+    aba.finish();
+    let mut rhs = c.benchmark_group("rhs");
+    for n in [1usize, 7, 30, 100, 1000] {
+        let mechanism = chain::benchmark_chain(n).assemble().unwrap();
+        let y = mechanism.states().start.clone();
+        let mut ws = mechanism.workspace();
+        let mut dy = vec![0.0; 2 * n];
+        rhs.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+            b.iter(|| mechanism.rhs(&mut ws, 0.0, black_box(&y), &mut dy).unwrap())
+        });
+    }
+    rhs.finish();
+}
+
+criterion_group!(benches, dynamics);
+criterion_main!(benches);
