@@ -11,7 +11,7 @@ pub enum Target {
     Component(String),
 }
 
-/// Reads every file (folders: every `.dyad` file in them, sorted). Syntax
+/// Reads every file (folders: every `.dyad` file directly in them, sorted). Syntax
 /// errors of all files are printed before failing.
 pub fn read_package(paths: &[PathBuf]) -> Result<Package, Failure> {
     let mut files = Vec::new();
@@ -50,13 +50,8 @@ fn collect_dyad_files(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), Failure>
     let entries = std::fs::read_dir(dir).map_err(|e| Failure::Io(format!("cannot read {}: {e}", dir.display())))?;
     let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
     paths.sort();
-    for path in paths {
-        if path.is_dir() {
-            collect_dyad_files(&path, out)?;
-        } else if path.extension().is_some_and(|e| e == "dyad") {
-            out.push(path);
-        }
-    }
+    // Subfolders are separate packages (examples/msl holds models of the same names as examples).
+    out.extend(paths.into_iter().filter(|p| p.is_file() && p.extension().is_some_and(|e| e == "dyad")));
     Ok(())
 }
 

@@ -51,7 +51,7 @@ enum Command {
 /// Which model files, and which analysis or component in them.
 #[derive(Args, Clone)]
 pub struct Selection {
-    /// Model files (.dyad), or folders to read every .dyad file from
+    /// Model files (.dyad), or folders to read every .dyad file from (not their subfolders)
     #[arg(required = true, value_name = "FILE")]
     pub files: Vec<PathBuf>,
     /// The analysis to run (needed when the files have several)

@@ -1,24 +1,24 @@
 //! The Modelica reference examples (shared/reference/msl), written as .dyad
-//! files in tests/models and run through the `multibody run` command; its
+//! files in the repository's examples/msl and run through the `multibody run` command; its
 //! CSV must stay within the reference's tube.
 
 mod common;
 
 use common::{assert_pairs_within_tube, crate_path, multibody, scratch, Table};
 
-/// Runs `tests/models/NAME.dyad` and compares the CSV with the reference.
+/// Runs `examples/msl/NAME.dyad` and compares the CSV with the reference.
 fn check(name: &str, signals: &[&str]) {
     let pairs: Vec<(&str, &str)> = signals.iter().map(|s| (*s, *s)).collect();
     check_model(name, name, &pairs);
 }
 
-/// Runs `tests/models/MODEL.dyad` and compares its CSV with the reference
+/// Runs `examples/msl/MODEL.dyad` and compares its CSV with the reference
 /// `REFERENCE`, pairing `(reference name, our name)`.
 fn check_model(model: &str, reference: &str, pairs: &[(&str, &str)]) {
     let reference = Table::reference(reference);
     let dir = scratch(&format!("reference-{model}"));
     let out = dir.join(format!("{model}.csv"));
-    let path = crate_path(&format!("tests/models/{model}.dyad"));
+    let path = crate_path(&format!("../../examples/msl/{model}.dyad"));
     let output = multibody(&dir, &["run", &path, "--out", out.to_str().unwrap()]);
     assert!(output.status.success(), "multibody run failed:\n{}", String::from_utf8_lossy(&output.stderr));
     let ours = Table::load(&out);
@@ -115,4 +115,16 @@ fn revolute_constraint() {
 fn spherical_constraint() {
     let pairs = vectors("bodyOfConstraint.body", "bodyOfConstraint", &["w_a"]);
     check_model("SphericalConstraint", "SphericalConstraint", &as_pairs(&pairs));
+}
+
+/// A new file in examples/msl must get a reference test above.
+#[test]
+fn every_msl_example_is_checked() {
+    let source = include_str!("reference.rs");
+    let dir = std::path::Path::new(&crate_path("../../examples/msl")).to_path_buf();
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let name = entry.unwrap().path().file_stem().unwrap().to_string_lossy().into_owned();
+        let checked = [format!("check(\"{name}\""), format!("check_model(\"{name}\"")];
+        assert!(checked.iter().any(|c| source.contains(c)), "examples/msl/{name}.dyad has no reference test");
+    }
 }

@@ -2,6 +2,8 @@
 //! and its tube comparison come from the `multibody-reference` crate.
 #![allow(dead_code)]
 
+pub mod examples;
+
 use std::path::{Path, PathBuf};
 
 use std::process::{Command, Output};
