@@ -231,8 +231,13 @@ impl Mechanism {
         progress: Option<&mut dyn FnMut(f64)>,
     ) -> Result<Solution, SimulationError> {
         let signals = self.signals();
-        let solution =
+        let mut solution =
             Solution::new(signals.iter().map(|s| s.name.clone()).collect(), signals.iter().map(|s| s.unit).collect());
+        if options.saveat > 0.0 && options.stop > options.start {
+            // The grid is known: growing hundreds of columns sample by sample costs more than the dynamics.
+            let samples = ((options.stop - options.start) / options.saveat).ceil() + 1.0;
+            solution.reserve(samples.min(1e7) as usize);
+        }
         let fail = |time: f64, reason: String, partial: Solution| SimulationError { time, reason, partial };
         if let Err(reason) = options.validate() {
             return Err(fail(options.start, reason, solution));

@@ -31,6 +31,14 @@ impl Solution {
         Self { names, units, index, time: Vec::new(), columns }
     }
 
+    /// Makes room for `samples` more samples of every signal.
+    pub fn reserve(&mut self, samples: usize) {
+        self.time.reserve(samples);
+        for c in &mut self.columns {
+            c.reserve(samples);
+        }
+    }
+
     /// Appends one sample; `row` has one value per signal.
     pub fn push(&mut self, t: f64, row: &[f64]) {
         debug_assert_eq!(row.len(), self.columns.len());
