@@ -8,10 +8,12 @@ use crate::components::Part;
 use crate::mechanism::{CompiledComponent, FlowEdge, FlowTree};
 use std::collections::VecDeque;
 
+/// An edge leaving a frame node: (the node it reaches, the connector at this end, the one at the other end).
+type Edge = (usize, Option<usize>, Option<usize>);
+
 pub fn flow_tree(components: &[CompiledComponent], conn: &Connectors, tree: &Tree) -> FlowTree {
     let n = conn.frame_nodes.len();
-    // Edges as (from, to, connector at from, connector at to); `None` vertex is the ground.
-    let mut adjacency: Vec<Vec<(usize, Option<usize>, Option<usize>)>> = vec![Vec::new(); n];
+    let mut adjacency: Vec<Vec<Edge>> = vec![Vec::new(); n];
     let mut from_ground: Vec<(usize, Option<usize>)> = Vec::new();
     let tree_parts: Vec<(usize, usize)> = tree.links.iter().skip(1).map(|l| l.source).collect();
     for (ci, c) in components.iter().enumerate() {
@@ -48,7 +50,7 @@ pub fn flow_tree(components: &[CompiledComponent], conn: &Connectors, tree: &Tre
     FlowTree { order, parent }
 }
 
-fn link(adjacency: &mut [Vec<(usize, Option<usize>, Option<usize>)>], conn: &Connectors, a: usize, b: usize) {
+fn link(adjacency: &mut [Vec<Edge>], conn: &Connectors, a: usize, b: usize) {
     let (na, nb) = (conn.node(a), conn.node(b));
     adjacency[na].push((nb, Some(a), Some(b)));
     adjacency[nb].push((na, Some(b), Some(a)));

@@ -32,13 +32,13 @@ impl UnionFind {
         let mut number = vec![usize::MAX; n];
         let mut class = vec![0; n];
         let mut count = 0;
-        for x in 0..n {
+        for (x, class_of_x) in class.iter_mut().enumerate() {
             let r = self.find(x);
             if number[r] == usize::MAX {
                 number[r] = count;
                 count += 1;
             }
-            class[x] = number[r];
+            *class_of_x = number[r];
         }
         (class, count)
     }

@@ -135,7 +135,7 @@ impl Mechanism {
             if nv == 1 {
                 w.u_force = w.ia.apply(&w.s);
                 let d = w.s.dot(&w.u_force);
-                if !(d > 0.0) {
+                if d.is_nan() || d <= 0.0 {
                     return Err(DynamicsError::SingularInertia { link: k });
                 }
                 w.d_inv = 1.0 / d;

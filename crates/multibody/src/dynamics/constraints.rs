@@ -264,8 +264,8 @@ impl Mechanism {
         ldlt_solve(&ws.schur, m, &ws.perm, rank, &mut ws.lambda, &mut ws.work);
         for r in 0..m {
             let l = ws.lambda[r];
-            for i in 0..nv {
-                ud[i] += ws.y_rows[r * nv + i] * l;
+            for (udi, yi) in ud.iter_mut().zip(&ws.y_rows[r * nv..(r + 1) * nv]) {
+                *udi += yi * l;
             }
             // The physical multiplier: lambda = lambda' - w gamma, gamma = -Jdot u.
             ws.lambda[r] = l + w * ws.bias[r];
@@ -391,10 +391,10 @@ impl Mechanism {
     pub(crate) fn least_norm_step(&self, ws: &mut Workspace, free: Option<&[bool]>, positions: bool) {
         let (nv, m) = (self.states.nv, self.constraint_rows);
         if let Some(free) = free {
-            for r in 0..m {
-                for i in 0..nv {
-                    if !free[i] {
-                        ws.jac[r * nv + i] = 0.0;
+            for row in ws.jac[..m * nv].chunks_exact_mut(nv) {
+                for (x, &is_free) in row.iter_mut().zip(free) {
+                    if !is_free {
+                        *x = 0.0;
                     }
                 }
             }

@@ -10,7 +10,7 @@ pub fn cholesky(a: &mut [f64], n: usize) -> bool {
         for k in 0..j {
             d -= a[j * n + k] * a[j * n + k];
         }
-        if !(d > 0.0) {
+        if d.is_nan() || d <= 0.0 {
             return false;
         }
         let d = d.sqrt();
@@ -66,7 +66,7 @@ pub fn ldlt_pivoted(a: &mut [f64], n: usize, perm: &mut [usize], tolerance: f64)
             }
         }
         let d = a[k * n + k];
-        if !(d > floor) {
+        if d.is_nan() || d <= floor {
             return k;
         }
         for i in k + 1..n {

@@ -74,7 +74,7 @@ impl SimulationOptions {
             return Err("saveat and dtmax must not be negative".into());
         }
         if let Method::Rk4 { dt } = self.method {
-            if !(dt > 0.0) {
+            if dt.is_nan() || dt <= 0.0 {
                 return Err("the RK4 step dt must be positive".into());
             }
         }
@@ -216,6 +216,9 @@ impl Recorder<'_, '_> {
     }
 }
 
+// The error carries the partial solution by value; it is returned once per
+// simulation, so its size costs nothing.
+#[allow(clippy::result_large_err)]
 impl Mechanism {
     /// Simulates from the start values of the model.
     pub fn simulate(&self, options: &SimulationOptions) -> Result<Solution, SimulationError> {

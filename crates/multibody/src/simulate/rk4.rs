@@ -31,8 +31,8 @@ impl DenseStep for Rk4 {
             -2.0 * s * s * s + 3.0 * s * s,
             s * s * s - s * s,
         );
-        for i in 0..out.len() {
-            out[i] = h00 * self.y_old[i] + h10 * h * self.f_old[i] + h01 * self.y[i] + h11 * h * self.f_new[i];
+        for (i, x) in out.iter_mut().enumerate() {
+            *x = h00 * self.y_old[i] + h10 * h * self.f_old[i] + h01 * self.y[i] + h11 * h * self.f_new[i];
         }
     }
 }

@@ -212,9 +212,9 @@ pub fn v3(sol: &Solution, prefix: &str, k: usize) -> V3 {
 /// `prefix[i,j]` at sample `k` (row-major, 1-based names).
 pub fn m3(sol: &Solution, prefix: &str, k: usize) -> M3 {
     let mut r = [[0.0; 3]; 3];
-    for i in 0..3 {
-        for j in 0..3 {
-            r[i][j] = sig(sol, &format!("{prefix}[{},{}]", i + 1, j + 1))[k];
+    for (i, row) in r.iter_mut().enumerate() {
+        for (j, x) in row.iter_mut().enumerate() {
+            *x = sig(sol, &format!("{prefix}[{},{}]", i + 1, j + 1))[k];
         }
     }
     r
