@@ -1,0 +1,129 @@
+#!/usr/bin/env bash
+# One command for the performance numbers in docs/performance.md:
+#   1. our criterion benchmarks, with short warm-up and measurement times:
+#      crates/multibody/benches (aba/N, rhs/N, assemble/C, and simulate/NAME
+#      where present) and the other crates' benchmarks (the example models in
+#      crates/multibody-cli/benches/examples.rs: compile/NAME, simulate/NAME);
+#   2. the peers (Pinocchio C++ and MuJoCo C on the same chain) with
+#      shared/bench/peers/run.sh --native, in the same run and on the same
+#      machine, so that the ratios hold even when absolute times drift;
+#   3. the work-precision comparison (our adaptive integrator against
+#      MuJoCo's RK4 on the Pendulum and DoublePendulum references):
+#      crates/multibody/examples/work_precision.rs, then
+#      scripts/work_precision.py with the peers' Python environment.
+# The report (markdown) goes to stdout and to target/bench-report.md (the
+# benchmark tables alone also to target/bench/table.md); progress and the
+# tools' own output go to stderr. Raw data: target/bench/.
+#
+# Usage: scripts/bench.sh [--quick] [criterion options]
+#   --quick  very short measurements, to try the script (numbers not usable)
+#   criterion options replace the default --warm-up-time 1 --measurement-time 3
+# Environment:
+#   PEERS           the peers' directory (default ../shared/bench/peers,
+#                   relative to the repository root; MULTIBODY_PEERS works too)
+#   PEERS_CACHE     where run.sh keeps its venv and binaries
+#                   (default ~/.cache/multibody-peers)
+# Takes about 10 minutes on the 2-core development machine (the first run
+# longer: builds, and the peers' venv and C/C++ binaries). Run nothing else
+# heavy meanwhile.
+set -euo pipefail
+
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+cd "$ROOT"
+QUICK=0
+CRITERION_ARGS=()
+for arg in "$@"; do
+  case "$arg" in
+    --quick) QUICK=1 ;;
+    -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) CRITERION_ARGS+=("$arg") ;;
+  esac
+done
+
+say() { echo "bench.sh: $*" >&2; }
+die() { say "error: $*"; exit 1; }
+trap 'say "error: failed (exit $?) at line $LINENO: $BASH_COMMAND"' ERR
+
+PEERS=${PEERS:-${MULTIBODY_PEERS:-../shared/bench/peers}}
+if [ ! -f "$PEERS/run.sh" ]; then
+  if [ "$PEERS" = "../shared/bench/peers" ] && [ ! -d "$ROOT/../shared" ]; then
+    die "../shared is missing (looked for $(cd "$ROOT/.." && pwd)/shared): the peers' benchmarks live in ../shared/bench/peers next to the repository. Check out the shared directory there, or set PEERS=/path/to/bench/peers."
+  fi
+  die "the peers' benchmark script $PEERS/run.sh is missing (PEERS=$PEERS, relative to $ROOT). Set PEERS to the directory holding run.sh."
+fi
+PEERS=$(cd "$PEERS" && pwd)
+export PEERS_CACHE=${PEERS_CACHE:-$HOME/.cache/multibody-peers}
+PY=$PEERS_CACHE/venv/bin/python
+OUT=$ROOT/target/bench
+REPORT=$ROOT/target/bench-report.md
+mkdir -p "$OUT"
+
+if [ "$QUICK" = 1 ]; then
+  [ ${#CRITERION_ARGS[@]} -gt 0 ] || CRITERION_ARGS=(--warm-up-time 0.2 --measurement-time 0.5)
+  WP_FLAGS=(--quick)
+else
+  [ ${#CRITERION_ARGS[@]} -gt 0 ] || CRITERION_ARGS=(--warm-up-time 1 --measurement-time 3)
+  WP_FLAGS=()
+fi
+
+# The benchmark targets of the workspace, as "package bench" lines.
+mapfile -t TARGETS < <(cargo metadata --no-deps --format-version 1 | python3 -c '
+import json, sys
+for p in json.load(sys.stdin)["packages"]:
+    for t in p["targets"]:
+        if "bench" in t["kind"]:
+            print(p["name"], t["name"])')
+[ ${#TARGETS[@]} -gt 0 ] || die "the workspace has no benchmark targets"
+grep -q '^multibody ' < <(printf '%s\n' "${TARGETS[@]}") || die "crates/multibody has no benchmark targets"
+
+# Build everything first, so that no compilation runs next to a measurement.
+say "building the benchmarks and the work-precision example (release)"
+for t in "${TARGETS[@]}"; do
+  read -r package bench <<<"$t"
+  cargo bench -p "$package" --bench "$bench" --no-run >&2
+done
+cargo build --release -p multibody --example work_precision >&2
+
+# 1. Ours. Results older than this stamp are ignored (benchmarks that this
+# run did not run, e.g. removed ones).
+touch "$OUT/started"
+sleep 1
+for t in "${TARGETS[@]}"; do
+  read -r package bench <<<"$t"
+  say "running cargo bench -p $package --bench $bench -- ${CRITERION_ARGS[*]}"
+  cargo bench -p "$package" --bench "$bench" -- "${CRITERION_ARGS[@]}" >&2
+done
+
+# 2. The peers (run.sh also creates their venv when it is missing).
+say "running $PEERS/run.sh --native (a few minutes; log in target/bench/peers.log)"
+bash "$PEERS/run.sh" --native >"$OUT/peers.csv" 2>"$OUT/peers.log" ||
+  { tail -n 20 "$OUT/peers.log" >&2; die "the peers' run.sh failed (log: $OUT/peers.log)"; }
+[ -x "$PY" ] || die "the peers' Python ($PY) is missing after run.sh"
+
+# 3. Work-precision.
+say "running the work-precision example"
+"$ROOT/target/release/examples/work_precision" "${WP_FLAGS[@]}" >"$OUT/work_precision.json"
+say "running scripts/work_precision.py (MuJoCo RK4)"
+WP_STATUS=0
+"$PY" "$ROOT/scripts/work_precision.py" --ours "$OUT/work_precision.json" --json "$OUT/work_precision_mujoco.json" \
+  --peers-csv "$OUT/peers.csv" "${WP_FLAGS[@]}" >"$OUT/work_precision.md" || WP_STATUS=$?
+
+# The report.
+REPORT_STATUS=0
+"$PY" "$ROOT/scripts/bench_report.py" "$ROOT/target/criterion" "$OUT/peers.csv" --since "$OUT/started" \
+  >"$OUT/table.md" || REPORT_STATUS=$?
+{
+  echo "## Benchmark report"
+  echo
+  echo "- date: $(date -u '+%Y-%m-%d %H:%M UTC')"
+  echo "- commit: $(git rev-parse --short HEAD)$(git diff --quiet HEAD -- crates 2>/dev/null || echo ' (with uncommitted changes under crates/)')"
+  echo "- machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores"
+  echo "- $(rustc -V); criterion ${CRITERION_ARGS[*]}; MuJoCo $("$PY" -c 'import mujoco; print(mujoco.__version__)'), Pinocchio $("$PY" -c 'import pinocchio; print(pinocchio.__version__)')"
+  if [ "$QUICK" = 1 ]; then echo "- **--quick: short measurements, not for quoting**"; fi
+  echo
+  cat "$OUT/table.md" "$OUT/work_precision.md"
+} >"$REPORT"
+cat "$REPORT"
+say "report written to $REPORT (raw data in $OUT)"
+[ "$REPORT_STATUS" = 0 ] || die "some benchmarks are missing from this run: see the report"
+[ "$WP_STATUS" = 0 ] || die "scripts/work_precision.py reported a problem (exit $WP_STATUS): see the report"
