@@ -178,6 +178,21 @@ fn check_prints_the_states_and_orientation_owners() {
     assert!(out.contains("orientation owners") && out.contains("body: quaternion"), "{out}");
 }
 
+/// The loop is found and reported without the user marking anything.
+#[test]
+fn check_reports_a_loop_its_degrees_of_freedom_and_redundant_equations() {
+    let dir = scratch("check-loop");
+    let o = multibody(&dir, &["check", &example("four_bar.dyad")]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let out = stdout(&o);
+    assert!(out.contains("degrees of freedom: 1\n"), "{out}");
+    assert!(out.contains("kinematic loops: 1\n"), "{out}");
+    assert!(out.contains("5 constraint equations, 3 of them redundant"), "{out}");
+    for joint in ["j1", "j2", "j3", "j4"] {
+        assert!(out.contains(joint), "{out}");
+    }
+}
+
 #[test]
 fn describe_shows_parameters_connectors_and_variables() {
     let dir = scratch("describe");

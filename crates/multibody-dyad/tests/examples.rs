@@ -144,6 +144,36 @@ fn documentation_pend() {
     assert_same("docs/pend.dyad", m, options(5.0, 0.01));
 }
 
+#[test]
+fn four_bar() {
+    let mut m = Model::new("FourBar");
+    m.add("world", "World");
+    m.add("ground", "FixedTranslation").set("r", [2.0, 0.0, 0.0]);
+    m.add("j1", "Revolute").set("axisflange", true).initial("phi", 0.0).initial("w", 5.0);
+    for j in ["j2", "j3", "j4"] {
+        m.add(j, "Revolute");
+    }
+    for (bar, r) in [("crank", [0.0, 0.5, 0.0]), ("coupler", [2.0, 1.0, 0.0]), ("rocker", [0.0, 1.5, 0.0])] {
+        m.add(bar, "BodyShape").set("m", 1.0).set("r", r).set("I_11", 0.01).set("I_22", 0.01).set("I_33", 0.01);
+    }
+    m.add("damper", "RotationalComponents.Damper").set("d", 0.05);
+    m.connect(["world.frame_b", "j1.frame_a", "ground.frame_a"]);
+    for (a, b) in [
+        ("j1.frame_b", "crank.frame_a"),
+        ("crank.frame_b", "j2.frame_a"),
+        ("j2.frame_b", "coupler.frame_a"),
+        ("coupler.frame_b", "j3.frame_a"),
+        ("ground.frame_b", "j4.frame_a"),
+        ("j4.frame_b", "rocker.frame_a"),
+        ("rocker.frame_b", "j3.frame_b"),
+        ("damper.spline_a", "j1.support"),
+        ("damper.spline_b", "j1.axis"),
+    ] {
+        m.connect([a, b]);
+    }
+    assert_same("four_bar.dyad", m, options(10.0, 0.01));
+}
+
 /// A new example must get a hand-built twin above (or, in `msl/`, a reference test).
 #[test]
 fn every_example_is_checked() {
@@ -153,6 +183,7 @@ fn every_example_is_checked() {
         "free_body.dyad",
         "orbits.dyad",
         "spring_mass.dyad",
+        "four_bar.dyad",
         "docs/pend.dyad",
     ];
     let mut found = Vec::new();
