@@ -239,16 +239,27 @@ fn segments(time: &[f64], values: &[f64], columns: usize) -> Segments {
     out
 }
 
+/// The value axis: the data with a margin; a flat signal (constant, or
+/// rounding noise about a constant) gets a band around its value, so that
+/// its axis reads e.g. -1 .. 1 rather than magnifying the noise.
 fn nice_range(lo: f64, hi: f64) -> (f64, f64) {
     if !lo.is_finite() || !hi.is_finite() {
         return (-1.0, 1.0);
     }
-    if hi - lo <= 1e-12 * hi.abs().max(lo.abs()).max(1e-300) {
-        let d = (hi.abs() * 0.1).max(1e-6);
-        return (lo - d, hi + d);
+    let scale = hi.abs().max(lo.abs());
+    if hi - lo <= 1e-9 * scale.max(1.0) {
+        let mid = 0.5 * (lo + hi);
+        let d = if scale < 1e-9 { 1.0 } else { 0.1 * scale };
+        return (mid - d, mid + d);
     }
     let pad = 0.05 * (hi - lo);
     (lo - pad, hi + pad)
+}
+
+/// Enough decimals to tell apart the ticks of an axis spanning `lo .. hi`.
+fn tick_decimals(lo: f64, hi: f64) -> usize {
+    let step = (hi - lo) / 10.0;
+    (-step.log10().floor()).clamp(0.0, 12.0) as usize
 }
 
 fn draw<DB: DrawingBackend>(
@@ -280,6 +291,7 @@ where
             }
         }
         let (lo, hi) = nice_range(lo, hi);
+        let decimals = tick_decimals(lo, hi);
         let mut chart = ChartBuilder::on(area)
             .margin(12)
             .x_label_area_size(40)
@@ -291,6 +303,7 @@ where
             .configure_mesh()
             .x_desc("time [s]")
             .y_desc(unit_label)
+            .y_label_formatter(&|v| format!("{v:.decimals$}"))
             .label_style(("sans-serif", 14))
             .axis_desc_style(("sans-serif", 15))
             .light_line_style(RGBColor(238, 240, 243))
