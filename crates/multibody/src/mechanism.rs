@@ -52,6 +52,8 @@ pub struct Mechanism {
     pub(crate) states: StateLayout,
     pub(crate) flow_tree: FlowTree,
     pub(crate) warnings: Vec<String>,
+    /// The names and units of the output signals, shared by every solution.
+    pub(crate) signal_table: std::sync::Arc<crate::simulate::SignalTable>,
 }
 
 /// One component, built, with where its pieces went.

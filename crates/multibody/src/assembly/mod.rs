@@ -132,10 +132,12 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         cut_nv,
         loops: Vec::new(),
         dof,
+        signal_table: Default::default(),
     };
     if !mechanism.constraints.is_empty() {
         loops::close(&mut mechanism)?;
     }
+    mechanism.signal_table = std::sync::Arc::new(mechanism.name_signals());
     Ok(mechanism)
 }
 

@@ -8,6 +8,7 @@ use crate::components::{ConnectorType, Element1DState, EvalContext, FrameState, 
 use crate::math::Transform;
 use crate::math::{Motion, Vec3};
 use crate::mechanism::{Anchor, FlangeRef, JointRef, GROUND};
+use crate::simulate::SignalTable;
 use crate::Mechanism;
 
 /// The name, unit and description of one scalar output signal.
@@ -40,6 +41,12 @@ impl Mechanism {
     /// per component, its variables, then `r_0`, `R`, `f` and `tau` of each
     /// of its frame connectors.
     pub fn signals(&self) -> Vec<Signal> {
+        let table = &self.signal_table;
+        table.names().iter().zip(table.units()).map(|(name, &unit)| Signal { name: name.clone(), unit }).collect()
+    }
+
+    /// Names every output signal (once, at assembly).
+    pub(crate) fn name_signals(&self) -> SignalTable {
         let mut out = Vec::new();
         for c in &self.components {
             for v in &c.variables {
@@ -66,7 +73,7 @@ impl Mechanism {
                 out.push(Signal { name: format!("{name}.constraint_residual[{k}]"), unit: "" });
             }
         }
-        out
+        SignalTable::new(out.iter().map(|s| s.name.clone()).collect(), out.iter().map(|s| s.unit).collect())
     }
 
     /// Evaluates every output signal at `(t, y)` into `row` (cleared first).

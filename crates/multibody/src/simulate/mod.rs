@@ -7,6 +7,7 @@ mod rk4;
 mod solution;
 
 pub use integrator::Stats;
+pub(crate) use solution::SignalTable;
 pub use solution::{glob, Solution};
 
 use crate::dynamics::outputs::OutputScratch;
@@ -233,9 +234,7 @@ impl Mechanism {
         options: &SimulationOptions,
         progress: Option<&mut dyn FnMut(f64)>,
     ) -> Result<Solution, SimulationError> {
-        let signals = self.signals();
-        let mut solution =
-            Solution::new(signals.iter().map(|s| s.name.clone()).collect(), signals.iter().map(|s| s.unit).collect());
+        let mut solution = Solution::with_signals(self.signal_table.clone());
         if options.saveat > 0.0 && options.stop > options.start {
             // The grid is known: growing hundreds of columns sample by sample costs more than the dynamics.
             let samples = ((options.stop - options.start) / options.saveat).ceil() + 1.0;

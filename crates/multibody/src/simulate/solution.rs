@@ -2,13 +2,37 @@
 
 use std::collections::HashMap;
 use std::io::{self, Write};
+use std::sync::Arc;
+
+/// The names and units of a mechanism's signals, with a lookup by name:
+/// built once at assembly and shared by every solution of the mechanism.
+#[derive(Debug, Default)]
+pub(crate) struct SignalTable {
+    names: Vec<String>,
+    units: Vec<&'static str>,
+    index: HashMap<String, usize>,
+}
+
+impl SignalTable {
+    pub(crate) fn new(names: Vec<String>, units: Vec<&'static str>) -> Self {
+        debug_assert_eq!(names.len(), units.len());
+        let index = names.iter().enumerate().map(|(i, n)| (n.clone(), i)).collect();
+        Self { names, units, index }
+    }
+
+    pub(crate) fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    pub(crate) fn units(&self) -> &[&'static str] {
+        &self.units
+    }
+}
 
 /// Named signals sampled at common times.
 #[derive(Clone, Default)]
 pub struct Solution {
-    names: Vec<String>,
-    units: Vec<&'static str>,
-    index: HashMap<String, usize>,
+    table: Arc<SignalTable>,
     time: Vec<f64>,
     columns: Vec<Vec<f64>>,
 }
@@ -20,15 +44,18 @@ impl std::fmt::Debug for Solution {
             (Some(a), Some(b)) => format!("t = {a} .. {b}"),
             _ => "empty".into(),
         };
-        write!(f, "Solution {{ {} signals, {} samples, {span} }}", self.names.len(), self.time.len())
+        write!(f, "Solution {{ {} signals, {} samples, {span} }}", self.columns.len(), self.time.len())
     }
 }
 
 impl Solution {
     pub fn new(names: Vec<String>, units: Vec<&'static str>) -> Self {
-        let index = names.iter().enumerate().map(|(i, n)| (n.clone(), i)).collect();
-        let columns = vec![Vec::new(); names.len()];
-        Self { names, units, index, time: Vec::new(), columns }
+        Self::with_signals(Arc::new(SignalTable::new(names, units)))
+    }
+
+    pub(crate) fn with_signals(table: Arc<SignalTable>) -> Self {
+        let columns = vec![Vec::new(); table.names.len()];
+        Self { table, time: Vec::new(), columns }
     }
 
     /// Makes room for `samples` more samples of every signal.
@@ -71,16 +98,16 @@ impl Solution {
 
     /// Every signal name, e.g. `body.r_0[2]`.
     pub fn names(&self) -> &[String] {
-        &self.names
+        &self.table.names
     }
 
     pub fn unit(&self, name: &str) -> Option<&'static str> {
-        self.index.get(name).map(|&i| self.units[i])
+        self.table.index.get(name).map(|&i| self.table.units[i])
     }
 
     /// The samples of a signal.
     pub fn get(&self, name: &str) -> Option<&[f64]> {
-        self.index.get(name).map(|&i| self.columns[i].as_slice())
+        self.table.index.get(name).map(|&i| self.columns[i].as_slice())
     }
 
     /// The last sample of a signal.
@@ -106,7 +133,7 @@ impl Solution {
     /// Names of the signals that match any of `patterns` (`*` matches any
     /// text, `?` one character); all signals when `patterns` is empty.
     pub fn select(&self, patterns: &[String]) -> Vec<&str> {
-        self.names
+        self.names()
             .iter()
             .filter(|n| patterns.is_empty() || patterns.iter().any(|p| glob(p, n)))
             .map(String::as_str)
