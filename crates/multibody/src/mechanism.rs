@@ -52,8 +52,9 @@ pub struct Mechanism {
     pub(crate) states: StateLayout,
     pub(crate) flow_tree: FlowTree,
     pub(crate) warnings: Vec<String>,
-    /// The names and units of the output signals, shared by every solution.
-    pub(crate) signal_table: std::sync::Arc<crate::simulate::SignalTable>,
+    /// The names and units of the output signals, shared by every solution;
+    /// named at the first use, so that assembly stays cheap.
+    pub(crate) signal_table: std::sync::OnceLock<std::sync::Arc<crate::simulate::SignalTable>>,
 }
 
 /// One component, built, with where its pieces went.

@@ -6,7 +6,7 @@ use super::connections::Connectors;
 use super::links::Tree;
 use crate::components::Part;
 use crate::mechanism::{CompiledComponent, FlowEdge, FlowTree};
-use std::collections::VecDeque;
+use std::collections::{HashSet, VecDeque};
 
 /// An edge leaving a frame node: (the node it reaches, the connector at this end, the one at the other end).
 type Edge = (usize, Option<usize>, Option<usize>);
@@ -15,7 +15,7 @@ pub fn flow_tree(components: &[CompiledComponent], conn: &Connectors, tree: &Tre
     let n = conn.frame_nodes.len();
     let mut adjacency: Vec<Vec<Edge>> = vec![Vec::new(); n];
     let mut from_ground: Vec<(usize, Option<usize>)> = Vec::new();
-    let tree_parts: Vec<(usize, usize)> = tree.links.iter().skip(1).map(|l| l.source).collect();
+    let tree_parts: HashSet<(usize, usize)> = tree.links.iter().skip(1).map(|l| l.source).collect();
     for (ci, c) in components.iter().enumerate() {
         let id = |local: usize| Connectors::id(components, ci, local);
         for (pi, part) in c.parts.iter().enumerate() {

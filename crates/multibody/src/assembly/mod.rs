@@ -137,7 +137,6 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     if !mechanism.constraints.is_empty() {
         loops::close(&mut mechanism)?;
     }
-    mechanism.signal_table = std::sync::Arc::new(mechanism.name_signals());
     Ok(mechanism)
 }
 

@@ -10,6 +10,7 @@ use crate::math::{Motion, Vec3};
 use crate::mechanism::{Anchor, FlangeRef, JointRef, GROUND};
 use crate::simulate::SignalTable;
 use crate::Mechanism;
+use std::sync::Arc;
 
 /// The name, unit and description of one scalar output signal.
 #[derive(Clone, Debug, PartialEq)]
@@ -41,12 +42,16 @@ impl Mechanism {
     /// per component, its variables, then `r_0`, `R`, `f` and `tau` of each
     /// of its frame connectors.
     pub fn signals(&self) -> Vec<Signal> {
-        let table = &self.signal_table;
+        let table = self.signal_table();
         table.names().iter().zip(table.units()).map(|(name, &unit)| Signal { name: name.clone(), unit }).collect()
     }
 
-    /// Names every output signal (once, at assembly).
-    pub(crate) fn name_signals(&self) -> SignalTable {
+    /// The names and units of every output signal, named at the first call.
+    pub(crate) fn signal_table(&self) -> &Arc<SignalTable> {
+        self.signal_table.get_or_init(|| Arc::new(self.name_signals()))
+    }
+
+    fn name_signals(&self) -> SignalTable {
         let mut out = Vec::new();
         for c in &self.components {
             for v in &c.variables {

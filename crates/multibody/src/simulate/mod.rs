@@ -234,7 +234,7 @@ impl Mechanism {
         options: &SimulationOptions,
         progress: Option<&mut dyn FnMut(f64)>,
     ) -> Result<Solution, SimulationError> {
-        let mut solution = Solution::with_signals(self.signal_table.clone());
+        let mut solution = Solution::with_signals(self.signal_table().clone());
         if options.saveat > 0.0 && options.stop > options.start {
             // The grid is known: growing hundreds of columns sample by sample costs more than the dynamics.
             let samples = ((options.stop - options.start) / options.saveat).ceil() + 1.0;
