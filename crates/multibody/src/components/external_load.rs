@@ -2,8 +2,9 @@
 //! three signal inputs, resolved in a chosen frame, applied at frame_b with
 //! its reaction on frame_a (or on the world).
 
+use super::shapes::{LocalShape, Placement, ShapeKind};
 use super::spec::{Default, ParamSpec, ParamType, VarSpec};
-use super::{resolve_input, Component, EvalContext, ForceLaw, Part, Resolve};
+use super::{resolve_input, Component, EvalContext, ForceLaw, ParamSet, Part, Resolve};
 use crate::math::Vec3;
 
 /// The `resolve_in_frame` parameter with a given default.
@@ -15,6 +16,40 @@ pub const fn resolve_param(default: &'static str, variants: &'static [&'static s
         unit: "",
         doc: "Frame in which the input vector is resolved",
     }
+}
+
+/// An arrow at frame_b along the output `vector`, `scale` metres per unit.
+fn arrow(vector: &str, diameter: f64, color: [f64; 4], scale: f64) -> LocalShape {
+    LocalShape {
+        kind: ShapeKind::Arrow,
+        color,
+        specular: 0.7,
+        width: diameter,
+        height: diameter,
+        placement: Placement::Vector { frame: "frame_b".into(), vector: vector.into(), scale },
+    }
+}
+
+/// The arrow of Force and Torque, drawn with the world's defaults along the
+/// applied vector: the opposite of the cut vector `vector` at frame_b, with
+/// `units_per_metre` the world's length scale (`default_N_to_m`, ...).
+pub fn cut_vector_arrow(p: &ParamSet, vector: &str, units_per_metre: &str) -> Vec<LocalShape> {
+    let world = p.world;
+    let color = match world.scaled("default_force_color", 1.0) {
+        crate::Value::Array(c) if c.len() == 4 => [c[0], c[1], c[2], c[3]],
+        _ => [0.0, 1.0, 0.0, 0.5],
+    };
+    let scale = -1.0 / world.number(units_per_metre);
+    vec![arrow(vector, world.number("default_arrow_diameter"), color, scale)]
+}
+
+/// The arrow of WorldForce and WorldTorque along the applied `vector`, from
+/// their own `render`, `color`, `radius` and `scale`.
+pub fn applied_vector_arrow(p: &ParamSet, vector: &str) -> Vec<LocalShape> {
+    if p.spec.param("render").is_some() && !p.boolean("render") {
+        return Vec::new();
+    }
+    vec![arrow(vector, 2.0 * p.real("radius"), p.color("color"), p.real("scale"))]
 }
 
 #[derive(Debug)]

@@ -1,7 +1,7 @@
 //! Force: a force between two frames from three signal inputs.
 
-use super::external_load::{resolve_param, ExternalLoad};
-use super::shapes::{LocalShape, Placement, ShapeKind};
+use super::external_load::{cut_vector_arrow, resolve_param, ExternalLoad};
+use super::shapes::LocalShape;
 use super::spec::{ComponentSpec, ConnectorSpec, VarSpec};
 use super::{Component, ParamSet, Resolve};
 use crate::Error;
@@ -26,21 +26,7 @@ pub static SPEC: ComponentSpec = ComponentSpec {
 
 /// An arrow along the applied vector (the opposite of the cut vector at frame_b).
 fn shapes(p: &ParamSet) -> Vec<LocalShape> {
-    let world = p.world;
-    let d = world.number("default_arrow_diameter");
-    let color = match world.scaled("default_force_color", 1.0) {
-        crate::Value::Array(c) if c.len() == 4 => [c[0], c[1], c[2], c[3]],
-        _ => [0.0, 1.0, 0.0, 0.5],
-    };
-    let scale = -1.0 / world.number("default_N_to_m");
-    vec![LocalShape {
-        kind: ShapeKind::Arrow,
-        color,
-        specular: 0.7,
-        width: d,
-        height: d,
-        placement: Placement::Vector { frame: "frame_b".into(), vector: "f_b_0".into(), scale },
-    }]
+    cut_vector_arrow(p, "f_b_0", "default_N_to_m")
 }
 
 const VARIABLES: &[VarSpec] = &[

@@ -1,7 +1,7 @@
 //! WorldTorque: an external torque on one frame from three signal inputs.
 
-use super::external_load::{resolve_param, ExternalLoad};
-use super::shapes::{LocalShape, Placement, ShapeKind};
+use super::external_load::{applied_vector_arrow, resolve_param, ExternalLoad};
+use super::shapes::LocalShape;
 use super::spec::{ComponentSpec, ConnectorSpec, ParamSpec, ParamType, VarSpec};
 use super::{Component, ParamSet, Resolve};
 use crate::Error;
@@ -36,20 +36,7 @@ pub static SPEC: ComponentSpec = ComponentSpec {
 
 /// An arrow along the applied vector.
 fn shapes(p: &ParamSet) -> Vec<LocalShape> {
-    if p.spec.param("render").is_some() && !p.boolean("render") {
-        return Vec::new();
-    }
-    let color = p.color("color");
-    let d = 2.0 * p.real("radius");
-    let arrow = LocalShape {
-        kind: ShapeKind::Arrow,
-        color,
-        specular: 0.7,
-        width: d,
-        height: d,
-        placement: Placement::Vector { frame: "frame_b".into(), vector: "t_world".into(), scale: p.real("scale") },
-    };
-    vec![arrow]
+    applied_vector_arrow(p, "t_world")
 }
 
 const VARIABLES: &[VarSpec] = &[VarSpec::vector("t_world", 3, "N.m", "Applied torque in world frame")];
