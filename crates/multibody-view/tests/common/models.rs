@@ -16,22 +16,13 @@ pub fn pendulum() -> Mechanism {
 }
 
 /// Modelica's DoublePendulum with BodyBoxes (0.5 m long, 0.06 m wide) and a
-/// damped first joint.
+/// damped first joint: the repository's examples/msl/DoublePendulum.dyad.
 pub fn double_pendulum() -> Mechanism {
-    let mut model = Model::new("DoublePendulum");
-    model.add("world", "World");
-    model.add("revolute1", "Revolute");
-    model.add("damper", "RotationalComponents.Damper").set("d", 0.1);
-    model.add("revolute2", "Revolute");
-    model.add("boxBody1", "BodyBox").set("r", [0.5, 0.0, 0.0]).set("width", 0.06);
-    model.add("boxBody2", "BodyBox").set("r", [0.5, 0.0, 0.0]).set("width", 0.06);
-    model.connect(["world.frame_b", "revolute1.frame_a"]);
-    model.connect(["revolute1.frame_b", "boxBody1.frame_a"]);
-    model.connect(["boxBody1.frame_b", "revolute2.frame_a"]);
-    model.connect(["revolute2.frame_b", "boxBody2.frame_a"]);
-    model.connect(["damper.spline_a", "revolute1.support"]);
-    model.connect(["damper.spline_b", "revolute1.axis"]);
-    model.assemble().expect("the double pendulum assembles")
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/msl/DoublePendulum.dyad");
+    let mut package = multibody_dyad::Package::new();
+    package.add_source(path.display().to_string(), std::fs::read_to_string(&path).unwrap()).unwrap();
+    let lowered = package.lower_component("DoublePendulum").expect("the example lowers");
+    lowered.assemble().expect("the double pendulum assembles")
 }
 
 /// A double pendulum of two Bodies on rods, the second body pure magenta
