@@ -9,7 +9,7 @@
 #      machine, so that the ratios hold even when absolute times drift;
 #   3. the work-precision comparison (our adaptive integrator against
 #      MuJoCo's RK4 on the Pendulum and DoublePendulum references):
-#      crates/multibody/examples/work_precision.rs, then
+#      crates/multibody-cli/examples/work_precision.rs, then
 #      scripts/work_precision.py with the peers' Python environment.
 # The report (markdown) goes to stdout and to target/bench-report.md (the
 # benchmark tables alone also to target/bench/table.md); progress and the
@@ -82,7 +82,7 @@ for t in "${TARGETS[@]}"; do
   read -r package bench <<<"$t"
   cargo bench -p "$package" --bench "$bench" --no-run >&2
 done
-cargo build --release -p multibody --example work_precision >&2
+cargo build --release -p multibody-cli --example work_precision >&2
 
 # 1. Ours. Results older than this stamp are ignored (benchmarks that this
 # run did not run, e.g. removed ones).

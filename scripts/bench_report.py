@@ -110,8 +110,7 @@ def main(argv):
     md.append("### Example models: compile and simulate\n")
     md.append("`compile/NAME`: .dyad file text to a compiled mechanism (parse, lower, assemble); "
               "`simulate/NAME`: the complete simulation its analysis asks for, outputs on the analysis's grid "
-              "included (crates/multibody-cli/benches/examples.rs; older runs: crates/multibody/benches/simulation.rs, "
-              "default tolerances 1e-6).\n")
+              "included (crates/multibody-cli/benches/examples.rs).\n")
     md.append("| model | compile | simulate |")
     md.append("|---|---|---|")
     names = sorted({k.split("/", 1)[1] for k in ours if k.startswith(("simulate/", "compile/"))})

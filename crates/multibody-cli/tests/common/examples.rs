@@ -4,11 +4,16 @@
 use multibody_dyad::{DefinitionKind, Lowered, Package};
 use std::path::{Path, PathBuf};
 
+/// The repository's `examples` folder.
+pub fn examples_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
+}
+
 /// Every `.dyad` file under the repository's `examples` folder, sorted.
+#[allow(dead_code)]
 pub fn example_files() -> Vec<PathBuf> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
     let mut files = Vec::new();
-    let mut folders = vec![root];
+    let mut folders = vec![examples_dir()];
     while let Some(folder) = folders.pop() {
         for entry in std::fs::read_dir(&folder).expect("the examples folder is readable") {
             let path = entry.unwrap().path();
@@ -23,6 +28,7 @@ pub fn example_files() -> Vec<PathBuf> {
     files
 }
 
+#[allow(dead_code)]
 /// The file's stem, e.g. `Fourbar1` for `examples/msl/Fourbar1.dyad`.
 pub fn example_name(path: &Path) -> String {
     path.file_stem().unwrap().to_string_lossy().into_owned()

@@ -4,7 +4,7 @@
 //! of `Mechanism::simulate`. `scripts/work_precision.py` sets these against
 //! MuJoCo's RK4; `scripts/bench.sh` runs both.
 //!
-//! `cargo run --release -p multibody --example work_precision [-- --quick]`
+//! `cargo run --release -p multibody-cli --example work_precision [-- --quick]`
 //! prints JSON on stdout (progress on stderr):
 //! `{"models": [{"name", "stop", "signals", "truth", "truth_check",
 //! "adaptive": [{tol, error, seconds, steps, repetitions}], "rk4": [...]}]}`.
@@ -31,43 +31,17 @@
 //! must agree with MuJoCo's to rounding (a check that the models are the
 //! same) and its time per step compares the cost of one RK4 step.
 
-use multibody::{Mechanism, Method, Model, SimulationOptions};
+use multibody::{Mechanism, Method, SimulationOptions};
 use serde_json::{json, Value};
 use std::time::Instant;
 
-/// Pendulum.md, as in tests/msl_reference.rs: a revolute about z with a
-/// rotational damper d = 0.1, and a body m = 1 at r_cm = [0.5, 0, 0].
-fn pendulum() -> Model {
-    let mut model = Model::new("Pendulum");
-    model.add("world", "World");
-    model.add("rev", "Revolute").set("n", [0.0, 0.0, 1.0]).set("axisflange", true);
-    model.add("damper", "RotationalComponents.Damper").set("d", 0.1);
-    model.add("body", "Body").set("m", 1.0).set("r_cm", [0.5, 0.0, 0.0]);
-    model.connect(["world.frame_b", "rev.frame_a"]);
-    model.connect(["rev.frame_b", "body.frame_a"]);
-    model.connect(["damper.spline_a", "rev.support"]);
-    model.connect(["damper.spline_b", "rev.axis"]);
-    model
-}
+#[path = "../tests/common/examples.rs"]
+mod examples;
 
-/// DoublePendulum.md with real BodyBoxes (r = [0.5, 0, 0], width 0.06:
-/// m = 13.86, r_cm = 0.25, I = diag(0.008316, 0.292908, 0.292908)), as in
-/// tests/msl_reference.rs (double_pendulum_with_body_boxes).
-fn double_pendulum() -> Model {
-    let mut model = Model::new("DoublePendulum");
-    model.add("world", "World");
-    model.add("revolute1", "Revolute");
-    model.add("damper", "RotationalComponents.Damper").set("d", 0.1);
-    model.add("revolute2", "Revolute");
-    model.add("boxBody1", "BodyBox").set("r", [0.5, 0.0, 0.0]).set("width", 0.06);
-    model.add("boxBody2", "BodyBox").set("r", [0.5, 0.0, 0.0]).set("width", 0.06);
-    model.connect(["world.frame_b", "revolute1.frame_a"]);
-    model.connect(["revolute1.frame_b", "boxBody1.frame_a"]);
-    model.connect(["boxBody1.frame_b", "revolute2.frame_a"]);
-    model.connect(["revolute2.frame_b", "boxBody2.frame_a"]);
-    model.connect(["damper.spline_a", "revolute1.support"]);
-    model.connect(["damper.spline_b", "revolute1.axis"]);
-    model
+/// The reference model of `examples/msl/NAME.dyad`, assembled.
+fn reference_model(name: &str) -> Mechanism {
+    let path = examples::examples_dir().join(format!("msl/{name}.dyad"));
+    examples::load_example(&path).assemble().expect("the reference model assembles")
 }
 
 struct Case {
@@ -125,15 +99,10 @@ fn main() {
     let budget = if quick { 0.05 } else { 0.4 };
     let min_reps = if quick { 3 } else { 11 };
     let cases = [
-        Case {
-            name: "Pendulum",
-            mechanism: pendulum().assemble().unwrap(),
-            stop: 5.0,
-            signals: vec!["rev.phi", "rev.w"],
-        },
+        Case { name: "Pendulum", mechanism: reference_model("Pendulum"), stop: 5.0, signals: vec!["rev.phi", "rev.w"] },
         Case {
             name: "DoublePendulum",
-            mechanism: double_pendulum().assemble().unwrap(),
+            mechanism: reference_model("DoublePendulum"),
             stop: 3.0,
             signals: vec!["revolute1.phi", "revolute2.phi", "revolute1.w", "revolute2.w"],
         },
