@@ -1,7 +1,9 @@
 //! UniversalConstraint: a universal joint as a constraint, for closing loops.
 
-use super::constraint_joint::{locked, sphere_shapes, ConstraintJoint, X_LOCKED, Y_LOCKED, Z_LOCKED};
-use super::spec::{ComponentSpec, ConnectorSpec, ParamSpec, ParamType};
+use super::constraint_joint::{
+    color, locked, sphere_shapes, ConstraintJoint, RENDER, SPECULAR, SPHERE_DIAMETER, X_LOCKED, Y_LOCKED, Z_LOCKED,
+};
+use super::spec::{ComponentSpec, ConnectorSpec, ParamSpec};
 use super::{Component, ConstraintKind, ParamSet, RotationLock};
 use crate::Error;
 
@@ -14,10 +16,10 @@ pub static SPEC: ComponentSpec = ComponentSpec {
         X_LOCKED,
         Y_LOCKED,
         Z_LOCKED,
-        ParamSpec::boolean("render", true, "Render the joint in animations"),
-        ParamSpec::world("color", ParamType::Vector(4), "default_joint_color", 1.0, "", "Colour (RGBA)"),
-        ParamSpec::real("specular_coefficient", 1.5, "", "Reflection of light in animations"),
-        ParamSpec::world("sphere_diameter", ParamType::Real, "default_joint_length", 1.0 / 3.0, "m", "Diameter of the sphere in animations"),
+        RENDER,
+        color("default_joint_color"),
+        SPECULAR,
+        SPHERE_DIAMETER,
     ],
     connectors: &[ConnectorSpec::frame("frame_a", "First frame"), ConnectorSpec::frame("frame_b", "Second frame")],
     variables: &[],
