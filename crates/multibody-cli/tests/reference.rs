@@ -5,6 +5,7 @@
 mod common;
 
 use common::{assert_pairs_within_tube, crate_path, multibody, scratch, Table};
+use multibody_reference::{as_pairs, vector_pairs};
 
 /// Runs `examples/msl/NAME.dyad` and compares the CSV with the reference.
 fn check(name: &str, signals: &[&str]) {
@@ -23,18 +24,6 @@ fn check_model(model: &str, reference: &str, pairs: &[(&str, &str)]) {
     assert!(output.status.success(), "multibody run failed:\n{}", String::from_utf8_lossy(&output.stderr));
     let ours = Table::load(&out);
     assert_pairs_within_tube(&reference, &ours, pairs);
-}
-
-/// `(reference name, our name)` for the components of 3-vectors.
-fn vectors(theirs: &str, ours: &str, names: &[&str]) -> Vec<(String, String)> {
-    names
-        .iter()
-        .flat_map(|n| (1..=3).map(move |i| (format!("{theirs}.{n}[{i}]"), format!("{ours}.{n}[{i}]"))))
-        .collect()
-}
-
-fn as_pairs(pairs: &[(String, String)]) -> Vec<(&str, &str)> {
-    pairs.iter().map(|(a, b)| (a.as_str(), b.as_str())).collect()
 }
 
 #[test]
@@ -70,9 +59,9 @@ fn double_pendulum_with_body_boxes() {
 #[test]
 fn free_body() {
     // The reference names the BodyShape's inner body `body.body`.
-    let mut pairs = vectors("body.body.frame_a", "body.frame_a", &["r_0"]);
-    pairs.extend(vectors("body.body", "body", &["w_a"]));
-    pairs.extend(vectors("body", "body", &["v_0"]));
+    let mut pairs = vector_pairs("body.body.frame_a", "body.frame_a", &["r_0"]);
+    pairs.extend(vector_pairs("body.body", "body", &["w_a"]));
+    pairs.extend(vector_pairs("body", "body", &["v_0"]));
     check_model("FreeBody", "FreeBody", &as_pairs(&pairs));
 }
 
@@ -88,8 +77,8 @@ fn spring_mass_system() {
 
 #[test]
 fn three_springs() {
-    let mut pairs = vectors("body1.frame_a", "body1.frame_a", &["r_0"]);
-    pairs.extend(vectors("body1", "body1", &["v_0", "w_a"]));
+    let mut pairs = vector_pairs("body1.frame_a", "body1.frame_a", &["r_0"]);
+    pairs.extend(vector_pairs("body1", "body1", &["v_0", "w_a"]));
     check_model("ThreeSprings", "ThreeSprings", &as_pairs(&pairs));
 }
 
@@ -105,7 +94,7 @@ fn fourbar1() {
 
 #[test]
 fn revolute_constraint() {
-    let mut pairs = vectors("bodyOfConstraint.body", "bodyOfConstraint", &["w_a"]);
+    let mut pairs = vector_pairs("bodyOfConstraint.body", "bodyOfConstraint", &["w_a"]);
     pairs.push(("bodyOfJoint.body.w_a[2]".into(), "bodyOfJoint.w_a[2]".into()));
     pairs.push(("joint.phi".into(), "joint.phi".into()));
     check_model("RevoluteConstraint", "RevoluteConstraint", &as_pairs(&pairs));
@@ -113,7 +102,7 @@ fn revolute_constraint() {
 
 #[test]
 fn spherical_constraint() {
-    let pairs = vectors("bodyOfConstraint.body", "bodyOfConstraint", &["w_a"]);
+    let pairs = vector_pairs("bodyOfConstraint.body", "bodyOfConstraint", &["w_a"]);
     check_model("SphericalConstraint", "SphericalConstraint", &as_pairs(&pairs));
 }
 

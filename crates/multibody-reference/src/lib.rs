@@ -212,3 +212,17 @@ pub fn assert_within_tube(reference: &Table, ours: &impl Signals, pairs: &[(&str
 pub fn same<'a>(names: &[&'a str]) -> Vec<(&'a str, &'a str)> {
     names.iter().map(|n| (*n, *n)).collect()
 }
+
+/// `(reference name, our name)` for the three components of vectors, e.g.
+/// `vector_pairs("body.body", "body", &["w_a"])` pairs `body.body.w_a[1]` with `body.w_a[1]`, ...
+pub fn vector_pairs(theirs: &str, ours: &str, names: &[&str]) -> Vec<(String, String)> {
+    names
+        .iter()
+        .flat_map(|n| (1..=3).map(move |i| (format!("{theirs}.{n}[{i}]"), format!("{ours}.{n}[{i}]"))))
+        .collect()
+}
+
+/// Borrowed pairs, as `assert_within_tube` takes them.
+pub fn as_pairs(pairs: &[(String, String)]) -> Vec<(&str, &str)> {
+    pairs.iter().map(|(a, b)| (a.as_str(), b.as_str())).collect()
+}
