@@ -1,5 +1,14 @@
 //! Simulation: integrates a mechanism's ODE and samples every output on an
 //! output grid.
+//!
+//! The integrators (Dormand-Prince 5(4) with dense output, and RK4) are
+//! written here rather than taken from a crate. The crates we measured
+//! (russell_ode, diffsol, differential-equations, ode_solvers; 2026-11)
+//! either allocate in every step, or lack `dtmax` or a fixed-step RK4, or
+//! cannot stop on a failed evaluation and keep the output. None lets the
+//! caller move the state after an accepted step, and this engine needs that
+//! to project kinematic loops back onto their constraints and to detect
+//! Euler-angle singularities between steps ([`integrator::OdeSystem::accept`]).
 
 mod dopri5;
 pub mod integrator;
