@@ -38,7 +38,7 @@ pub(crate) struct OutputScratch {
 const FRAME_SIGNALS: [(&str, usize, &str); 4] = [("r_0", 3, "m"), ("R", 9, ""), ("f", 3, "N"), ("tau", 3, "N.m")];
 
 impl Mechanism {
-    /// Every output signal, in the order of [`Mechanism::outputs_into`]:
+    /// Every output signal, in the order of a [`crate::Solution`]'s columns:
     /// per component, its variables, then `r_0`, `R`, `f` and `tau` of each
     /// of its frame connectors.
     pub fn signals(&self) -> Vec<Signal> {
