@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{as_pairs, assert_within_tube, vector_pairs, Reference};
+use common::{as_pairs, assert_within_tube, same, vector_pairs, Reference};
 use multibody::{Model, OrientationState, SimulationOptions};
 
 fn options_for(reference: &Reference) -> SimulationOptions {
@@ -28,37 +28,59 @@ fn pendulum() {
     assert_within_tube(&reference, &solution, &[("rev.phi", "rev.phi"), ("rev.w", "rev.w")]);
 }
 
-/// DoublePendulum.md: two revolutes and two boxes (as Bodies with the
-/// BodyBox mass and inertia from the description, and a rod to frame_b).
-#[test]
-fn double_pendulum() {
+/// DoublePendulum.md's joints and damper around two boxes `boxBody1`,
+/// `boxBody2` that `add_boxes` adds; `end_of_box_1` is where revolute2 hangs.
+fn double_pendulum(add_boxes: impl FnOnce(&mut Model), end_of_box_1: &str) -> Model {
     let mut model = Model::new("DoublePendulum");
     model.add("world", "World");
     model.add("revolute1", "Revolute");
     model.add("damper", "RotationalComponents.Damper").set("d", 0.1);
     model.add("revolute2", "Revolute");
-    for k in ["1", "2"] {
-        model
-            .add(format!("boxBody{k}"), "Body")
-            .set("m", 13.86)
-            .set("r_cm", [0.25, 0.0, 0.0])
-            .set("I_11", 0.008316)
-            .set("I_22", 0.292908)
-            .set("I_33", 0.292908);
-        model.add(format!("rod{k}"), "FixedTranslation").set("r", [0.5, 0.0, 0.0]);
-        model.connect([format!("boxBody{k}.frame_a"), format!("rod{k}.frame_a")]);
-    }
+    add_boxes(&mut model);
     model.connect(["world.frame_b", "revolute1.frame_a"]);
     model.connect(["revolute1.frame_b", "boxBody1.frame_a"]);
-    model.connect(["rod1.frame_b", "revolute2.frame_a"]);
+    model.connect([end_of_box_1, "revolute2.frame_a"]);
     model.connect(["revolute2.frame_b", "boxBody2.frame_a"]);
     model.connect(["damper.spline_a", "revolute1.support"]);
     model.connect(["damper.spline_b", "revolute1.axis"]);
+    model
+}
+
+fn check_double_pendulum(model: Model) {
     let reference = Reference::reference("DoublePendulum");
     let solution = model.assemble().unwrap().simulate(&options_for(&reference)).unwrap();
-    let pairs: Vec<(&str, &str)> =
-        ["revolute1.phi", "revolute1.w", "revolute2.phi", "revolute2.w"].iter().map(|s| (*s, *s)).collect();
-    assert_within_tube(&reference, &solution, &pairs);
+    assert_within_tube(&reference, &solution, &same(&["revolute1.phi", "revolute1.w", "revolute2.phi", "revolute2.w"]));
+}
+
+/// DoublePendulum.md, the boxes as Bodies with the BodyBox mass and inertia
+/// from the description, and a rod to the far end.
+#[test]
+fn double_pendulum_of_bodies_and_rods() {
+    let bodies_and_rods = |model: &mut Model| {
+        for k in ["1", "2"] {
+            model
+                .add(format!("boxBody{k}"), "Body")
+                .set("m", 13.86)
+                .set("r_cm", [0.25, 0.0, 0.0])
+                .set("I_11", 0.008316)
+                .set("I_22", 0.292908)
+                .set("I_33", 0.292908);
+            model.add(format!("rod{k}"), "FixedTranslation").set("r", [0.5, 0.0, 0.0]);
+            model.connect([format!("boxBody{k}.frame_a"), format!("rod{k}.frame_a")]);
+        }
+    };
+    check_double_pendulum(double_pendulum(bodies_and_rods, "rod1.frame_b"));
+}
+
+/// DoublePendulum.md with real BodyBoxes (width 0.06, height = width).
+#[test]
+fn double_pendulum_with_body_boxes() {
+    let boxes = |model: &mut Model| {
+        for k in ["1", "2"] {
+            model.add(format!("boxBody{k}"), "BodyBox").set("r", [0.5, 0.0, 0.0]).set("width", 0.06);
+        }
+    };
+    check_double_pendulum(double_pendulum(boxes, "boxBody1.frame_b"));
 }
 
 /// PointGravity.md: two free bodies in a point-gravity field with mu = 1.
@@ -79,39 +101,9 @@ fn point_gravity() {
     }
     let reference = Reference::reference("PointGravity");
     let solution = model.assemble().unwrap().simulate(&options_for(&reference)).unwrap();
-    let mut pairs = Vec::new();
-    for b in ["body1", "body2"] {
-        for i in 1..=3 {
-            pairs.push((format!("{b}.frame_a.r_0[{i}]"), format!("{b}.frame_a.r_0[{i}]")));
-            pairs.push((format!("{b}.v_0[{i}]"), format!("{b}.v_0[{i}]")));
-            pairs.push((format!("{b}.w_a[{i}]"), format!("{b}.w_a[{i}]")));
-        }
-    }
-    let pairs: Vec<(&str, &str)> = pairs.iter().map(|(a, b)| (a.as_str(), b.as_str())).collect();
-    assert_within_tube(&reference, &solution, &pairs);
-}
-
-/// DoublePendulum.md with real BodyBoxes (width 0.06, height = width).
-#[test]
-fn double_pendulum_with_body_boxes() {
-    let mut model = Model::new("DoublePendulum");
-    model.add("world", "World");
-    model.add("revolute1", "Revolute");
-    model.add("damper", "RotationalComponents.Damper").set("d", 0.1);
-    model.add("revolute2", "Revolute");
-    model.add("boxBody1", "BodyBox").set("r", [0.5, 0.0, 0.0]).set("width", 0.06);
-    model.add("boxBody2", "BodyBox").set("r", [0.5, 0.0, 0.0]).set("width", 0.06);
-    model.connect(["world.frame_b", "revolute1.frame_a"]);
-    model.connect(["revolute1.frame_b", "boxBody1.frame_a"]);
-    model.connect(["boxBody1.frame_b", "revolute2.frame_a"]);
-    model.connect(["revolute2.frame_b", "boxBody2.frame_a"]);
-    model.connect(["damper.spline_a", "revolute1.support"]);
-    model.connect(["damper.spline_b", "revolute1.axis"]);
-    let reference = Reference::reference("DoublePendulum");
-    let solution = model.assemble().unwrap().simulate(&options_for(&reference)).unwrap();
-    let pairs: Vec<(&str, &str)> =
-        ["revolute1.phi", "revolute1.w", "revolute2.phi", "revolute2.w"].iter().map(|s| (*s, *s)).collect();
-    assert_within_tube(&reference, &solution, &pairs);
+    let mut pairs = vector_pairs("body1", "body1", &["frame_a.r_0", "v_0", "w_a"]);
+    pairs.extend(vector_pairs("body2", "body2", &["frame_a.r_0", "v_0", "w_a"]));
+    assert_within_tube(&reference, &solution, &as_pairs(&pairs));
 }
 
 /// FreeBody.md: a free BodyShape (quaternion states) hung from two
