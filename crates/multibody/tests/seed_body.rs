@@ -22,7 +22,7 @@ mod models;
 mod physics;
 
 use models::{compare_runs, tumbling_body};
-use multibody::{Model, OrientationState};
+use multibody::{Method, Model, OrientationState, SimulationOptions};
 use physics::*;
 use std::f64::consts::PI;
 
@@ -399,6 +399,35 @@ fn euler_singularity_stops_the_simulation_with_the_partial_solution() {
         assert!(last >= err.time - saveat - 1e-9, "samples up to the stop time are kept (last at {last})");
         worst_over(partial, |k| mat_dist(&m3(partial, "tumbler.frame_a.R", k), &planar(n, speed * partial.time()[k])))
             .check(&format!("{label}: |R - planar(n, |w| t)| in the partial solution"), "", 100.0 * 1e-8);
+    }
+}
+
+/// The same stops with the fixed-step RK4, whose steps go across the
+/// singular configuration: the time is found on its dense output.
+/// - About y, phi[2] = |w| t crosses pi/2 with slope |w|: the engine
+///   refuses Euler states closer than 1e-6 to singular (|cos phi[2]|), which
+///   moves the stop up to 1e-6 / |w| = 7.7e-7 s early; 1e-6 s allows that.
+/// - About (x+z)/sqrt 2, R[3,1] only touches 1 (second derivative
+///   |w|^2 / 2): a state error e moves the touch by about sqrt(4 e / |w|^2),
+///   about 3e-6 s for RK4's e ~ 1e-11 at dt = 0.01; 1e-5 s allows that.
+#[test]
+fn euler_singularity_stops_a_fixed_step_rk4_run_too() {
+    let speed = 1.3;
+    for (label, n, t_singular, tolerance) in [
+        ("spin about y", [0.0, 1.0, 0.0], PI / (2.0 * speed), 1e-6),
+        ("spin about (x+z)/sqrt 2", normalize([1.0, 0.0, 1.0]), PI / speed, 1e-5),
+    ] {
+        let mechanism = euler_spinner(scale(speed, n), [0.0; 3]).assemble().unwrap();
+        let opts =
+            SimulationOptions { stop: 5.0, saveat: 0.01, method: Method::Rk4 { dt: 0.01 }, ..Default::default() };
+        let err = mechanism.simulate(&opts).expect_err("the run reaches the Euler singularity");
+        println!("RK4, {label}: {err}");
+        assert!(err.to_string().contains("`tumbler`"), "{err}");
+        Worst { err: (err.time - t_singular).abs(), t: err.time }.check(
+            &format!("RK4, {label}: |stop time - closed-form time of phi[2] = pi/2|"),
+            "s",
+            tolerance,
+        );
     }
 }
 

@@ -31,8 +31,12 @@ impl DenseStep for Rk4 {
             -2.0 * s * s * s + 3.0 * s * s,
             s * s * s - s * s,
         );
+        // The step's end from its stages, not `self.y`: the system may be
+        // moving that (onto constraints) while it reads this output.
+        let [k1, k2, k3, k4] = &self.k;
         for (i, x) in out.iter_mut().enumerate() {
-            *x = h00 * self.y_old[i] + h10 * h * self.f_old[i] + h01 * self.y[i] + h11 * h * self.f_new[i];
+            let y_end = self.y_old[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+            *x = h00 * self.y_old[i] + h10 * h * self.f_old[i] + h01 * y_end + h11 * h * self.f_new[i];
         }
     }
 }
