@@ -1,7 +1,7 @@
 //! Dormand-Prince 5(4) with Hairer's step-size control (dopri5, PI control
 //! with beta = 0.04) and 4th-order dense output (CONTD5).
 
-use super::integrator::{DenseStep, Failure, OdeSystem, Stats, Stopped, Tolerances};
+use super::integrator::{finish_step, DenseStep, Failure, OdeSystem, Stats, Stopped, Tolerances};
 
 const C2: f64 = 1.0 / 5.0;
 const C3: f64 = 3.0 / 10.0;
@@ -147,27 +147,7 @@ impl DormandPrince {
                 self.t_old = t;
                 self.h_old = h;
                 t = if last { tf } else { t + h };
-                if self.y.iter().any(|x| !x.is_finite()) {
-                    return stop(self.t_old, Failure::NotFinite, stats);
-                }
-                if let Err(e) = observe(self) {
-                    return stop(t, Failure::Observer(e), stats);
-                }
-                // The end state moves out while the system looks at the step's dense output.
-                let mut end = std::mem::take(&mut self.y);
-                let accepted = sys.accept(&*self, &mut end);
-                self.y = end;
-                match accepted {
-                    Err(e) => return stop(t, Failure::Rhs(e), stats),
-                    Ok(true) => {
-                        // The state moved: the derivative carried over to the next step is stale.
-                        if let Err(e) = sys.rhs(t, &self.y, &mut self.k[0]) {
-                            return stop(t, Failure::Rhs(e), stats);
-                        }
-                        stats.evaluations += 1;
-                    }
-                    Ok(false) => {}
-                }
+                finish_step(sys, self, t, |s| (&mut s.y, &mut s.k[0]), &mut observe, &mut stats)?;
                 let mut h_new = (h / fac).min(h_max);
                 if rejected_last {
                     h_new = h_new.min(h);

@@ -54,6 +54,37 @@ pub struct Stopped<E> {
     pub stats: Stats,
 }
 
+/// What every integrator does with a step it has accepted, ending at
+/// `t_end`: check that the state is finite, show the step to the observer,
+/// let the system move the end state (onto constraints), and evaluate the
+/// derivative there again when it moved. `ends` gives the integrator's end
+/// state and its derivative at the end (carried into the next step).
+pub(crate) fn finish_step<S: OdeSystem, D: DenseStep>(
+    sys: &mut S,
+    step: &mut D,
+    t_end: f64,
+    ends: fn(&mut D) -> (&mut Vec<f64>, &mut Vec<f64>),
+    observe: &mut impl FnMut(&D) -> Result<(), S::Error>,
+    stats: &mut Stats,
+) -> Result<(), Stopped<S::Error>> {
+    let stopped = |t, failure, stats: &Stats| Stopped { t, failure, stats: *stats };
+    if step.y().iter().any(|x| !x.is_finite()) {
+        return Err(stopped(step.span().0, Failure::NotFinite, stats));
+    }
+    observe(step).map_err(|e| stopped(t_end, Failure::Observer(e), stats))?;
+    // The end state moves out while the system looks at the step's dense output.
+    let mut end = std::mem::take(ends(step).0);
+    let moved = sys.accept(&*step, &mut end);
+    *ends(step).0 = end;
+    if moved.map_err(|e| stopped(t_end, Failure::Rhs(e), stats))? {
+        // The derivative carried over to the next step is stale.
+        let (y, f) = ends(step);
+        sys.rhs(t_end, y, f).map_err(|e| stopped(t_end, Failure::Rhs(e), stats))?;
+        stats.evaluations += 1;
+    }
+    Ok(())
+}
+
 /// Settings of the adaptive integrators.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tolerances {

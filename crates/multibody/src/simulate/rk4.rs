@@ -1,7 +1,7 @@
 //! The classical fixed-step Runge-Kutta method, with cubic Hermite dense
 //! output between steps.
 
-use super::integrator::{DenseStep, Failure, OdeSystem, Stats, Stopped};
+use super::integrator::{finish_step, DenseStep, Failure, OdeSystem, Stats, Stopped};
 
 pub struct Rk4 {
     dt: f64,
@@ -82,27 +82,9 @@ impl Rk4 {
             }
             stats.evaluations += 4;
             stats.accepted += 1;
-            if self.y.iter().any(|x| !x.is_finite()) {
-                return Err(Stopped { t, failure: Failure::NotFinite, stats });
-            }
             self.t_old = t;
             self.h_old = h;
-            if let Err(e) = observe(self) {
-                return Err(Stopped { t: t + h, failure: Failure::Observer(e), stats });
-            }
-            let mut end = std::mem::take(&mut self.y);
-            let accepted = sys.accept(&*self, &mut end);
-            self.y = end;
-            match accepted {
-                Err(e) => return Err(Stopped { t: t + h, failure: Failure::Rhs(e), stats }),
-                Ok(true) => {
-                    if let Err(e) = sys.rhs(t + h, &self.y, &mut self.f_new) {
-                        return Err(Stopped { t: t + h, failure: Failure::Rhs(e), stats });
-                    }
-                    stats.evaluations += 1;
-                }
-                Ok(false) => {}
-            }
+            finish_step(sys, self, t + h, |s| (&mut s.y, &mut s.f_new), &mut observe, &mut stats)?;
         }
         Ok(stats)
     }
