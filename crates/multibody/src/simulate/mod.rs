@@ -109,6 +109,8 @@ struct Dynamics<'a> {
     ws: Workspace,
     /// Side of the singular configuration of each Euler-angle joint.
     euler_sides: Vec<f64>,
+    /// The same at the end of the step being accepted (scratch).
+    euler_sides_now: Vec<f64>,
 }
 
 impl OdeSystem for Dynamics<'_> {
@@ -135,13 +137,14 @@ impl Dynamics<'_> {
     fn euler_crossing(&mut self, step: &dyn DenseStep, y: &[f64]) -> Result<(), DynamicsError> {
         let (t0, t1) = step.span();
         let sides = |mech: &Mechanism, y: &[f64], out: &mut Vec<f64>| mech.euler_sides(y, out);
-        let mut now = Vec::new();
+        let mut now = std::mem::take(&mut self.euler_sides_now);
         let crossed = match sides(self.mechanism, y, &mut now) {
             Err(link) => Some(link),
             Ok(()) => now.iter().zip(&self.euler_sides).position(|(a, b)| a != b).map(|k| self.euler_link(k)),
         };
         let Some(link) = crossed else {
-            self.euler_sides = now;
+            // Swap, so that accepted steps reuse both buffers.
+            self.euler_sides_now = std::mem::replace(&mut self.euler_sides, now);
             return Ok(());
         };
         let (mut lo, mut hi) = (t0, t1);
@@ -274,7 +277,8 @@ impl Mechanism {
         if let Err(e) = recorder.record(options.start, y0) {
             return Err(fail(options.start, self.describe(&e), recorder.solution));
         }
-        let mut system = Dynamics { mechanism: self, ws: self.workspace(), euler_sides: Vec::new() };
+        let mut system =
+            Dynamics { mechanism: self, ws: self.workspace(), euler_sides: Vec::new(), euler_sides_now: Vec::new() };
         if let Err(link) = self.euler_sides(y0, &mut system.euler_sides) {
             let e = DynamicsError::EulerSingularity { link, time: options.start };
             return Err(fail(options.start, self.describe(&e), recorder.solution));
