@@ -149,6 +149,7 @@ fn primary_label(error: &Error) -> String {
         Error::NotAState { .. } => "not a state".into(),
         Error::Unsupported { .. } => "not supported yet".into(),
         Error::InconsistentRigidLoop { .. } => "part of the loop".into(),
+        Error::AlgebraicLoop { .. } => "part of the algebraic loop".into(),
         Error::DuplicateName { .. } => "declared twice".into(),
         _ => "here".into(),
     }
@@ -160,6 +161,7 @@ fn secondary_label(error: &Error, name: &str) -> String {
         Error::NoInertia { .. } => format!("`{name}` is moved by the joint"),
         Error::NoOrientationOwner { .. } => format!("`{name}` is in the same free part"),
         Error::InconsistentRigidLoop { .. } => "part of the loop".into(),
+        Error::AlgebraicLoop { .. } => "part of the algebraic loop".into(),
         _ => format!("`{name}` is declared here"),
     }
 }

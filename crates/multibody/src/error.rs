@@ -90,6 +90,9 @@ pub enum Error {
 
     #[error("the parts {} are joined rigidly in two ways that disagree (a closed chain of fixed parts that does not close); remove one of the connections", list(components))]
     InconsistentRigidLoop { components: Vec<String> },
+
+    #[error("the signals of {} depend on each other at the same instant (an algebraic loop); break the loop with a block that has a state, or change the connections", list(components))]
+    AlgebraicLoop { components: Vec<String> },
 }
 
 impl Error {
@@ -114,7 +117,7 @@ impl Error {
             LoopCannotClose { joints, .. } | LoopCannotMove { joints, .. } => {
                 joints.iter().map(String::as_str).collect()
             }
-            NoOrientationOwner { components } | InconsistentRigidLoop { components } => {
+            NoOrientationOwner { components } | InconsistentRigidLoop { components } | AlgebraicLoop { components } => {
                 components.iter().map(String::as_str).collect()
             }
             TwoOwners { first, second, .. } => vec![first, second],

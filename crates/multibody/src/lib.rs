@@ -24,17 +24,22 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+// The layers, from the bottom: math; error and model; system (the compiled
+// numeric model); dynamics; components; assembly; outputs; simulate. Each
+// imports only from its own layer and those below (`tests/layers.rs`).
 pub mod assembly;
 pub mod components;
 pub mod dynamics;
 mod error;
 pub mod math;
-mod mechanism;
 mod model;
+pub mod outputs;
 pub mod simulate;
+pub mod system;
 
+pub use assembly::{LoopInfo, Mechanism};
 pub use dynamics::{DynamicsError, Workspace};
 pub use error::{closest, Error};
-pub use mechanism::{Mechanism, StateLayout};
 pub use model::{ComponentInstance, Connection, Model, OrientationState, Value};
 pub use simulate::{Method, SimulationError, SimulationOptions, Solution};
+pub use system::{StateLayout, System};

@@ -1,6 +1,6 @@
 //! The model: components, their parameter values and start values, and the
-//! connections between their connectors. Plain data; [`Model::assemble`]
-//! validates it and compiles it into a [`Mechanism`](crate::Mechanism).
+//! connections between their connectors. Plain data; `Model::assemble`
+//! (in `assembly`) validates it and compiles it into a `Mechanism`.
 //!
 //! ```
 //! use multibody::Model;
@@ -228,10 +228,5 @@ impl Model {
     pub fn connect<S: Into<String>>(&mut self, ends: impl IntoIterator<Item = S>) -> &mut Self {
         self.connections.push(Connection { ends: ends.into_iter().map(Into::into).collect() });
         self
-    }
-
-    /// Validates the model and compiles it into a mechanism.
-    pub fn assemble(&self) -> Result<crate::Mechanism, crate::Error> {
-        crate::assembly::assemble(self)
     }
 }

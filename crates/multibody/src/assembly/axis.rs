@@ -1,20 +1,22 @@
-//! 1-D elements on joint axes: each flange is either fixed (a joint's
-//! support) or follows a joint coordinate (a joint's axis).
+//! 1-D connectors on joint axes: each 1-D node is either fixed (a joint's
+//! support) or follows a joint coordinate (a joint's axis). The 1-D
+//! elements and the couplings (gears) between them act there.
 
 use super::connections::Connectors;
 use super::links::Tree;
-use crate::components::Part;
-use crate::mechanism::{AxisElement, CompiledComponent, FlangeRef, JointRef};
+use super::mechanism::{CompiledComponent, JointRef};
+use crate::components::{Law1D, Part};
+use crate::system::{AxisElement, Coupling, FlangeRef};
 use crate::Error;
 
-/// The elements, and for each component the indices of its own.
-pub fn elements(
-    components: &mut [CompiledComponent],
-    conn: &Connectors,
-    tree: &Tree,
-) -> Result<Vec<AxisElement>, Error> {
-    let mut place: Vec<Option<(FlangeRef, usize)>> = vec![None; conn.flange_nodes.len()];
-    for c in components.iter() {
+/// For every 1-D node, where it sits and the connector that placed it
+/// (`None`: no joint axis or support is connected to it).
+pub type Places = Vec<Option<(FlangeRef, usize)>>;
+
+/// Where each 1-D node sits.
+pub fn places(components: &[CompiledComponent], conn: &Connectors, tree: &Tree) -> Result<Places, Error> {
+    let mut place: Places = vec![None; conn.flange_nodes.len()];
+    for c in components {
         let mut joint_index = 0;
         for part in &c.parts {
             match part {
@@ -30,7 +32,7 @@ pub fn elements(
                                     return Err(Error::Unsupported {
                                         component: c.name.clone(),
                                         what: format!(
-                                            "a 1-D connection between `{}` and `{}` (elements between two joints, such as gears)",
+                                            "a 1-D connection between `{}` and `{}` (two joint axes joined directly; put a gear between them)",
                                             conn.name(components, id),
                                             conn.name(components, other)
                                         ),
@@ -47,18 +49,49 @@ pub fn elements(
             }
         }
     }
+    Ok(place)
+}
+
+/// Where the 1-D connector `id` sits, or an error naming it.
+pub fn flange(
+    components: &[CompiledComponent],
+    conn: &Connectors,
+    places: &Places,
+    id: usize,
+) -> Result<FlangeRef, Error> {
+    places[conn.flange_node_of[id]]
+        .map(|(r, _)| r)
+        .ok_or_else(|| Error::FloatingFlange { connector: conn.name(components, id) })
+}
+
+/// Where every connector sits, for outputs: 1-D connectors on a joint
+/// axis follow its coordinate; every other connector reads as fixed.
+pub fn of_connectors(conn: &Connectors, places: &Places) -> Vec<FlangeRef> {
+    conn.flange_node_of
+        .iter()
+        .map(|&node| places.get(node).copied().flatten().map_or(FlangeRef::Fixed, |(r, _)| r))
+        .collect()
+}
+
+/// The elements, and for each component the indices of its own; signal
+/// inputs of driven sources become signal slots.
+pub fn elements(
+    components: &mut [CompiledComponent],
+    conn: &Connectors,
+    places: &Places,
+    signal_of_connector: &[usize],
+) -> Result<Vec<AxisElement>, Error> {
     let mut elements = Vec::new();
     for ci in 0..components.len() {
         let mut own = Vec::new();
         for part in &components[ci].parts {
             if let Part::Element1D { a, b, law } = *part {
-                let end = |local: usize| -> Result<FlangeRef, Error> {
-                    let id = components[ci].first_connector + local;
-                    place[conn.flange_node_of[id]]
-                        .map(|(r, _)| r)
-                        .ok_or_else(|| Error::FloatingFlange { connector: conn.name(components, id) })
+                let id = |local: usize| Connectors::id(components, ci, local);
+                let (a, b) = (flange(components, conn, places, id(a))?, flange(components, conn, places, id(b))?);
+                let law = match law {
+                    Law1D::Input { signal } => Law1D::Input { signal: signal_of_connector[id(signal)] },
+                    other => other,
                 };
-                let (a, b) = (end(a)?, end(b)?);
                 own.push(elements.len());
                 elements.push(AxisElement { a, b, law });
             }
@@ -66,4 +99,42 @@ pub fn elements(
         components[ci].elements = own;
     }
     Ok(elements)
+}
+
+/// The couplings between joint coordinates, numbered from `first_row` on.
+pub fn couplings(
+    components: &[CompiledComponent],
+    conn: &Connectors,
+    places: &Places,
+    tree: &Tree,
+    first_row: usize,
+) -> Result<Vec<Coupling>, Error> {
+    let mut couplings = Vec::new();
+    for (ci, c) in components.iter().enumerate() {
+        for part in &c.parts {
+            let Part::Coupling { terms } = part else { continue };
+            let mut coupling = Coupling { terms: Vec::new(), row: first_row + couplings.len(), component: ci };
+            for &(local, coefficient) in terms {
+                let id = Connectors::id(components, ci, local);
+                if !conn.infos[id].connected {
+                    continue; // a housing left unconnected is fixed
+                }
+                if let FlangeRef::Coordinate { q, v } = flange(components, conn, places, id)? {
+                    let link = tree.links.iter().find(|l| l.v_offset == v && l.joint.nv() == 1);
+                    if link.is_none() {
+                        return Err(Error::Unsupported {
+                            component: c.name.clone(),
+                            what: format!(
+                                "a gear on `{}`, which is not the axis of a revolute or prismatic joint",
+                                conn.name(components, id)
+                            ),
+                        });
+                    }
+                    coupling.terms.push((q, v, coefficient));
+                }
+            }
+            couplings.push(coupling);
+        }
+    }
+    Ok(couplings)
 }

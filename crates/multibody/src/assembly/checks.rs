@@ -2,9 +2,10 @@
 
 use super::connections::Connectors;
 use super::links::Tree;
-use crate::dynamics::joint::{JointModel, JointMotion, RotationCoordinates};
+use super::mechanism::CompiledComponent;
 use crate::math::RigidInertia;
-use crate::mechanism::{CompiledComponent, GROUND};
+use crate::system::joint::{JointModel, JointMotion, RotationCoordinates};
+use crate::system::GROUND;
 use crate::Error;
 
 /// Every degree of freedom must move some inertia: `S' Ic S` must be

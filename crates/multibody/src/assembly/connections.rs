@@ -1,10 +1,10 @@
 //! Connectors and connections: checks each `connect` and merges the
 //! connected connectors into nodes.
 
-use super::union_find::UnionFind;
+use super::mechanism::{CompiledComponent, ConnectorInfo};
 use crate::components::ConnectorType;
 use crate::error::closest;
-use crate::mechanism::{CompiledComponent, ConnectorInfo};
+use crate::math::union_find::UnionFind;
 use crate::{Error, Model};
 use std::collections::HashMap;
 

@@ -4,8 +4,8 @@
 
 use super::connections::Connectors;
 use super::links::Tree;
+use super::mechanism::{CompiledComponent, FlowEdge, FlowTree};
 use crate::components::Part;
-use crate::mechanism::{CompiledComponent, FlowEdge, FlowTree};
 use std::collections::{HashSet, VecDeque};
 
 /// An edge leaving a frame node: (the node it reaches, the connector at this end, the one at the other end).

@@ -3,8 +3,9 @@
 
 use super::connections::Connectors;
 use super::links::Tree;
+use super::mechanism::CompiledComponent;
 use crate::components::{ForceLaw, Part};
-use crate::mechanism::{Anchor, Attachment, CompiledComponent, ForceElement, Load};
+use crate::system::{Anchor, Attachment, ForceElement, Load};
 use crate::Error;
 
 pub fn elements(

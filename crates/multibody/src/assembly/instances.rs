@@ -1,16 +1,16 @@
 //! Finds the World, checks every component's kind and parameters, and builds
 //! the components.
 
-use crate::components::{lookup, registry, ParamSet, WorldSettings};
+use super::mechanism::CompiledComponent;
+use crate::components::{lookup, registry, world, ParamSet, WorldSettings};
 use crate::error::closest;
-use crate::mechanism::CompiledComponent;
 use crate::{Error, Model};
 use std::collections::HashSet;
 
 /// The settings of the model's one World.
 pub fn world_settings(model: &Model) -> Result<WorldSettings, Error> {
     let worlds: Vec<_> =
-        model.components.iter().filter(|c| lookup(&c.kind).is_some_and(|s| s.kind == "World")).collect();
+        model.components.iter().filter(|c| lookup(&c.kind).is_some_and(|s| std::ptr::eq(s, &world::SPEC))).collect();
     match worlds.as_slice() {
         [] => Err(Error::NoWorld),
         [world] => WorldSettings::from_instance(world),
@@ -40,7 +40,7 @@ pub fn build(model: &Model, world: &WorldSettings) -> Result<Vec<CompiledCompone
         built.push(CompiledComponent {
             name: instance.name.clone(),
             spec,
-            component,
+            component: component.into(),
             parts,
             first_connector,
             joints: Vec::new(),

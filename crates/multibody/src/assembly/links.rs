@@ -3,12 +3,13 @@
 //! the ground.
 
 use super::connections::Connectors;
-use super::union_find::UnionFind;
+use super::mechanism::{CompiledComponent, FrameNode};
 use crate::components::{ConstraintKind, Part, RotationLock, StateNames};
-use crate::dynamics::joint::JointModel;
+use crate::math::union_find::UnionFind;
 use crate::math::Vec3;
 use crate::math::{RigidInertia, Transform};
-use crate::mechanism::{Anchor, CompiledComponent, FrameNode, Link, MasslessGroup, GROUND};
+use crate::system::joint::JointModel;
+use crate::system::{Anchor, Link, MasslessGroup, GROUND};
 use crate::Error;
 use std::collections::VecDeque;
 
@@ -397,7 +398,7 @@ pub fn spanning_tree(
 fn constraint_of_joint(model: &JointModel) -> ConstraintKind {
     let all = [true; 3];
     let perpendicular = |n: Vec3| {
-        let e1 = crate::components::shapes::width_direction(&n);
+        let e1 = crate::math::width_direction(&n);
         [e1, n.cross(&e1), Vec3::zeros()]
     };
     match *model {

@@ -4,8 +4,9 @@
 
 use super::connections::Connectors;
 use super::links::Tree;
+use super::mechanism::{CompiledComponent, JointRef, LoopInfo};
 use crate::dynamics::Workspace;
-use crate::mechanism::{Attachment, CompiledComponent, Constraint, CutJoint, JointRef, LoopInfo, GROUND};
+use crate::system::{Attachment, Constraint, CutJoint, GROUND};
 use crate::{Error, Mechanism};
 
 /// Start residuals below this (m or rad) count as closed.
@@ -63,17 +64,17 @@ pub fn constraints(components: &mut [CompiledComponent], tree: &Tree) -> (Vec<Co
 /// Each constraint's loop: the tree joints between its two ends, and how
 /// many of its equations are redundant at the start.
 pub fn loop_reports(mechanism: &Mechanism, ws: &mut Workspace) -> Vec<LoopInfo> {
-    let nv = mechanism.states.nv;
+    let nv = mechanism.system.states.nv;
     let mut reports = Vec::new();
-    for c in &mechanism.constraints {
+    for c in &mechanism.system.constraints {
         let ends = [c.a.anchor, c.b.anchor].map(|a| match a {
-            crate::mechanism::Anchor::Link(k) => k,
-            crate::mechanism::Anchor::Massless(_) => GROUND,
+            crate::system::Anchor::Link(k) => k,
+            crate::system::Anchor::Massless(_) => GROUND,
         });
         let path = |mut k: usize| {
             let mut links = vec![k];
             while k != GROUND {
-                k = mechanism.links[k].parent;
+                k = mechanism.system.links[k].parent;
                 links.push(k);
             }
             links
@@ -82,7 +83,7 @@ pub fn loop_reports(mechanism: &Mechanism, ws: &mut Workspace) -> Vec<LoopInfo> 
         let mut joints: Vec<String> = Vec::new();
         for &k in pa.iter().chain(pb.iter()) {
             if k != GROUND && !(pa.contains(&k) && pb.contains(&k)) {
-                let name = &mechanism.components[mechanism.links[k].source.0].name;
+                let name = &mechanism.components[mechanism.system.links[k].source.0].name;
                 if !joints.contains(name) {
                     joints.push(name.clone());
                 }
@@ -99,7 +100,7 @@ pub fn loop_reports(mechanism: &Mechanism, ws: &mut Workspace) -> Vec<LoopInfo> 
             }
         }
         let mut perm = vec![0; c.rows];
-        let rank = crate::dynamics::dense::ldlt_pivoted(&mut gram, c.rows, &mut perm, 1e-10);
+        let rank = crate::math::dense::ldlt_pivoted(&mut gram, c.rows, &mut perm, 1e-10);
         reports.push(LoopInfo { cut, joints, equations: c.rows, redundant: c.rows - rank });
     }
     reports
@@ -109,13 +110,13 @@ pub fn loop_reports(mechanism: &Mechanism, ws: &mut Workspace) -> Vec<LoopInfo> 
 /// onto the constraints (least change), and counts the degrees of freedom.
 pub fn close(mechanism: &mut Mechanism) -> Result<(), Error> {
     let mut ws = mechanism.workspace();
-    let (nq, nv) = (mechanism.states.nq, mechanism.states.nv);
-    let mut y = mechanism.states.start.clone();
+    let (nq, nv) = (mechanism.system.states.nq, mechanism.system.states.nv);
+    let mut y = mechanism.system.states.start.clone();
     let free = free_velocity_coordinates(mechanism);
     let fixed_values = |range: std::ops::Range<usize>| -> Vec<String> {
         range
-            .filter(|&i| mechanism.states.fixed[i])
-            .map(|i| format!("{} = {}", mechanism.states.names[i], mechanism.states.start[i]))
+            .filter(|&i| mechanism.system.states.fixed[i])
+            .map(|i| format!("{} = {}", mechanism.system.states.names[i], mechanism.system.states.start[i]))
             .collect()
     };
     let as_error = |e: crate::DynamicsError| Error::Unsupported {
@@ -124,16 +125,16 @@ pub fn close(mechanism: &mut Mechanism) -> Result<(), Error> {
     };
     let mut best = f64::INFINITY;
     for _ in 0..NEWTON_ITERATIONS {
-        mechanism.constraint_state(&mut ws, &y).map_err(as_error)?;
+        mechanism.system.constraint_state(&mut ws, &y).map_err(as_error)?;
         let size = ws.residual.iter().fold(0.0f64, |a, r| a.max(r.abs()));
         best = best.min(size);
         if size <= CLOSED * 1e-2 {
             break;
         }
-        mechanism.least_norm_step(&mut ws, Some(&free[..nv]), true);
-        mechanism.retract(&mut y, &mut ws);
+        mechanism.system.least_norm_step(&mut ws, Some(&free[..nv]), true);
+        mechanism.system.retract(&mut y, &mut ws);
     }
-    mechanism.constraint_state(&mut ws, &y).map_err(as_error)?;
+    mechanism.system.constraint_state(&mut ws, &y).map_err(as_error)?;
     let (worst, size) =
         ws.residual
             .iter()
@@ -141,20 +142,26 @@ pub fn close(mechanism: &mut Mechanism) -> Result<(), Error> {
             .fold((0, 0.0f64), |acc, (i, r)| if r.abs() > acc.1 { (i, r.abs()) } else { acc });
     if size > CLOSED {
         let reports = loop_reports(mechanism, &mut ws);
-        let c = mechanism.constraints.iter().position(|c| c.row <= worst && worst < c.row + c.rows).unwrap_or(0);
-        return Err(Error::LoopCannotClose {
-            joints: reports[c].joints.clone(),
-            residual: best,
-            fixed: fixed_values(0..nq),
-        });
+        let system = &mechanism.system;
+        let joints = match system.constraints.iter().position(|c| c.row <= worst && worst < c.row + c.rows) {
+            Some(c) => reports[c].joints.clone(),
+            // A coupling's row: the joints it couples cannot be placed.
+            None => system
+                .couplings
+                .iter()
+                .filter(|c| c.row == worst)
+                .map(|c| mechanism.components[c.component].name.clone())
+                .collect(),
+        };
+        return Err(Error::LoopCannotClose { joints, residual: best, fixed: fixed_values(0..nq) });
     }
     // Velocities: remove the part that violates the constraints, keeping the fixed ones.
-    mechanism.velocity_residual(&mut ws, &y).map_err(as_error)?;
-    mechanism.least_norm_step(&mut ws, Some(&free[nv..]), false);
+    mechanism.system.velocity_residual(&mut ws, &y).map_err(as_error)?;
+    mechanism.system.least_norm_step(&mut ws, Some(&free[nv..]), false);
     for i in 0..nv {
         y[nq + i] += ws.du[i];
     }
-    mechanism.velocity_residual(&mut ws, &y).map_err(as_error)?;
+    mechanism.system.velocity_residual(&mut ws, &y).map_err(as_error)?;
     let violation = ws.lambda.iter().fold(0.0f64, |a, r| a.max(r.abs()));
     let scale = 1.0 + y[nq..].iter().fold(0.0f64, |a, v| a.max(v.abs()));
     if violation > 1e-9 * scale {
@@ -162,31 +169,31 @@ pub fn close(mechanism: &mut Mechanism) -> Result<(), Error> {
         let joints = reports.iter().flat_map(|r| r.joints.clone()).collect();
         return Err(Error::LoopCannotMove { joints, violation, fixed: fixed_values(nq..nq + nv) });
     }
-    mechanism.constraint_state(&mut ws, &y).map_err(as_error)?;
+    mechanism.system.constraint_state(&mut ws, &y).map_err(as_error)?;
     // What has no inertia must be determined by the constraints.
     let mut dy = vec![0.0; y.len()];
     if let Err(crate::DynamicsError::SingularInertia { link }) = mechanism.rhs(&mut ws, 0.0, &y, &mut dy) {
-        let joint = mechanism.components[mechanism.links[link].source.0].name.clone();
+        let joint = mechanism.components[mechanism.system.links[link].source.0].name.clone();
         return Err(Error::NoInertia {
             joint,
             dof: "motion".into(),
             moved: vec!["(nothing the loops determine)".into()],
         });
     }
-    mechanism.constraint_state(&mut ws, &y).map_err(as_error)?;
-    mechanism.states.start = y;
+    mechanism.system.constraint_state(&mut ws, &y).map_err(as_error)?;
+    mechanism.system.states.start = y;
     mechanism.loops = loop_reports(mechanism, &mut ws);
-    mechanism.dof = nv - mechanism.constraint_rank(&mut ws);
+    mechanism.system.dof = nv - mechanism.system.constraint_rank(&mut ws);
     Ok(())
 }
 
 /// For positions (first `nv`) and velocities (last `nv`): which velocity
 /// coordinates may change to close the loops.
 fn free_velocity_coordinates(mechanism: &Mechanism) -> Vec<bool> {
-    let (nq, nv) = (mechanism.states.nq, mechanism.states.nv);
-    let fixed = &mechanism.states.fixed;
+    let (nq, nv) = (mechanism.system.states.nq, mechanism.system.states.nv);
+    let fixed = &mechanism.system.states.fixed;
     let mut free = vec![true; 2 * nv];
-    for link in &mechanism.links[1..] {
+    for link in &mechanism.system.links[1..] {
         for dof in 0..link.joint.nv() {
             // A joint's rotation coordinates (quaternion or angles) are fixed together.
             let position_fixed = match link.joint.rotation_coordinates() {

@@ -21,15 +21,26 @@ mod forces;
 mod instances;
 mod links;
 mod loops;
+mod mechanism;
 mod signals;
 mod states;
-mod union_find;
 
 use crate::components::Part;
-use crate::dynamics::joint::JointMotion;
 use crate::math::{Mat3, Transform, Vec3};
-use crate::mechanism::{Anchor, Attachment, JointRef, Link, Mechanism, PointGravityMass, GROUND};
+use crate::system::joint::JointMotion;
+use crate::system::{Anchor, Attachment, Link, PointGravityMass, System, GROUND};
+
 use crate::{Error, Model};
+
+pub(crate) use mechanism::{JointRef, SignalTable};
+pub use mechanism::{LoopInfo, Mechanism};
+
+impl Model {
+    /// Validates the model and compiles it into a mechanism.
+    pub fn assemble(&self) -> Result<Mechanism, Error> {
+        assemble(self)
+    }
+}
 
 pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     let world = instances::world_settings(model)?;
@@ -85,9 +96,12 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         link.articulated = (&link.inertia).into();
     }
 
-    let axis_elements = axis::elements(&mut components, &conn, &tree)?;
-    let signals = signals::resolve(&components, &conn)?;
+    let places = axis::places(&components, &conn, &tree)?;
+    let signals = signals::resolve(&components, &conn, &tree, &places)?;
     warnings.extend(signals.warnings);
+    let axis_elements = axis::elements(&mut components, &conn, &places, &signals.of_connector)?;
+    let couplings = axis::couplings(&components, &conn, &places, &tree, constraint_rows)?;
+    let constraint_rows = constraint_rows + couplings.len();
     let force_elements = forces::elements(&components, &conn, &mut tree, &signals.of_connector)?;
     let states = states::layout(model, &components, &tree)?;
     checks::inertia_behind_every_joint(&components, &conn, &tree, &states.start[..states.nq])?;
@@ -108,33 +122,41 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     }
     let flow_tree = flows::flow_tree(&components, &conn, &tree);
 
+    let flange_of_connector = axis::of_connectors(&conn, &places);
     let dof = states.nv;
-    let mut mechanism = Mechanism {
-        name: model.name.clone(),
-        world,
-        components,
-        connectors: conn.infos,
-        nodes: tree.nodes,
+    let system = System {
         links: tree.links,
         axis_elements,
-        sources: signals.sources,
-        signal_of_connector: signals.of_connector,
+        signals_read_frames: signals.blocks.iter().any(|b| b.law.reads_frames()),
+        signals: signals.blocks,
+        couplings,
         force_elements,
         massless: tree.massless,
-        point_masses,
-        uniform_gravity,
-        states,
-        flow_tree,
-        warnings,
         constraints,
         constraint_rows,
         cut_nq,
         cut_nv,
-        loops: Vec::new(),
+        point_masses,
+        uniform_gravity,
+        mu: world.mu,
+        states,
         dof,
+    };
+    let mut mechanism = Mechanism {
+        name: model.name.clone(),
+        world,
+        system,
+        components,
+        connectors: conn.infos,
+        nodes: tree.nodes,
+        signal_of_connector: signals.of_connector,
+        flange_of_connector,
+        flow_tree,
+        warnings,
+        loops: Vec::new(),
         signal_table: Default::default(),
     };
-    if !mechanism.constraints.is_empty() {
+    if mechanism.system.constraint_rows > 0 {
         loops::close(&mut mechanism)?;
     }
     Ok(mechanism)

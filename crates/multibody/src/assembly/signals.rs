@@ -1,30 +1,81 @@
-//! Signal connections: each signal node carries the value of its one
-//! source (a block's output); inputs with no source read zero.
+//! Signal connections and the signal graph: each signal node carries the
+//! value of its one source (a block's output), inputs with no source read
+//! zero, and the blocks are put in the order the right-hand side evaluates
+//! them (each after the blocks it reads). A cycle of blocks is an
+//! algebraic loop.
 
+use super::axis::{self, Places};
 use super::connections::Connectors;
-use crate::components::{ConnectorType, Part, SignalSource};
-use crate::mechanism::CompiledComponent;
+use super::links::Tree;
+use super::mechanism::CompiledComponent;
+use crate::components::{ConnectorType, Part};
+use crate::system::{Attachment, FlangeRef, SignalBlock};
 use crate::Error;
 
 pub struct Signals {
-    pub sources: Vec<SignalSource>,
-    /// For every connector, its signal slot (`sources.len()` reads zero).
+    /// The blocks in evaluation order.
+    pub blocks: Vec<SignalBlock>,
+    /// For every connector, its signal slot (`blocks.len()` reads zero).
     pub of_connector: Vec<usize>,
     pub warnings: Vec<String>,
 }
 
-pub fn resolve(components: &[CompiledComponent], conn: &Connectors) -> Result<Signals, Error> {
-    let mut sources = Vec::new();
-    let mut source_of_connector = vec![usize::MAX; conn.infos.len()];
+pub fn resolve(
+    components: &[CompiledComponent],
+    conn: &Connectors,
+    tree: &Tree,
+    places: &Places,
+) -> Result<Signals, Error> {
+    // Every block writes its own slot, in the order of the parts.
+    let mut owners = Vec::new();
+    let mut slot_of_output = vec![usize::MAX; conn.infos.len()];
     for (ci, c) in components.iter().enumerate() {
         for part in &c.parts {
-            if let Part::Source { output, signal } = part {
-                source_of_connector[Connectors::id(components, ci, *output)] = sources.len();
-                sources.push(signal.clone());
+            if let Part::Signal { output, .. } = part {
+                slot_of_output[Connectors::id(components, ci, *output)] = owners.len();
+                owners.push(ci);
             }
         }
     }
-    let zero = sources.len();
+    let zero = owners.len();
+    let (of_connector, warnings) = connect(components, conn, &slot_of_output, zero)?;
+
+    let mut blocks = Vec::with_capacity(owners.len());
+    for (ci, c) in components.iter().enumerate() {
+        let id = |local: usize| Connectors::id(components, ci, local);
+        for part in &c.parts {
+            let Part::Signal { output, law, inputs, frames, flanges } = part else { continue };
+            let attach = |local: usize| {
+                let node = &tree.nodes[conn.node(id(local))];
+                Attachment { anchor: node.anchor, pose: node.pose }
+            };
+            let flange = |local: Option<usize>| -> Result<FlangeRef, Error> {
+                local.map_or(Ok(FlangeRef::Fixed), |l| axis::flange(components, conn, places, id(l)))
+            };
+            blocks.push(SignalBlock {
+                law: law.clone(),
+                output: slot_of_output[id(*output)],
+                inputs: inputs.map(|i| i.map_or(zero, |l| of_connector[id(l)])),
+                frames: frames.map(|f| f.map(attach)),
+                flanges: [flange(flanges[0])?, flange(flanges[1])?],
+            });
+        }
+    }
+    let order = evaluation_order(&blocks, zero).map_err(|cycle| Error::AlgebraicLoop {
+        components: cycle.into_iter().map(|slot| components[owners[slot]].name.clone()).collect(),
+    })?;
+    let mut slots: Vec<Option<SignalBlock>> = blocks.into_iter().map(Some).collect();
+    let blocks = order.into_iter().filter_map(|slot| slots[slot].take()).collect();
+    Ok(Signals { blocks, of_connector, warnings })
+}
+
+/// The slot of every connector: each signal node reads its one output.
+fn connect(
+    components: &[CompiledComponent],
+    conn: &Connectors,
+    slot_of_output: &[usize],
+    zero: usize,
+) -> Result<(Vec<usize>, Vec<String>), Error> {
     let mut of_connector = vec![zero; conn.infos.len()];
     let mut warnings = Vec::new();
     for members in &conn.flange_nodes {
@@ -43,7 +94,7 @@ pub fn resolve(components: &[CompiledComponent], conn: &Connectors) -> Result<Si
                 }
                 zero
             }
-            [one] => source_of_connector[*one],
+            [one] => slot_of_output[*one],
             [first, second, ..] => {
                 return Err(Error::Unsupported {
                     component: components[conn.infos[*second].component].name.clone(),
@@ -59,5 +110,57 @@ pub fn resolve(components: &[CompiledComponent], conn: &Connectors) -> Result<Si
             of_connector[c] = slot;
         }
     }
-    Ok(Signals { sources, of_connector, warnings })
+    Ok((of_connector, warnings))
+}
+
+/// The blocks' slots in an order where each block comes after the blocks
+/// whose outputs it reads (blocks are indexed by the slot they write), or
+/// the slots of a cycle.
+fn evaluation_order(blocks: &[SignalBlock], zero: usize) -> Result<Vec<usize>, Vec<usize>> {
+    let n = blocks.len();
+    let mut by_slot = vec![0; n];
+    for (i, b) in blocks.iter().enumerate() {
+        by_slot[b.output] = i;
+    }
+    // 0: not visited, 1: on the current path, 2: done.
+    let mut mark = vec![0u8; n];
+    let mut order = Vec::with_capacity(n);
+    let mut path = Vec::new();
+    for start in 0..n {
+        if mark[start] != 0 {
+            continue;
+        }
+        // Depth first over the inputs, with an explicit stack of (slot, next input).
+        let mut stack = vec![(start, 0usize)];
+        mark[start] = 1;
+        path.push(start);
+        while let Some(&mut (slot, ref mut next)) = stack.last_mut() {
+            let inputs = &blocks[by_slot[slot]].inputs;
+            if *next < inputs.len() {
+                let input = inputs[*next];
+                *next += 1;
+                if input == zero {
+                    continue;
+                }
+                match mark[input] {
+                    0 => {
+                        mark[input] = 1;
+                        path.push(input);
+                        stack.push((input, 0));
+                    }
+                    1 => {
+                        let from = path.iter().position(|&s| s == input).unwrap_or(0);
+                        return Err(path[from..].to_vec());
+                    }
+                    _ => {}
+                }
+            } else {
+                mark[slot] = 2;
+                order.push(slot);
+                path.pop();
+                stack.pop();
+            }
+        }
+    }
+    Ok(order)
 }

@@ -2,8 +2,10 @@
 //! (and, where no initial value is given, `guess`) modifiers.
 
 use super::links::Tree;
+use super::mechanism::{CompiledComponent, JointRef};
+use crate::components::Part;
 use crate::error::closest;
-use crate::mechanism::{CompiledComponent, JointRef, StateLayout};
+use crate::system::StateLayout;
 use crate::{Error, Model, Value};
 
 pub fn layout(model: &Model, components: &[CompiledComponent], tree: &Tree) -> Result<StateLayout, Error> {
@@ -44,7 +46,7 @@ pub fn layout(model: &Model, components: &[CompiledComponent], tree: &Tree) -> R
         }
     }
     for link in tree.links.iter().skip(1) {
-        if let crate::dynamics::joint::JointModel::Free(crate::dynamics::joint::RotationCoordinates::Quaternion {
+        if let crate::system::joint::JointModel::Free(crate::system::joint::RotationCoordinates::Quaternion {
             ..
         }) = link.joint
         {
@@ -88,7 +90,7 @@ fn not_a_state(c: &CompiledComponent, tree: &Tree, variable: &str) -> Error {
     if c.spec.variables.iter().any(|v| v.name == variable) {
         let reason = if c.joints.iter().any(|j| matches!(j, JointRef::Cut(_))) {
             "this joint closes a kinematic loop, so its coordinates follow from the other joints of the loop. To give it a start value, mark another joint of the loop with iscut = true".to_string()
-        } else if c.joints.is_empty() && matches!(c.spec.kind, "Body" | "PointMass") {
+        } else if c.joints.is_empty() && c.parts.iter().any(|p| matches!(p, Part::Mass { .. })) {
             "its motion comes from what it is connected to. Set the start values of the joints between it and the World instead, or make it free (orientation_state = Quaternion for a Body, isroot = true for an unconnected PointMass)".to_string()
         } else if states.is_empty() {
             format!("{} has no states; it is computed from the motion", c.spec.kind)

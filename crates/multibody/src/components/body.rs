@@ -6,8 +6,8 @@ use super::orientation::{self, INITIALIZE_ORIENTATION, K, SEQUENCE, STATE_PRIORI
 use super::shapes::{look, LocalShape, ShapeKind};
 use super::spec::{concat, ComponentSpec, ConnectorSpec, ParamSpec, ParamType, VarSpec};
 use super::{Component, EvalContext, ParamSet, Part, StateNames};
-use crate::dynamics::joint::{JointModel, RotationCoordinates};
 use crate::math::{Mat3, RigidInertia, Transform, Vec3};
+use crate::system::joint::{JointModel, RotationCoordinates};
 use crate::Error;
 
 /// Parameters every body-like component shares, after the kind's own.

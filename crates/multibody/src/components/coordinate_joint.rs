@@ -5,7 +5,7 @@
 
 use super::spec::VarSpec;
 use super::{AxisFlanges, Component, EvalContext, Part, StateNames};
-use crate::dynamics::joint::JointModel;
+use crate::system::joint::JointModel;
 
 /// Connector numbers of the 1-DOF joints' flanges: after frame_a, frame_b.
 pub const FLANGES: AxisFlanges = AxisFlanges { axis: 2, support: 3 };

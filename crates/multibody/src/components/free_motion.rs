@@ -3,7 +3,7 @@
 use super::orientation::{self, K, SEQUENCE, STATE_PRIORITY};
 use super::spec::{concat, ComponentSpec, ConnectorSpec, VarSpec};
 use super::{Component, EvalContext, ParamSet, Part, StateNames};
-use crate::dynamics::joint::{JointModel, RotationCoordinates};
+use crate::system::joint::{JointModel, RotationCoordinates};
 use crate::Error;
 
 pub static SPEC: ComponentSpec = ComponentSpec {

@@ -8,7 +8,6 @@
 //! joint, ownership of an orientation, a 1-D force law) and computes its
 //! output variables from the solved motion ([`EvalContext`]).
 
-pub mod laws;
 pub mod params;
 pub mod shapes;
 pub mod spec;
@@ -28,8 +27,9 @@ mod fixed_rotation;
 mod fixed_translation;
 mod force;
 mod free_motion;
+mod ideal_gear;
 mod line_force;
-mod one_d;
+pub mod one_d;
 mod orientation;
 mod planar;
 mod point_mass;
@@ -39,14 +39,12 @@ mod revolute;
 mod revolute_constraint;
 mod revolute_planar_loop_constraint;
 mod rod;
-mod rotational;
 mod spherical;
 mod spherical_constraint;
 mod spherical_spherical;
 mod spring;
 mod spring_damper_parallel;
 mod torque;
-mod translational;
 mod universal;
 mod universal_constraint;
 mod universal_spherical;
@@ -54,13 +52,14 @@ pub mod world;
 mod world_force;
 mod world_torque;
 
-pub use laws::{resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, RotationLock, SignalSource};
+pub use crate::system::laws::{resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, RotationLock, SignalSource};
+pub use crate::system::SignalLaw;
 pub use params::ParamSet;
 pub use spec::{ComponentSpec, ConnectorSpec, ConnectorType, Default, ParamSpec, ParamType, Shape, VarSpec};
 pub use world::WorldSettings;
 
-use crate::dynamics::joint::JointModel;
 use crate::math::{Mat3, RigidInertia, Transform, Vec3};
+use crate::system::JointModel;
 
 /// Every component kind, in the order `list` shows them.
 pub fn registry() -> &'static [&'static ComponentSpec] {
@@ -98,19 +97,29 @@ static REGISTRY: &[&ComponentSpec] = &[
     &torque::SPEC,
     &world_force::SPEC,
     &world_torque::SPEC,
-    &rotational::damper::SPEC,
-    &rotational::spring::SPEC,
-    &rotational::spring_damper::SPEC,
-    &rotational::constant_torque::SPEC,
-    &translational::damper::SPEC,
-    &translational::spring::SPEC,
-    &translational::spring_damper::SPEC,
-    &translational::constant_force::SPEC,
+    &one_d::rotational::DAMPER,
+    &one_d::rotational::SPRING,
+    &one_d::rotational::SPRING_DAMPER,
+    &one_d::rotational::CONSTANT,
+    &one_d::rotational::DRIVEN_BY_SIGNAL,
+    &one_d::rotational::POSITION_SENSOR,
+    &one_d::rotational::SPEED_SENSOR,
+    &one_d::translational::DAMPER,
+    &one_d::translational::SPRING,
+    &one_d::translational::SPRING_DAMPER,
+    &one_d::translational::CONSTANT,
+    &one_d::translational::DRIVEN_BY_SIGNAL,
+    &one_d::translational::POSITION_SENSOR,
+    &one_d::translational::SPEED_SENSOR,
     &blocks::constant::SPEC,
     &blocks::step::SPEC,
     &blocks::ramp::SPEC,
     &blocks::sine::SPEC,
     &blocks::time_table::SPEC,
+    &blocks::math::GAIN,
+    &blocks::math::ADD,
+    &blocks::math::FEEDBACK,
+    &ideal_gear::SPEC,
 ];
 
 /// The kind named `kind`. Accepts the library prefix
@@ -176,8 +185,20 @@ pub enum Part {
     Owner { frame: usize, model: JointModel, states: StateNames },
     /// A 1-D force element between two flanges.
     Element1D { a: usize, b: usize, law: Law1D },
-    /// A signal source driving the output connector `output`.
-    Source { output: usize, signal: SignalSource },
+    /// A signal block driving the output connector `output`: a function of
+    /// time, of the signals at the input connectors `inputs`, or of the
+    /// motion of `frames` (frame a, or the world when `None`; frame b) or
+    /// of `flanges` (flange a, or the fixed support when `None`; flange b).
+    Signal {
+        output: usize,
+        law: SignalLaw,
+        inputs: [Option<usize>; 3],
+        frames: [Option<usize>; 2],
+        flanges: [Option<usize>; 2],
+    },
+    /// A linear relation `sum c_k phi_k = 0` between the positions of 1-D
+    /// connectors (flanges on joint axes): an ideal gear.
+    Coupling { terms: Vec<(usize, f64)> },
     /// A force element on frame `b` with its reaction on frame `a` (or on
     /// the world when `a` is `None`); inputs are connector numbers.
     Force { a: Option<usize>, b: usize, law: ForceLaw },
@@ -243,6 +264,9 @@ pub struct EvalContext<'a> {
     pub elements: &'a [Element1DState],
     /// By connector number: the value of each signal connector.
     pub signals: &'a [f64],
+    /// By connector number: the position of each 1-D connector (0 for
+    /// the others, and for those fixed in the world).
+    pub flanges: &'a [f64],
 }
 
 #[cfg(test)]

@@ -4,8 +4,8 @@
 
 use super::spec::{Default, ParamSpec, ParamType, VarSpec};
 use super::{JointState, ParamSet};
-use crate::dynamics::joint::RotationCoordinates;
 use crate::model::OrientationState;
+use crate::system::joint::RotationCoordinates;
 use crate::Error;
 
 /// The `orientation_state` parameter with a given default.

@@ -3,7 +3,7 @@
 use super::coordinate_joint::CoordinateJoint;
 use super::spec::{ComponentSpec, ConnectorSpec, ParamSpec, ParamType, VarSpec};
 use super::{Component, ParamSet, StateNames};
-use crate::dynamics::joint::JointModel;
+use crate::system::joint::JointModel;
 use crate::Error;
 
 pub static SPEC: ComponentSpec = ComponentSpec {

@@ -3,8 +3,8 @@
 use super::shapes::{look, LocalShape, ShapeKind};
 use super::spec::{ComponentSpec, ConnectorSpec, ParamSpec, ParamType, VarSpec};
 use super::{Component, EvalContext, ParamSet, Part, StateNames};
-use crate::dynamics::joint::JointModel;
 use crate::math::{Mat3, RigidInertia, Vec3};
+use crate::system::joint::JointModel;
 use crate::Error;
 
 pub static SPEC: ComponentSpec = ComponentSpec {

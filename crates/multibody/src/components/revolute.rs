@@ -4,7 +4,7 @@ use super::coordinate_joint::{CoordinateJoint, FLANGES};
 use super::shapes::{joint_cylinder, LocalShape};
 use super::spec::{ComponentSpec, ConnectorSpec, ConnectorType, Default, ParamSpec, ParamType, VarSpec};
 use super::{Component, ParamSet, StateNames};
-use crate::dynamics::joint::JointModel;
+use crate::system::joint::JointModel;
 use crate::Error;
 
 pub static SPEC: ComponentSpec = ComponentSpec {

@@ -40,7 +40,7 @@ pub static SPEC: ComponentSpec = ComponentSpec {
 
 fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
     let n = p.direction("n")?;
-    let e1 = super::shapes::width_direction(&n);
+    let e1 = crate::math::width_direction(&n);
     let kind =
         ConstraintKind::Locks { rotation: RotationLock::Free, directions: [e1, n.cross(&e1), n * 0.0], count: 2 };
     Ok(Box::new(ConstraintJoint { kind }))

@@ -75,7 +75,12 @@ impl LocalShape {
             specular: 0.7,
             width,
             height,
-            placement: Placement::InFrame { frame: frame.into(), origin, length, width_dir: width_direction(&length) },
+            placement: Placement::InFrame {
+                frame: frame.into(),
+                origin,
+                length,
+                width_dir: crate::math::width_direction(&length),
+            },
         }
     }
 
@@ -107,17 +112,6 @@ impl LocalShape {
             placement,
         }
     }
-}
-
-/// A unit vector perpendicular to `length` (y unless `length` is along y).
-pub fn width_direction(length: &Vec3) -> Vec3 {
-    let n = length.norm();
-    if n < 1e-12 {
-        return Vec3::y();
-    }
-    let e = length / n;
-    let candidate = if e.y.abs() < 0.99 { Vec3::y() } else { Vec3::x() };
-    (candidate - e * e.dot(&candidate)).normalize()
 }
 
 /// For components that draw nothing.

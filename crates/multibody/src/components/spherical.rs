@@ -4,8 +4,8 @@ use super::orientation::{self, INITIALIZE_ORIENTATION, K, SEQUENCE, STATE_PRIORI
 use super::shapes::{look, LocalShape, ShapeKind};
 use super::spec::{ComponentSpec, ConnectorSpec, ParamSpec, ParamType, VarSpec};
 use super::{Component, EvalContext, ParamSet, Part, StateNames};
-use crate::dynamics::joint::{JointModel, RotationCoordinates};
 use crate::math::Vec3;
+use crate::system::joint::{JointModel, RotationCoordinates};
 use crate::Error;
 
 pub static SPEC: ComponentSpec = ComponentSpec {

@@ -185,21 +185,11 @@ impl WorldSettings {
     #[inline]
     pub fn gravity(&self, r: &Vec3, point: bool) -> Vec3 {
         if point || self.point_gravity {
-            point_gravity(self.mu, r)
+            crate::math::point_gravity(self.mu, r)
         } else {
             self.n * self.g
         }
     }
-}
-
-/// `-mu r / |r|^3`; zero at the origin, where the field is undefined.
-#[inline]
-pub fn point_gravity(mu: f64, r: &Vec3) -> Vec3 {
-    let d2 = r.norm_squared();
-    if d2 == 0.0 {
-        return Vec3::zeros();
-    }
-    -r * (mu / (d2 * d2.sqrt()))
 }
 
 #[derive(Debug)]

@@ -4,14 +4,13 @@
 //! link accelerations it computes are relative to a frame falling with
 //! gravity; `outputs` adds gravity back.
 
-use super::joint::JointMotion;
 use super::{DynamicsError, Workspace};
-use crate::components::world::point_gravity;
+use crate::math::point_gravity;
 use crate::math::{Force, Motion, Vec3};
-use crate::mechanism::{FlangeRef, GROUND};
-use crate::Mechanism;
+use crate::system::JointMotion;
+use crate::system::{FlangeRef, System, GROUND};
 
-impl Mechanism {
+impl System {
     /// Joint accelerations `ud` at positions `q` and velocities `u`.
     pub fn forward_dynamics(
         &self,
@@ -22,22 +21,20 @@ impl Mechanism {
         ud: &mut [f64],
     ) -> Result<(), DynamicsError> {
         self.kinematics_and_bias(ws, q, u)?;
-        for (slot, source) in ws.signals.iter_mut().zip(&self.sources) {
-            *slot = source.value(t);
-        }
+        self.evaluate_signals(ws, t, q, u);
         if !self.massless.is_empty() {
             self.solve_massless(ws)?;
         }
         self.apply_forces(ws, q, u);
         self.apply_force_elements(ws);
-        if self.constraints.is_empty() {
+        if self.constraint_rows == 0 {
             self.articulated_inertias(ws)?;
             self.accelerations(ws, ud);
             Ok(())
         } else {
             // Loops may leave massless links in the tree: solve the
             // constrained system as a whole instead of the ABA's recursion.
-            self.constrained_accelerations(ws, ud)
+            self.constrained_accelerations(ws, q, ud)
         }
     }
 
@@ -81,7 +78,8 @@ impl Mechanism {
         !(self.force_elements.is_empty()
             && self.point_masses.is_empty()
             && self.massless.is_empty()
-            && self.constraints.is_empty())
+            && self.constraints.is_empty()
+            && !self.signals_read_frames)
     }
 
     /// Each link's pose in the world from the transforms of pass 1 (for
@@ -101,12 +99,12 @@ impl Mechanism {
 
     /// Generalised forces of 1-D elements, and external forces on links
     /// (point gravity), subtracted from the bias forces.
-    fn apply_forces(&self, ws: &mut Workspace, q: &[f64], u: &[f64]) {
+    pub(crate) fn apply_forces(&self, ws: &mut Workspace, q: &[f64], u: &[f64]) {
         ws.tau.fill(0.0);
         for e in &self.axis_elements {
-            let (s_a, v_a) = flange_motion(e.a, q, u);
-            let (s_b, v_b) = flange_motion(e.b, q, u);
-            let force = e.law.force(s_b - s_a, v_b - v_a);
+            let (s_a, v_a) = e.a.motion(q, u);
+            let (s_b, v_b) = e.b.motion(q, u);
+            let force = e.law.force(s_b - s_a, v_b - v_a, &ws.signals);
             if let FlangeRef::Coordinate { v, .. } = e.b {
                 ws.tau[v] -= force;
             }
@@ -117,7 +115,7 @@ impl Mechanism {
         for pm in &self.point_masses {
             let w = &mut ws.links[pm.link];
             let r = w.pos + w.rot.tr_mul(&pm.com);
-            let f_world = (point_gravity(self.world.mu, &r) - self.uniform_gravity) * pm.mass;
+            let f_world = (point_gravity(self.mu, &r) - self.uniform_gravity) * pm.mass;
             let f = w.rot * f_world;
             w.pa -= Force::new(pm.com.cross(&f), f);
         }
@@ -211,13 +209,5 @@ impl Mechanism {
                 a
             };
         }
-    }
-}
-
-#[inline]
-fn flange_motion(f: FlangeRef, q: &[f64], u: &[f64]) -> (f64, f64) {
-    match f {
-        FlangeRef::Fixed => (0.0, 0.0),
-        FlangeRef::Coordinate { q: iq, v } => (q[iq], u[v]),
     }
 }

@@ -10,12 +10,11 @@
 //! zero multipliers. After each integration step, positions and velocities
 //! are projected back onto the constraints.
 
-use super::dense::{cholesky, cholesky_solve, ldlt_pivoted, ldlt_solve};
 use super::{DynamicsError, Workspace};
-use crate::components::{ConstraintKind, RotationLock};
+use crate::math::dense::{cholesky, cholesky_solve, ldlt_pivoted, ldlt_solve};
 use crate::math::{rotation_vector, Force, Mat3, Motion, RigidInertia, Vec3};
-use crate::mechanism::{Anchor, Attachment, Constraint, GROUND};
-use crate::Mechanism;
+use crate::system::{Anchor, Attachment, Constraint, System, GROUND};
+use crate::system::{ConstraintKind, RotationLock};
 
 /// Rows whose pivot is below this fraction of the largest are redundant.
 const RANK_TOLERANCE: f64 = 1e-10;
@@ -66,7 +65,7 @@ fn rows(kind: &ConstraintKind, a: &EndState, b: &EndState, out: &mut [(Row, f64)
                     }
                 }
                 RotationLock::AllBut(axis) => {
-                    let e1 = crate::components::shapes::width_direction(&axis);
+                    let e1 = crate::math::width_direction(&axis);
                     let e2 = axis.cross(&e1);
                     let misalignment = axis.cross(&r_rel.tr_mul(&axis));
                     push(Row::Rotation(e1), e1.dot(&misalignment));
@@ -86,7 +85,7 @@ fn rows(kind: &ConstraintKind, a: &EndState, b: &EndState, out: &mut [(Row, f64)
     n
 }
 
-impl Mechanism {
+impl System {
     /// World kinematics of a constraint end from the workspace's links.
     pub(crate) fn end_state(&self, ws: &Workspace, att: &Attachment) -> EndState {
         let Anchor::Link(k) = att.anchor else { return EndState::default() };
@@ -109,8 +108,8 @@ impl Mechanism {
     }
 
     /// Residuals, and if `with_jacobian` the Jacobian rows and the
-    /// velocity-product terms `Jdot u`, of every constraint.
-    pub(crate) fn constraint_terms(&self, ws: &mut Workspace, with_jacobian: bool) {
+    /// velocity-product terms `Jdot u`, of every constraint at positions `q`.
+    pub(crate) fn constraint_terms(&self, ws: &mut Workspace, q: &[f64], with_jacobian: bool) {
         let nv = self.states.nv;
         let mut buffer = [(Row::Distance, 0.0); 6];
         if with_jacobian {
@@ -176,6 +175,22 @@ impl Mechanism {
                 }
             }
         }
+        self.coupling_terms(ws, q, with_jacobian);
+    }
+
+    /// The rows of the couplings: `sum c_k q_k`, constant Jacobian, no
+    /// velocity-product term.
+    fn coupling_terms(&self, ws: &mut Workspace, q: &[f64], with_jacobian: bool) {
+        let nv = self.states.nv;
+        for c in &self.couplings {
+            ws.residual[c.row] = c.terms.iter().map(|&(iq, _, k)| k * q[iq]).sum();
+            if with_jacobian {
+                ws.bias[c.row] = 0.0;
+                for &(_, v, k) in &c.terms {
+                    ws.jac[c.row * nv + v] += k;
+                }
+            }
+        }
     }
 
     /// Link accelerations with every joint acceleration zero and no
@@ -188,11 +203,38 @@ impl Mechanism {
         }
     }
 
+    /// The joint-space mass matrix `mass` (row-major, `nv x nv`) and the
+    /// generalised forces `f = tau - C(q, u)` that leave every joint
+    /// unaccelerated, at `(t, q, u)`, by the composite-rigid-body and
+    /// recursive Newton-Euler algorithms (independent of the ABA). Without
+    /// constraints the ABA's accelerations solve `M ud = f`; with them,
+    /// `M ud = f + J' lambda` (see [`Workspace::constraint_jacobian`]).
+    pub fn mass_matrix_and_bias(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        q: &[f64],
+        u: &[f64],
+        mass: &mut [f64],
+        f: &mut [f64],
+    ) -> Result<(), DynamicsError> {
+        self.kinematics_and_bias(ws, q, u)?;
+        self.evaluate_signals(ws, t, q, u);
+        if !self.massless.is_empty() {
+            self.solve_massless(ws)?;
+        }
+        self.apply_forces(ws, q, u);
+        self.apply_force_elements(ws);
+        self.bias_forces(ws, f);
+        self.mass_matrix(ws, mass);
+        Ok(())
+    }
+
     /// The joint-space mass matrix by the composite-rigid-body algorithm,
-    /// into `ws.mass` (from the transforms of the last kinematics pass).
-    fn mass_matrix(&self, ws: &mut Workspace) {
+    /// into `mass` (from the transforms of the last kinematics pass).
+    fn mass_matrix(&self, ws: &mut Workspace, mass: &mut [f64]) {
         let nv = self.states.nv;
-        ws.mass.fill(0.0);
+        mass.fill(0.0);
         for (k, link) in self.links.iter().enumerate() {
             ws.composite[k] = link.inertia;
         }
@@ -206,8 +248,8 @@ impl Mechanism {
                     let lj = &self.links[j];
                     for d in 0..lj.joint.nv() {
                         let value = self.subspace(ws, j, d).dot(&f);
-                        ws.mass[(lj.v_offset + d) * nv + col] = value;
-                        ws.mass[col * nv + lj.v_offset + d] = value;
+                        mass[(lj.v_offset + d) * nv + col] = value;
+                        mass[col * nv + lj.v_offset + d] = value;
                     }
                     if lj.parent == GROUND {
                         break;
@@ -229,12 +271,19 @@ impl Mechanism {
     /// `M_a = M + w J' J`, positive definite whenever the constraints
     /// determine what has no mass (the massless links of a loop of
     /// joints): `M_a ud = f + J' lambda'` with `lambda' = lambda + w gamma`.
-    pub(crate) fn constrained_accelerations(&self, ws: &mut Workspace, ud: &mut [f64]) -> Result<(), DynamicsError> {
+    pub(crate) fn constrained_accelerations(
+        &self,
+        ws: &mut Workspace,
+        q: &[f64],
+        ud: &mut [f64],
+    ) -> Result<(), DynamicsError> {
         let (nv, m) = (self.states.nv, self.constraint_rows);
         self.bias_accelerations(ws);
-        self.constraint_terms(ws, true);
+        self.constraint_terms(ws, q, true);
         self.bias_forces(ws, ud);
-        self.mass_matrix(ws);
+        let mut mass = std::mem::take(&mut ws.mass);
+        self.mass_matrix(ws, &mut mass);
+        ws.mass = mass;
         let w = self.augmentation(ws);
         for i in 0..nv {
             for j in 0..nv {
@@ -269,6 +318,12 @@ impl Mechanism {
             }
             // The physical multiplier: lambda = lambda' - w gamma, gamma = -Jdot u.
             ws.lambda[r] = l + w * ws.bias[r];
+        }
+        // What the couplings apply to their coordinates counts as the joints' drive torques.
+        for c in &self.couplings {
+            for &(_, v, k) in &c.terms {
+                ws.tau[v] += k * ws.lambda[c.row];
+            }
         }
         // Link accelerations with the constrained joint accelerations.
         ws.links[GROUND].a = Motion::new(Vec3::zeros(), -self.uniform_gravity);
@@ -341,7 +396,7 @@ impl Mechanism {
     /// norm, then velocities by removing their constraint-violating part.
     /// Returns whether anything changed.
     pub fn project(&self, ws: &mut Workspace, y: &mut [f64]) -> Result<bool, DynamicsError> {
-        if self.constraints.is_empty() {
+        if self.constraint_rows == 0 {
             return Ok(false);
         }
         let (nq, nv) = (self.states.nq, self.states.nv);
@@ -371,7 +426,7 @@ impl Mechanism {
         let (q, u) = y.split_at(self.states.nq);
         self.kinematics_and_bias(ws, q, u)?;
         ws.bias_acc.fill(Motion::ZERO);
-        self.constraint_terms(ws, true);
+        self.constraint_terms(ws, q, true);
         Ok(())
     }
 

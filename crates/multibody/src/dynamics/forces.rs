@@ -2,10 +2,9 @@
 //! and the position of massless groups that only they hold.
 
 use super::{DynamicsError, Workspace};
-use crate::components::{resolve_input, Resolve};
 use crate::math::{Force, Mat3, Vec3};
-use crate::mechanism::{Anchor, Attachment, ForceElement, Load, GROUND};
-use crate::Mechanism;
+use crate::system::{resolve_input, Resolve};
+use crate::system::{Anchor, Attachment, ForceElement, Load, System, GROUND};
 
 /// The motion of a frame a force element acts on.
 #[derive(Clone, Copy, Debug)]
@@ -27,7 +26,7 @@ pub(crate) type Wrench = (Vec3, Vec3);
 const MASSLESS_ITERATIONS: usize = 60;
 const MASSLESS_STEP_TOLERANCE: f64 = 1e-13;
 
-impl Mechanism {
+impl System {
     /// The motion of an attachment, from the link kinematics of `ws`.
     #[inline]
     pub(crate) fn point_state(&self, ws: &Workspace, att: &Attachment) -> PointState {

@@ -1,18 +1,15 @@
-//! Dynamics over a compiled [`Mechanism`] and a mutable [`Workspace`]:
-//! the articulated-body algorithm for the right-hand side of the ODE
-//! (`aba`), and the outputs (cut forces by a recursive Newton-Euler pass
-//! over the frames, and every component's variables) on an output grid
-//! (`outputs`).
+//! Dynamics over the compiled numeric model ([`System`]) and a mutable
+//! [`Workspace`]: the articulated-body algorithm for the right-hand side of
+//! the ODE (`aba`), forces between frames and massless groups (`forces`),
+//! and constraints of loops and couplings (`constraints`).
 
 mod aba;
 mod constraints;
-pub(crate) mod dense;
 pub(crate) mod forces;
-pub mod joint;
-pub(crate) mod outputs;
+mod signals;
 
 use crate::math::{ArticulatedInertia, Force, Mat3, Motion, Transform, Vec3};
-use crate::Mechanism;
+use crate::system::{joint, System};
 use nalgebra::{Matrix6, Vector6};
 
 /// Why the dynamics could not be evaluated at a state.
@@ -92,26 +89,26 @@ pub(crate) struct MultiWork {
 }
 
 impl Workspace {
-    pub fn new(mechanism: &Mechanism) -> Self {
-        let n = mechanism.links.len();
+    pub fn new(system: &System) -> Self {
+        let n = system.links.len();
         let mut multi_index = vec![usize::MAX; n];
         let mut multi = Vec::new();
-        for (k, link) in mechanism.links.iter().enumerate().skip(1) {
+        for (k, link) in system.links.iter().enumerate().skip(1) {
             if link.joint.nv() > 1 {
                 multi_index[k] = multi.len();
                 multi.push(MultiWork::default());
             }
         }
         let ground = LinkWork { rot: Mat3::identity(), ..LinkWork::default() };
-        let (m, nv) = (mechanism.constraint_rows, mechanism.states.nv);
+        let (m, nv) = (system.constraint_rows, system.states.nv);
         Self {
             links: vec![ground; n],
             multi,
             multi_index,
-            tau: vec![0.0; mechanism.states.nv],
-            signals: vec![0.0; mechanism.sources.len() + 1],
-            massless_pos: mechanism.massless.iter().map(|g| g.guess).collect(),
-            massless_vel: vec![Vec3::zeros(); mechanism.massless.len()],
+            tau: vec![0.0; system.states.nv],
+            signals: vec![0.0; system.signals.len() + 1],
+            massless_pos: system.massless.iter().map(|g| g.guess).collect(),
+            massless_vel: vec![Vec3::zeros(); system.massless.len()],
             jac: vec![0.0; m * nv],
             mass: vec![0.0; if m > 0 { nv * nv } else { 0 }],
             y_rows: vec![0.0; m * nv],
@@ -122,18 +119,32 @@ impl Workspace {
             bias: vec![0.0; m],
             work: vec![0.0; m.max(nv)],
             du: vec![0.0; nv],
-            composite: vec![crate::math::RigidInertia::ZERO; if m > 0 { n } else { 0 }],
+            composite: vec![crate::math::RigidInertia::ZERO; n],
             bias_acc: vec![Motion::ZERO; n],
         }
     }
 }
 
-impl Mechanism {
-    /// A workspace for evaluating this mechanism's dynamics.
-    pub fn workspace(&self) -> Workspace {
-        Workspace::new(self)
+impl Workspace {
+    /// The constraint Jacobian (rows x nv, row-major) of the last
+    /// evaluation with constraints.
+    pub fn constraint_jacobian(&self) -> &[f64] {
+        &self.jac
     }
 
+    /// The constraint multipliers of the last evaluation: the generalised
+    /// constraint forces are `J' lambda`.
+    pub fn multipliers(&self) -> &[f64] {
+        &self.lambda
+    }
+
+    /// `-Jdot u` of the last evaluation: what `J ud` equals.
+    pub fn constraint_acceleration(&self) -> Vec<f64> {
+        self.bias.iter().map(|b| -b).collect()
+    }
+}
+
+impl System {
     /// The right-hand side of the ODE: `dy = f(t, y)` with
     /// `y = [q, u]`. Allocates nothing.
     pub fn rhs(&self, ws: &mut Workspace, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
@@ -174,34 +185,5 @@ impl Mechanism {
             sides.push(((q[1] - first_singular) / std::f64::consts::PI).floor());
         }
         Ok(())
-    }
-
-    /// Explains a dynamics error in the model's terms.
-    pub fn describe(&self, error: &DynamicsError) -> String {
-        let name = |link: usize| self.components[self.links[link].source.0].name.clone();
-        match *error {
-            DynamicsError::EulerSingularity { link, .. } => {
-                let seq = match self.links[link].joint.rotation_coordinates() {
-                    Some((_, joint::RotationCoordinates::Euler { sequence })) => sequence,
-                    _ => [1, 2, 3],
-                };
-                format!(
-                    "the Euler angles of `{}` (sequence {:?}) reached their singular configuration, where the first and \
-                     third axes line up. Use orientation_state = Quaternion for this body, or an Euler sequence whose \
-                     singularity the motion does not reach",
-                    name(link),
-                    seq
-                )
-            }
-            DynamicsError::SingularInertia { link } => format!(
-                "the inertia moved by `{}` became singular: a degree of freedom lost all inertia behind it",
-                name(link)
-            ),
-            DynamicsError::NotFinite => "a value became infinite or NaN (the motion blew up)".into(),
-            DynamicsError::MasslessWithoutBalance { group } => format!(
-                "no position of the frames without mass between {} balances the forces on them (springs that cannot hold them, or pulled apart without limit); give them mass or change the springs",
-                self.massless[group].components.iter().map(|c| format!("`{c}`")).collect::<Vec<_>>().join(", ")
-            ),
-        }
     }
 }

@@ -16,12 +16,11 @@ mod rk4;
 mod solution;
 
 pub use integrator::Stats;
-pub(crate) use solution::SignalTable;
 pub use solution::{glob, Solution};
 
-use crate::dynamics::outputs::OutputScratch;
+use crate::assembly::Mechanism;
 use crate::dynamics::{DynamicsError, Workspace};
-use crate::Mechanism;
+use crate::outputs::OutputScratch;
 use integrator::{DenseStep, Failure, OdeSystem, Stopped, Tolerances};
 
 /// The integration method.
@@ -116,7 +115,7 @@ struct Dynamics<'a> {
 impl OdeSystem for Dynamics<'_> {
     type Error = DynamicsError;
     fn dim(&self) -> usize {
-        self.mechanism.states.nq + self.mechanism.states.nv
+        self.mechanism.system.states.nq + self.mechanism.system.states.nv
     }
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
         self.mechanism.rhs(&mut self.ws, t, y, dy)
@@ -136,7 +135,7 @@ impl Dynamics<'_> {
     /// the time is where `det J` changes sign, found on the dense output.
     fn euler_crossing(&mut self, step: &dyn DenseStep, y: &[f64]) -> Result<(), DynamicsError> {
         let (t0, t1) = step.span();
-        let sides = |mech: &Mechanism, y: &[f64], out: &mut Vec<f64>| mech.euler_sides(y, out);
+        let sides = |mech: &Mechanism, y: &[f64], out: &mut Vec<f64>| mech.system.euler_sides(y, out);
         let mut now = std::mem::take(&mut self.euler_sides_now);
         let crossed = match sides(self.mechanism, y, &mut now) {
             Err(link) => Some(link),
@@ -163,13 +162,14 @@ impl Dynamics<'_> {
     /// The link of the k-th Euler-angle joint.
     fn euler_link(&self, k: usize) -> usize {
         self.mechanism
+            .system
             .links
             .iter()
             .enumerate()
             .filter(|(_, l)| {
                 matches!(
                     l.joint.rotation_coordinates(),
-                    Some((_, crate::dynamics::joint::RotationCoordinates::Euler { .. }))
+                    Some((_, crate::system::joint::RotationCoordinates::Euler { .. }))
                 )
             })
             .nth(k)
@@ -235,7 +235,7 @@ impl Recorder<'_, '_> {
 impl Mechanism {
     /// Simulates from the start values of the model.
     pub fn simulate(&self, options: &SimulationOptions) -> Result<Solution, SimulationError> {
-        self.simulate_from(&self.states.start, options, None)
+        self.simulate_from(&self.system.states.start, options, None)
     }
 
     /// Simulates from the state `y0`, calling `progress` with the time
@@ -256,9 +256,12 @@ impl Mechanism {
         if let Err(reason) = options.validate() {
             return Err(fail(options.start, reason, solution));
         }
-        if y0.len() != self.states.start.len() {
-            let reason =
-                format!("the start state has {} values, the mechanism {} states", y0.len(), self.states.start.len());
+        if y0.len() != self.system.states.start.len() {
+            let reason = format!(
+                "the start state has {} values, the mechanism {} states",
+                y0.len(),
+                self.system.states.start.len()
+            );
             return Err(fail(options.start, reason, solution));
         }
         let mut recorder = Recorder {
@@ -279,7 +282,7 @@ impl Mechanism {
         }
         let mut system =
             Dynamics { mechanism: self, ws: self.workspace(), euler_sides: Vec::new(), euler_sides_now: Vec::new() };
-        if let Err(link) = self.euler_sides(y0, &mut system.euler_sides) {
+        if let Err(link) = self.system.euler_sides(y0, &mut system.euler_sides) {
             let e = DynamicsError::EulerSingularity { link, time: options.start };
             return Err(fail(options.start, self.describe(&e), recorder.solution));
         }

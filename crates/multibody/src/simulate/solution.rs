@@ -1,33 +1,8 @@
 //! The result of a simulation: time and every output signal by name.
 
-use std::collections::HashMap;
+use crate::assembly::SignalTable;
 use std::io::{self, Write};
 use std::sync::Arc;
-
-/// The names and units of a mechanism's signals, with a lookup by name:
-/// built once at assembly and shared by every solution of the mechanism.
-#[derive(Debug, Default)]
-pub(crate) struct SignalTable {
-    names: Vec<String>,
-    units: Vec<&'static str>,
-    index: HashMap<String, usize>,
-}
-
-impl SignalTable {
-    pub(crate) fn new(names: Vec<String>, units: Vec<&'static str>) -> Self {
-        debug_assert_eq!(names.len(), units.len());
-        let index = names.iter().enumerate().map(|(i, n)| (n.clone(), i)).collect();
-        Self { names, units, index }
-    }
-
-    pub(crate) fn names(&self) -> &[String] {
-        &self.names
-    }
-
-    pub(crate) fn units(&self) -> &[&'static str] {
-        &self.units
-    }
-}
 
 /// Named signals sampled at common times.
 #[derive(Clone, Default)]
@@ -54,7 +29,7 @@ impl Solution {
     }
 
     pub(crate) fn with_signals(table: Arc<SignalTable>) -> Self {
-        let columns = vec![Vec::new(); table.names.len()];
+        let columns = vec![Vec::new(); table.names().len()];
         Self { table, time: Vec::new(), columns }
     }
 
@@ -98,16 +73,16 @@ impl Solution {
 
     /// Every signal name, e.g. `body.r_0[2]`.
     pub fn names(&self) -> &[String] {
-        &self.table.names
+        self.table.names()
     }
 
     pub fn unit(&self, name: &str) -> Option<&'static str> {
-        self.table.index.get(name).map(|&i| self.table.units[i])
+        self.table.index(name).map(|i| self.table.units()[i])
     }
 
     /// The samples of a signal.
     pub fn get(&self, name: &str) -> Option<&[f64]> {
-        self.table.index.get(name).map(|&i| self.columns[i].as_slice())
+        self.table.index(name).map(|i| self.columns[i].as_slice())
     }
 
     /// The last sample of a signal.

@@ -1,13 +1,14 @@
 //! Dyad's BlockComponents sources: signals of time on an output `y`.
 
 pub mod constant;
+pub mod math;
 pub mod ramp;
 pub mod sine;
 pub mod step;
 pub mod time_table;
 
 use super::spec::{ConnectorSpec, ParamSpec, VarSpec};
-use super::{Component, EvalContext, Part, SignalSource};
+use super::{Component, EvalContext, Part, SignalLaw, SignalSource};
 
 pub const OUTPUT: [ConnectorSpec; 1] = [ConnectorSpec::output("y", "The signal")];
 pub const VARIABLES: [VarSpec; 1] = [VarSpec::scalar("y", "", "The signal")];
@@ -22,7 +23,13 @@ pub struct SourceBlock {
 
 impl Component for SourceBlock {
     fn parts(&self) -> Vec<Part> {
-        vec![Part::Source { output: 0, signal: self.signal.clone() }]
+        vec![Part::Signal {
+            output: 0,
+            law: SignalLaw::Source(self.signal.clone()),
+            inputs: [None; 3],
+            frames: [None; 2],
+            flanges: [None; 2],
+        }]
     }
 
     fn variables(&self) -> Vec<VarSpec> {

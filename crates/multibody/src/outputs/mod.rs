@@ -2,14 +2,15 @@
 //! every connector (a recursive Newton-Euler pass over the flow tree), and
 //! every component's own variables.
 
-use super::joint::JointMotion;
-use super::{DynamicsError, Workspace};
+use crate::assembly::JointRef;
+use crate::assembly::Mechanism;
+use crate::assembly::SignalTable;
 use crate::components::{ConnectorType, Element1DState, EvalContext, FrameState, JointState, Part};
+use crate::dynamics::{DynamicsError, Workspace};
 use crate::math::Transform;
 use crate::math::{Motion, Vec3};
-use crate::mechanism::{Anchor, FlangeRef, JointRef, GROUND};
-use crate::simulate::SignalTable;
-use crate::Mechanism;
+use crate::system::JointMotion;
+use crate::system::{Anchor, FlangeRef, GROUND};
 use std::sync::Arc;
 
 /// The name, unit and description of one scalar output signal.
@@ -24,6 +25,7 @@ pub struct Signal {
 pub(crate) struct OutputScratch {
     frames: Vec<FrameState>,
     signals: Vec<f64>,
+    flanges: Vec<f64>,
     node_wrench: Vec<(Vec3, Vec3)>,
     flows: Vec<(Vec3, Vec3)>,
     dy: Vec<f64>,
@@ -72,7 +74,7 @@ impl Mechanism {
                 }
             }
         }
-        for constraint in &self.constraints {
+        for constraint in &self.system.constraints {
             let name = &self.components[constraint.component].name;
             for k in 1..=constraint.rows {
                 out.push(Signal { name: format!("{name}.constraint_residual[{k}]"), unit: "" });
@@ -90,13 +92,13 @@ impl Mechanism {
         y: &[f64],
         row: &mut Vec<f64>,
     ) -> Result<(), DynamicsError> {
-        let (nq, nv) = (self.states.nq, self.states.nv);
+        let (nq, nv) = (self.system.states.nq, self.system.states.nv);
         scratch.dy.resize(nq + nv, 0.0);
         self.rhs(ws, t, y, &mut scratch.dy)?;
-        self.world_poses(ws);
+        self.system.world_poses(ws);
         // True link accelerations: the ABA ran in a frame falling with gravity.
         for w in ws.links.iter_mut() {
-            w.a += Motion::new(Vec3::zeros(), w.rot * self.uniform_gravity);
+            w.a += Motion::new(Vec3::zeros(), w.rot * self.system.uniform_gravity);
         }
         self.frame_states(ws, scratch);
         self.cut_forces(ws, scratch);
@@ -105,6 +107,8 @@ impl Mechanism {
         scratch.signals.extend(self.signal_of_connector.iter().map(|&slot| ws.signals[slot]));
         let (q, u) = y.split_at(nq);
         let (qd, ud) = scratch.dy.split_at(nq);
+        scratch.flanges.clear();
+        scratch.flanges.extend(self.flange_of_connector.iter().map(|f| f.motion(q, u).0));
 
         row.clear();
         let mut joints: Vec<JointState> = Vec::new();
@@ -114,7 +118,7 @@ impl Mechanism {
             for &joint in &c.joints {
                 joints.push(match joint {
                     JointRef::Link(k) => {
-                        let l = &self.links[k];
+                        let l = &self.system.links[k];
                         let (qr, vr) = (l.q_offset..l.q_offset + l.joint.nq(), l.v_offset..l.v_offset + l.joint.nv());
                         JointState {
                             q: &q[qr.clone()],
@@ -125,7 +129,7 @@ impl Mechanism {
                         }
                     }
                     JointRef::Cut(k) => {
-                        let cut = self.constraints[k].joint.expect("cut joints carry their model");
+                        let cut = self.system.constraints[k].joint.expect("cut joints carry their model");
                         let (qr, vr) =
                             (cut.q_offset..cut.q_offset + cut.model.nq(), cut.v_offset..cut.v_offset + cut.model.nv());
                         JointState {
@@ -140,7 +144,7 @@ impl Mechanism {
             }
             elements.clear();
             for &e in &c.elements {
-                let el = &self.axis_elements[e];
+                let el = &self.system.axis_elements[e];
                 let at = |f: FlangeRef| match f {
                     FlangeRef::Fixed => (0.0, 0.0, 0.0),
                     FlangeRef::Coordinate { q: iq, v } => (q[iq], u[v], ud[v]),
@@ -148,13 +152,26 @@ impl Mechanism {
                 let (a, b) = (at(el.a), at(el.b));
                 let s_rel = b.0 - a.0;
                 let v_rel = b.1 - a.1;
-                elements.push(Element1DState { s_rel, v_rel, a_rel: b.2 - a.2, force: el.law.force(s_rel, v_rel) });
+                elements.push(Element1DState {
+                    s_rel,
+                    v_rel,
+                    a_rel: b.2 - a.2,
+                    force: el.law.force(s_rel, v_rel, &ws.signals),
+                });
             }
             let own = c.first_connector..c.first_connector + c.spec.connectors.len();
             let frames = &scratch.frames[own.clone()];
-            let signals = &scratch.signals[own];
-            let ctx =
-                EvalContext { time: t, world: &self.world, frames, joints: &joints, elements: &elements, signals };
+            let signals = &scratch.signals[own.clone()];
+            let flanges = &scratch.flanges[own];
+            let ctx = EvalContext {
+                time: t,
+                world: &self.world,
+                frames,
+                joints: &joints,
+                elements: &elements,
+                signals,
+                flanges,
+            };
             let before = row.len();
             c.component.evaluate(&ctx, row);
             debug_assert_eq!(
@@ -180,12 +197,12 @@ impl Mechanism {
     /// The coordinates, rates and accelerations of cut joints, from the
     /// motion of their frames (they are not states).
     fn cut_joint_coordinates(&self, scratch: &mut OutputScratch) {
-        scratch.cut_q.resize(self.cut_nq, 0.0);
-        scratch.cut_qdot.resize(self.cut_nq, 0.0);
-        scratch.cut_u.resize(self.cut_nv, 0.0);
-        scratch.cut_udot.resize(self.cut_nv, 0.0);
-        scratch.cut_tau.resize(self.cut_nv, 0.0);
-        for c in &self.constraints {
+        scratch.cut_q.resize(self.system.cut_nq, 0.0);
+        scratch.cut_qdot.resize(self.system.cut_nq, 0.0);
+        scratch.cut_u.resize(self.system.cut_nv, 0.0);
+        scratch.cut_udot.resize(self.system.cut_nv, 0.0);
+        scratch.cut_tau.resize(self.system.cut_nv, 0.0);
+        for c in &self.system.constraints {
             let Some(cut) = c.joint else { continue };
             let (a, b) = (scratch.frames[c.connectors.0], scratch.frames[c.connectors.1]);
             let (nq, nv) = (cut.model.nq(), cut.model.nv());
@@ -289,11 +306,16 @@ impl Mechanism {
         }
 
         // Force elements and constraints: their flows are the opposite of what they apply.
-        let applied =
-            self.force_elements.iter().map(|el| (el.connectors.0, el.connectors.1, self.applied(ws, el))).chain(
-                self.constraints
+        let applied = self
+            .system
+            .force_elements
+            .iter()
+            .map(|el| (el.connectors.0, el.connectors.1, self.system.applied(ws, el)))
+            .chain(
+                self.system
+                    .constraints
                     .iter()
-                    .map(|c| (Some(c.connectors.0), c.connectors.1, self.constraint_wrenches(ws, c))),
+                    .map(|c| (Some(c.connectors.0), c.connectors.1, self.system.constraint_wrenches(ws, c))),
             );
         for (a, b, (on_a, on_b)) in applied {
             let ends = [(a, on_a), (Some(b), on_b)];

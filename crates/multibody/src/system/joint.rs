@@ -342,7 +342,7 @@ pub fn rotation_of(rot: &RotationCoordinates, q: &[f64]) -> crate::math::Mat3 {
 /// The angle `phi` with `planar_rotation(n, phi) = r` about the unit axis
 /// `n`, the one nearest `near`.
 pub fn angle_about(n: &Vec3, r: &crate::math::Mat3, near: f64) -> f64 {
-    let e = crate::components::shapes::width_direction(n);
+    let e = crate::math::width_direction(n);
     signed_angle(n, &e, &r.tr_mul(&e), near)
 }
 

@@ -17,16 +17,22 @@ pub enum Law1D {
     SpringDamper { c: f64, d: f64, s_rel0: f64 },
     /// A source driving flange_b forward by `value` (reaction on flange_a).
     Source { value: f64 },
+    /// A source driving flange_b forward by the value of a signal: a
+    /// component's input connector, which assembly turns into a signal slot.
+    Input { signal: usize },
 }
 
 impl Law1D {
+    /// The internal force at relative position `s_rel` and speed `v_rel`,
+    /// with the current `signals` for driven sources.
     #[inline]
-    pub fn force(&self, s_rel: f64, v_rel: f64) -> f64 {
+    pub fn force(&self, s_rel: f64, v_rel: f64, signals: &[f64]) -> f64 {
         match *self {
             Law1D::Spring { c, s_rel0 } => c * (s_rel - s_rel0),
             Law1D::Damper { d } => d * v_rel,
             Law1D::SpringDamper { c, d, s_rel0 } => c * (s_rel - s_rel0) + d * v_rel,
             Law1D::Source { value } => -value,
+            Law1D::Input { signal } => -signals[signal],
         }
     }
 }

@@ -1,0 +1,247 @@
+//! The compiled numeric model: the mechanism as the dynamics sees it.
+//!
+//! Plain data (`Clone`, no trait objects, no component names but those kept
+//! for messages): links in topological order with their joint models, force
+//! laws between frames, 1-D laws on joint coordinates, constraints on frames
+//! and on coordinates, the signal sources, and the layout of the state.
+//! Assembly writes it once; `dynamics` reads it with a
+//! [`Workspace`](crate::dynamics::Workspace).
+
+pub mod joint;
+pub mod laws;
+pub mod signals;
+
+pub use joint::{JointModel, JointMotion, RotationCoordinates};
+pub use laws::{resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, RotationLock, SignalSource};
+pub(crate) use signals::SignalBlock;
+pub use signals::SignalLaw;
+
+use crate::math::{ArticulatedInertia, RigidInertia, Transform, Vec3};
+
+/// Index of the ground (the world) among the links.
+pub const GROUND: usize = 0;
+
+/// A mechanism compiled for the dynamics.
+#[derive(Debug, Clone)]
+pub struct System {
+    /// Link 0 is the ground; the others are in topological order (a parent
+    /// comes before its children).
+    pub(crate) links: Vec<Link>,
+    /// 1-D force elements acting on joint coordinates.
+    pub(crate) axis_elements: Vec<AxisElement>,
+    /// The signal blocks in evaluation order (each after the blocks it
+    /// reads); each writes its own slot, and the slot `signals.len()`
+    /// always reads zero.
+    pub(crate) signals: Vec<SignalBlock>,
+    /// Whether a signal block reads frame poses.
+    pub(crate) signals_read_frames: bool,
+    /// Linear relations between joint coordinates (gears), kept by
+    /// constraint forces in the rows after those of `constraints`.
+    pub(crate) couplings: Vec<Coupling>,
+    /// Force elements acting between frames.
+    pub(crate) force_elements: Vec<ForceElement>,
+    /// Groups of frames without mass whose position the force elements
+    /// on them decide (solved in every evaluation).
+    pub(crate) massless: Vec<MasslessGroup>,
+    /// Constraints: cut joints of loops and constraint components.
+    pub(crate) constraints: Vec<Constraint>,
+    /// Total number of constraint rows, couplings included.
+    pub(crate) constraint_rows: usize,
+    /// Sizes of the coordinate arrays of cut joints (outputs only).
+    pub(crate) cut_nq: usize,
+    pub(crate) cut_nv: usize,
+    /// Masses that feel point gravity (or any field other than `uniform_gravity`).
+    pub(crate) point_masses: Vec<PointGravityMass>,
+    /// The uniform gravity every mass feels, handled as an acceleration of the ground.
+    pub(crate) uniform_gravity: Vec3,
+    /// The gravity constant of point gravity.
+    pub(crate) mu: f64,
+    pub(crate) states: StateLayout,
+    /// Degrees of freedom: velocity coordinates less independent constraints.
+    pub(crate) dof: usize,
+}
+
+impl System {
+    /// The states, with their names and start values.
+    pub fn states(&self) -> &StateLayout {
+        &self.states
+    }
+
+    /// Number of moving links (rigid bodies of the tree).
+    pub fn link_count(&self) -> usize {
+        self.links.len() - 1
+    }
+}
+
+/// A relation kept by constraint forces.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Constraint {
+    pub component: usize,
+    pub a: Attachment,
+    pub b: Attachment,
+    /// The component's connectors at `a` and `b` (global numbers).
+    pub connectors: (usize, usize),
+    pub kind: ConstraintKind,
+    /// Its first row among all constraint rows.
+    pub row: usize,
+    pub rows: usize,
+    /// A cut joint: its model and where its output coordinates go.
+    pub joint: Option<CutJoint>,
+}
+
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct CutJoint {
+    pub model: JointModel,
+    pub q_offset: usize,
+    pub v_offset: usize,
+}
+
+/// What a frame is fixed to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Anchor {
+    Link(usize),
+    /// A massless group, whose orientation is the world's.
+    Massless(usize),
+}
+
+/// Where a force element attaches: a node and how it is fixed.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Attachment {
+    pub anchor: Anchor,
+    pub pose: Transform,
+}
+
+/// A force element in the form the dynamics evaluates.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ForceElement {
+    pub load: Load,
+    /// The reaction side (None: the world).
+    pub a: Option<Attachment>,
+    pub b: Attachment,
+    /// The element's connectors at `a` and `b` (global numbers).
+    pub connectors: (Option<usize>, usize),
+}
+
+/// A force law with its inputs resolved to signal slots.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Load {
+    Line { c: f64, d: f64, s_unstretched: f64, s_small: f64 },
+    Force { signals: [usize; 3], resolve: Resolve },
+    Torque { signals: [usize; 3], resolve: Resolve },
+}
+
+/// Frames without mass held by force elements only; their orientation is
+/// fixed to the world's by a line-force end.
+#[derive(Debug, Clone)]
+pub(crate) struct MasslessGroup {
+    /// Force elements acting on the group.
+    pub elements: Vec<usize>,
+    /// Start guess of the group's reference position.
+    pub guess: Vec3,
+    /// Component names, for messages.
+    pub components: Vec<String>,
+}
+
+/// A rigid body of the tree (all frames rigidly joined) and the joint that
+/// moves it relative to its parent.
+#[derive(Debug, Clone)]
+pub(crate) struct Link {
+    pub parent: usize,
+    pub joint: JointModel,
+    /// Parent link frame to the joint's frame on the parent side.
+    pub x_tree: Transform,
+    /// Mass of everything fixed to the link, in the link frame (the joint's
+    /// child-side frame).
+    pub inertia: RigidInertia,
+    /// The same as an articulated inertia, where the ABA starts from.
+    pub articulated: ArticulatedInertia,
+    pub q_offset: usize,
+    pub v_offset: usize,
+    /// The component and part of the joint (or owner) that moves this link.
+    pub source: (usize, usize),
+    /// The component whose name the states carry.
+    pub states_of: usize,
+    /// Whether the joint is traversed from its frame_b to its frame_a by
+    /// inverting its motion (1-DOF joints flip their axis instead).
+    pub inverted: bool,
+}
+
+impl Link {
+    /// The motion of this link's frame relative to the parent-side joint frame.
+    #[inline]
+    pub fn motion(&self, q: &[f64], u: &[f64], m: &mut JointMotion) {
+        let (nq, nv) = (self.joint.nq(), self.joint.nv());
+        self.joint.motion(&q[self.q_offset..self.q_offset + nq], &u[self.v_offset..self.v_offset + nv], m);
+        if self.inverted {
+            JointModel::invert(m, nv);
+        }
+    }
+
+    /// This link's joint coordinates in `q`.
+    #[inline]
+    pub fn q<'a>(&self, q: &'a [f64]) -> &'a [f64] {
+        &q[self.q_offset..self.q_offset + self.joint.nq()]
+    }
+}
+
+/// Where a 1-D flange sits: at the fixed support, or on a joint coordinate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum FlangeRef {
+    Fixed,
+    /// Velocity index (= position index for 1-DOF joints' coordinates) and
+    /// position index of the joint coordinate.
+    Coordinate {
+        q: usize,
+        v: usize,
+    },
+}
+
+impl FlangeRef {
+    /// Position and speed of the flange at `(q, u)`.
+    #[inline]
+    pub fn motion(&self, q: &[f64], u: &[f64]) -> (f64, f64) {
+        match *self {
+            FlangeRef::Fixed => (0.0, 0.0),
+            FlangeRef::Coordinate { q: iq, v } => (q[iq], u[v]),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct AxisElement {
+    pub a: FlangeRef,
+    pub b: FlangeRef,
+    pub law: Law1D,
+}
+
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PointGravityMass {
+    pub link: usize,
+    pub mass: f64,
+    /// Centre of mass in the link frame.
+    pub com: Vec3,
+}
+
+/// Names and start values of the states: positions first, then velocities.
+#[derive(Debug, Clone, Default)]
+pub struct StateLayout {
+    pub nq: usize,
+    pub nv: usize,
+    pub names: Vec<String>,
+    pub start: Vec<f64>,
+    /// Which start values the model fixed (`initial`), as opposed to
+    /// defaults and guesses that closing a loop may change.
+    pub fixed: Vec<bool>,
+}
+
+/// A linear relation between joint coordinates, `sum c_k q_k = 0`, on
+/// coordinates whose rate is their velocity coordinate (1-DOF joints).
+#[derive(Debug, Clone)]
+pub(crate) struct Coupling {
+    /// `(position index, velocity index, coefficient)` of each term.
+    pub terms: Vec<(usize, usize, f64)>,
+    /// Its row among all constraint rows.
+    pub row: usize,
+    /// The component that states it (for outputs and messages).
+    pub component: usize,
+}
