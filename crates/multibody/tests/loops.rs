@@ -5,43 +5,9 @@
 
 use multibody::{Error, Model, OrientationState, SimulationOptions, Solution, Value};
 
-/// A planar crank-rocker of four plain revolutes about z: ground points
-/// O = (0,0,0) and C = (2,0,0), crank OA = 0.5 along y, coupler AB =
-/// (2, 1) (2.24 m), rocker CB = 1.5 along y. Grashof: 0.5 + 2.24 < 2 + 1.5,
-/// so the crank turns fully and the linkage never folds flat. `coupler`
-/// scales the coupler's length.
-fn four_bar(damping: f64, coupler: f64) -> Model {
-    let mut model = Model::new("four_bar");
-    model.add("world", "World");
-    model.add("ground", "FixedTranslation").set("r", [2.0, 0.0, 0.0]);
-    model.add("j1", "Revolute").set("axisflange", true).initial("phi", 0.0).initial("w", 3.0);
-    for j in ["j2", "j3", "j4"] {
-        model.add(j, "Revolute");
-    }
-    let bar = |model: &mut Model, name: &str, r: [f64; 3]| {
-        model.add(name, "BodyShape").set("m", 1.0).set("r", r).set("I_11", 0.01).set("I_22", 0.01).set("I_33", 0.01);
-    };
-    bar(&mut model, "crank", [0.0, 0.5, 0.0]);
-    bar(&mut model, "coupler", [2.0 * coupler, coupler, 0.0]);
-    bar(&mut model, "rocker", [0.0, 1.5, 0.0]);
-    model.add("damper", "RotationalComponents.Damper").set("d", damping);
-    for (a, b) in [
-        ("world.frame_b", "j1.frame_a"),
-        ("world.frame_b", "ground.frame_a"),
-        ("j1.frame_b", "crank.frame_a"),
-        ("crank.frame_b", "j2.frame_a"),
-        ("j2.frame_b", "coupler.frame_a"),
-        ("coupler.frame_b", "j3.frame_a"),
-        ("ground.frame_b", "j4.frame_a"),
-        ("j4.frame_b", "rocker.frame_a"),
-        ("rocker.frame_b", "j3.frame_b"),
-        ("damper.spline_a", "j1.support"),
-        ("damper.spline_b", "j1.axis"),
-    ] {
-        model.connect([a, b]);
-    }
-    model
-}
+#[path = "common/four_bar.rs"]
+mod four_bar;
+use four_bar::four_bar;
 
 fn energy(solution: &Solution, bodies: &[&str], k: usize) -> f64 {
     bodies
@@ -62,7 +28,7 @@ fn worst_residual(solution: &Solution) -> f64 {
 /// others (planar loops have 3 independent ones), 1 degree of freedom.
 #[test]
 fn planar_four_bar_has_one_degree_of_freedom_and_three_redundant_equations() {
-    let mechanism = four_bar(0.0, 1.0).assemble().unwrap();
+    let mechanism = four_bar(0.0, 1.0, 3.0).assemble().unwrap();
     let loops = mechanism.loops();
     println!("four-bar: {} degree(s) of freedom; loops: {loops:?}", mechanism.degrees_of_freedom());
     assert_eq!(mechanism.degrees_of_freedom(), 1);
@@ -77,7 +43,7 @@ fn planar_four_bar_has_one_degree_of_freedom_and_three_redundant_equations() {
 /// energy error).
 #[test]
 fn undamped_loop_keeps_its_constraints_and_energy_for_100_seconds() {
-    let mechanism = four_bar(0.0, 1.0).assemble().unwrap();
+    let mechanism = four_bar(0.0, 1.0, 3.0).assemble().unwrap();
     let options = SimulationOptions { stop: 100.0, saveat: 0.01, abstol: 1e-10, reltol: 1e-10, ..Default::default() };
     let solution = mechanism.simulate(&options).unwrap();
     let bodies = ["crank", "coupler", "rocker"];
@@ -96,7 +62,7 @@ fn undamped_loop_keeps_its_constraints_and_energy_for_100_seconds() {
 /// With a damper the energy only goes down.
 #[test]
 fn damped_loop_loses_energy_monotonically() {
-    let solution = four_bar(0.5, 1.0)
+    let solution = four_bar(0.5, 1.0, 3.0)
         .assemble()
         .unwrap()
         .simulate(&SimulationOptions { stop: 10.0, saveat: 0.01, ..Default::default() })
@@ -168,7 +134,7 @@ fn library_four_bar_runs_with_plain_revolutes() {
 /// error names its joints.
 #[test]
 fn impossible_loop_is_named() {
-    let err = four_bar(0.0, 0.1).assemble().unwrap_err();
+    let err = four_bar(0.0, 0.1, 3.0).assemble().unwrap_err();
     println!("{err}");
     let Error::LoopCannotClose { joints, .. } = &err else { panic!("expected LoopCannotClose, got {err:?}") };
     for j in ["j1", "j2", "j3", "j4"] {

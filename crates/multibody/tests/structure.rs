@@ -5,6 +5,8 @@
 
 #[path = "common/chain.rs"]
 mod chain;
+#[path = "common/four_bar.rs"]
+mod shared;
 
 use multibody::{Error, Mechanism, Model, OrientationState, SimulationOptions};
 
@@ -16,39 +18,12 @@ fn body(model: &mut Model, name: &str) {
     model.add(name, "Body").set("m", 1.0).set("r_cm", [0.3, 0.1, 0.0]);
 }
 
-/// The planar crank-rocker of examples/four_bar.dyad: ground points O and
-/// C = (2, 0, 0), crank 0.5 m, coupler (2, 1), rocker 1.5 m, four
-/// revolutes about z and a damper on the crank's joint `j1`. `cut` marks
-/// one joint `iscut = true`.
+/// The shared four-bar (crank started at 5 rad/s, a light damper on `j1`),
+/// with `cut` marked `iscut = true`.
 fn four_bar(cut: Option<&str>) -> Model {
-    let mut model = Model::new("four_bar");
-    model.add("world", "World");
-    model.add("ground", "FixedTranslation").set("r", [2.0, 0.0, 0.0]);
-    model.add("j1", "Revolute").set("axisflange", true).initial("phi", 0.0).initial("w", 5.0);
-    for j in ["j2", "j3", "j4"] {
-        model.add(j, "Revolute");
-    }
-    for (name, r) in [("crank", [0.0, 0.5, 0.0]), ("coupler", [2.0, 1.0, 0.0]), ("rocker", [0.0, 1.5, 0.0])] {
-        model.add(name, "BodyShape").set("m", 1.0).set("r", r).set("I_11", 0.01).set("I_22", 0.01).set("I_33", 0.01);
-    }
-    model.add("damper", "RotationalComponents.Damper").set("d", 0.05);
+    let mut model = shared::four_bar(0.05, 1.0, 5.0);
     if let Some(j) = cut {
         model.component_mut(j).expect("a joint of the four-bar").set("iscut", true);
-    }
-    for (a, b) in [
-        ("world.frame_b", "j1.frame_a"),
-        ("world.frame_b", "ground.frame_a"),
-        ("j1.frame_b", "crank.frame_a"),
-        ("crank.frame_b", "j2.frame_a"),
-        ("j2.frame_b", "coupler.frame_a"),
-        ("coupler.frame_b", "j3.frame_a"),
-        ("ground.frame_b", "j4.frame_a"),
-        ("j4.frame_b", "rocker.frame_a"),
-        ("rocker.frame_b", "j3.frame_b"),
-        ("damper.spline_a", "j1.support"),
-        ("damper.spline_b", "j1.axis"),
-    ] {
-        model.connect([a, b]);
     }
     model
 }

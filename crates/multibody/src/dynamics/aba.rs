@@ -20,13 +20,7 @@ impl System {
         u: &[f64],
         ud: &mut [f64],
     ) -> Result<(), DynamicsError> {
-        self.kinematics_and_bias(ws, q, u)?;
-        self.evaluate_signals(ws, t, q, u);
-        if !self.massless.is_empty() {
-            self.solve_massless(ws)?;
-        }
-        self.apply_forces(ws, q, u);
-        self.apply_force_elements(ws);
+        self.motion_and_loads(ws, t, q, u)?;
         if self.constraint_rows == 0 {
             self.articulated_inertias(ws)?;
             self.accelerations(ws, ud);
@@ -36,6 +30,26 @@ impl System {
             // constrained system as a whole instead of the ABA's recursion.
             self.constrained_accelerations(ws, q, ud)
         }
+    }
+
+    /// Everything before the accelerations: the kinematics pass, the
+    /// signals (which may read it), the massless groups, and every load on
+    /// the links and joints.
+    pub(crate) fn motion_and_loads(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        q: &[f64],
+        u: &[f64],
+    ) -> Result<(), DynamicsError> {
+        self.kinematics_and_bias(ws, q, u)?;
+        self.evaluate_signals(ws, t, q, u);
+        if !self.massless.is_empty() {
+            self.solve_massless(ws)?;
+        }
+        self.apply_forces(ws, q, u);
+        self.apply_force_elements(ws);
+        Ok(())
     }
 
     /// Pass 1: link transforms, velocities, world poses (when something
@@ -99,7 +113,7 @@ impl System {
 
     /// Generalised forces of 1-D elements, and external forces on links
     /// (point gravity), subtracted from the bias forces.
-    pub(crate) fn apply_forces(&self, ws: &mut Workspace, q: &[f64], u: &[f64]) {
+    fn apply_forces(&self, ws: &mut Workspace, q: &[f64], u: &[f64]) {
         ws.tau.fill(0.0);
         for e in &self.axis_elements {
             let (s_a, v_a) = e.a.motion(q, u);

@@ -218,13 +218,7 @@ impl System {
         mass: &mut [f64],
         f: &mut [f64],
     ) -> Result<(), DynamicsError> {
-        self.kinematics_and_bias(ws, q, u)?;
-        self.evaluate_signals(ws, t, q, u);
-        if !self.massless.is_empty() {
-            self.solve_massless(ws)?;
-        }
-        self.apply_forces(ws, q, u);
-        self.apply_force_elements(ws);
+        self.motion_and_loads(ws, t, q, u)?;
         self.bias_forces(ws, f);
         self.mass_matrix(ws, mass);
         Ok(())
