@@ -174,6 +174,36 @@ fn four_bar() {
     assert_same("four_bar.dyad", m, options(10.0, 0.01));
 }
 
+#[test]
+fn geared_servo() {
+    let mut m = Model::new("GearedServo");
+    m.add("world", "World");
+    m.add("motor", "Revolute").set("n", [0.0, 1.0, 0.0]).initial("phi", 0.0).initial("w", 0.0);
+    m.add("rotor", "Body").set("m", 0.5).set("r_cm", [0.0, 0.0, 0.0]).set("I_22", 0.002);
+    m.add("table", "Revolute").set("n", [0.0, 1.0, 0.0]);
+    m.add("load", "Body").set("m", 2.0).set("r_cm", [0.3, 0.0, 0.0]).set("I_22", 0.01);
+    m.add("gear", "RotationalComponents.IdealGear").set("ratio", 4.0);
+    m.add("angle", "RotationalComponents.AngleSensor");
+    m.add("speed", "RotationalComponents.SpeedSensor");
+    m.add("setpoint", "BlockComponents.Constant").set("k", 1.0);
+    m.add("error", "BlockComponents.Feedback");
+    m.add("pd", "BlockComponents.Add").set("k1", 2.0).set("k2", -0.6);
+    m.add("drive", "RotationalComponents.Torque");
+    m.connect(["world.frame_b", "motor.frame_a", "table.frame_a"]);
+    m.connect(["motor.frame_b", "rotor.frame_a"]);
+    m.connect(["table.frame_b", "load.frame_a"]);
+    m.connect(["gear.spline_a", "motor.axis"]);
+    m.connect(["gear.spline_b", "table.axis", "angle.spline", "speed.spline"]);
+    m.connect(["drive.spline", "motor.axis"]);
+    m.connect(["drive.support", "motor.support"]);
+    m.connect(["setpoint.y", "error.u1"]);
+    m.connect(["angle.phi", "error.u2"]);
+    m.connect(["error.y", "pd.u1"]);
+    m.connect(["speed.w", "pd.u2"]);
+    m.connect(["pd.y", "drive.tau"]);
+    assert_same("geared_servo.dyad", m, options(10.0, 0.01));
+}
+
 /// A new example must get a hand-built twin above (or, in `msl/`, a reference test).
 #[test]
 fn every_example_is_checked() {
@@ -184,6 +214,7 @@ fn every_example_is_checked() {
         "orbits.dyad",
         "spring_mass.dyad",
         "four_bar.dyad",
+        "geared_servo.dyad",
         "docs/pend.dyad",
     ];
     let mut found = Vec::new();

@@ -53,6 +53,10 @@ fn an_ideal_gear_couples_two_revolutes_with_the_reflected_inertia() {
     let phi_a = solution.last("gear.phi_a").unwrap();
     let phi_b = solution.last("gear.phi_b").unwrap();
     assert!((phi_a - ratio * phi_b).abs() < 1e-9);
+    // Every constraint row has its named residual column, the gear's too.
+    let residual = solution.get("gear.constraint_residual[1]").expect("the gear's residual is an output");
+    assert!(residual.iter().all(|r| r.abs() < 1e-9));
+    assert_eq!(mechanism.signals().len(), solution.names().len());
     let tau2 = solution.last("rev2.tau").unwrap();
     assert!((tau2 - j2 * tau / j / ratio).abs() < 1e-8, "rev2.tau = {tau2}");
 }

@@ -368,7 +368,8 @@ fn loop_accelerations_satisfy_the_constrained_equations() {
         mechanism.forward_dynamics(&mut ws, t, q, u, &mut ud).unwrap();
         let jac = ws.constraint_jacobian().to_vec();
         let lambda = ws.multipliers().to_vec();
-        let gamma = ws.constraint_acceleration();
+        // What J ud must equal: -Jdot u.
+        let gamma: Vec<f64> = ws.constraint_velocity_product().iter().map(|b| -b).collect();
         let rows = lambda.len();
         assert_eq!(jac.len(), rows * nv);
         assert_eq!(rows, 5, "one cut revolute: 5 rows");

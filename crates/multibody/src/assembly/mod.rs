@@ -100,7 +100,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     let signals = signals::resolve(&components, &conn, &tree, &places)?;
     warnings.extend(signals.warnings);
     let axis_elements = axis::elements(&mut components, &conn, &places, &signals.of_connector)?;
-    let couplings = axis::couplings(&components, &conn, &places, &tree, constraint_rows)?;
+    let couplings = axis::couplings(&components, &conn, &places, constraint_rows)?;
     let constraint_rows = constraint_rows + couplings.len();
     let force_elements = forces::elements(&components, &conn, &mut tree, &signals.of_connector)?;
     let states = states::layout(model, &components, &tree)?;

@@ -123,8 +123,9 @@ static REGISTRY: &[&ComponentSpec] = &[
 ];
 
 /// The kind named `kind`. Accepts the library prefix
-/// (`MultibodyComponents.Body`) and the `Components.` or `Sources.` level
-/// of the 1-D libraries (`RotationalComponents.Components.Damper`).
+/// (`MultibodyComponents.Body`) and the `Components.`, `Sources.` or
+/// `Sensors.` level of the 1-D libraries
+/// (`RotationalComponents.Components.Damper`).
 pub fn lookup(kind: &str) -> Option<&'static ComponentSpec> {
     let bare = canonical_kind(kind);
     registry().iter().copied().find(|s| s.kind == bare)
@@ -133,7 +134,7 @@ pub fn lookup(kind: &str) -> Option<&'static ComponentSpec> {
 /// A kind name without the optional prefixes [`lookup`] accepts.
 pub fn canonical_kind(kind: &str) -> String {
     let bare = kind.strip_prefix("MultibodyComponents.").unwrap_or(kind);
-    bare.replace(".Components.", ".").replace(".Sources.", ".")
+    bare.replace(".Components.", ".").replace(".Sources.", ".").replace(".Sensors.", ".")
 }
 
 /// A component built from its parameters.

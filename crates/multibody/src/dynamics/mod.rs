@@ -138,9 +138,10 @@ impl Workspace {
         &self.lambda
     }
 
-    /// `-Jdot u` of the last evaluation: what `J ud` equals.
-    pub fn constraint_acceleration(&self) -> Vec<f64> {
-        self.bias.iter().map(|b| -b).collect()
+    /// The velocity-product terms `Jdot u` of the last evaluation with
+    /// constraints: the accelerations keep `J ud = -Jdot u`.
+    pub fn constraint_velocity_product(&self) -> &[f64] {
+        &self.bias
     }
 }
 

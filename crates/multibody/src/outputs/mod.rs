@@ -80,6 +80,11 @@ impl Mechanism {
                 out.push(Signal { name: format!("{name}.constraint_residual[{k}]"), unit: "" });
             }
         }
+        // The couplings' rows follow those of the constraints, one each.
+        for coupling in &self.system.couplings {
+            let name = &self.components[coupling.component].name;
+            out.push(Signal { name: format!("{name}.constraint_residual[1]"), unit: "" });
+        }
         SignalTable::new(out.iter().map(|s| s.name.clone()).collect(), out.iter().map(|s| s.unit).collect())
     }
 
