@@ -106,6 +106,16 @@ fn spherical_constraint() {
     check_model("SphericalConstraint", "SphericalConstraint", &as_pairs(&pairs));
 }
 
+#[test]
+fn first() {
+    check("First", &["damper.phi_rel", "damper.w_rel", "inertia3.phi", "inertia3.w"]);
+}
+
+#[test]
+fn oscillator() {
+    check("Oscillator", &["damper1.s_rel", "damper1.v_rel", "mass1.s", "mass1.v"]);
+}
+
 /// A new file in examples/msl must get a reference test above.
 #[test]
 fn every_msl_example_is_checked() {

@@ -31,6 +31,17 @@ fn dynamics(c: &mut Criterion) {
         });
     }
     rhs.finish();
+    // A motor inertia behind a gear on every joint: the same tree with an
+    // armature on each joint, so the cost should hardly change.
+    let mut drive = c.benchmark_group("drive_train");
+    for (name, model) in [("plain/30", chain::benchmark_chain(30)), ("geared/30", chain::geared_chain(30))] {
+        let mechanism = model.assemble().unwrap();
+        let y = mechanism.states().start.clone();
+        let mut ws = mechanism.workspace();
+        let mut dy = vec![0.0; y.len()];
+        drive.bench_function(name, |b| b.iter(|| mechanism.rhs(&mut ws, 0.0, black_box(&y), &mut dy).unwrap()));
+    }
+    drive.finish();
 }
 
 criterion_group!(benches, dynamics);

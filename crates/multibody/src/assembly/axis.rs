@@ -1,55 +1,255 @@
-//! 1-D connectors on joint axes: each 1-D node is either fixed (a joint's
-//! support) or follows a joint coordinate (a joint's axis). The 1-D
-//! elements and the couplings (gears) between them act there.
+//! 1-D drive trains: where every 1-D node (a set of connected splines or
+//! flanges) sits. A node is fixed (a joint's support, a `Fixed`, a housing),
+//! or an affine function `offset + scale * q` of one 1-DOF coordinate: a
+//! joint's axis, or the own coordinate of a free 1-D inertia. Rigid parts
+//! (inertias) and gears carry a place from node to node, so a motor behind
+//! a gear adds `ratio^2 J` to its joint instead of a state and a constraint;
+//! compliant elements (springs, dampers) do not, and what they separate gets
+//! coordinates of its own. A gear whose sides are already placed otherwise
+//! (between two joints, or closing a loop of gears) stays a constraint.
 
 use super::connections::Connectors;
 use super::links::Tree;
 use super::mechanism::{CompiledComponent, JointRef};
-use crate::components::{Law1D, Part};
-use crate::system::{AxisElement, Coupling, FlangeRef};
+use crate::components::{Law1D, Part, StateNames};
+use crate::math::{RigidInertia, Transform, Vec3};
+use crate::system::{AxisElement, Coupling, FlangeRef, JointModel, Link, GROUND};
 use crate::Error;
 
 /// For every 1-D node, where it sits and the connector that placed it
-/// (`None`: no joint axis or support is connected to it).
+/// (`None`: nothing places it).
 pub type Places = Vec<Option<(FlangeRef, usize)>>;
 
-/// Where each 1-D node sits.
-pub fn places(components: &[CompiledComponent], conn: &Connectors, tree: &Tree) -> Result<Places, Error> {
+/// A gear's terms: `(node, coefficient, connector)`.
+type GearTerms = Vec<(usize, f64, usize)>;
+
+/// The placed drive train: the places, the gears left as constraints, and
+/// the constant forces on coordinates.
+pub struct DriveTrain {
+    pub places: Places,
+    /// `(component, terms (node, coefficient, connector))` of each gear that
+    /// could not be made rigid.
+    pending: Vec<(usize, GearTerms)>,
+    pub axis_forces: Vec<(usize, f64)>,
+    /// `(component, centre, state names)` of each 1-D body that turns with
+    /// another coordinate than its own.
+    pub geared: Vec<(usize, FlangeRef, StateNames)>,
+}
+
+/// Places every 1-D node; free inertias become links of `tree` (with their
+/// states), and reflected inertias the armature of the links they turn with.
+pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut Tree) -> Result<DriveTrain, Error> {
     let mut place: Places = vec![None; conn.flange_nodes.len()];
-    for c in components {
+    let node_of = |components: &[CompiledComponent], ci: usize, local: usize| {
+        conn.flange_node_of[Connectors::id(components, ci, local)]
+    };
+
+    // Fixed places: joint axes and supports, Fixed parts, lone housings.
+    let mut housings = vec![false; conn.infos.len()];
+    for (ci, c) in components.iter().enumerate() {
         let mut joint_index = 0;
         for part in &c.parts {
-            match part {
+            let fixed = match *part {
                 Part::Joint { flanges, .. } => {
-                    if let (Some(f), JointRef::Link(k)) = (flanges, c.joints[joint_index]) {
-                        let link = &tree.links[k];
-                        let coordinate = FlangeRef::Coordinate { q: link.q_offset, v: link.v_offset };
-                        for (local, r) in [(f.axis, coordinate), (f.support, FlangeRef::Fixed)] {
-                            let id = c.first_connector + local;
-                            let node = conn.flange_node_of[id];
-                            match place[node] {
-                                Some((existing, other)) if existing != r => {
-                                    return Err(Error::Unsupported {
-                                        component: c.name.clone(),
-                                        what: format!(
-                                            "a 1-D connection between `{}` and `{}` (two joint axes joined directly; put a gear between them)",
-                                            conn.name(components, id),
-                                            conn.name(components, other)
-                                        ),
-                                    });
-                                }
-                                _ => place[node] = Some((r, id)),
-                            }
-                        }
-                    }
                     joint_index += 1;
+                    let (Some(f), JointRef::Link(k)) = (flanges, c.joints[joint_index - 1]) else { continue };
+                    let link = &tree.links[k];
+                    vec![(f.axis, FlangeRef::on(link.q_offset, link.v_offset)), (f.support, FlangeRef::FIXED)]
                 }
-                Part::Owner { .. } => joint_index += 1,
+                Part::Owner { .. } => {
+                    joint_index += 1;
+                    continue;
+                }
+                Part::Fixed1D { flange, at } => vec![(flange, FlangeRef::fixed(at))],
+                Part::Housing { flange } => {
+                    housings[Connectors::id(components, ci, flange)] = true;
+                    continue;
+                }
+                _ => continue,
+            };
+            for (local, r) in fixed {
+                set(&mut place, components, conn, Connectors::id(components, ci, local), r)?;
+            }
+        }
+    }
+    for (node, members) in conn.flange_nodes.iter().enumerate() {
+        if place[node].is_none() && members.iter().all(|&c| housings[c]) && !members.is_empty() {
+            if conn.types[members[0]].is_signal() {
+                continue;
+            }
+            place[node] = Some((FlangeRef::FIXED, members[0]));
+        }
+    }
+
+    // Rigid bodies and gears carry places; what is left gets coordinates.
+    let mut rigid = Vec::new();
+    let mut gears = Vec::new();
+    for (ci, c) in components.iter().enumerate() {
+        for (pi, part) in c.parts.iter().enumerate() {
+            match part {
+                Part::Inertia1D { a, b, length, .. } => {
+                    rigid.push((ci, pi, node_of(components, ci, *a), node_of(components, ci, *b), *length))
+                }
+                Part::Coupling { terms } => {
+                    let terms = terms
+                        .iter()
+                        .map(|&(local, k)| {
+                            let id = Connectors::id(components, ci, local);
+                            (conn.flange_node_of[id], k, id)
+                        })
+                        .collect::<Vec<_>>();
+                    gears.push((ci, terms));
+                }
                 _ => {}
             }
         }
     }
-    Ok(place)
+    let mut gear_done = vec![false; gears.len()];
+    loop {
+        let mut progress = false;
+        for &(ci, _, a, b, length) in &rigid {
+            match (place[a], place[b]) {
+                (Some((pa, id)), None) => place[b] = Some((pa.affine(1.0, length), id)),
+                (None, Some((pb, id))) => place[a] = Some((pb.affine(1.0, -length), id)),
+                (Some((pa, _)), Some((pb, _))) if !same_place(pa.affine(1.0, length), pb) => {
+                    return Err(Error::Unsupported {
+                        component: components[ci].name.clone(),
+                        what: "a rigid 1-D part between two places that move independently (two joint axes, or a loop)"
+                            .into(),
+                    })
+                }
+                _ => continue,
+            }
+            progress = true;
+        }
+        for (g, (_, terms)) in gears.iter().enumerate() {
+            if gear_done[g] {
+                continue;
+            }
+            if let Some((node, r, id)) = solve_for_the_unplaced(terms, &place) {
+                place[node] = Some((r, id));
+                gear_done[g] = true;
+                progress = true;
+            }
+        }
+        if progress {
+            continue;
+        }
+        // A free inertia: its centre becomes a coordinate of its own.
+        let Some(&(ci, pi, a, b, length)) = rigid.iter().find(|r| place[r.2].is_none() && place[r.3].is_none()) else {
+            break;
+        };
+        let Part::Inertia1D { states, .. } = components[ci].parts[pi] else { unreachable!("rigid parts are inertias") };
+        let (nq, nv) = tree.links.iter().skip(1).fold((0, 0), |(q, v), l| (q + l.joint.nq(), v + l.joint.nv()));
+        let k = tree.links.len();
+        tree.links.push(Link {
+            parent: GROUND,
+            joint: JointModel::Prismatic { axis: Vec3::x() },
+            x_tree: Transform::IDENTITY,
+            inertia: RigidInertia::ZERO,
+            articulated: Default::default(),
+            q_offset: nq,
+            v_offset: nv,
+            source: (ci, pi),
+            states_of: ci,
+            inverted: false,
+            armature: 0.0,
+        });
+        tree.state_names.push(states);
+        components[ci].joints.push(JointRef::Link(k));
+        let centre = FlangeRef::on(nq, nv);
+        let id = Connectors::id(components, ci, 0);
+        place[a] = Some((centre.affine(1.0, -length / 2.0), id));
+        place[b] = Some((centre.affine(1.0, length / 2.0), id));
+    }
+
+    // Inertias turn with the coordinate of their place.
+    let mut axis_forces = Vec::new();
+    let mut geared = Vec::new();
+    for &(ci, pi, a, _, length) in &rigid {
+        let Part::Inertia1D { inertia, weight, states, .. } = components[ci].parts[pi] else { continue };
+        let Some((r, _)) = place[a] else { continue };
+        if !tree.links.iter().any(|l| l.source == (ci, pi)) {
+            geared.push((ci, r.affine(1.0, length / 2.0), states));
+        }
+        let Some((_, v)) = r.coordinate else { continue };
+        let link = tree.links.iter_mut().find(|l| l.v_offset == v && l.joint.nv() == 1);
+        let link = link.expect("1-D coordinates are those of 1-DOF links");
+        link.armature += inertia * r.scale * r.scale;
+        if weight != 0.0 {
+            axis_forces.push((v, weight * r.scale));
+        }
+    }
+    let pending = gears.into_iter().zip(gear_done).filter(|(_, done)| !done).map(|(g, _)| g).collect();
+    Ok(DriveTrain { places: place, pending, axis_forces, geared })
+}
+
+/// Places `id`'s node at `r`, or says why it cannot be (two joint axes or
+/// fixed points joined directly).
+fn set(
+    place: &mut Places,
+    components: &[CompiledComponent],
+    conn: &Connectors,
+    id: usize,
+    r: FlangeRef,
+) -> Result<(), Error> {
+    let node = conn.flange_node_of[id];
+    match place[node] {
+        Some((existing, other)) if !same_place(existing, r) => Err(Error::Unsupported {
+            component: components[conn.infos[id].component].name.clone(),
+            what: format!(
+                "a 1-D connection between `{}` and `{}`, which cannot move together (two joint axes or fixed points joined directly; put a gear or a spring between them)",
+                conn.name(components, id),
+                conn.name(components, other)
+            ),
+        }),
+        _ => {
+            place[node] = Some((r, id));
+            Ok(())
+        }
+    }
+}
+
+fn same_place(a: FlangeRef, b: FlangeRef) -> bool {
+    let close = |x: f64, y: f64| (x - y).abs() <= 1e-12 * (1.0 + x.abs().max(y.abs()));
+    a.coordinate == b.coordinate && close(a.offset, b.offset) && (a.coordinate.is_none() || close(a.scale, b.scale))
+}
+
+/// For a gear `sum c_k x_k = 0` with one node unplaced and the others on one
+/// coordinate (or fixed): that node's place.
+fn solve_for_the_unplaced(terms: &[(usize, f64, usize)], place: &Places) -> Option<(usize, FlangeRef, usize)> {
+    let mut unplaced = None;
+    let (mut coordinate, mut scale, mut offset, mut c_unplaced) = (None, 0.0, 0.0, 0.0);
+    for &(node, c, id) in terms {
+        match place[node] {
+            None => match unplaced {
+                Some((n, _)) if n != node => return None,
+                _ => {
+                    unplaced = Some((node, id));
+                    c_unplaced += c;
+                }
+            },
+            Some((r, _)) => {
+                if let Some(rc) = r.coordinate {
+                    if coordinate.is_some_and(|x| x != rc) {
+                        return None;
+                    }
+                    coordinate = Some(rc);
+                }
+                scale += c * r.scale;
+                offset += c * r.offset;
+            }
+        }
+    }
+    let (node, id) = unplaced?;
+    if c_unplaced == 0.0 {
+        return None;
+    }
+    Some((
+        node,
+        FlangeRef { coordinate, scale: -scale / c_unplaced, offset: -offset / c_unplaced }.affine(1.0, 0.0),
+        id,
+    ))
 }
 
 /// Where the 1-D connector `id` sits, or an error naming it.
@@ -69,7 +269,7 @@ pub fn flange(
 pub fn of_connectors(conn: &Connectors, places: &Places) -> Vec<FlangeRef> {
     conn.flange_node_of
         .iter()
-        .map(|&node| places.get(node).copied().flatten().map_or(FlangeRef::Fixed, |(r, _)| r))
+        .map(|&node| places.get(node).copied().flatten().map_or(FlangeRef::FIXED, |(r, _)| r))
         .collect()
 }
 
@@ -101,31 +301,27 @@ pub fn elements(
     Ok(elements)
 }
 
-/// The couplings between joint coordinates, numbered from `first_row` on.
-/// Only 1-DOF joints have axis flanges, so every coordinate a coupling
-/// reaches has its velocity as its rate, as the constraint rows assume.
+/// The gears that stay constraints, numbered from `first_row` on. Every
+/// coordinate they reach is a 1-DOF one, whose rate is its velocity, as
+/// the constraint rows assume.
 pub fn couplings(
     components: &[CompiledComponent],
     conn: &Connectors,
-    places: &Places,
+    drive: &DriveTrain,
     first_row: usize,
 ) -> Result<Vec<Coupling>, Error> {
     let mut couplings = Vec::new();
-    for (ci, c) in components.iter().enumerate() {
-        for part in &c.parts {
-            let Part::Coupling { terms } = part else { continue };
-            let mut coupling = Coupling { terms: Vec::new(), row: first_row + couplings.len(), component: ci };
-            for &(local, coefficient) in terms {
-                let id = Connectors::id(components, ci, local);
-                if !conn.infos[id].connected {
-                    continue; // a housing left unconnected is fixed
-                }
-                if let FlangeRef::Coordinate { q, v } = flange(components, conn, places, id)? {
-                    coupling.terms.push((q, v, coefficient));
-                }
+    for (ci, terms) in &drive.pending {
+        let mut coupling =
+            Coupling { terms: Vec::new(), constant: 0.0, row: first_row + couplings.len(), component: *ci };
+        for &(_, c, id) in terms {
+            let r = flange(components, conn, &drive.places, id)?;
+            coupling.constant += c * r.offset;
+            if let Some((q, v)) = r.coordinate {
+                coupling.terms.push((q, v, c * r.scale));
             }
-            couplings.push(coupling);
         }
+        couplings.push(coupling);
     }
     Ok(couplings)
 }

@@ -55,7 +55,7 @@ pub fn inertia_behind_every_joint(
         }
         let m = &motions[k];
         let ic = &composite[k];
-        let scale = ic.mass.max(ic.rot.norm()).max(f64::MIN_POSITIVE);
+        let scale = ic.mass.max(ic.rot.norm()).max(l.armature).max(f64::MIN_POSITIVE);
         let nv = l.joint.nv();
         let mut d = nalgebra::DMatrix::<f64>::zeros(nv, nv);
         for i in 0..nv {
@@ -63,6 +63,9 @@ pub fn inertia_behind_every_joint(
             for j in 0..nv {
                 d[(j, i)] = m.s[j].dot(&f);
             }
+        }
+        if nv == 1 {
+            d[(0, 0)] += l.armature;
         }
         let singular = (0..nv).any(|i| d[(i, i)] <= 1e-12 * scale) || d.clone().cholesky().is_none();
         if singular && !constrained[k] {

@@ -2,7 +2,7 @@
 //! the components.
 
 use super::mechanism::CompiledComponent;
-use crate::components::{lookup, registry, world, ParamSet, WorldSettings};
+use crate::components::{lookup, registry, world, ConnectorType, ParamSet, WorldSettings};
 use crate::error::closest;
 use crate::{Error, Model};
 use std::collections::HashSet;
@@ -12,6 +12,8 @@ pub fn world_settings(model: &Model) -> Result<WorldSettings, Error> {
     let worlds: Vec<_> =
         model.components.iter().filter(|c| lookup(&c.kind).is_some_and(|s| std::ptr::eq(s, &world::SPEC))).collect();
     match worlds.as_slice() {
+        // A model of 1-D parts alone needs no World.
+        [] if !model.components.iter().any(has_frames) => Ok(WorldSettings::default()),
         [] => Err(Error::NoWorld),
         [world] => WorldSettings::from_instance(world),
         many => Err(Error::SeveralWorlds { names: many.iter().map(|c| c.name.clone()).collect() }),
@@ -51,4 +53,13 @@ pub fn build(model: &Model, world: &WorldSettings) -> Result<Vec<CompiledCompone
         first_connector += spec.connectors.len();
     }
     Ok(built)
+}
+
+/// Whether the component has 3-D frames (unknown kinds count as having
+/// them; their own error comes later).
+fn has_frames(instance: &crate::ComponentInstance) -> bool {
+    match lookup(&instance.kind) {
+        Some(spec) => spec.connectors.iter().any(|c| c.ty == ConnectorType::Frame),
+        None => true,
+    }
 }

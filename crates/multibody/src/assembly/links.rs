@@ -551,6 +551,7 @@ fn build_links(
         source: (usize::MAX, usize::MAX),
         states_of: usize::MAX,
         inverted: false,
+        armature: 0.0,
     }];
     let mut state_names = vec![StateNames { q: &[], u: &[] }];
     let (mut nq, mut nv) = (0, 0);
@@ -593,6 +594,7 @@ fn build_links(
             source,
             states_of,
             inverted,
+            armature: 0.0,
         });
         state_names.push(names);
         nq += joint.nq();

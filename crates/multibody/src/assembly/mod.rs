@@ -71,6 +71,8 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         joints[position] = JointRef::Link(k);
     }
     let (constraints, constraint_rows, cut_nq, cut_nv) = loops::constraints(&mut components, &tree);
+    // 1-D drive trains: may add links (free inertias) at the end of the tree.
+    let drive = axis::place(&mut components, &conn, &mut tree)?;
 
     // Masses into link inertias.
     let uniform_gravity = world.uniform_gravity();
@@ -96,14 +98,13 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         link.articulated = (&link.inertia).into();
     }
 
-    let places = axis::places(&components, &conn, &tree)?;
-    let signals = signals::resolve(&components, &conn, &tree, &places)?;
+    let signals = signals::resolve(&components, &conn, &tree, &drive.places)?;
     warnings.extend(signals.warnings);
-    let axis_elements = axis::elements(&mut components, &conn, &places, &signals.of_connector)?;
-    let couplings = axis::couplings(&components, &conn, &places, constraint_rows)?;
+    let axis_elements = axis::elements(&mut components, &conn, &drive.places, &signals.of_connector)?;
+    let couplings = axis::couplings(&components, &conn, &drive, constraint_rows)?;
     let constraint_rows = constraint_rows + couplings.len();
     let force_elements = forces::elements(&components, &conn, &mut tree, &signals.of_connector)?;
-    let states = states::layout(model, &components, &tree)?;
+    let states = states::layout(model, &components, &tree, &drive.geared)?;
     checks::inertia_behind_every_joint(&components, &conn, &tree, &states.start[..states.nq])?;
 
     // Start each massless group at the centre of the frames that hold it.
@@ -122,11 +123,12 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     }
     let flow_tree = flows::flow_tree(&components, &conn, &tree);
 
-    let flange_of_connector = axis::of_connectors(&conn, &places);
+    let flange_of_connector = axis::of_connectors(&conn, &drive.places);
     let dof = states.nv;
     let system = System {
         links: tree.links,
         axis_elements,
+        axis_forces: drive.axis_forces.clone(),
         signals_read_frames: signals.blocks.iter().any(|b| b.law.reads_frames()),
         signals: signals.blocks,
         couplings,

@@ -50,7 +50,7 @@ pub fn resolve(
                 Attachment { anchor: node.anchor, pose: node.pose }
             };
             let flange = |local: Option<usize>| -> Result<FlangeRef, Error> {
-                local.map_or(Ok(FlangeRef::Fixed), |l| axis::flange(components, conn, places, id(l)))
+                local.map_or(Ok(FlangeRef::FIXED), |l| axis::flange(components, conn, places, id(l)))
             };
             blocks.push(SignalBlock {
                 law: law.clone(),

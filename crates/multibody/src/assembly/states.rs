@@ -3,12 +3,19 @@
 
 use super::links::Tree;
 use super::mechanism::{CompiledComponent, JointRef};
-use crate::components::Part;
+use crate::components::{Part, StateNames};
 use crate::error::closest;
-use crate::system::StateLayout;
+use crate::system::{FlangeRef, StateLayout};
 use crate::{Error, Model, Value};
 
-pub fn layout(model: &Model, components: &[CompiledComponent], tree: &Tree) -> Result<StateLayout, Error> {
+/// `geared`: for 1-D bodies that turn with another coordinate, their
+/// centre's place and state names, so that their start values set it.
+pub fn layout(
+    model: &Model,
+    components: &[CompiledComponent],
+    tree: &Tree,
+    geared: &[(usize, FlangeRef, StateNames)],
+) -> Result<StateLayout, Error> {
     let nq: usize = tree.links.iter().skip(1).map(|l| l.joint.nq()).sum();
     let nv: usize = tree.links.iter().skip(1).map(|l| l.joint.nv()).sum();
     let mut names = vec![String::new(); nq + nv];
@@ -39,6 +46,12 @@ pub fn layout(model: &Model, components: &[CompiledComponent], tree: &Tree) -> R
         let guesses = instance.guess.iter().filter(|(g, _)| !instance.initial.iter().any(|(i, _)| i == g));
         let given = instance.initial.iter().map(|e| (e, true)).chain(guesses.map(|e| (e, false)));
         for ((variable, value), holds) in given {
+            if let Some((index, scale, offset)) = through_gear(ci, geared, nq, variable) {
+                let x = numbers(&c.name, variable, value, 1)?[0];
+                start[index] = (x - offset) / scale;
+                fixed[index] = holds;
+                continue;
+            }
             let (index, size) = locate(c, tree, nq, variable).ok_or_else(|| not_a_state(c, tree, variable))?;
             let values = numbers(&c.name, variable, value, size)?;
             start[index..index + size].copy_from_slice(&values);
@@ -62,6 +75,25 @@ pub fn layout(model: &Model, components: &[CompiledComponent], tree: &Tree) -> R
         }
     }
     Ok(StateLayout { nq, nv, names, start, fixed })
+}
+
+/// For a 1-D body `c` that turns with another coordinate: the state its
+/// `variable` (position or speed) sets, and how (`x = offset + scale * y`).
+fn through_gear(
+    c: usize,
+    geared: &[(usize, FlangeRef, StateNames)],
+    nq: usize,
+    variable: &str,
+) -> Option<(usize, f64, f64)> {
+    let (_, centre, names) = geared.iter().find(|g| g.0 == c)?;
+    let (q, v) = centre.coordinate?;
+    if names.q.iter().any(|n| n.0 == variable) {
+        Some((q, centre.scale, centre.offset))
+    } else if names.u.iter().any(|n| n.0 == variable) {
+        Some((nq + v, centre.scale, 0.0))
+    } else {
+        None
+    }
 }
 
 /// Where the state `variable` of component `c` sits in the state vector.

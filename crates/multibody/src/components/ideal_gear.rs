@@ -42,7 +42,10 @@ fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
 impl Component for IdealGear {
     fn parts(&self) -> Vec<Part> {
         // phi_a - phi_s = ratio (phi_b - phi_s)
-        vec![Part::Coupling { terms: vec![(0, 1.0), (1, -self.ratio), (2, self.ratio - 1.0)] }]
+        vec![
+            Part::Coupling { terms: vec![(0, 1.0), (1, -self.ratio), (2, self.ratio - 1.0)] },
+            Part::Housing { flange: 2 },
+        ]
     }
 
     fn variables(&self) -> Vec<VarSpec> {
@@ -50,7 +53,7 @@ impl Component for IdealGear {
     }
 
     fn evaluate(&self, ctx: &EvalContext, out: &mut Vec<f64>) {
-        let support = ctx.flanges[2];
-        out.extend([ctx.flanges[0] - support, ctx.flanges[1] - support, support]);
+        let support = ctx.flanges[2].s;
+        out.extend([ctx.flanges[0].s - support, ctx.flanges[1].s - support, support]);
     }
 }

@@ -28,6 +28,7 @@ mod fixed_translation;
 mod force;
 mod free_motion;
 mod ideal_gear;
+mod inertia_1d;
 mod line_force;
 pub mod one_d;
 mod orientation;
@@ -104,6 +105,8 @@ static REGISTRY: &[&ComponentSpec] = &[
     &one_d::rotational::DRIVEN_BY_SIGNAL,
     &one_d::rotational::POSITION_SENSOR,
     &one_d::rotational::SPEED_SENSOR,
+    &one_d::rotational::FIXED,
+    &inertia_1d::INERTIA,
     &one_d::translational::DAMPER,
     &one_d::translational::SPRING,
     &one_d::translational::SPRING_DAMPER,
@@ -111,6 +114,8 @@ static REGISTRY: &[&ComponentSpec] = &[
     &one_d::translational::DRIVEN_BY_SIGNAL,
     &one_d::translational::POSITION_SENSOR,
     &one_d::translational::SPEED_SENSOR,
+    &one_d::translational::FIXED,
+    &inertia_1d::MASS,
     &blocks::constant::SPEC,
     &blocks::step::SPEC,
     &blocks::ramp::SPEC,
@@ -198,8 +203,20 @@ pub enum Part {
         flanges: [Option<usize>; 2],
     },
     /// A linear relation `sum c_k phi_k = 0` between the positions of 1-D
-    /// connectors (flanges on joint axes): an ideal gear.
+    /// connectors: an ideal gear. Where it can, assembly makes it rigid
+    /// (the driven side follows the driving one, with no constraint force
+    /// to solve for); otherwise it is a constraint.
     Coupling { terms: Vec<(usize, f64)> },
+    /// A rigid 1-D body from connector `a` to connector `b` (`b` sits at
+    /// `a + length`) with inertia `inertia` (kg.m2 or kg) and a constant
+    /// force `weight` along its axis. If nothing else moves it, its centre
+    /// becomes a state named by `states`.
+    Inertia1D { a: usize, b: usize, length: f64, inertia: f64, weight: f64, states: StateNames },
+    /// The 1-D connector is fixed at `at`.
+    Fixed1D { flange: usize, at: f64 },
+    /// A support (housing) that is fixed in the world when nothing but other
+    /// housings is connected to it.
+    Housing { flange: usize },
     /// A force element on frame `b` with its reaction on frame `a` (or on
     /// the world when `a` is `None`); inputs are connector numbers.
     Force { a: Option<usize>, b: usize, law: ForceLaw },
@@ -244,6 +261,14 @@ pub struct JointState<'a> {
     pub tau: &'a [f64],
 }
 
+/// The position, speed and acceleration of a 1-D connector.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FlangeState {
+    pub s: f64,
+    pub v: f64,
+    pub a: f64,
+}
+
 /// The state of one of a component's 1-D elements.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Element1DState {
@@ -265,9 +290,9 @@ pub struct EvalContext<'a> {
     pub elements: &'a [Element1DState],
     /// By connector number: the value of each signal connector.
     pub signals: &'a [f64],
-    /// By connector number: the position of each 1-D connector (0 for
-    /// the others, and for those fixed in the world).
-    pub flanges: &'a [f64],
+    /// By connector number: the motion of each 1-D connector (zero for the
+    /// others).
+    pub flanges: &'a [FlangeState],
 }
 
 #[cfg(test)]

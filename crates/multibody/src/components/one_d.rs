@@ -23,7 +23,12 @@ pub struct Element1D {
 
 impl Component for Element1D {
     fn parts(&self) -> Vec<Part> {
-        vec![Part::Element1D { a: self.a, b: self.b, law: self.law }]
+        let mut parts = vec![Part::Element1D { a: self.a, b: self.b, law: self.law }];
+        if matches!(self.law, Law1D::Source { .. } | Law1D::Input { .. }) {
+            // A source's support is the housing it pushes against.
+            parts.push(Part::Housing { flange: self.a });
+        }
+        parts
     }
 
     fn variables(&self) -> Vec<VarSpec> {
@@ -92,6 +97,18 @@ impl Component for Sensor1D {
     }
 }
 
+/// A 1-D connector held at a fixed position.
+#[derive(Debug)]
+pub struct Fixed1D {
+    pub at: f64,
+}
+
+impl Component for Fixed1D {
+    fn parts(&self) -> Vec<Part> {
+        vec![Part::Fixed1D { flange: 0, at: self.at }]
+    }
+}
+
 /// Writes the specs of the 1-D elements of one library (`$lib`) in module
 /// `$module`, with that library's connector type, names and units.
 macro_rules! one_d_library {
@@ -105,7 +122,7 @@ macro_rules! one_d_library {
         source: $source:literal, angle_sensor: $angle_sensor:literal,
     ) => {
         pub mod $module {
-            use $crate::components::one_d::{Element1D, Sensor1D};
+            use $crate::components::one_d::{Element1D, Fixed1D, Sensor1D};
             use $crate::components::spec::{ComponentSpec, ConnectorSpec, ParamSpec, ParamType, VarSpec};
             use $crate::components::{Component, Law1D, ParamSet};
             use $crate::system::SignalLaw;
@@ -255,6 +272,18 @@ macro_rules! one_d_library {
                 build: |_: &ParamSet| {
                     let law = Law1D::Input { signal: 2 };
                     Ok(Box::new(Element1D { law, a: 1, b: 0, variables: &SOURCE_VARIABLES }))
+                },
+                shapes: $crate::components::shapes::none,
+            };
+
+            pub static FIXED: ComponentSpec = ComponentSpec {
+                kind: concat!($lib, ".Fixed"),
+                doc: concat!("Holds its ", $conn, " fixed at ", $pos, "0 (a housing or a wall)."),
+                params: &[ParamSpec::real(concat!($pos, "0"), 0.0, $u_pos, "The fixed position")],
+                connectors: &[ConnectorSpec::flange($driven, $connector, concat!("The fixed ", $conn))],
+                variables: &[],
+                build: |p: &ParamSet| -> Result<Box<dyn Component>, Error> {
+                    Ok(Box::new(Fixed1D { at: p.real(concat!($pos, "0")) }))
                 },
                 shapes: $crate::components::shapes::none,
             };

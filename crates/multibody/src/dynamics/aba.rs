@@ -8,7 +8,7 @@ use super::{DynamicsError, Workspace};
 use crate::math::point_gravity;
 use crate::math::{Force, Motion, Vec3};
 use crate::system::JointMotion;
-use crate::system::{FlangeRef, System, GROUND};
+use crate::system::{System, GROUND};
 
 impl System {
     /// Joint accelerations `ud` at positions `q` and velocities `u`.
@@ -119,12 +119,11 @@ impl System {
             let (s_a, v_a) = e.a.motion(q, u);
             let (s_b, v_b) = e.b.motion(q, u);
             let force = e.law.force(s_b - s_a, v_b - v_a, &ws.signals);
-            if let FlangeRef::Coordinate { v, .. } = e.b {
-                ws.tau[v] -= force;
-            }
-            if let FlangeRef::Coordinate { v, .. } = e.a {
-                ws.tau[v] += force;
-            }
+            e.b.push(&mut ws.tau, -force);
+            e.a.push(&mut ws.tau, force);
+        }
+        for &(v, force) in &self.axis_forces {
+            ws.tau[v] += force;
         }
         for pm in &self.point_masses {
             let w = &mut ws.links[pm.link];
@@ -146,7 +145,7 @@ impl System {
             let (mut ia, mut pa);
             if nv == 1 {
                 w.u_force = w.ia.apply(&w.s);
-                let d = w.s.dot(&w.u_force);
+                let d = w.s.dot(&w.u_force) + link.armature;
                 if d.is_nan() || d <= 0.0 {
                     return Err(DynamicsError::SingularInertia { link: k });
                 }

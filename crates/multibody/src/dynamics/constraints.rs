@@ -183,7 +183,7 @@ impl System {
     fn coupling_terms(&self, ws: &mut Workspace, q: &[f64], with_jacobian: bool) {
         let nv = self.states.nv;
         for c in &self.couplings {
-            ws.residual[c.row] = c.terms.iter().map(|&(iq, _, k)| k * q[iq]).sum();
+            ws.residual[c.row] = c.constant + c.terms.iter().map(|&(iq, _, k)| k * q[iq]).sum::<f64>();
             if with_jacobian {
                 ws.bias[c.row] = 0.0;
                 for &(_, v, k) in &c.terms {
@@ -251,6 +251,9 @@ impl System {
                     f = ws.links[j].x_up.inv_apply_force(&f);
                     j = lj.parent;
                 }
+            }
+            if link.armature != 0.0 {
+                mass[link.v_offset * nv + link.v_offset] += link.armature;
             }
             if link.parent != GROUND {
                 let c: RigidInertia = ws.composite[k].expressed_in_parent(&ws.links[k].x_up);

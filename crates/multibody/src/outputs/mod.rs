@@ -5,7 +5,7 @@
 use crate::assembly::JointRef;
 use crate::assembly::Mechanism;
 use crate::assembly::SignalTable;
-use crate::components::{ConnectorType, Element1DState, EvalContext, FrameState, JointState, Part};
+use crate::components::{ConnectorType, Element1DState, EvalContext, FlangeState, FrameState, JointState, Part};
 use crate::dynamics::{DynamicsError, Workspace};
 use crate::math::Transform;
 use crate::math::{Motion, Vec3};
@@ -25,7 +25,7 @@ pub struct Signal {
 pub(crate) struct OutputScratch {
     frames: Vec<FrameState>,
     signals: Vec<f64>,
-    flanges: Vec<f64>,
+    flanges: Vec<FlangeState>,
     node_wrench: Vec<(Vec3, Vec3)>,
     flows: Vec<(Vec3, Vec3)>,
     dy: Vec<f64>,
@@ -113,7 +113,10 @@ impl Mechanism {
         let (q, u) = y.split_at(nq);
         let (qd, ud) = scratch.dy.split_at(nq);
         scratch.flanges.clear();
-        scratch.flanges.extend(self.flange_of_connector.iter().map(|f| f.motion(q, u).0));
+        scratch.flanges.extend(self.flange_of_connector.iter().map(|f| {
+            let (s, v) = f.motion(q, u);
+            FlangeState { s, v, a: f.acceleration(ud) }
+        }));
 
         row.clear();
         let mut joints: Vec<JointState> = Vec::new();
@@ -150,9 +153,9 @@ impl Mechanism {
             elements.clear();
             for &e in &c.elements {
                 let el = &self.system.axis_elements[e];
-                let at = |f: FlangeRef| match f {
-                    FlangeRef::Fixed => (0.0, 0.0, 0.0),
-                    FlangeRef::Coordinate { q: iq, v } => (q[iq], u[v], ud[v]),
+                let at = |f: FlangeRef| {
+                    let (s, v) = f.motion(q, u);
+                    (s, v, f.acceleration(ud))
                 };
                 let (a, b) = (at(el.a), at(el.b));
                 let s_rel = b.0 - a.0;

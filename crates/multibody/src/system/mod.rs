@@ -52,6 +52,9 @@ pub struct System {
     pub(crate) cut_nv: usize,
     /// Masses that feel point gravity (or any field other than `uniform_gravity`).
     pub(crate) point_masses: Vec<PointGravityMass>,
+    /// Constant generalised forces on 1-DOF coordinates `(v, force)`: the
+    /// weight of 1-D masses on inclined paths.
+    pub(crate) axis_forces: Vec<(usize, f64)>,
     /// The uniform gravity every mass feels, handled as an acceleration of the ground.
     pub(crate) uniform_gravity: Vec3,
     /// The gravity constant of point gravity.
@@ -164,6 +167,11 @@ pub(crate) struct Link {
     /// Whether the joint is traversed from its frame_b to its frame_a by
     /// inverting its motion (1-DOF joints flip their axis instead).
     pub inverted: bool,
+    /// Inertia of 1-D parts that turn with a 1-DOF joint's coordinate
+    /// (rotors behind gears, reflected as `ratio^2 J`): it adds to the
+    /// joint's diagonal of the mass matrix. A free 1-D inertia is a link of
+    /// its own with no rigid inertia and only this.
+    pub armature: f64,
 }
 
 impl Link {
@@ -184,25 +192,57 @@ impl Link {
     }
 }
 
-/// Where a 1-D flange sits: at the fixed support, or on a joint coordinate.
+/// Where a 1-D connector sits: at `offset + scale * q[i]` when it moves
+/// with the 1-DOF coordinate `(i, v)` (a joint's axis, a free inertia's
+/// own coordinate, or anything rigidly geared to one), or fixed at `offset`.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) enum FlangeRef {
-    Fixed,
-    /// Velocity index (= position index for 1-DOF joints' coordinates) and
-    /// position index of the joint coordinate.
-    Coordinate {
-        q: usize,
-        v: usize,
-    },
+pub(crate) struct FlangeRef {
+    /// Position and velocity index of the coordinate, if it moves.
+    pub coordinate: Option<(usize, usize)>,
+    pub scale: f64,
+    pub offset: f64,
 }
 
 impl FlangeRef {
+    /// Fixed at 0.
+    pub const FIXED: FlangeRef = FlangeRef { coordinate: None, scale: 0.0, offset: 0.0 };
+
+    /// Fixed at `at`.
+    pub fn fixed(at: f64) -> Self {
+        FlangeRef { coordinate: None, scale: 0.0, offset: at }
+    }
+
+    /// The coordinate itself.
+    pub fn on(q: usize, v: usize) -> Self {
+        FlangeRef { coordinate: Some((q, v)), scale: 1.0, offset: 0.0 }
+    }
+
+    /// The place `offset + scale * x`, where `x` is this place.
+    pub fn affine(self, scale: f64, offset: f64) -> Self {
+        let coordinate = if scale == 0.0 { None } else { self.coordinate };
+        FlangeRef { coordinate, scale: self.scale * scale, offset: self.offset * scale + offset }
+    }
+
     /// Position and speed of the flange at `(q, u)`.
     #[inline]
     pub fn motion(&self, q: &[f64], u: &[f64]) -> (f64, f64) {
-        match *self {
-            FlangeRef::Fixed => (0.0, 0.0),
-            FlangeRef::Coordinate { q: iq, v } => (q[iq], u[v]),
+        match self.coordinate {
+            None => (self.offset, 0.0),
+            Some((i, v)) => (self.offset + self.scale * q[i], self.scale * u[v]),
+        }
+    }
+
+    /// Acceleration of the flange for the velocity rates `ud`.
+    #[inline]
+    pub fn acceleration(&self, ud: &[f64]) -> f64 {
+        self.coordinate.map_or(0.0, |(_, v)| self.scale * ud[v])
+    }
+
+    /// Adds the generalised force of `force` pushing this flange forward.
+    #[inline]
+    pub fn push(&self, tau: &mut [f64], force: f64) {
+        if let Some((_, v)) = self.coordinate {
+            tau[v] += self.scale * force;
         }
     }
 }
@@ -240,6 +280,8 @@ pub struct StateLayout {
 pub(crate) struct Coupling {
     /// `(position index, velocity index, coefficient)` of each term.
     pub terms: Vec<(usize, usize, f64)>,
+    /// The constant part of the relation (of terms on fixed places).
+    pub constant: f64,
     /// Its row among all constraint rows.
     pub row: usize,
     /// The component that states it (for outputs and messages).

@@ -4,6 +4,8 @@
 //! inertia diag(0.001, 1/12, 1/12); gravity (0, 0, -9.81); test state
 //! q_k = 0.1 (k+1), v_k = 0.05 (k+1).
 
+#![allow(dead_code)] // each test file uses part of it
+
 use multibody::Model;
 
 pub fn benchmark_chain(n: usize) -> Model {
@@ -29,6 +31,19 @@ pub fn benchmark_chain(n: usize) -> Model {
             model.connect([format!("j{k}.frame_b"), format!("l{k}.frame_a")]);
             previous = format!("l{k}.frame_b");
         }
+    }
+    model
+}
+
+/// The benchmark chain with a motor on every joint: a rotor inertia behind
+/// a 50:1 gear, as in a robot arm.
+pub fn geared_chain(n: usize) -> Model {
+    let mut model = benchmark_chain(n);
+    for k in 0..n {
+        model.add(format!("m{k}"), "RotationalComponents.Inertia").set("J", 2e-5 * (k + 1) as f64);
+        model.add(format!("g{k}"), "RotationalComponents.IdealGear").set("ratio", 50.0);
+        model.connect([format!("m{k}.spline_b"), format!("g{k}.spline_a")]);
+        model.connect([format!("g{k}.spline_b"), format!("j{k}.axis")]);
     }
     model
 }
