@@ -11,7 +11,7 @@
 //! are projected back onto the constraints.
 
 use super::{DynamicsError, Workspace};
-use crate::math::dense::{cholesky, cholesky_solve, ldlt_pivoted, ldlt_solve};
+use crate::math::dense::{cholesky, cholesky_solve, ldlt_pivoted, ldlt_solve, lu, lu_solve};
 use crate::math::{rotation_vector, Force, Mat3, Motion, RigidInertia, Vec3};
 use crate::system::{Anchor, Attachment, Constraint, System, GROUND};
 use crate::system::{ConstraintKind, RotationLock};
@@ -278,25 +278,31 @@ impl System {
         self.bias_accelerations(ws);
         self.constraint_terms(ws, q, true);
         self.bias_forces(ws, ud);
-        let mut mass = std::mem::take(&mut ws.mass);
-        self.mass_matrix(ws, &mut mass);
-        ws.mass = mass;
-        let w = self.augmentation(ws);
-        for i in 0..nv {
-            for j in 0..nv {
-                let jtj: f64 = (0..m).map(|r| ws.jac[r * nv + i] * ws.jac[r * nv + j]).sum();
-                ws.mass[i * nv + j] += w * jtj;
+        let w = self.augmented_mass_matrix(ws);
+        // A rotor's spin coupled to a light carrier (Modelica's Rotor1D) can
+        // make M indefinite, though regular: LU solves it when Cholesky cannot.
+        let definite = cholesky(&mut ws.mass, nv);
+        if !definite {
+            self.augmented_mass_matrix(ws);
+            if !lu(&mut ws.mass, nv, &mut ws.pivots) {
+                return Err(DynamicsError::SingularInertia { link: self.massless_link(ws) });
             }
         }
-        if !cholesky(&mut ws.mass, nv) {
-            return Err(DynamicsError::SingularInertia { link: self.massless_link(ws) });
-        }
+        let solve = |ws: &mut Workspace, b: &mut [f64]| {
+            if definite {
+                cholesky_solve(&ws.mass, nv, b)
+            } else {
+                lu_solve(&ws.mass, nv, &ws.pivots, b, &mut ws.work)
+            }
+        };
         // ud0 = M_a^-1 f, Y' = (M_a^-1 J')'.
-        cholesky_solve(&ws.mass, nv, ud);
-        ws.y_rows.copy_from_slice(&ws.jac);
+        solve(ws, ud);
+        let mut y_rows = std::mem::take(&mut ws.y_rows);
+        y_rows.copy_from_slice(&ws.jac);
         for r in 0..m {
-            cholesky_solve(&ws.mass, nv, &mut ws.y_rows[r * nv..(r + 1) * nv]);
+            solve(ws, &mut y_rows[r * nv..(r + 1) * nv]);
         }
+        ws.y_rows = y_rows;
         for r in 0..m {
             for s in 0..=r {
                 let v: f64 = (0..nv).map(|i| ws.jac[r * nv + i] * ws.y_rows[s * nv + i]).sum();
@@ -333,6 +339,22 @@ impl System {
             ws.links[k].a = a;
         }
         Ok(())
+    }
+
+    /// `M + w J'J` into `ws.mass`; returns `w` (from [`Self::augmentation`]).
+    fn augmented_mass_matrix(&self, ws: &mut Workspace) -> f64 {
+        let (nv, m) = (self.states.nv, self.constraint_rows);
+        let mut mass = std::mem::take(&mut ws.mass);
+        self.mass_matrix(ws, &mut mass);
+        ws.mass = mass;
+        let w = self.augmentation(ws);
+        for i in 0..nv {
+            for j in 0..nv {
+                let jtj: f64 = (0..m).map(|r| ws.jac[r * nv + i] * ws.jac[r * nv + j]).sum();
+                ws.mass[i * nv + j] += w * jtj;
+            }
+        }
+        w
     }
 
     /// `f = tau - C`: the generalised forces that leave the joints

@@ -48,6 +48,8 @@ pub struct Workspace {
     pub(crate) y_rows: Vec<f64>,
     pub(crate) schur: Vec<f64>,
     pub(crate) perm: Vec<usize>,
+    /// Row pivots of the mass matrix's LU factors, when it is indefinite.
+    pub(crate) pivots: Vec<usize>,
     pub(crate) lambda: Vec<f64>,
     pub(crate) residual: Vec<f64>,
     pub(crate) bias: Vec<f64>,
@@ -114,6 +116,7 @@ impl Workspace {
             y_rows: vec![0.0; m * nv],
             schur: vec![0.0; m * m],
             perm: vec![0; m],
+            pivots: vec![0; if m > 0 { nv } else { 0 }],
             lambda: vec![0.0; m],
             residual: vec![0.0; m],
             bias: vec![0.0; m],

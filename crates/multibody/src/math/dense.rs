@@ -44,18 +44,72 @@ pub fn cholesky_solve(l: &[f64], n: usize, b: &mut [f64]) {
     }
 }
 
-/// Factors the symmetric positive semi-definite `a` (n x n) in place as
-/// `P' A P = L D L'`, pivoting on the largest remaining diagonal. Pivots
-/// below `tolerance` times the largest diagonal end the factorisation: the
-/// returned rank counts the independent rows. `perm` receives `P`.
+/// Factors the square `a` (n x n, row-major) in place as `P A = L U` with
+/// partial pivoting (`L` unit lower, below the diagonal; `U` on and above
+/// it; row `i` of `P A` is row `pivots[i]` of `A`). False when a pivot is
+/// below `1e-13` of the largest entry: `a` is singular to working accuracy.
+pub fn lu(a: &mut [f64], n: usize, pivots: &mut [usize]) -> bool {
+    let scale = a[..n * n].iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    for (i, p) in pivots.iter_mut().enumerate().take(n) {
+        *p = i;
+    }
+    for k in 0..n {
+        let p = (k..n).max_by(|&i, &j| a[i * n + k].abs().total_cmp(&a[j * n + k].abs())).unwrap_or(k);
+        let d = a[p * n + k];
+        if d.is_nan() || d.abs() <= 1e-13 * scale {
+            return false;
+        }
+        if p != k {
+            pivots.swap(k, p);
+            for j in 0..n {
+                a.swap(k * n + j, p * n + j);
+            }
+        }
+        for i in k + 1..n {
+            let l = a[i * n + k] / d;
+            a[i * n + k] = l;
+            for j in k + 1..n {
+                a[i * n + j] -= l * a[k * n + j];
+            }
+        }
+    }
+    true
+}
+
+/// Solves `A x = b` in place with the factors of [`lu`]; `work` needs `n`
+/// entries.
+pub fn lu_solve(a: &[f64], n: usize, pivots: &[usize], b: &mut [f64], work: &mut [f64]) {
+    for i in 0..n {
+        let mut s = b[pivots[i]];
+        for k in 0..i {
+            s -= a[i * n + k] * work[k];
+        }
+        work[i] = s;
+    }
+    for i in (0..n).rev() {
+        let mut s = work[i];
+        for k in i + 1..n {
+            s -= a[i * n + k] * work[k];
+        }
+        work[i] = s / a[i * n + i];
+    }
+    b[..n].copy_from_slice(&work[..n]);
+}
+
+/// Factors the symmetric `a` (n x n) in place as `P' A P = L D L'`,
+/// pivoting on the largest remaining diagonal in magnitude. Pivots below
+/// `tolerance` times the largest diagonal end the factorisation: the
+/// returned rank counts the independent rows. `perm` receives `P`. Made
+/// for positive semi-definite matrices; a definite one of either sign (the
+/// constraint Schur complement of an indefinite mass matrix) works too.
 pub fn ldlt_pivoted(a: &mut [f64], n: usize, perm: &mut [usize], tolerance: f64) -> usize {
     for (i, p) in perm.iter_mut().enumerate().take(n) {
         *p = i;
     }
-    let scale = (0..n).map(|i| a[i * n + i]).fold(0.0f64, f64::max);
+    let scale = (0..n).map(|i| a[i * n + i].abs()).fold(0.0f64, f64::max);
     let floor = tolerance * scale.max(f64::MIN_POSITIVE);
     for k in 0..n {
-        let p = (k..n).max_by(|&i, &j| a[i * n + i].total_cmp(&a[j * n + j])).unwrap_or(k);
+        let p = (k..n).max_by(|&i, &j| a[i * n + i].abs().total_cmp(&a[j * n + j].abs())).unwrap_or(k);
         if p != k {
             perm.swap(k, p);
             for j in 0..n {
@@ -66,7 +120,7 @@ pub fn ldlt_pivoted(a: &mut [f64], n: usize, perm: &mut [usize], tolerance: f64)
             }
         }
         let d = a[k * n + k];
-        if d.is_nan() || d <= floor {
+        if d.is_nan() || d.abs() <= floor {
             return k;
         }
         for i in k + 1..n {
@@ -114,6 +168,24 @@ pub fn ldlt_solve(a: &[f64], n: usize, perm: &[usize], rank: usize, b: &mut [f64
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn lu_solves_an_indefinite_system_and_refuses_a_singular_one() {
+        // Symmetric and indefinite (eigenvalues of both signs): Cholesky fails.
+        let a0 = [1.0, 2.0, 0.0, 2.0, 1.0, 3.0, 0.0, 3.0, -2.0];
+        let x = [1.0, -2.0, 0.5];
+        let mut b: Vec<f64> = (0..3).map(|i| (0..3).map(|j| a0[i * 3 + j] * x[j]).sum()).collect();
+        let mut a = a0;
+        assert!(!cholesky(&mut a.clone(), 3));
+        let (mut pivots, mut work) = ([0; 3], [0.0; 3]);
+        assert!(lu(&mut a, 3, &mut pivots));
+        lu_solve(&a, 3, &pivots, &mut b, &mut work);
+        for (bi, xi) in b.iter().zip(x) {
+            assert!((bi - xi).abs() < 1e-14, "{b:?}");
+        }
+        let mut singular = [1.0, 2.0, 2.0, 4.0];
+        assert!(!lu(&mut singular, 2, &mut [0; 2]));
+    }
 
     #[test]
     fn cholesky_solves_a_positive_definite_system() {
