@@ -35,8 +35,10 @@ fn description(spec: &ComponentSpec) -> String {
         .map(|p| vec![p.name.to_string(), format!("= {}", p.default), unit(p.unit), p.doc.to_string()])
         .collect();
     table(&mut out, "Parameters (name, default, unit, description)", params);
-    let connectors =
-        spec.connectors.iter().map(|c| vec![c.name.to_string(), c.ty.name().to_string(), c.doc.to_string()]).collect();
+    let connectors = spec
+        .public_connectors()
+        .map(|c| vec![c.name.to_string(), c.ty.name().to_string(), c.doc.to_string()])
+        .collect();
     table(&mut out, "Connectors (name, type, description)", connectors);
     let variables = spec
         .variables

@@ -116,6 +116,42 @@ fn oscillator() {
     check("Oscillator", &["damper1.s_rel", "damper1.v_rel", "mass1.s", "mass1.v"]);
 }
 
+#[test]
+fn actuated_drive() {
+    check("ActuatedDrive", &["revolute.phi", "revolute.w", "rotor1D.phi", "rotor1D.w"]);
+}
+
+#[test]
+fn gear_constraint() {
+    // Modelica names the gear's inner revolute joint; ours exposes its angle and speed.
+    let pairs = [
+        ("gearConstraint.actuatedRevolute_b.phi", "gearConstraint.phi_b"),
+        ("gearConstraint.actuatedRevolute_b.w", "gearConstraint.w_b"),
+        ("inertia2.phi", "inertia2.phi"),
+        ("inertia2.w", "inertia2.w"),
+    ];
+    check_model("GearConstraint", "GearConstraint", &pairs);
+}
+
+#[test]
+fn bevel_gear_1d() {
+    let joints = ["revolute1", "revolute2", "revolute3"].map(|j| [format!("{j}.phi"), format!("{j}.w")]);
+    let mut signals = vec!["inertia2.phi".to_string(), "inertia2.w".to_string()];
+    signals.extend(joints.into_iter().flatten());
+    let signals: Vec<&str> = signals.iter().map(String::as_str).collect();
+    check("BevelGear1D", &signals);
+}
+
+#[test]
+fn gyroscopic_effects() {
+    // Modelica names a BodyCylinder's inner body `body`.
+    let mut pairs = vector_pairs("bodyCylinder2.body", "bodyCylinder2", &["w_a"]);
+    pairs.extend(vector_pairs("bodyCylinder3.body", "bodyCylinder3", &["w_a"]));
+    let mut pairs = as_pairs(&pairs);
+    pairs.extend(["revolute.phi", "revolute.w", "rotor1D.phi", "rotor1D.w"].map(|s| (s, s)));
+    check_model("GyroscopicEffects", "GyroscopicEffects", &pairs);
+}
+
 /// A new file in examples/msl must get a reference test above.
 #[test]
 fn every_msl_example_is_checked() {

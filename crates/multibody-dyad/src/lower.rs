@@ -573,7 +573,7 @@ fn resolve_kind<'a>(index: &Index<'a>, kind: &Path) -> Result<Kind<'a>, Diagnost
 
 fn connector_names(kind: Kind) -> Vec<String> {
     match kind {
-        Kind::Library(spec) => spec.connectors.iter().map(|c| c.name.to_string()).collect(),
+        Kind::Library(spec) => spec.public_connectors().map(|c| c.name.to_string()).collect(),
         Kind::User(def) => def
             .declarations
             .iter()

@@ -121,6 +121,32 @@ fn free_inertias_and_masses_follow_their_closed_forms() {
     assert!((solution.last("block.s").unwrap() - 0.5 * 9.80665 * theta.sin()).abs() < 1e-9);
 }
 
+/// A pinion of inertia J drives a rack of mass m (IdealGearR2T, `ratio`
+/// rad/m) under a constant torque: one state, the angle, accelerating at
+/// `tau / (J + m / ratio^2)`, and the rack travels `phi / ratio`. The
+/// translational library's name for the gear finds the same component.
+#[test]
+fn a_rack_and_pinion_reflects_the_rack_mass() {
+    let (j, m, ratio, tau) = (0.1, 3.0, 20.0, 2.0);
+    let mut model = Model::new("rack");
+    model.add("motor", "RotationalComponents.ConstantTorque").set("tau_constant", tau);
+    model.add("pinion", "RotationalComponents.Inertia").set("J", j).initial("phi", 0.0).initial("w", 0.0);
+    model.add("gear", "TranslationalComponents.Components.IdealGearR2T").set("ratio", ratio);
+    model.add("rack", "TranslationalComponents.Mass").set("m", m);
+    model.connect(["motor.spline", "pinion.spline_a"]);
+    model.connect(["pinion.spline_b", "gear.spline"]);
+    model.connect(["gear.flange", "rack.flange_a"]);
+    let mechanism = model.assemble().unwrap();
+    assert_eq!(mechanism.states().names, ["pinion.phi", "pinion.w"]);
+    let solution = mechanism.simulate(&tight(1.5)).unwrap();
+    let alpha = tau / (j + m / (ratio * ratio));
+    let (phi, s) = (solution.get("pinion.phi").unwrap(), solution.get("rack.s").unwrap());
+    let worst = solution.time().iter().zip(phi).zip(s).fold(0.0f64, |w, ((t, p), s)| {
+        w.max((p - 0.5 * alpha * t * t).abs()).max((s - 0.5 * alpha * t * t / ratio).abs())
+    });
+    assert!(worst < 1e-9, "rack and pinion off by {worst:e}");
+}
+
 /// A rigid 1-D body between two joint axes cannot move with both; and an
 /// inertia must have some.
 #[test]

@@ -12,8 +12,9 @@ use super::connections::Connectors;
 use super::links::Tree;
 use super::mechanism::{CompiledComponent, JointRef};
 use crate::components::{Law1D, Part, StateNames};
+use crate::math::union_find::UnionFind;
 use crate::math::{RigidInertia, Transform, Vec3};
-use crate::system::{AxisElement, Coupling, FlangeRef, JointModel, Link, GROUND};
+use crate::system::{Anchor, AxisElement, Coupling, FlangeRef, JointModel, Link, GROUND};
 use crate::Error;
 
 /// For every 1-D node, where it sits and the connector that placed it
@@ -43,6 +44,33 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
     let node_of = |components: &[CompiledComponent], ci: usize, local: usize| {
         conn.flange_node_of[Connectors::id(components, ci, local)]
     };
+
+    // Rotors: joints of their own on the body that carries them.
+    for ci in 0..components.len() {
+        for pi in 0..components[ci].parts.len() {
+            let Part::Rotor1D { frame, axis, inertia, a, b, states } = components[ci].parts[pi] else { continue };
+            let node = &tree.nodes[conn.node(Connectors::id(components, ci, frame))];
+            let Anchor::Link(carrier) = node.anchor else {
+                return Err(Error::Unsupported {
+                    component: components[ci].name.clone(),
+                    what: "a Rotor1D on a frame without mass of its own (mount it on a body)".into(),
+                });
+            };
+            let spin = RigidInertia { mass: 0.0, h: Vec3::zeros(), rot: inertia * axis * axis.transpose() };
+            let pose = node.pose;
+            let shaft = push_link(tree, components, (ci, pi), carrier, pose, JointModel::Revolute { axis }, states);
+            tree.links[shaft].inertia = spin;
+            // The carrier holds the rotor's full inertia already; the rotor adds its relative spin only.
+            if carrier != GROUND {
+                let locked = RigidInertia { rot: -spin.rot, ..spin };
+                tree.links[carrier].inertia += locked.expressed_in_parent(&pose);
+            }
+            let on_shaft = FlangeRef::on(tree.links[shaft].q_offset, tree.links[shaft].v_offset);
+            for local in [a, b] {
+                set(&mut place, components, conn, Connectors::id(components, ci, local), on_shaft)?;
+            }
+        }
+    }
 
     // Fixed places: joint axes and supports, Fixed parts, lone housings.
     let mut housings = vec![false; conn.infos.len()];
@@ -140,24 +168,9 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
             break;
         };
         let Part::Inertia1D { states, .. } = components[ci].parts[pi] else { unreachable!("rigid parts are inertias") };
-        let (nq, nv) = tree.links.iter().skip(1).fold((0, 0), |(q, v), l| (q + l.joint.nq(), v + l.joint.nv()));
-        let k = tree.links.len();
-        tree.links.push(Link {
-            parent: GROUND,
-            joint: JointModel::Prismatic { axis: Vec3::x() },
-            x_tree: Transform::IDENTITY,
-            inertia: RigidInertia::ZERO,
-            articulated: Default::default(),
-            q_offset: nq,
-            v_offset: nv,
-            source: (ci, pi),
-            states_of: ci,
-            inverted: false,
-            armature: 0.0,
-        });
-        tree.state_names.push(states);
-        components[ci].joints.push(JointRef::Link(k));
-        let centre = FlangeRef::on(nq, nv);
+        let joint = JointModel::Prismatic { axis: Vec3::x() };
+        let k = push_link(tree, components, (ci, pi), GROUND, Transform::IDENTITY, joint, states);
+        let centre = FlangeRef::on(tree.links[k].q_offset, tree.links[k].v_offset);
         let id = Connectors::id(components, ci, 0);
         place[a] = Some((centre.affine(1.0, -length / 2.0), id));
         place[b] = Some((centre.affine(1.0, length / 2.0), id));
@@ -181,7 +194,127 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
         }
     }
     let pending = gears.into_iter().zip(gear_done).filter(|(_, done)| !done).map(|(g, _)| g).collect();
+    check_moving_mounts(components, conn, tree, &housings)?;
     Ok(DriveTrain { places: place, pending, axis_forces, geared })
+}
+
+/// A link at the end of the tree, moved by part `source` of its component,
+/// on `parent` at `x_tree`: a free 1-D body or a rotor.
+fn push_link(
+    tree: &mut Tree,
+    components: &mut [CompiledComponent],
+    source: (usize, usize),
+    parent: usize,
+    x_tree: Transform,
+    joint: JointModel,
+    states: StateNames,
+) -> usize {
+    let (nq, nv) = tree.links.iter().skip(1).fold((0, 0), |(q, v), l| (q + l.joint.nq(), v + l.joint.nv()));
+    let k = tree.links.len();
+    tree.links.push(Link::new(parent, joint, x_tree, (nq, nv), source, source.0));
+    tree.state_names.push(states);
+    components[source.0].joints.push(JointRef::Link(k));
+    k
+}
+
+/// A drive train mounted on a moving body (by a Rotor1D, Mounting1D or
+/// BevelGear1D on a frame that moves) works in angles relative to that
+/// body, and the torques on its shafts react on it through the rotors'
+/// joints. That is exact when every shaft in it is a rotor on that body and
+/// every support is mounted there; an Inertia, a Fixed, a joint's axis or a
+/// support left to the world would send its reaction to the wrong body, so
+/// they are refused.
+fn check_moving_mounts(
+    components: &[CompiledComponent],
+    conn: &Connectors,
+    tree: &Tree,
+    housings: &[bool],
+) -> Result<(), Error> {
+    let n = conn.flange_nodes.len();
+    let node_of = |ci: usize, local: usize| conn.flange_node_of[Connectors::id(components, ci, local)];
+    let mut trains = UnionFind::new(n);
+    // (node, component, what) that turn with or are fixed in the world.
+    let mut worldly: Vec<(usize, usize, &str)> = Vec::new();
+    // (node, component, carrier link) of the mounted parts.
+    let mut mounted: Vec<(usize, usize, usize)> = Vec::new();
+    let carrier = |ci: usize, frame: usize| tree.nodes[conn.node(Connectors::id(components, ci, frame))].link();
+    for (ci, c) in components.iter().enumerate() {
+        let mounted_here: Vec<usize> = c
+            .parts
+            .iter()
+            .flat_map(|p| match p {
+                Part::Mount1D { flanges, .. } => flanges.clone(),
+                _ => Vec::new(),
+            })
+            .collect();
+        for part in &c.parts {
+            let joined: Vec<usize> = match part {
+                Part::Element1D { a, b, .. } => vec![*a, *b],
+                Part::Coupling { terms } => terms.iter().map(|t| t.0).collect(),
+                Part::Inertia1D { a, b, .. } => {
+                    worldly.push((node_of(ci, *a), ci, "an Inertia (or Mass), which turns in the world,"));
+                    vec![*a, *b]
+                }
+                Part::Rotor1D { frame, a, b, .. } => {
+                    mounted.push((node_of(ci, *a), ci, carrier(ci, *frame)));
+                    vec![*a, *b]
+                }
+                Part::Mount1D { frame, flanges } => {
+                    mounted.extend(flanges.iter().map(|&f| (node_of(ci, f), ci, carrier(ci, *frame))));
+                    flanges.clone()
+                }
+                Part::Fixed1D { flange, .. } if !mounted_here.contains(flange) => {
+                    worldly.push((node_of(ci, *flange), ci, "a Fixed, which is fixed in the world,"));
+                    Vec::new()
+                }
+                Part::Joint { flanges: Some(f), .. } => {
+                    worldly.push((node_of(ci, f.axis), ci, "a joint's axis"));
+                    Vec::new()
+                }
+                _ => Vec::new(),
+            };
+            for pair in joined.windows(2) {
+                trains.union(node_of(ci, pair[0]), node_of(ci, pair[1]));
+            }
+        }
+    }
+    for (node, members) in conn.flange_nodes.iter().enumerate() {
+        if !members.is_empty() && members.iter().all(|&c| housings[c]) {
+            let ci = conn.infos[members[0]].component;
+            worldly.push((node, ci, "a support left unconnected (so fixed in the world)"));
+        }
+    }
+    let mut carrier_of_train: Vec<Option<(usize, usize)>> = vec![None; n];
+    for &(node, ci, link) in &mounted {
+        let t = trains.find(node);
+        match carrier_of_train[t] {
+            Some((other, oc)) if other != link => {
+                return Err(Error::Unsupported {
+                    component: components[ci].name.clone(),
+                    what: format!(
+                        "one drive train mounted on two bodies that move apart (here and at `{}`)",
+                        components[oc].name
+                    ),
+                })
+            }
+            _ => carrier_of_train[t] = Some((link, ci)),
+        }
+    }
+    for (node, ci, what) in worldly {
+        if let Some((link, mount)) = carrier_of_train[trains.find(node)] {
+            if link != GROUND {
+                return Err(Error::Unsupported {
+                    component: components[ci].name.clone(),
+                    what: format!(
+                        "{what} in a drive train mounted on the moving frame of `{}` (use Rotor1D shafts and \
+                         connect every support to a Mounting1D on that frame)",
+                        components[mount].name
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Places `id`'s node at `r`, or says why it cannot be (two joint axes or

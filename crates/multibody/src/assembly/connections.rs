@@ -114,8 +114,8 @@ fn find_connector(end: &str, components: &[CompiledComponent], by_name: &HashMap
             component: component.into(),
             kind: c.spec.kind.into(),
             connector: connector.into(),
-            suggestions: closest(connector, c.spec.connectors.iter().map(|s| s.name)),
-            valid: c.spec.connectors.iter().map(|s| s.name.to_string()).collect(),
+            suggestions: closest(connector, c.spec.public_connectors().map(|s| s.name)),
+            valid: c.spec.public_connectors().map(|s| s.name.to_string()).collect(),
         });
     };
     Ok(c.first_connector + local)

@@ -6,8 +6,8 @@ use super::connections::Connectors;
 use super::mechanism::{CompiledComponent, FrameNode};
 use crate::components::{ConstraintKind, Part, RotationLock, StateNames};
 use crate::math::union_find::UnionFind;
+use crate::math::Transform;
 use crate::math::Vec3;
-use crate::math::{RigidInertia, Transform};
 use crate::system::joint::JointModel;
 use crate::system::{Anchor, Link, MasslessGroup, GROUND};
 use crate::Error;
@@ -540,19 +540,9 @@ fn build_links(
         })
         .collect();
 
-    let mut links = vec![Link {
-        parent: GROUND,
-        joint: JointModel::Translation,
-        x_tree: Transform::IDENTITY,
-        inertia: RigidInertia::ZERO,
-        articulated: Default::default(),
-        q_offset: 0,
-        v_offset: 0,
-        source: (usize::MAX, usize::MAX),
-        states_of: usize::MAX,
-        inverted: false,
-        armature: 0.0,
-    }];
+    let ground =
+        Link::new(GROUND, JointModel::Translation, Transform::IDENTITY, (0, 0), (usize::MAX, usize::MAX), usize::MAX);
+    let mut links = vec![ground];
     let mut state_names = vec![StateNames { q: &[], u: &[] }];
     let (mut nq, mut nv) = (0, 0);
     for (_, parent) in order {
@@ -583,19 +573,7 @@ fn build_links(
             Part::Joint { states, .. } | Part::Owner { states, .. } => *states,
             _ => TRANSLATION_STATES,
         };
-        links.push(Link {
-            parent: parent_link,
-            joint,
-            x_tree,
-            inertia: RigidInertia::ZERO,
-            articulated: Default::default(),
-            q_offset: nq,
-            v_offset: nv,
-            source,
-            states_of,
-            inverted,
-            armature: 0.0,
-        });
+        links.push(Link { inverted, ..Link::new(parent_link, joint, x_tree, (nq, nv), source, states_of) });
         state_names.push(names);
         nq += joint.nq();
         nv += joint.nv();

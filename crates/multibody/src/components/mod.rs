@@ -12,6 +12,7 @@ pub mod params;
 pub mod shapes;
 pub mod spec;
 
+mod bevel_gear_1d;
 mod blocks;
 mod body;
 mod body_box;
@@ -27,9 +28,11 @@ mod fixed_rotation;
 mod fixed_translation;
 mod force;
 mod free_motion;
+mod gear_constraint;
 mod ideal_gear;
 mod inertia_1d;
 mod line_force;
+mod mounting_1d;
 pub mod one_d;
 mod orientation;
 mod planar;
@@ -40,6 +43,7 @@ mod revolute;
 mod revolute_constraint;
 mod revolute_planar_loop_constraint;
 mod rod;
+mod rotor_1d;
 mod spherical;
 mod spherical_constraint;
 mod spherical_spherical;
@@ -125,6 +129,11 @@ static REGISTRY: &[&ComponentSpec] = &[
     &blocks::math::ADD,
     &blocks::math::FEEDBACK,
     &ideal_gear::SPEC,
+    &ideal_gear::R2T,
+    &rotor_1d::SPEC,
+    &mounting_1d::SPEC,
+    &bevel_gear_1d::SPEC,
+    &gear_constraint::SPEC,
 ];
 
 /// The kind named `kind`. Accepts the library prefix
@@ -139,7 +148,12 @@ pub fn lookup(kind: &str) -> Option<&'static ComponentSpec> {
 /// A kind name without the optional prefixes [`lookup`] accepts.
 pub fn canonical_kind(kind: &str) -> String {
     let bare = kind.strip_prefix("MultibodyComponents.").unwrap_or(kind);
-    bare.replace(".Components.", ".").replace(".Sources.", ".").replace(".Sensors.", ".")
+    let bare = bare.replace(".Components.", ".").replace(".Sources.", ".").replace(".Sensors.", ".");
+    // The translational library re-exports the rack and pinion.
+    if bare == "TranslationalComponents.IdealGearR2T" {
+        return "RotationalComponents.IdealGearR2T".into();
+    }
+    bare
 }
 
 /// A component built from its parameters.
@@ -214,6 +228,18 @@ pub enum Part {
     Inertia1D { a: usize, b: usize, length: f64, inertia: f64, weight: f64, states: StateNames },
     /// The 1-D connector is fixed at `at`.
     Fixed1D { flange: usize, at: f64 },
+    /// A rotor turning about `axis` (a unit vector in `frame`'s
+    /// coordinates) relative to `frame`, with the 1-D connectors `a` and
+    /// `b` on its shaft: a joint of its own, whose angle and speed `states`
+    /// name, and spin inertia `inertia`. It adds the kinetic energy of its
+    /// spin relative to the carrier, `J w^2 / 2 + J w (e . omega)`: the
+    /// carrier's own body is expected to hold the rotor's mass and inertia
+    /// (Modelica's Rotor1D).
+    Rotor1D { frame: usize, axis: Vec3, inertia: f64, a: usize, b: usize, states: StateNames },
+    /// The 1-D connectors `flanges` are mounted on `frame`: their angles
+    /// are measured from it and their reactions go into it (a Mounting1D,
+    /// a BevelGear1D's housing).
+    Mount1D { frame: usize, flanges: Vec<usize> },
     /// A support (housing) that is fixed in the world when nothing but other
     /// housings is connected to it.
     Housing { flange: usize },

@@ -27,8 +27,14 @@ impl ComponentSpec {
         self.params.iter().find(|p| p.name == name)
     }
 
+    /// The public connector `name` and its number.
     pub fn connector(&self, name: &str) -> Option<(usize, &ConnectorSpec)> {
-        self.connectors.iter().enumerate().find(|(_, c)| c.name == name)
+        self.connectors.iter().enumerate().find(|(_, c)| c.name == name && !c.internal)
+    }
+
+    /// The connectors models connect to.
+    pub fn public_connectors(&self) -> impl Iterator<Item = &ConnectorSpec> {
+        self.connectors.iter().filter(|c| !c.internal)
     }
 }
 
@@ -186,20 +192,27 @@ pub struct ConnectorSpec {
     pub name: &'static str,
     pub ty: ConnectorType,
     pub doc: &'static str,
+    /// A connector inside the component (between its inner joints, say),
+    /// which models cannot connect to and `describe` does not show.
+    pub internal: bool,
 }
 
 impl ConnectorSpec {
     pub const fn frame(name: &'static str, doc: &'static str) -> Self {
-        Self { name, ty: ConnectorType::Frame, doc }
+        Self { name, ty: ConnectorType::Frame, doc, internal: false }
     }
     pub const fn flange(name: &'static str, ty: ConnectorType, doc: &'static str) -> Self {
-        Self { name, ty, doc }
+        Self { name, ty, doc, internal: false }
     }
     pub const fn input(name: &'static str, doc: &'static str) -> Self {
-        Self { name, ty: ConnectorType::RealInput, doc }
+        Self { name, ty: ConnectorType::RealInput, doc, internal: false }
     }
     pub const fn output(name: &'static str, doc: &'static str) -> Self {
-        Self { name, ty: ConnectorType::RealOutput, doc }
+        Self { name, ty: ConnectorType::RealOutput, doc, internal: false }
+    }
+    /// An internal connector; they come after the public ones.
+    pub const fn internal(name: &'static str, ty: ConnectorType) -> Self {
+        Self { name, ty, doc: "", internal: true }
     }
 }
 

@@ -61,7 +61,7 @@ impl Mechanism {
                     out.push(Signal { name: format!("{}.{}{}", c.name, v.name, suffix), unit: v.unit });
                 }
             }
-            for conn in c.spec.connectors.iter().filter(|k| k.ty == ConnectorType::Frame) {
+            for conn in c.spec.public_connectors().filter(|k| k.ty == ConnectorType::Frame) {
                 for (name, size, unit) in FRAME_SIGNALS {
                     let shape = if size == 9 {
                         crate::components::Shape::Matrix(3, 3)
@@ -189,7 +189,7 @@ impl Mechanism {
                 c.name
             );
             for (local, conn) in c.spec.connectors.iter().enumerate() {
-                if conn.ty == ConnectorType::Frame {
+                if conn.ty == ConnectorType::Frame && !conn.internal {
                     let f = &frames[local];
                     row.extend_from_slice(f.r_0.as_slice());
                     row.extend(f.rot.transpose().iter()); // row-major R[i,j]

@@ -175,6 +175,31 @@ pub(crate) struct Link {
 }
 
 impl Link {
+    /// A link without mass yet (assembly adds it), not inverted and without
+    /// armature, whose coordinates start at `(q_offset, v_offset)`.
+    pub fn new(
+        parent: usize,
+        joint: JointModel,
+        x_tree: Transform,
+        (q_offset, v_offset): (usize, usize),
+        source: (usize, usize),
+        states_of: usize,
+    ) -> Self {
+        Link {
+            parent,
+            joint,
+            x_tree,
+            inertia: RigidInertia::ZERO,
+            articulated: Default::default(),
+            q_offset,
+            v_offset,
+            source,
+            states_of,
+            inverted: false,
+            armature: 0.0,
+        }
+    }
+
     /// The motion of this link's frame relative to the parent-side joint frame.
     #[inline]
     pub fn motion(&self, q: &[f64], u: &[f64], m: &mut JointMotion) {
