@@ -43,6 +43,9 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     }
     let signals = chosen_signals(&mechanism, &args.signals)?;
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("{}.csv", lowered.name)));
+    let outputs =
+        [("--out", Some(out.as_path())), ("--animate", args.animate.as_deref()), ("--plot", args.plot.as_deref())];
+    outputs_are_safe(&args.selection.files, &outputs)?;
 
     let what = match &target {
         Target::Analysis(name) => format!("analysis {name} (model {})", lowered.model.name),
@@ -97,6 +100,52 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
 
 /// The signals the patterns select (all without patterns); a pattern that
 /// selects nothing is an error, caught before simulating.
+/// Refuses, before anything is computed, an output that would write over
+/// one of the model files read or over another output of the same run.
+fn outputs_are_safe(inputs: &[PathBuf], outputs: &[(&str, Option<&Path>)]) -> Result<(), Failure> {
+    let mut read = Vec::new();
+    for input in inputs {
+        match std::fs::read_dir(input) {
+            Ok(entries) => read.extend(entries.flatten().map(|e| e.path())),
+            Err(_) => read.push(input.clone()),
+        }
+    }
+    let mut written: Vec<(&str, PathBuf)> = Vec::new();
+    for &(option, path) in outputs {
+        let Some(path) = path else { continue };
+        let key = comparable(path);
+        if let Some(input) = read.iter().find(|i| comparable(i) == key) {
+            return Err(Failure::Usage(format!(
+                "`{option} {}` would write over the model file {}; choose another path for the output",
+                path.display(),
+                input.display()
+            )));
+        }
+        if let Some((other, _)) = written.iter().find(|(_, w)| *w == key) {
+            return Err(Failure::Usage(format!(
+                "`{other}` and `{option}` both name {}; give each output a path of its own",
+                path.display()
+            )));
+        }
+        written.push((option, key));
+    }
+    Ok(())
+}
+
+/// The absolute form of a path, through links, for comparing files that
+/// may not exist yet (their folder is resolved).
+fn comparable(path: &Path) -> PathBuf {
+    if let Ok(p) = path.canonicalize() {
+        return p;
+    }
+    let folder = match path.parent() {
+        Some(f) if !f.as_os_str().is_empty() => f.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let folder = folder.canonicalize().unwrap_or(folder);
+    path.file_name().map_or(folder.clone(), |name| folder.join(name))
+}
+
 fn chosen_signals(mechanism: &Mechanism, patterns: &[String]) -> Result<Vec<String>, Failure> {
     let names: Vec<String> = mechanism.signals().into_iter().map(|s| s.name).collect();
     for p in patterns {

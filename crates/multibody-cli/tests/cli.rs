@@ -157,6 +157,30 @@ fn a_failed_simulation_writes_what_it_computed_and_exits_with_3() {
     assert!((phi2.last().unwrap() - last).abs() < 1e-9, "phi[2] grows at 1 rad/s");
 }
 
+/// No output may write over a model file or over another output; the
+/// refusal comes before anything is computed and leaves the files as they were.
+#[test]
+fn outputs_never_write_over_inputs_or_each_other() {
+    let dir = scratch("overwrite");
+    let model = dir.join("pendulum.dyad");
+    std::fs::copy(example("pendulum.dyad"), &model).unwrap();
+    let text = std::fs::read_to_string(&model).unwrap();
+    let o = multibody(&dir, &["run", "pendulum.dyad", "--out", "./pendulum.dyad"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("would write over the model file"), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(&model).unwrap(), text, "the model file is untouched");
+    // A folder's model files count as inputs too.
+    let o = multibody(&dir, &["run", ".", "--plot", "pendulum.dyad"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(&model).unwrap(), text);
+
+    std::fs::write(dir.join("out.csv"), "earlier results").unwrap();
+    let o = multibody(&dir, &["run", "pendulum.dyad", "--out", "out.csv", "--animate", "out.csv"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("`--out` and `--animate` both name"), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(dir.join("out.csv")).unwrap(), "earlier results");
+}
+
 #[test]
 fn check_prints_the_states_and_orientation_owners() {
     let dir = scratch("check");

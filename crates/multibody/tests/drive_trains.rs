@@ -170,6 +170,26 @@ fn impossible_drive_trains_are_explained() {
         other => panic!("expected an error naming the shaft, got {other:?}"),
     }
 
+    // A negative spring or damper constant would make the train gain energy.
+    for (kind, name) in [
+        ("RotationalComponents.Spring", "c"),
+        ("RotationalComponents.Damper", "d"),
+        ("TranslationalComponents.SpringDamper", "d"),
+    ] {
+        let mut model = Model::new("negative");
+        let element = model.add("element", kind).set(name, -1.0);
+        for other in ["c", "d"].into_iter().filter(|p| *p != name && kind.ends_with("SpringDamper")) {
+            element.set(other, 1.0);
+        }
+        match model.assemble() {
+            Err(Error::InvalidValue { name: n, reason, .. }) => {
+                assert_eq!(n, name, "{kind}");
+                assert!(reason.contains("negative"), "{reason}");
+            }
+            other => panic!("{kind} with {name} = -1: expected an invalid value, got {other:?}"),
+        }
+    }
+
     let mut model = Model::new("weightless");
     model.add("disc", "RotationalComponents.Inertia").set("J", 0.0);
     assert!(matches!(model.assemble(), Err(Error::InvalidValue { name, .. }) if name == "J"));

@@ -168,7 +168,7 @@ macro_rules! one_d_library {
                 connectors: &TWO,
                 variables: &[REL_POSITION, EFFORT],
                 build: |p: &ParamSet| {
-                    let law = Law1D::Spring { c: p.real("c"), s_rel0: p.real($rest) };
+                    let law = Law1D::Spring { c: p.non_negative("c", true)?, s_rel0: p.real($rest) };
                     Ok(Box::new(Element1D { law, a: 0, b: 1, variables: SPRING.variables }))
                 },
                 shapes: $crate::components::shapes::none,
@@ -181,7 +181,7 @@ macro_rules! one_d_library {
                 connectors: &TWO,
                 variables: &[REL_POSITION, REL_SPEED, REL_ACC, EFFORT],
                 build: |p: &ParamSet| {
-                    let law = Law1D::Damper { d: p.real("d") };
+                    let law = Law1D::Damper { d: p.non_negative("d", true)? };
                     Ok(Box::new(Element1D { law, a: 0, b: 1, variables: DAMPER.variables }))
                 },
                 shapes: $crate::components::shapes::none,
@@ -213,7 +213,11 @@ macro_rules! one_d_library {
                     VarSpec::scalar(concat!($effort, "_d"), $u_effort, concat!("The damper's ", $effort_word)),
                 ],
                 build: |p: &ParamSet| {
-                    let law = Law1D::SpringDamper { c: p.real("c"), d: p.real("d"), s_rel0: p.real($rest) };
+                    let law = Law1D::SpringDamper {
+                        c: p.non_negative("c", true)?,
+                        d: p.non_negative("d", true)?,
+                        s_rel0: p.real($rest),
+                    };
                     Ok(Box::new(Element1D { law, a: 0, b: 1, variables: SPRING_DAMPER.variables }))
                 },
                 shapes: $crate::components::shapes::none,
