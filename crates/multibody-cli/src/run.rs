@@ -106,7 +106,10 @@ fn outputs_are_safe(inputs: &[PathBuf], outputs: &[(&str, Option<&Path>)]) -> Re
     let mut read = Vec::new();
     for input in inputs {
         match std::fs::read_dir(input) {
-            Ok(entries) => read.extend(entries.flatten().map(|e| e.path())),
+            Ok(entries) => {
+                let models = entries.flatten().map(|e| e.path()).filter(|p| p.extension().is_some_and(|e| e == "dyad"));
+                read.extend(models)
+            }
             Err(_) => read.push(input.clone()),
         }
     }

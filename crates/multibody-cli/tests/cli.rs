@@ -173,6 +173,11 @@ fn outputs_never_write_over_inputs_or_each_other() {
     let o = multibody(&dir, &["run", ".", "--plot", "pendulum.dyad"]);
     assert_eq!(code(&o), 2, "{}", stderr(&o));
     assert_eq!(std::fs::read_to_string(&model).unwrap(), text);
+    // Earlier results beside the models are outputs, not inputs: a rerun replaces them.
+    std::fs::write(dir.join("earlier.csv"), "earlier results").unwrap();
+    let o = multibody(&dir, &["run", ".", "--out", "earlier.csv", "--stop", "0.1"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(std::fs::read_to_string(dir.join("earlier.csv")).unwrap().contains("rev.phi"));
 
     std::fs::write(dir.join("out.csv"), "earlier results").unwrap();
     let o = multibody(&dir, &["run", "pendulum.dyad", "--out", "out.csv", "--animate", "out.csv"]);

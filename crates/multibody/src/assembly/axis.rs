@@ -45,32 +45,7 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
         conn.flange_node_of[Connectors::id(components, ci, local)]
     };
 
-    // Rotors: joints of their own on the body that carries them.
-    for ci in 0..components.len() {
-        for pi in 0..components[ci].parts.len() {
-            let Part::Rotor1D { frame, axis, inertia, a, b, states } = components[ci].parts[pi] else { continue };
-            let node = &tree.nodes[conn.node(Connectors::id(components, ci, frame))];
-            let Anchor::Link(carrier) = node.anchor else {
-                return Err(Error::Unsupported {
-                    component: components[ci].name.clone(),
-                    what: "a Rotor1D on a frame without mass of its own (mount it on a body)".into(),
-                });
-            };
-            let spin = RigidInertia { mass: 0.0, h: Vec3::zeros(), rot: inertia * axis * axis.transpose() };
-            let pose = node.pose;
-            let shaft = push_link(tree, components, (ci, pi), carrier, pose, JointModel::Revolute { axis }, states);
-            tree.links[shaft].inertia = spin;
-            // The carrier holds the rotor's full inertia already; the rotor adds its relative spin only.
-            if carrier != GROUND {
-                let locked = RigidInertia { rot: -spin.rot, ..spin };
-                tree.links[carrier].inertia += locked.expressed_in_parent(&pose);
-            }
-            let on_shaft = FlangeRef::on(tree.links[shaft].q_offset, tree.links[shaft].v_offset);
-            for local in [a, b] {
-                set(&mut place, components, conn, Connectors::id(components, ci, local), on_shaft)?;
-            }
-        }
-    }
+    mount_rotors(components, conn, tree, &mut place)?;
 
     // Fixed places: joint axes and supports, Fixed parts, lone housings.
     let mut housings = vec![false; conn.infos.len()];
@@ -196,6 +171,44 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
     let pending = gears.into_iter().zip(gear_done).filter(|(_, done)| !done).map(|(g, _)| g).collect();
     check_moving_mounts(components, conn, tree, &housings)?;
     Ok(DriveTrain { places: place, pending, axis_forces, geared })
+}
+
+/// Each rotor becomes a revolute link of its own on the body that carries
+/// it, with the spin inertia `J e e'`; the carrier, which holds the rotor's
+/// full inertia already, loses `J e e'`, so that the rotor adds only the
+/// energy of its spin relative to the carrier. Both its flanges sit on the
+/// new coordinate.
+fn mount_rotors(
+    components: &mut [CompiledComponent],
+    conn: &Connectors,
+    tree: &mut Tree,
+    place: &mut Places,
+) -> Result<(), Error> {
+    for ci in 0..components.len() {
+        for pi in 0..components[ci].parts.len() {
+            let Part::Rotor1D { frame, axis, inertia, a, b, states } = components[ci].parts[pi] else { continue };
+            let node = &tree.nodes[conn.node(Connectors::id(components, ci, frame))];
+            let Anchor::Link(carrier) = node.anchor else {
+                return Err(Error::Unsupported {
+                    component: components[ci].name.clone(),
+                    what: "a Rotor1D on a frame without mass of its own (mount it on a body)".into(),
+                });
+            };
+            let spin = RigidInertia { mass: 0.0, h: Vec3::zeros(), rot: inertia * axis * axis.transpose() };
+            let pose = node.pose;
+            let shaft = push_link(tree, components, (ci, pi), carrier, pose, JointModel::Revolute { axis }, states);
+            tree.links[shaft].inertia = spin;
+            if carrier != GROUND {
+                let locked = RigidInertia { rot: -spin.rot, ..spin };
+                tree.links[carrier].inertia += locked.expressed_in_parent(&pose);
+            }
+            let on_shaft = FlangeRef::on(tree.links[shaft].q_offset, tree.links[shaft].v_offset);
+            for local in [a, b] {
+                set(place, components, conn, Connectors::id(components, ci, local), on_shaft)?;
+            }
+        }
+    }
+    Ok(())
 }
 
 /// A link at the end of the tree, moved by part `source` of its component,

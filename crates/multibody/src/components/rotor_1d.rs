@@ -43,7 +43,7 @@ pub static SPEC: ComponentSpec = ComponentSpec {
             "radius",
             ParamType::Real,
             "default_joint_width",
-            1.0,
+            0.5,
             "m",
             "Radius of the rotor's cylinder in animations",
         ),
