@@ -13,6 +13,7 @@
 mod dopri5;
 pub mod integrator;
 mod rk4;
+mod rodas;
 mod solution;
 
 pub use integrator::Stats;
@@ -66,29 +67,55 @@ impl SimulationOptions {
         Self { stop, ..Self::default() }
     }
 
-    /// Checks the options, saying what is wrong.
-    pub fn validate(&self) -> Result<(), String> {
-        let finite =
-            [self.start, self.stop, self.abstol, self.reltol, self.saveat, self.dtmax].iter().all(|x| x.is_finite());
-        if !finite {
-            return Err("the simulation options must be finite numbers".into());
+    /// Checks the options, saying which one is wrong (by its analysis
+    /// name: `stop`, `reltol`, ...) and why.
+    pub fn validate(&self) -> Result<(), OptionError> {
+        let named = [
+            ("start", self.start),
+            ("stop", self.stop),
+            ("abstol", self.abstol),
+            ("reltol", self.reltol),
+            ("saveat", self.saveat),
+            ("dtmax", self.dtmax),
+        ];
+        let bad = |option, message: String| Err(OptionError { option, message });
+        if let Some((option, x)) = named.iter().find(|(_, x)| !x.is_finite()) {
+            return bad(option, format!("`{option}` must be a finite number, not {x}"));
         }
         if self.stop <= self.start {
-            return Err(format!("stop ({}) must be after start ({})", self.stop, self.start));
+            return bad("stop", format!("`stop` ({}) must be after `start` ({})", self.stop, self.start));
         }
-        if self.abstol <= 0.0 || self.reltol <= 0.0 {
-            return Err("abstol and reltol must be positive".into());
+        for (option, x) in [("abstol", self.abstol), ("reltol", self.reltol)] {
+            if x <= 0.0 {
+                return bad(option, format!("`{option}` must be positive, not {x}"));
+            }
         }
-        if self.saveat < 0.0 || self.dtmax < 0.0 {
-            return Err("saveat and dtmax must not be negative".into());
+        if self.reltol < 4.0 * f64::EPSILON {
+            let message =
+                format!("`reltol` ({}) is below what double precision can resolve (about 1e-15)", self.reltol);
+            return bad("reltol", message);
+        }
+        for (option, x) in [("saveat", self.saveat), ("dtmax", self.dtmax)] {
+            if x < 0.0 {
+                return bad(option, format!("`{option}` must not be negative, not {x}"));
+            }
         }
         if let Method::Rk4 { dt } = self.method {
-            if dt.is_nan() || dt <= 0.0 {
-                return Err("the RK4 step dt must be positive".into());
+            if !(dt > 0.0 && dt.is_finite()) {
+                return bad("dt", format!("the RK4 step must be positive, not {dt}"));
             }
         }
         Ok(())
     }
+}
+
+/// A simulation option that cannot be used.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{message}")]
+pub struct OptionError {
+    /// The option, by its name in a TransientAnalysis: `stop`, `reltol`, ...
+    pub option: &'static str,
+    pub message: String,
 }
 
 /// A simulation that stopped before its end: why, when, and everything
@@ -253,8 +280,8 @@ impl Mechanism {
             solution.reserve(samples.min(1e7) as usize);
         }
         let fail = |time: f64, reason: String, partial: Solution| SimulationError { time, reason, partial };
-        if let Err(reason) = options.validate() {
-            return Err(fail(options.start, reason, solution));
+        if let Err(e) = options.validate() {
+            return Err(fail(options.start, e.message, solution));
         }
         if y0.len() != self.system.states.start.len() {
             let reason = format!(

@@ -1,0 +1,1 @@
+//! Rodas4: an L-stable Rosenbrock method for stiff mechanisms (to be written).
