@@ -201,6 +201,13 @@ pub enum ExprKind {
         lhs: Box<Expr>,
         rhs: Box<Expr>,
     },
+    /// `first op1 e1 op2 e2 ...`: three or more operands of one precedence
+    /// level, evaluated from the left. A flat list, so that a long sum
+    /// nests no deeper than a short one.
+    Chain {
+        first: Box<Expr>,
+        rest: Vec<(BinaryOp, Expr)>,
+    },
     /// Parsed so that the message can point at it, but not evaluated yet
     /// (`if ... then ... else`, comparisons, `and`/`or`, ranges).
     Unsupported(&'static str),

@@ -13,12 +13,29 @@ const MAX_SECONDARY: usize = 6;
 /// The engine's message (first line as the title, the rest as notes) with
 /// labels at the declarations, modifiers and connections it is about.
 pub fn engine_diagnostic(error: &Error, map: &SourceMap) -> Diagnostic {
-    let text = error.to_string();
-    let mut lines = text.lines();
-    let mut d = Diagnostic::error(lines.next().unwrap_or("the model cannot be assembled"));
-    for line in lines.filter(|l| !l.trim().is_empty()) {
-        d = d.note(line.trim());
+    if let Some(d) = shadowed_world(error, map) {
+        return d;
     }
+    let text = error.to_string();
+    let mut d = match error {
+        // What is not supported is the message; what to do instead, the help.
+        Error::Unsupported { component, what, fix } => {
+            let d = Diagnostic::error(format!("`{component}`: {what} is not supported yet"));
+            if fix.is_empty() {
+                d
+            } else {
+                d.help(fix)
+            }
+        }
+        _ => {
+            let mut lines = text.lines();
+            let mut d = Diagnostic::error(lines.next().unwrap_or("the model cannot be assembled"));
+            for line in lines.filter(|l| !l.trim().is_empty()) {
+                d = d.note(line.trim());
+            }
+            d
+        }
+    };
     if let Error::MissingParameter { param, .. } = error {
         d = d.help(format!("give it a value: `{param} = ...`"));
     }
@@ -62,6 +79,24 @@ pub fn engine_diagnostic(error: &Error, map: &SourceMap) -> Diagnostic {
         }
     }
     d
+}
+
+/// No World, where the model uses a component of the files named `World`:
+/// that component, not the library's World, is what the model has.
+fn shadowed_world(error: &Error, map: &SourceMap) -> Option<Diagnostic> {
+    if !matches!(error, Error::NoWorld) {
+        return None;
+    }
+    let shadow = map.shadowing.iter().find(|s| s.library_kind == "World")?;
+    Some(
+        Diagnostic::error(
+            "the model has no World: the `World` it uses is the component defined in these files, which shadows the library's World",
+        )
+        .primary(shadow.used, "this is the files' own `World`, not the library's")
+        .secondary(shadow.defined, "this definition shadows the library's World")
+        .note("a component of the files named like a library component is used in its place wherever the name is written alone")
+        .help("rename your component (e.g. `MyWorld`), or write `MultibodyComponents.World()` to use the library's World; to keep your component as the model's World, declare a `MultibodyComponents.World()` inside it"),
+    )
 }
 
 /// The components an error names, by their full (flattened) names.

@@ -147,6 +147,16 @@ pub fn eval(expr: &Expr, scope: &mut dyn Scope) -> EResult {
             let (a, b) = (eval(lhs, scope)?, eval(rhs, scope)?);
             binary(*op, a, b, lhs.span, rhs.span, expr.span)?
         }
+        ExprKind::Chain { first, rest } => {
+            let (mut value, mut span) = (eval(first, scope)?, first.span);
+            for (op, rhs) in rest {
+                let b = eval(rhs, scope)?;
+                let whole = span.to(rhs.span);
+                value = finite(binary(*op, value, b, span, rhs.span, whole)?, whole)?;
+                span = whole;
+            }
+            value
+        }
         ExprKind::Unsupported(what) => {
             return Err(Diagnostic::error(format!("{what} not supported yet"))
                 .primary(expr.span, "not supported yet")

@@ -110,6 +110,38 @@ impl Package {
         Ok(id)
     }
 
+    /// Adds and parses a file as read from disk. Bytes that are not UTF-8
+    /// are an error that points at the first of them (the file is kept,
+    /// with such bytes shown as `�`, so that the error can show it).
+    pub fn add_source_bytes(&mut self, name: impl Into<String>, bytes: Vec<u8>) -> Result<FileId, Diagnostic> {
+        let name = name.into();
+        let error = match String::from_utf8(bytes) {
+            Ok(text) => return self.add_source(name, text),
+            Err(e) => e,
+        };
+        let at = error.utf8_error().valid_up_to();
+        let bytes = error.as_bytes();
+        let bad = &bytes[at..(at + error.utf8_error().error_len().unwrap_or(bytes.len() - at)).min(bytes.len())];
+        let hex: Vec<String> = bad.iter().map(|b| format!("0x{b:02X}")).collect();
+        let utf16 = bytes.starts_with(&[0xFF, 0xFE]) || bytes.starts_with(&[0xFE, 0xFF]);
+        let text = String::from_utf8_lossy(bytes).into_owned();
+        let id = self.sources.add(name.clone(), text);
+        // The text before the first bad byte is the same in the shown text, where `�` replaces it.
+        let span = Span::new(id, at, at + '\u{fffd}'.len_utf8());
+        let place = self.sources.location(span);
+        let what = if bad.len() == 1 { "the byte" } else { "the bytes" };
+        let d = Diagnostic::error(format!(
+            "{name} is not UTF-8 text: {what} {} at {place} (byte offset {at}) cannot be read",
+            hex.join(" ")
+        ))
+        .primary(span, "not UTF-8");
+        Err(if utf16 {
+            d.help("the file is UTF-16 text (it starts with a UTF-16 byte-order mark); save it as UTF-8")
+        } else {
+            d.help("model files are UTF-8 text: save the file as UTF-8 (it may be a binary file, or text in another encoding such as Latin-1)")
+        })
+    }
+
     pub fn sources(&self) -> &Sources {
         &self.sources
     }

@@ -11,7 +11,7 @@ use crate::eval::{eval, Val};
 use crate::modifiers::{eval_modifiers, merge_outer, merge_same_level, Mod};
 use crate::scope::ParamScope;
 use crate::source::Span;
-use crate::source_map::{ComponentSite, MemberSite, SourceMap};
+use crate::source_map::{ComponentSite, MemberSite, Shadowing, SourceMap};
 use crate::Lowered;
 use multibody::components::{lookup, registry, ComponentSpec, ConnectorType};
 use multibody::{Model, SimulationOptions};
@@ -200,7 +200,15 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         let mut subs: Vec<(&'a ComponentDecl, Kind<'a>)> = Vec::new();
         for d in &def.declarations {
             if let Declaration::Component(c) = d {
-                subs.push((c, resolve_kind(self.index, &c.kind)?));
+                let kind = resolve_kind(self.index, &c.kind)?;
+                if let (Kind::User(user), Some(spec)) = (kind, lookup(&c.kind.text())) {
+                    self.map.shadowing.push(Shadowing {
+                        library_kind: spec.kind.to_string(),
+                        used: c.span,
+                        defined: user.name.span,
+                    });
+                }
+                subs.push((c, kind));
             }
         }
         let sub = |n: &str| subs.iter().find(|(c, _)| c.name.name == n).map(|(c, k)| (*c, *k));
@@ -469,6 +477,12 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         let mut initial = Vec::new();
         let mut guess = Vec::new();
         for m in modifiers {
+            if m.has_nested
+                && spec.param(&m.name.name).is_some()
+                && !spec.variables.iter().any(|v| v.name == m.name.name)
+            {
+                return Err(start_value_of_parameter(spec, decl, &m));
+            }
             match (m.value, m.has_nested) {
                 (Some((value, span)), false) => {
                     params.push((m.name.name.clone(), engine_value(&value, span, &m.name.name)?));
@@ -604,6 +618,35 @@ fn engine_value(value: &Val, span: Span, name: &str) -> Result<multibody::Value,
                 .help("arrays hold numbers, and the rows of a matrix have equal lengths: `[[1, 0], [0, 1]]`"),
         }
     })
+}
+
+/// `initial body.m = 3` or `m(initial = 3)`, where `m` is a parameter of a
+/// library component: it has a value, not a start value.
+fn start_value_of_parameter(spec: &ComponentSpec, decl: &ComponentDecl, m: &Mod) -> Diagnostic {
+    let (param, instance) = (&m.name.name, &decl.name.name);
+    let attribute = m.nested.first();
+    let what = match attribute.map(|a| a.name.name.as_str()) {
+        Some("guess") => "a guess",
+        _ => "a start value",
+    };
+    let mut d = Diagnostic::error(format!(
+        "`{param}` is a parameter of {}, not a state: it takes a value, not {what}",
+        spec.kind
+    ))
+    .primary(attribute.map_or(m.span, |a| a.span), format!("{what} for the parameter `{instance}.{param}`"));
+    if let Some((_, span)) = &m.value {
+        d = d.secondary(*span, "its value is given here");
+    }
+    let value = attribute
+        .and_then(|a| a.value.as_ref())
+        .and_then(|(v, _)| v.to_engine())
+        .map_or_else(|| "...".to_string(), |v| v.to_string());
+    d = d.help(format!("to set the parameter, give its value in the declaration of `{instance}`: `{param} = {value}`"));
+    let states: Vec<&str> = spec.variables.iter().map(|v| v.name).collect();
+    if !states.is_empty() {
+        d = d.note(format!("the variables of {} are: {}", spec.kind, states.join(", ")));
+    }
+    d
 }
 
 fn unknown_attribute(attribute: &str, m: &Mod, variable: &str) -> Diagnostic {

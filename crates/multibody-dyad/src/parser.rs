@@ -10,6 +10,9 @@ use crate::source::{FileId, Span};
 /// How deeply expressions and modifiers may nest; deeper input is refused
 /// rather than risking the stack.
 const MAX_DEPTH: usize = 64;
+/// How deeply serde_json lets JSON (metadata) nest: its limit of 128
+/// refuses the 128th level.
+const MAX_JSON_DEPTH: usize = 127;
 
 /// Parses one file.
 pub fn parse(file: FileId, text: &str) -> Result<File, Diagnostic> {
@@ -156,9 +159,11 @@ impl<'a> Parser<'a> {
     fn enter(&mut self) -> PResult<()> {
         self.depth += 1;
         if self.depth > MAX_DEPTH {
-            return Err(Diagnostic::error(format!("this is nested more than {MAX_DEPTH} levels deep"))
-                .primary(self.span(), "too deep")
-                .help("split the expression, or compute the value in a parameter"));
+            return Err(Diagnostic::error(format!(
+                "this is nested more than {MAX_DEPTH} levels deep (parentheses, brackets, calls or modifiers inside each other)"
+            ))
+            .primary(self.span(), "too deep")
+            .help("split the expression, or compute part of the value in a parameter"));
         }
         Ok(())
     }
@@ -233,8 +238,20 @@ impl<'a> Parser<'a> {
             let end = (at + 1..=span.end).find(|&i| self.text.is_char_boundary(i)).unwrap_or(span.end);
             let message = e.to_string();
             let what = message.split(" at line").next().unwrap_or(&message).to_string();
-            return Err(Diagnostic::error("metadata must be a JSON object")
-                .primary(Span::new(span.file, at.min(span.end), end), what)
+            let place = Span::new(span.file, at.min(span.end), end);
+            if what == "recursion limit exceeded" {
+                // serde_json refuses JSON nested deeper than this.
+                return Err(Diagnostic::error(format!(
+                    "the metadata is nested more than {MAX_JSON_DEPTH} levels deep"
+                ))
+                .primary(place, format!("level {}", MAX_JSON_DEPTH + 1))
+                .secondary(open, "in this metadata")
+                .help(format!(
+                    "nest objects and arrays at most {MAX_JSON_DEPTH} levels deep; the simulation does not read metadata, so it may also be removed"
+                )));
+            }
+            return Err(Diagnostic::error("the metadata is not valid JSON")
+                .primary(place, what)
                 .secondary(open, "in this metadata")
                 .help("metadata is JSON: keys in double quotes, no trailing commas, e.g. {\"Dyad\": {\"tags\": []}}"));
         }
@@ -724,27 +741,36 @@ impl<'a> Parser<'a> {
         Ok(Expr { kind: ExprKind::Unsupported("`if` expressions are"), span: start.to(last.span) })
     }
 
-    /// A chain `a op b op c ...` of one precedence level.
+    /// A chain `a op b op c ...` of one precedence level: one level of
+    /// nesting however long it is.
     fn chain(
         &mut self,
         next: fn(&mut Self) -> PResult<Expr>,
         op_of: fn(&TokenKind) -> Option<Result<BinaryOp, &'static str>>,
     ) -> PResult<Expr> {
-        let mut lhs = next(self)?;
-        let mut levels = 0;
+        let mut first = next(self)?;
+        let mut rest: Vec<(BinaryOp, Expr)> = Vec::new();
+        let mut entered = false;
         while let Some(op) = op_of(&self.peek().kind) {
-            self.enter()?;
-            levels += 1;
+            if !entered {
+                self.enter()?;
+                entered = true;
+            }
             self.bump();
             let rhs = next(self)?;
-            let span = lhs.span.to(rhs.span);
-            lhs = match op {
-                Ok(op) => Expr { kind: ExprKind::Binary { op, lhs: Box::new(lhs), rhs: Box::new(rhs) }, span },
-                Err(what) => Expr { kind: ExprKind::Unsupported(what), span },
-            };
+            match op {
+                Ok(op) => rest.push((op, rhs)),
+                Err(what) => {
+                    let lhs = chain_expr(first, std::mem::take(&mut rest));
+                    let span = lhs.span.to(rhs.span);
+                    first = Expr { kind: ExprKind::Unsupported(what), span };
+                }
+            }
         }
-        self.leave(levels);
-        Ok(lhs)
+        if entered {
+            self.leave(1);
+        }
+        Ok(chain_expr(first, rest))
     }
 
     fn or_expr(&mut self) -> PResult<Expr> {
@@ -917,6 +943,20 @@ impl<'a> Parser<'a> {
     }
 }
 
+/// `first op e ...` as one expression: a binary one for one operator, a
+/// chain for more.
+fn chain_expr(first: Expr, mut rest: Vec<(BinaryOp, Expr)>) -> Expr {
+    let Some((_, last)) = rest.last() else { return first };
+    let span = first.span.to(last.span);
+    let kind = if rest.len() == 1 {
+        let (op, rhs) = rest.pop().expect("one operator");
+        ExprKind::Binary { op, lhs: Box::new(first), rhs: Box::new(rhs) }
+    } else {
+        ExprKind::Chain { first: Box::new(first), rest }
+    };
+    Expr { kind, span }
+}
+
 /// The byte offset in `json` of serde_json's 1-based line and column.
 fn json_error_offset(json: &str, line: usize, column: usize) -> usize {
     let line_start: usize = json.split_inclusive('\n').take(line.saturating_sub(1)).map(str::len).sum();
@@ -969,11 +1009,23 @@ end
     }
 
     #[test]
+    fn metadata_nests_as_deep_as_json_allows() {
+        let metadata = |levels: usize| {
+            let json = format!("{}1{}", "{\"a\": ".repeat(levels - 1), "}".repeat(levels - 1));
+            format!("component A\n  world = MultibodyComponents.World() {{\"Dyad\": {json}}}\nend\n")
+        };
+        assert!(parse(0, &metadata(MAX_JSON_DEPTH)).is_ok());
+        let d = parse(0, &metadata(MAX_JSON_DEPTH + 1)).unwrap_err();
+        assert_eq!(d.message, format!("the metadata is nested more than {MAX_JSON_DEPTH} levels deep"));
+    }
+
+    #[test]
     fn deep_nesting_is_refused_not_overflowed() {
         let text = format!("component A\n parameter x::Real = {}1{}\nend", "(".repeat(5000), ")".repeat(5000));
         assert!(parse(0, &text).unwrap_err().message.contains("nested"));
-        let long = format!("component A\n parameter x::Real = 1{}\nend", "+1".repeat(100_000));
-        assert!(parse(0, &long).is_err());
+        // A long flat sum nests no deeper than a short one.
+        let long = format!("component A\n parameter x::Real = 1{}\nend", " + 1".repeat(100_000));
+        assert!(parse(0, &long).is_ok());
         let unary = format!("component A\n parameter x::Real = {}1\nend", "-".repeat(100_000));
         assert!(parse(0, &unary).is_err());
     }

@@ -20,6 +20,18 @@ pub struct MemberSite {
     pub value: Option<Span>,
 }
 
+/// A component of the files used where its name is also a library
+/// component's (`world = World()` with a `component World` in the files).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Shadowing {
+    /// The library kind it shadows (`World`).
+    pub library_kind: String,
+    /// The declaration that uses the user component.
+    pub used: Span,
+    /// The name in the user component's definition.
+    pub defined: Span,
+}
+
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SourceMap {
     /// The model's top component: its name and the header of its definition.
@@ -30,6 +42,8 @@ pub struct SourceMap {
     ends: HashMap<String, Vec<Span>>,
     /// The engine's connections, each end with where it was written.
     connections: Vec<Vec<(String, Span)>>,
+    /// Uses of user components named like library components.
+    pub shadowing: Vec<Shadowing>,
 }
 
 impl SourceMap {

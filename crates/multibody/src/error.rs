@@ -82,8 +82,13 @@ pub enum Error {
     #[error("the start velocities of the loop through {} contradict its constraints (by {violation:.3e}).{}\nFix fewer start velocities (use `guess` instead of `initial`).", list(joints), if fixed.is_empty() { String::new() } else { format!(" The fixed start velocities are {}.", fixed.join(", ")) })]
     LoopCannotMove { joints: Vec<String>, violation: f64, fixed: Vec<String> },
 
-    #[error("`{component}`: {what} is not supported yet")]
-    Unsupported { component: String, what: String },
+    #[error("`{component}`: {what} is not supported yet{}", if fix.is_empty() { String::new() } else { format!("; {fix}") })]
+    Unsupported {
+        component: String,
+        what: String,
+        /// What to do instead (may be empty).
+        fix: String,
+    },
 
     #[error("the 1-D connector `{connector}` is not attached to a joint axis or support; connect it to a joint declared with `axisflange = true`")]
     FloatingFlange { connector: String },
@@ -149,13 +154,23 @@ fn component_of(reference: &str) -> &str {
     reference.rsplit_once('.').map_or(reference, |(component, _)| component)
 }
 
-fn list(names: &[String]) -> String {
+/// "`a`, `b` and `c`" (long lists are cut: "... and 4 more").
+pub(crate) fn list(names: &[String]) -> String {
+    join(names, "and")
+}
+
+/// "`a`, `b` or `c`".
+pub(crate) fn list_or(names: &[String]) -> String {
+    join(names, "or")
+}
+
+fn join(names: &[String], conjunction: &str) -> String {
     let quoted: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
     match quoted.len() {
         0 => "no components".into(),
         1 => quoted[0].clone(),
-        n if n <= 8 => format!("{} and {}", quoted[..n - 1].join(", "), quoted[n - 1]),
-        n => format!("{} and {} more", quoted[..6].join(", "), n - 6),
+        n if n <= 8 => format!("{} {conjunction} {}", quoted[..n - 1].join(", "), quoted[n - 1]),
+        n => format!("{} {conjunction} {} more", quoted[..6].join(", "), n - 6),
     }
 }
 

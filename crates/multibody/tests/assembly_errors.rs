@@ -334,3 +334,239 @@ fn unknown_variable_suggestions_are_not_repeated() {
     unique.dedup();
     assert_eq!(unique.len(), suggestions.len(), "repeated suggestions {suggestions:?}: {message}");
 }
+
+// ------------------------------------------------------------ kinematic loops
+
+/// A planar four-bar of plain revolutes `j1` to `j4` (no start values, no
+/// damper), for `setup` to change.
+fn four_bar_loop(name: &str, setup: &dyn Fn(&mut Model)) -> Model {
+    let mut model = world(name);
+    model.add("ground", "FixedTranslation").set("r", [2.0, 0.0, 0.0]);
+    for j in ["j1", "j2", "j3", "j4"] {
+        model.add(j, "Revolute");
+    }
+    for (bar, r) in [("crank", [0.0, 0.5, 0.0]), ("coupler", [2.0, 1.0, 0.0]), ("rocker", [0.0, 1.5, 0.0])] {
+        model.add(bar, "BodyShape").set("m", 1.0).set("r", r).set("I_11", 0.01).set("I_22", 0.01).set("I_33", 0.01);
+    }
+    for (a, b) in [
+        ("world.frame_b", "j1.frame_a"),
+        ("world.frame_b", "ground.frame_a"),
+        ("j1.frame_b", "crank.frame_a"),
+        ("crank.frame_b", "j2.frame_a"),
+        ("j2.frame_b", "coupler.frame_a"),
+        ("coupler.frame_b", "j3.frame_a"),
+        ("ground.frame_b", "j4.frame_a"),
+        ("j4.frame_b", "rocker.frame_a"),
+        ("rocker.frame_b", "j3.frame_b"),
+    ] {
+        model.connect([a, b]);
+    }
+    setup(&mut model);
+    model
+}
+
+/// A rotational damper on the axis of `joint`.
+fn damp(model: &mut Model, joint: &str) {
+    model.component_mut(joint).expect("a joint").set("axisflange", true);
+    let damper = format!("damper_{joint}");
+    model.add(&damper, "RotationalComponents.Damper").set("d", 0.1);
+    model.connect([format!("{damper}.spline_a"), format!("{joint}.support")]);
+    model.connect([format!("{damper}.spline_b"), format!("{joint}.axis")]);
+}
+
+/// Every joint of the loop carries a damper, so the joint that must be cut
+/// carries one: the message is one sentence that names the loop, and says
+/// what to do after what is not supported.
+#[test]
+fn loop_whose_every_joint_has_elements_names_the_loop() {
+    let model = four_bar_loop("damped_everywhere", &|m| {
+        for j in ["j1", "j2", "j3", "j4"] {
+            damp(m, j);
+        }
+    });
+    let (err, message) = failure(&model);
+    let Error::Unsupported { component, what, fix } = &err else { panic!("expected Unsupported, got {err:?}") };
+    assert_eq!(component, "j4");
+    assert_mentions(what, &["every joint", "`j1`", "`j2`", "`j3`", "`j4`"]);
+    assert_mentions(fix, &["Remove the 1-D elements from one joint"]);
+    // "... is not supported yet; <what to do>", never "<what to do> is not supported yet".
+    assert!(message.ends_with(fix.as_str()) && message.contains("is not supported yet; "), "{message}");
+}
+
+/// The joint marked `iscut` has a start value: the fix is to remove
+/// `iscut` (not to mark another joint).
+#[test]
+fn start_value_on_the_joint_marked_iscut() {
+    let model = four_bar_loop("iscut_with_start_value", &|m| {
+        m.component_mut("j1").unwrap().set("iscut", true).initial("phi", 0.1);
+    });
+    let (err, message) = failure(&model);
+    let Error::NotAState { component, variable, reason } = &err else { panic!("expected NotAState, got {err:?}") };
+    assert_eq!((component.as_str(), variable.as_str()), ("j1", "phi"));
+    assert_mentions(reason, &["marked `iscut = true`", "Remove `iscut = true`", "`j2`", "`j3`", "`j4`"]);
+    assert!(!message.contains("mark another joint"), "{message}");
+}
+
+/// Start values on every joint of a loop: one of them must go, and no
+/// joint is left to mark with `iscut`.
+#[test]
+fn start_values_on_every_joint_of_a_loop() {
+    let model = four_bar_loop("every_joint_started", &|m| {
+        for j in ["j1", "j2", "j3", "j4"] {
+            m.component_mut(j).unwrap().initial("phi", 0.0);
+        }
+    });
+    let (err, message) = failure(&model);
+    let Error::NotAState { reason, .. } = &err else { panic!("expected NotAState, got {err:?}") };
+    assert_mentions(
+        reason,
+        &["every joint of this loop that could be cut has start values", "Remove the start values"],
+    );
+    assert!(!message.contains("iscut"), "no joint is free to be marked iscut: {message}");
+}
+
+/// A guess (not a start value that holds) on the joint the engine cuts:
+/// another joint of the loop is free, and marking it `iscut` cuts it instead.
+#[test]
+fn guess_on_the_cut_joint_suggests_a_free_joint_of_the_loop() {
+    let model = four_bar_loop("guess_on_cut_joint", &|m| {
+        m.component_mut("j4").unwrap().guess("phi", 0.1);
+    });
+    let (err, _) = failure(&model);
+    let Error::NotAState { component, reason, .. } = &err else { panic!("expected NotAState, got {err:?}") };
+    assert_eq!(component, "j4");
+    assert_mentions(reason, &["mark one of `j1`, `j2` or `j3` with `iscut = true`"]);
+}
+
+/// A joint whose two frames are also joined by a rod closes a loop of one
+/// joint: there is no other joint to cut.
+#[test]
+fn joint_whose_frames_are_joined_rigidly() {
+    let mut model = world("joint_beside_a_rod");
+    model.add("rev", "Revolute").initial("phi", 0.3);
+    model.add("rod", "FixedTranslation").set("r", [0.5, 0.0, 0.0]);
+    model.add("body", "Body").set("m", 1.0).set("r_cm", [0.5, 0.0, 0.0]);
+    model.connect(["world.frame_b", "rev.frame_a", "rod.frame_a"]);
+    model.connect(["rev.frame_b", "rod.frame_b", "body.frame_a"]);
+    let (err, message) = failure(&model);
+    let Error::NotAState { component, reason, .. } = &err else { panic!("expected NotAState, got {err:?}") };
+    assert_eq!(component, "rev");
+    assert_mentions(reason, &["joined rigidly", "Remove the joint"]);
+    assert!(!message.contains("iscut"), "there is no other joint to mark: {message}");
+}
+
+/// A joint with elements on its axis stays in the tree before joints with
+/// start values, so the loop is cut at one of those (and the message says
+/// which start values to drop), not at the damped joint.
+#[test]
+fn joint_with_elements_is_kept_before_joints_with_start_values() {
+    let model = four_bar_loop("damped_and_started", &|m| {
+        for j in ["j1", "j2", "j3"] {
+            m.component_mut(j).unwrap().initial("phi", 0.0);
+        }
+        damp(m, "j4");
+    });
+    let (err, _) = failure(&model);
+    let Error::NotAState { component, reason, .. } = &err else { panic!("expected NotAState, got {err:?}") };
+    assert_ne!(component, "j4", "the damped joint is not cut: {reason}");
+    assert_mentions(reason, &["Remove the start values"]);
+}
+
+// ------------------------------------------------------ physical parameters
+
+/// Each (kind, parameter, value) must be refused, naming the component and
+/// the parameter.
+fn refused(cases: &[(&str, &str, f64)]) {
+    for &(kind, param, value) in cases {
+        let model = if kind == "World" {
+            let mut model = Model::new("world_parameter");
+            model.add("world", "World").set(param, value);
+            model
+        } else {
+            let mut model = world(&format!("{kind}_{param}"));
+            let part = model.add("part", kind);
+            if kind == "BodyBox" || kind == "BodyCylinder" {
+                part.set("r", [0.5, 0.0, 0.0]);
+            }
+            part.set(param, value);
+            model
+        };
+        let err = model.assemble().err().unwrap_or_else(|| panic!("{kind} {param} = {value} should be refused"));
+        let message = err.to_string();
+        let named = if kind == "World" { "world" } else { "part" };
+        match &err {
+            Error::InvalidValue { component, name, .. } => {
+                assert_eq!((component.as_str(), name.as_str()), (named, param), "{message}")
+            }
+            other => panic!("{kind} {param} = {value}: expected InvalidValue, got {other:?}"),
+        }
+        assert_mentions(&message, &[&format!("`{named}.{param}`")]);
+    }
+}
+
+#[test]
+fn negative_sizes_of_a_box_are_refused() {
+    refused(&[("BodyBox", "width", -0.1), ("BodyBox", "height", -0.1), ("BodyBox", "inner_height", -0.01)]);
+}
+
+#[test]
+fn negative_point_gravity_constant_is_refused() {
+    refused(&[("World", "mu", -1.0)]);
+}
+
+#[test]
+fn negative_stiffness_damping_mass_and_density_are_refused() {
+    refused(&[
+        ("Spring", "c", -1.0),
+        ("Damper", "d", -1.0),
+        ("SpringDamperParallel", "c", -1.0),
+        ("SpringDamperParallel", "d", -1.0),
+        ("Body", "m", -1.0),
+        ("BodyShape", "m", -1.0),
+        ("PointMass", "m", -1.0),
+        ("BodyBox", "density", -1.0),
+        ("BodyCylinder", "density", -1.0),
+        ("BodyCylinder", "diameter", -0.1),
+        ("RotationalComponents.Inertia", "J", -1.0),
+        ("TranslationalComponents.Mass", "m", 0.0),
+        ("Rotor1D", "J", 0.0),
+        ("RotationalComponents.IdealGear", "ratio", 0.0),
+        ("BevelGear1D", "ratio", 0.0),
+        ("RotationalComponents.Spring", "c", -1.0),
+        ("TranslationalComponents.Damper", "d", -1.0),
+    ]);
+}
+
+#[test]
+fn non_finite_parameters_are_refused() {
+    refused(&[
+        ("Spring", "c", f64::NAN),
+        ("Damper", "d", f64::INFINITY),
+        ("Body", "m", f64::NAN),
+        ("Body", "I_11", f64::NEG_INFINITY),
+        ("BodyBox", "density", f64::INFINITY),
+        ("RotationalComponents.IdealGear", "ratio", f64::NAN),
+        ("World", "g", f64::INFINITY),
+    ]);
+}
+
+/// Signed parameters stay signed: a negative gear ratio, a zero unstretched
+/// length, a negative gravity (pointing along `n` reversed).
+#[test]
+fn legitimately_signed_parameters_are_accepted() {
+    let mut model = world("signed_parameters");
+    model.component_mut("world").unwrap().set("g", -9.81);
+    model.add("gear", "RotationalComponents.IdealGear").set("ratio", -2.0);
+    model.add("spring", "Spring").set("c", 10.0).set("s_unstretched", 0.0);
+    model.add("body", "Body").set("m", 1.0).set("r_cm", [0.5, 0.0, 0.0]);
+    model.add("rev", "Revolute").set("axisflange", true);
+    model.add("inertia", "RotationalComponents.Inertia").set("J", 1.0);
+    model.connect(["world.frame_b", "rev.frame_a", "spring.frame_a"]);
+    model.connect(["rev.frame_b", "body.frame_a", "spring.frame_b"]);
+    model.connect(["rev.axis", "gear.spline_a"]);
+    model.connect(["gear.spline_b", "inertia.spline_a"]);
+    model.connect(["rev.support", "gear.support"]);
+    if let Err(e) = model.assemble() {
+        panic!("signed parameters are allowed: {e}");
+    }
+}

@@ -163,7 +163,7 @@ fn impossible_drive_trains_are_explained() {
     model.connect(["shaft.spline_a", "r1.axis"]);
     model.connect(["shaft.spline_b", "r2.axis"]);
     match model.assemble() {
-        Err(Error::Unsupported { component, what }) => {
+        Err(Error::Unsupported { component, what, .. }) => {
             assert_eq!(component, "shaft");
             assert!(what.contains("move independently"), "{what}");
         }

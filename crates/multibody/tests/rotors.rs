@@ -110,9 +110,9 @@ fn worldly_parts_in_a_mounted_drive_train_are_refused() {
         })
     };
     match with("RotationalComponents.Inertia").assemble() {
-        Err(Error::Unsupported { component, what }) => {
+        Err(Error::Unsupported { component, what, fix }) => {
             assert_eq!(component, "extra");
-            assert!(what.contains("Rotor1D") && what.contains("`gear`"), "{what}");
+            assert!(fix.contains("Rotor1D") && what.contains("`gear`"), "{what}; {fix}");
         }
         other => panic!("expected an error naming the inertia, got {other:?}"),
     }
@@ -122,9 +122,12 @@ fn worldly_parts_in_a_mounted_drive_train_are_refused() {
         m.connect(["source.spline", "rotor_a.flange_a"]);
     });
     match open_support.assemble() {
-        Err(Error::Unsupported { component, what }) => {
+        Err(Error::Unsupported { component, what, fix }) => {
             assert_eq!(component, "source");
-            assert!(what.contains("support") && what.contains("Mounting1D"), "{what}");
+            assert!(
+                what.contains("drive train") && fix.contains("support") && fix.contains("Mounting1D"),
+                "{what}; {fix}"
+            );
         }
         other => panic!("expected an error naming the source, got {other:?}"),
     }

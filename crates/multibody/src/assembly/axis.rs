@@ -119,6 +119,7 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
                         component: components[ci].name.clone(),
                         what: "a rigid 1-D part between two places that move independently (two joint axes, or a loop)"
                             .into(),
+                        fix: String::new(),
                     })
                 }
                 _ => continue,
@@ -191,7 +192,8 @@ fn mount_rotors(
             let Anchor::Link(carrier) = node.anchor else {
                 return Err(Error::Unsupported {
                     component: components[ci].name.clone(),
-                    what: "a Rotor1D on a frame without mass of its own (mount it on a body)".into(),
+                    what: "a Rotor1D on a frame without mass of its own".into(),
+                    fix: "mount it on a body".into(),
                 });
             };
             let spin = RigidInertia { mass: 0.0, h: Vec3::zeros(), rot: inertia * axis * axis.transpose() };
@@ -308,6 +310,7 @@ fn check_moving_mounts(
                         "one drive train mounted on two bodies that move apart (here and at `{}`)",
                         components[oc].name
                     ),
+                    fix: String::new(),
                 })
             }
             _ => carrier_of_train[t] = Some((link, ci)),
@@ -319,10 +322,10 @@ fn check_moving_mounts(
                 return Err(Error::Unsupported {
                     component: components[ci].name.clone(),
                     what: format!(
-                        "{what} in a drive train mounted on the moving frame of `{}` (use Rotor1D shafts and \
-                         connect every support to a Mounting1D on that frame)",
+                        "{what} in a drive train mounted on the moving frame of `{}`",
                         components[mount].name
                     ),
+                    fix: "use Rotor1D shafts and connect every support to a Mounting1D on that frame".into(),
                 });
             }
         }
@@ -344,10 +347,11 @@ fn set(
         Some((existing, other)) if !same_place(existing, r) => Err(Error::Unsupported {
             component: components[conn.infos[id].component].name.clone(),
             what: format!(
-                "a 1-D connection between `{}` and `{}`, which cannot move together (two joint axes or fixed points joined directly; put a gear or a spring between them)",
+                "a 1-D connection between `{}` and `{}`, which cannot move together (two joint axes or fixed points joined directly)",
                 conn.name(components, id),
                 conn.name(components, other)
             ),
+            fix: "put a gear or a spring between them".into(),
         }),
         _ => {
             place[node] = Some((r, id));

@@ -36,7 +36,8 @@ pub fn elements(
                         if d != 0.0 {
                             return Err(Error::Unsupported {
                                 component: c.name.clone(),
-                                what: "a damper on frames without mass (their velocity would be undetermined); add mass there".into(),
+                                what: "a damper on frames without mass (their velocity would be undetermined)".into(),
+                                fix: "add mass there".into(),
                             });
                         }
                     }

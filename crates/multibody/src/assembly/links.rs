@@ -165,6 +165,27 @@ pub struct Tree {
     pub state_names: Vec<StateNames>,
     pub massless: Vec<MasslessGroup>,
     pub cuts: Vec<Cut>,
+    /// The loop each cut joint closes, for messages.
+    pub cut_loops: Vec<CutLoop>,
+}
+
+/// A joint cut to close a kinematic loop, and the tree joints of that loop.
+#[derive(Clone, Debug)]
+pub struct CutLoop {
+    pub component: usize,
+    /// The other joints of the loop (none when the cut joint's two frames
+    /// are joined rigidly).
+    pub others: Vec<LoopJoint>,
+}
+
+/// A joint of a kinematic loop, and what keeps it from being cut.
+#[derive(Clone, Copy, Debug)]
+pub struct LoopJoint {
+    pub component: usize,
+    /// 1-D elements act on its axis.
+    pub elements: bool,
+    /// The model gives it start values.
+    pub fixed: bool,
 }
 
 const TRANSLATION_STATES: StateNames = StateNames { q: &[("r_0", 3)], u: &[("v_0", 3)] };
@@ -301,24 +322,28 @@ pub fn spanning_tree(
         }
     }
 
-    // The tree keeps the joints with elements on their axis, then the ones
-    // with the fewest degrees of freedom: each loop is cut at the joint whose
-    // cut leaves the fewest constraint equations, `iscut` joints first.
+    // The tree keeps the joints with elements on their axis (they cannot be
+    // cut), then those with start values, then the ones with the fewest
+    // degrees of freedom: each loop is cut at the joint whose cut leaves the
+    // fewest constraint equations, `iscut` joints first.
     let mut by_priority: Vec<usize> = (0..joints.len()).collect();
     by_priority.sort_by_key(|&k| {
         let j = &joints[k];
         (
-            if j.elements || (j.fixed && !j.iscut) {
+            if j.elements {
                 0
-            } else if j.iscut {
-                2
-            } else {
+            } else if j.fixed && !j.iscut {
                 1
+            } else if j.iscut {
+                3
+            } else {
+                2
             },
             j.model.nv(),
         )
     });
     let mut in_tree = vec![false; joints.len()];
+    let mut cut_joints = Vec::new();
     let mut spanning = UnionFind::new(groups.count);
     for k in by_priority {
         let j = &joints[k];
@@ -326,12 +351,7 @@ pub fn spanning_tree(
             spanning.union(group(j.a), group(j.b));
             in_tree[k] = true;
         } else {
-            if j.elements {
-                return Err(Error::Unsupported {
-                    component: components[j.component].name.clone(),
-                    what: "1-D elements on the axis of a joint that must be cut to close a loop; move them to another joint of the loop".into(),
-                });
-            }
+            cut_joints.push(k);
             cuts.push(Cut {
                 component: j.component,
                 part: j.part,
@@ -342,12 +362,19 @@ pub fn spanning_tree(
             });
         }
     }
+    let cut_loops = loops_of_cuts(&joints, &in_tree, &cut_joints, &group, groups.count);
+    for (l, &k) in cut_loops.iter().zip(&cut_joints) {
+        if joints[k].elements {
+            return Err(cut_with_elements(components, l));
+        }
+    }
     for c in &cuts {
         for n in [c.a, c.b] {
             if massless_of_group[group(n)].is_some() {
                 return Err(Error::Unsupported {
                     component: components[c.component].name.clone(),
-                    what: "a constraint on frames without mass; give them mass".into(),
+                    what: "a constraint on frames without mass".into(),
+                    fix: "give them mass".into(),
                 });
             }
         }
@@ -391,7 +418,90 @@ pub fn spanning_tree(
 
     let mut tree = build_links(components, groups, &joints, &order, &link_of, &massless_of_group, massless)?;
     tree.cuts = cuts;
+    tree.cut_loops = cut_loops;
     Ok(tree)
+}
+
+/// The loop each cut joint closes: the tree joints between its two groups.
+fn loops_of_cuts(
+    joints: &[JointEdge],
+    in_tree: &[bool],
+    cut_joints: &[usize],
+    group: &dyn Fn(usize) -> usize,
+    group_count: usize,
+) -> Vec<CutLoop> {
+    if cut_joints.is_empty() {
+        return Vec::new();
+    }
+    let mut incident: Vec<Vec<usize>> = vec![Vec::new(); group_count];
+    for (k, j) in joints.iter().enumerate().filter(|(k, _)| in_tree[*k]) {
+        incident[group(j.a)].push(k);
+        incident[group(j.b)].push(k);
+    }
+    let mut came_by = vec![usize::MAX; group_count];
+    let mut seen = vec![false; group_count];
+    cut_joints
+        .iter()
+        .map(|&cut| {
+            let (from, to) = (group(joints[cut].a), group(joints[cut].b));
+            // Breadth-first through the tree from one end to the other.
+            let mut visited = vec![from];
+            seen[from] = true;
+            let mut queue = VecDeque::from([from]);
+            while let Some(g) = queue.pop_front() {
+                if g == to {
+                    break;
+                }
+                for &k in &incident[g] {
+                    let other = if group(joints[k].a) == g { group(joints[k].b) } else { group(joints[k].a) };
+                    if !seen[other] {
+                        seen[other] = true;
+                        came_by[other] = k;
+                        visited.push(other);
+                        queue.push_back(other);
+                    }
+                }
+            }
+            let mut others = Vec::new();
+            let mut g = to;
+            while g != from && seen[to] {
+                let k = came_by[g];
+                let j = &joints[k];
+                others.push(LoopJoint { component: j.component, elements: j.elements, fixed: j.fixed });
+                g = if group(j.a) == g { group(j.b) } else { group(j.a) };
+            }
+            others.reverse();
+            for v in visited {
+                seen[v] = false;
+            }
+            CutLoop { component: joints[cut].component, others }
+        })
+        .collect()
+}
+
+/// A joint with 1-D elements on its axis that must be cut: every other joint
+/// of its loop has elements too, or its frames are joined rigidly.
+fn cut_with_elements(components: &[CompiledComponent], l: &CutLoop) -> Error {
+    let name = components[l.component].name.clone();
+    if l.others.is_empty() {
+        return Error::Unsupported {
+            component: name.clone(),
+            what: format!("a joint with 1-D elements on its axis whose two frames are already joined rigidly (`{name}` closes a kinematic loop by itself and cannot move)"),
+            fix: format!("remove `{name}`, or the rigid connection between its frames"),
+        };
+    }
+    let mut all: Vec<String> = l.others.iter().map(|j| components[j.component].name.clone()).collect();
+    all.push(name.clone());
+    Error::Unsupported {
+        component: name.clone(),
+        what: format!(
+            "a kinematic loop in which every joint has 1-D elements on its axis ({})",
+            crate::error::list(&all)
+        ),
+        fix: format!(
+            "one joint of a loop is cut to close it (its coordinates follow from the others), and a cut joint cannot carry 1-D elements. Remove the 1-D elements from one joint of the loop (`{name}`, for example), so that it can be cut"
+        ),
+    }
 }
 
 /// The constraint that a joint's relation becomes when it is cut.
@@ -578,5 +688,5 @@ fn build_links(
         nq += joint.nq();
         nv += joint.nv();
     }
-    Ok(Tree { links, nodes, state_names, massless, cuts: Vec::new() })
+    Ok(Tree { links, nodes, state_names, massless, cuts: Vec::new(), cut_loops: Vec::new() })
 }

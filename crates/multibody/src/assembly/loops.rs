@@ -122,6 +122,7 @@ pub fn close(mechanism: &mut Mechanism) -> Result<(), Error> {
     let as_error = |e: crate::DynamicsError| Error::Unsupported {
         component: mechanism.name.clone(),
         what: format!("a start state where {}", mechanism.describe(&e)),
+        fix: String::new(),
     };
     let mut best = f64::INFINITY;
     for _ in 0..NEWTON_ITERATIONS {

@@ -99,10 +99,11 @@ fn connect(
                 return Err(Error::Unsupported {
                     component: components[conn.infos[*second].component].name.clone(),
                     what: format!(
-                        "two outputs (`{}` and `{}`) driving one signal; connect each input to one output",
+                        "two outputs (`{}` and `{}`) driving one signal",
                         conn.name(components, *first),
                         conn.name(components, *second)
                     ),
+                    fix: "connect each input to one output".into(),
                 })
             }
         };

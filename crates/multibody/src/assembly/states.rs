@@ -1,10 +1,10 @@
 //! The state vector: names, and start values from the model's `initial`
 //! (and, where no initial value is given, `guess`) modifiers.
 
-use super::links::Tree;
+use super::links::{LoopJoint, Tree};
 use super::mechanism::{CompiledComponent, JointRef};
 use crate::components::{Part, StateNames};
-use crate::error::closest;
+use crate::error::{closest, list, list_or};
 use crate::system::{FlangeRef, StateLayout};
 use crate::{Error, Model, Value};
 
@@ -52,7 +52,8 @@ pub fn layout(
                 fixed[index] = holds;
                 continue;
             }
-            let (index, size) = locate(c, tree, nq, variable).ok_or_else(|| not_a_state(c, tree, variable))?;
+            let (index, size) =
+                locate(c, tree, nq, variable).ok_or_else(|| not_a_state(ci, components, tree, variable))?;
             let values = numbers(&c.name, variable, value, size)?;
             start[index..index + size].copy_from_slice(&values);
             fixed[index..index + size].fill(holds);
@@ -115,13 +116,14 @@ fn locate(c: &CompiledComponent, tree: &Tree, nq: usize, variable: &str) -> Opti
     None
 }
 
-fn not_a_state(c: &CompiledComponent, tree: &Tree, variable: &str) -> Error {
+fn not_a_state(ci: usize, components: &[CompiledComponent], tree: &Tree, variable: &str) -> Error {
+    let c = &components[ci];
     let links = c.joints.iter().filter_map(|j| if let JointRef::Link(l) = j { Some(*l) } else { None });
     let states: Vec<&str> =
         links.flat_map(|l| tree.state_names[l].q.iter().chain(tree.state_names[l].u)).map(|(n, _)| *n).collect();
     if c.spec.variables.iter().any(|v| v.name == variable) {
         let reason = if c.joints.iter().any(|j| matches!(j, JointRef::Cut(_))) {
-            "this joint closes a kinematic loop, so its coordinates follow from the other joints of the loop. To give it a start value, mark another joint of the loop with iscut = true".to_string()
+            cut_joint_reason(ci, components, tree)
         } else if c.joints.is_empty() && c.parts.iter().any(|p| matches!(p, Part::Mass { .. })) {
             "its motion comes from what it is connected to. Set the start values of the joints between it and the World instead, or make it free (orientation_state = Quaternion for a Body, isroot = true for an unconnected PointMass)".to_string()
         } else if states.is_empty() {
@@ -137,6 +139,45 @@ fn not_a_state(c: &CompiledComponent, tree: &Tree, variable: &str) -> Error {
         variable: variable.into(),
         suggestions: closest(variable, states.iter().copied().chain(c.spec.variables.iter().map(|v| v.name))),
         valid: states.iter().map(|s| s.to_string()).collect(),
+    }
+}
+
+/// Why the cut joint `ci` has no states, and what to do: which other joint
+/// of its loop could be cut instead, if any.
+fn cut_joint_reason(ci: usize, components: &[CompiledComponent], tree: &Tree) -> String {
+    let generic =
+        "this joint closes a kinematic loop, so its coordinates follow from the other joints of the loop".to_string();
+    let Some(l) = tree.cut_loops.iter().find(|l| l.component == ci) else { return generic };
+    let names = |joints: &[&LoopJoint]| -> Vec<String> {
+        joints.iter().map(|j| components[j.component].name.clone()).collect()
+    };
+    let others: Vec<&LoopJoint> = l.others.iter().collect();
+    let loop_names = list(&names(&others));
+    let iscut = components[ci].parts.iter().any(|p| matches!(p, Part::Joint { iscut: true, .. }));
+    if others.is_empty() {
+        return "its two frames are already joined rigidly, so the joint closes a loop by itself and cannot move.\nRemove the joint, or the rigid connection between its frames.".into();
+    }
+    if iscut {
+        return format!(
+            "it is marked `iscut = true`, so it is the joint cut to close the kinematic loop through {loop_names}, and its coordinates follow from theirs.\nRemove `iscut = true` so that another joint of the loop is cut instead, or give the start value to one of those joints."
+        );
+    }
+    let free: Vec<&LoopJoint> = others.iter().copied().filter(|j| !j.elements && !j.fixed).collect();
+    let fixed: Vec<&LoopJoint> = others.iter().copied().filter(|j| !j.elements && j.fixed).collect();
+    if !free.is_empty() {
+        format!(
+            "it closes the kinematic loop through {loop_names}, so its coordinates follow from theirs.\nTo give it a start value, mark {} with `iscut = true`; that joint is then cut instead.",
+            if free.len() == 1 { list(&names(&free)) } else { format!("one of {}", list_or(&names(&free))) }
+        )
+    } else if !fixed.is_empty() {
+        format!(
+            "it closes the kinematic loop through {loop_names}: one joint of a loop is cut and its coordinates follow from the others, and every joint of this loop that could be cut has start values.\nRemove the start values of one joint of the loop ({} or this one); that joint is then cut.",
+            names(&fixed).iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ")
+        )
+    } else {
+        format!(
+            "it closes the kinematic loop through {loop_names}, whose joints all have 1-D elements on their axes and cannot be cut, so this one is cut and its coordinates follow from theirs.\nRemove its start value."
+        )
     }
 }
 

@@ -55,6 +55,12 @@ fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
     let length = dir.norm();
     let width = p.real_opt("width").unwrap_or(0.3 * length);
     let height = p.real_opt("height").unwrap_or(width);
+    // Sizes given must not be negative (a negative width would make a negative mass).
+    for name in ["width", "height", "inner_height"] {
+        if p.real_opt(name).is_some_and(|x| x < 0.0) {
+            return Err(p.invalid(name, "a size must not be negative"));
+        }
+    }
     let inner_width = p.non_negative("inner_width", true)?;
     let inner_height = p.real_opt("inner_height").unwrap_or(inner_width);
     let density = p.non_negative("density", true)?;

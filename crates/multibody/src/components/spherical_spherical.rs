@@ -37,8 +37,8 @@ fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
     if p.boolean("has_mass") {
         return Err(Error::Unsupported {
             component: p.component.into(),
-            what: "a rod with mass (has_mass = true); put a PointMass between two SphericalSpherical rods instead"
-                .into(),
+            what: "a rod with mass (has_mass = true)".into(),
+            fix: "put a PointMass between two SphericalSpherical rods instead".into(),
         });
     }
     Ok(Box::new(ConstraintJoint { kind: ConstraintKind::Distance { length: rod_length(p, "r_0")? } }))

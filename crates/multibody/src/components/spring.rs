@@ -58,7 +58,8 @@ fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
     if p.boolean("hasmass") {
         return Err(Error::Unsupported {
             component: p.component.into(),
-            what: "a spring with mass (hasmass = true); put a PointMass between two springs instead".into(),
+            what: "a spring with mass (hasmass = true)".into(),
+            fix: "put a PointMass between two springs instead".into(),
         });
     }
     Ok(Box::new(LineForce {

@@ -150,7 +150,9 @@ impl WorldSettings {
             };
             values.push((spec.name, value));
         }
-        Ok(Self { g: p.real("g"), n, mu: p.real("mu"), point_gravity: p.boolean("point_gravity"), values })
+        // A negative field constant would make point gravity push away (Modelica: `mu(min = 0)`).
+        let mu = p.non_negative("mu", true)?;
+        Ok(Self { g: p.real("g"), n, mu, point_gravity: p.boolean("point_gravity"), values })
     }
 
     /// A World parameter times `factor` (factors apply to numbers only).
