@@ -3,7 +3,8 @@
 #   1. our criterion benchmarks, with short warm-up and measurement times:
 #      crates/multibody/benches (aba/N, rhs/N, assemble/C, and simulate/NAME
 #      where present) and the other crates' benchmarks (the example models in
-#      crates/multibody-cli/benches/examples.rs: compile/NAME, simulate/NAME);
+#      crates/multibody-cli/benches/examples.rs: compile/NAME, simulate/NAME, and
+#      stiff_spring/METHOD, the stiff example with the implicit and the explicit method);
 #   2. the peers (Pinocchio C++ and MuJoCo C on the same chain) with
 #      shared/bench/peers/run.sh --native, in the same run and on the same
 #      machine, so that the ratios hold even when absolute times drift;

@@ -4,6 +4,7 @@
 //! (outputs on the analysis's grid included).
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use multibody::{Method, SimulationOptions};
 use multibody_dyad::Package;
 
 #[path = "../tests/common/examples.rs"]
@@ -38,5 +39,20 @@ fn simulate(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, compile, simulate);
+/// The stiff example with the implicit method its analysis asks for, and
+/// with the explicit default: the case for Rodas4 (same run, same model).
+fn stiff(c: &mut Criterion) {
+    let path = examples::examples_dir().join("stiff_spring.dyad");
+    let lowered = examples::load_example(&path);
+    let mechanism = lowered.assemble().unwrap();
+    let mut group = c.benchmark_group("stiff_spring");
+    group.sample_size(10);
+    for method in [Method::Rodas4, Method::DormandPrince45] {
+        let options = SimulationOptions { method, ..lowered.options.clone() };
+        group.bench_function(format!("{method:?}"), |b| b.iter(|| mechanism.simulate(&options).unwrap()));
+    }
+    group.finish();
+}
+
+criterion_group!(benches, compile, simulate, stiff);
 criterion_main!(benches);

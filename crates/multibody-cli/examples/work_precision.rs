@@ -89,7 +89,10 @@ fn time_simulate(case: &Case, options: &SimulationOptions, budget: f64, min_reps
 
 fn accepted_steps(case: &Case, options: &SimulationOptions) -> usize {
     let mut steps = 0usize;
-    let mut count = |_t: f64| steps += 1;
+    let mut count = |_t: f64| {
+        steps += 1;
+        Ok(())
+    };
     case.mechanism.simulate_from(&case.mechanism.states().start, options, Some(&mut count)).unwrap();
     steps
 }

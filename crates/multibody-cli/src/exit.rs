@@ -15,7 +15,12 @@ pub enum Failure {
     Simulation,
     /// A file could not be read or written.
     Io(String),
+    /// Ctrl-C stopped the simulation; what it computed was written.
+    Interrupted,
 }
+
+/// The exit code after Ctrl-C, as shells report a process ended by SIGINT.
+pub const INTERRUPTED: u8 = 130;
 
 impl Failure {
     pub fn code(&self) -> u8 {
@@ -24,6 +29,7 @@ impl Failure {
             Failure::Usage(_) => 2,
             Failure::Simulation => 3,
             Failure::Io(_) => 4,
+            Failure::Interrupted => INTERRUPTED,
         }
     }
 
@@ -31,7 +37,7 @@ impl Failure {
     pub fn report(self) -> ExitCode {
         match &self {
             Failure::Usage(message) | Failure::Io(message) => eprintln!("{}: {message}", error_word()),
-            Failure::Model | Failure::Simulation => {}
+            Failure::Model | Failure::Simulation | Failure::Interrupted => {}
         }
         ExitCode::from(self.code())
     }

@@ -29,13 +29,9 @@ pub fn read_package(paths: &[PathBuf]) -> Result<Package, Failure> {
     let mut package = Package::new();
     let mut errors = Vec::new();
     for file in &files {
-        let text = match std::fs::read(file) {
-            Ok(bytes) => {
-                String::from_utf8(bytes).map_err(|_| Failure::Io(format!("{} is not UTF-8 text", file.display())))?
-            }
-            Err(e) => return Err(Failure::Io(format!("cannot read {}: {e}", file.display()))),
-        };
-        if let Err(d) = package.add_source(file.display().to_string(), text) {
+        let bytes = std::fs::read(file).map_err(|e| Failure::Io(format!("cannot read {}: {e}", file.display())))?;
+        // Bytes that are not UTF-8 text are reported at their place, like syntax errors.
+        if let Err(d) = package.add_source_bytes(file.display().to_string(), bytes) {
             errors.push(d);
         }
     }

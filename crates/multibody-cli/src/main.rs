@@ -4,6 +4,7 @@ mod catalog;
 mod check;
 mod exit;
 mod load;
+mod output;
 mod progress;
 mod run;
 
@@ -16,8 +17,9 @@ Exit codes:
   0  success
   1  the model files have errors (syntax, lowering or assembly); nothing was simulated
   2  usage error: bad arguments, or an analysis, model or component kind that does not exist
-  3  the simulation failed part way; the results computed so far were written
+  3  the simulation failed part way; what it computed was written as NAME.partial.csv
   4  input/output error: a file could not be read or written
+  130  stopped by Ctrl-C; what was computed was written as NAME.partial.csv (a second Ctrl-C ends at once)
 
 Examples:
   multibody run examples/pendulum.dyad
@@ -67,17 +69,21 @@ pub struct RunArgs {
     #[command(flatten)]
     pub selection: Selection,
     /// Stop time [s] (default: the analysis's, or 1 s with --model)
-    #[arg(long, value_name = "T")]
+    #[arg(long, value_name = "T", allow_hyphen_values = true)]
     pub stop: Option<f64>,
     /// Output interval [s]; 0 saves every integrator step
-    #[arg(long, value_name = "DT")]
+    #[arg(long, value_name = "DT", allow_hyphen_values = true)]
     pub saveat: Option<f64>,
     /// Absolute tolerance of the integrator
-    #[arg(long, value_name = "X")]
+    #[arg(long, value_name = "X", allow_hyphen_values = true)]
     pub abstol: Option<f64>,
     /// Relative tolerance of the integrator
-    #[arg(long, value_name = "X")]
+    #[arg(long, value_name = "X", allow_hyphen_values = true)]
     pub reltol: Option<f64>,
+    /// Integration method: auto (adaptive Dormand-Prince), Rodas4 (implicit, for stiff models), or RK4
+    /// (fixed step, the --saveat or the analysis's saveat/dtmax) (default: the analysis's alg)
+    #[arg(long, value_name = "NAME")]
+    pub alg: Option<String>,
     /// Output CSV file (default: NAME.csv in the current folder)
     #[arg(long, short, value_name = "FILE")]
     pub out: Option<PathBuf>,

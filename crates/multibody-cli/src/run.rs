@@ -2,12 +2,14 @@
 
 use crate::exit::{error_word, Failure};
 use crate::load::{choose, file_of, lower, print_diagnostics, read_package, Target};
+use crate::output::{self, Budget, ResultFiles, StreamingCsv};
 use crate::progress::Progress;
 use crate::RunArgs;
 use multibody::simulate::glob;
 use multibody::{Mechanism, Method, SimulationOptions, Solution};
-use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Instant;
 
 /// How many states the summary shows.
@@ -17,23 +19,9 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     let package = read_package(&args.selection.files)?;
     let target = choose(&package, &args.selection)?;
     let lowered = lower(&package, &target)?;
-    let mut options = lowered.options.clone();
-    let overrides = [
-        (args.stop, &mut options.stop),
-        (args.saveat, &mut options.saveat),
-        (args.abstol, &mut options.abstol),
-        (args.reltol, &mut options.reltol),
-    ];
-    for (given, field) in overrides {
-        if let Some(x) = given {
-            *field = x;
-        }
-    }
-    if let (Some(saveat), Method::Rk4 { dt }) = (args.saveat, &mut options.method) {
-        if saveat > 0.0 {
-            *dt = saveat;
-        }
-    }
+    let options = command_line_options(args, &lowered.options)?;
+    let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("{}.csv", lowered.name)));
+    let files = ResultFiles::new(&args.selection.files, &out, args.animate.as_deref(), args.plot.as_deref())?;
     let mechanism = lowered.assemble().map_err(|d| {
         print_diagnostics(&package, &[d]);
         Failure::Model
@@ -42,10 +30,11 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         eprintln!("warning: {w}");
     }
     let signals = chosen_signals(&mechanism, &args.signals)?;
-    let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("{}.csv", lowered.name)));
-    let outputs =
-        [("--out", Some(out.as_path())), ("--animate", args.animate.as_deref()), ("--plot", args.plot.as_deref())];
-    outputs_are_safe(&args.selection.files, &outputs)?;
+    let views = args.animate.is_some() || args.plot.is_some();
+    let budget = Budget::of_this_machine();
+    budget.check(&options, mechanism.signals().len(), signals.len(), views, &out)?;
+
+    let mut csv = StreamingCsv::create(&files.csv, &mechanism, &signals, views.then_some(budget.memory))?;
 
     let what = match &target {
         Target::Analysis(name) => format!("analysis {name} (model {})", lowered.model.name),
@@ -60,95 +49,125 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         method(&options)
     );
 
+    let interrupted = on_ctrl_c();
     let started = Instant::now();
     let mut progress = Progress::new(options.start, options.stop);
-    let mut on_step = |t: f64| progress.update(t);
-    let result = mechanism.simulate_from(&mechanism.states().start, &options, Some(&mut on_step));
+    let mut on_step = |t: f64| {
+        progress.update(t);
+        if interrupted.load(Ordering::Relaxed) {
+            Err("interrupted (Ctrl-C)".to_string())
+        } else {
+            Ok(())
+        }
+    };
+    let result = mechanism.simulate_into(&mechanism.states().start, &options, &mut csv, Some(&mut on_step));
     progress.finish();
     let elapsed = started.elapsed();
     match result {
-        Ok(solution) => {
-            write_csv(&solution, &signals, &out)?;
-            let (samples, columns) = (plural(solution.len(), "sample"), plural(signals.len(), "signal"));
-            eprintln!("  {samples} × {columns} → {} ({elapsed:.0?})", out.display());
-            write_views(args, &lowered.name, &mechanism, &solution)?;
-            print_final_states(&mechanism, &solution);
+        Ok(report) => {
+            let kept = csv.finish(&out)?;
+            eprintln!(
+                "  {} × {} → {} ({elapsed:.0?})",
+                plural(kept.samples, "sample"),
+                plural(signals.len(), "signal"),
+                out.display()
+            );
+            if let Some(solution) = &kept.solution {
+                write_views(args, &files, false, &lowered.name, &mechanism, solution)?;
+            }
+            for w in &report.warnings {
+                eprintln!("warning: {w}");
+            }
+            print_final_states(&mechanism, &kept);
             Ok(())
         }
-        Err(e) => {
-            eprintln!("{}: the simulation stopped at t = {}: {}", error_word(), number(e.time), e.reason);
-            let partial = &e.partial;
-            write_csv(partial, &signals, &out)?;
-            if !partial.is_empty() {
-                write_views(args, &lowered.name, &mechanism, partial)?;
+        Err(stopped) => {
+            let partial_csv = output::partial_path(&out);
+            eprintln!("{}: the simulation stopped at t = {}: {}", error_word(), number(stopped.time), stopped.reason);
+            let kept = csv.finish(&partial_csv)?;
+            if let Some(solution) = kept.solution.as_ref().filter(|s| !s.is_empty()) {
+                write_views(args, &files, true, &lowered.name, &mechanism, solution)?;
             }
-            match (partial.time().first(), partial.time().last()) {
-                (Some(first), Some(last)) => eprintln!(
+            match kept.span {
+                Some((first, last)) => eprintln!(
                     "  wrote what was computed: {} (t = {} … {} s) × {} → {}",
-                    plural(partial.len(), "sample"),
-                    number(*first),
-                    number(*last),
+                    plural(kept.samples, "sample"),
+                    number(first),
+                    number(last),
                     plural(signals.len(), "signal"),
-                    out.display()
+                    partial_csv.display()
                 ),
-                _ => eprintln!("  nothing was computed; wrote the header to {}", out.display()),
+                None => eprintln!("  nothing was computed; wrote the header to {}", partial_csv.display()),
             }
-            Err(Failure::Simulation)
+            if stopped.by_caller && interrupted.load(Ordering::Relaxed) {
+                Err(Failure::Interrupted)
+            } else {
+                Err(Failure::Simulation)
+            }
         }
     }
+}
+
+/// The analysis's options with the command line's on top, checked before
+/// any work: a bad value names the option that gave it.
+fn command_line_options(args: &RunArgs, analysis: &SimulationOptions) -> Result<SimulationOptions, Failure> {
+    let mut options = analysis.clone();
+    let overrides = [
+        ("stop", args.stop, &mut options.stop),
+        ("saveat", args.saveat, &mut options.saveat),
+        ("abstol", args.abstol, &mut options.abstol),
+        ("reltol", args.reltol, &mut options.reltol),
+    ];
+    let mut given = Vec::new();
+    for (name, value, field) in overrides {
+        if let Some(x) = value {
+            *field = x;
+            given.push((name, x));
+        }
+    }
+    if let Some(name) = &args.alg {
+        let dt = if options.saveat > 0.0 { options.saveat } else { options.dtmax };
+        options.method = Method::from_name(name, dt).ok_or_else(|| {
+            Failure::Usage(format!("--alg {name}: no such method; the methods are auto, Rodas4 and RK4"))
+        })?;
+        given.push(("alg", dt));
+    }
+    if let (Some(saveat), Method::Rk4 { dt }) = (args.saveat, &mut options.method) {
+        if saveat > 0.0 {
+            *dt = saveat;
+        }
+    }
+    if let Err(e) = options.validate() {
+        let named = |name: &str| name == e.option || (e.option == "dt" && (name == "saveat" || name == "alg"));
+        let from = match given.iter().find(|(name, _)| named(name)) {
+            Some(("alg", _)) => format!("--alg {}: ", args.alg.as_deref().unwrap_or_default()),
+            Some((name, x)) => format!("--{name} {x}: "),
+            // Only a combination reaches here: the analysis was checked on its own.
+            None => String::new(),
+        };
+        return Err(Failure::Usage(format!("{from}{}", e.message)));
+    }
+    Ok(options)
+}
+
+/// A flag that Ctrl-C raises: the run stops after its current step and
+/// keeps what it computed. A second Ctrl-C ends the command at once.
+fn on_ctrl_c() -> Arc<AtomicBool> {
+    let flag = Arc::new(AtomicBool::new(false));
+    let raised = flag.clone();
+    let installed = ctrlc::set_handler(move || {
+        if raised.swap(true, Ordering::Relaxed) {
+            std::process::exit(crate::exit::INTERRUPTED as i32);
+        }
+    });
+    if let Err(e) = installed {
+        eprintln!("warning: Ctrl-C will end the run without keeping its results ({e})");
+    }
+    flag
 }
 
 /// The signals the patterns select (all without patterns); a pattern that
 /// selects nothing is an error, caught before simulating.
-/// Refuses, before anything is computed, an output that would write over
-/// one of the model files read or over another output of the same run.
-fn outputs_are_safe(inputs: &[PathBuf], outputs: &[(&str, Option<&Path>)]) -> Result<(), Failure> {
-    let mut read = Vec::new();
-    for input in inputs {
-        match std::fs::read_dir(input) {
-            Ok(entries) => {
-                let models = entries.flatten().map(|e| e.path()).filter(|p| p.extension().is_some_and(|e| e == "dyad"));
-                read.extend(models)
-            }
-            Err(_) => read.push(input.clone()),
-        }
-    }
-    let mut written: Vec<(&str, PathBuf)> = Vec::new();
-    for &(option, path) in outputs {
-        let Some(path) = path else { continue };
-        let key = comparable(path);
-        if let Some(input) = read.iter().find(|i| comparable(i) == key) {
-            return Err(Failure::Usage(format!(
-                "`{option} {}` would write over the model file {}; choose another path for the output",
-                path.display(),
-                input.display()
-            )));
-        }
-        if let Some((other, _)) = written.iter().find(|(_, w)| *w == key) {
-            return Err(Failure::Usage(format!(
-                "`{other}` and `{option}` both name {}; give each output a path of its own",
-                path.display()
-            )));
-        }
-        written.push((option, key));
-    }
-    Ok(())
-}
-
-/// The absolute form of a path, through links, for comparing files that
-/// may not exist yet (their folder is resolved).
-fn comparable(path: &Path) -> PathBuf {
-    if let Ok(p) = path.canonicalize() {
-        return p;
-    }
-    let folder = match path.parent() {
-        Some(f) if !f.as_os_str().is_empty() => f.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let folder = folder.canonicalize().unwrap_or(folder);
-    path.file_name().map_or(folder.clone(), |name| folder.join(name))
-}
-
 fn chosen_signals(mechanism: &Mechanism, patterns: &[String]) -> Result<Vec<String>, Failure> {
     let names: Vec<String> = mechanism.signals().into_iter().map(|s| s.name).collect();
     for p in patterns {
@@ -165,44 +184,46 @@ fn chosen_signals(mechanism: &Mechanism, patterns: &[String]) -> Result<Vec<Stri
     Ok(names.into_iter().filter(|n| patterns.is_empty() || patterns.iter().any(|p| glob(p, n))).collect())
 }
 
-/// Writes the CSV through a temporary file, so that a failed write leaves
-/// no half file behind under the final name.
-fn write_csv(solution: &Solution, signals: &[String], out: &Path) -> Result<(), Failure> {
-    let temporary = PathBuf::from(format!("{}.tmp", out.display()));
-    let io = |e: std::io::Error| Failure::Io(format!("cannot write {}: {e}", out.display()));
-    let file = std::fs::File::create(&temporary).map_err(io)?;
-    let mut writer = BufWriter::new(file);
-    let names: Vec<&str> = signals.iter().map(String::as_str).collect();
-    let written = solution.write_csv(&mut writer, &names).and_then(|_| writer.flush());
-    if let Err(e) = written {
-        let _ = std::fs::remove_file(&temporary);
-        return Err(io(e));
-    }
-    drop(writer);
-    std::fs::rename(&temporary, out).map_err(io)
-}
-
-/// The animation page and the plot, when asked for.
-fn write_views(args: &RunArgs, title: &str, mechanism: &Mechanism, solution: &Solution) -> Result<(), Failure> {
+/// The animation page and the plot, when asked for (under their partial
+/// names when the run stopped part way).
+fn write_views(
+    args: &RunArgs,
+    files: &ResultFiles,
+    partial: bool,
+    title: &str,
+    mechanism: &Mechanism,
+    solution: &Solution,
+) -> Result<(), Failure> {
     let view_error = |e: multibody_view::ViewError| match e {
         io @ multibody_view::ViewError::Io { .. } => Failure::Io(io.to_string()),
         other => Failure::Usage(other.to_string()),
     };
-    if let Some(path) = &args.animate {
+    let place = |path: &Path| if partial { output::partial_path(path) } else { path.to_path_buf() };
+    if let Some(path) = &files.animate {
+        let path = place(path);
         let options = multibody_view::AnimationOptions { signals: args.signals.clone(), ..Default::default() };
-        let summary = multibody_view::write_animation(path, title, &mechanism.shapes(), solution, &options)
-            .map_err(view_error)?;
+        let page =
+            multibody_view::animation_html(title, &mechanism.shapes(), solution, &options).map_err(view_error)?;
+        output::write_atomically(&path, |w| w.write_all(page.html.as_bytes()))?;
         eprintln!(
             "  animation: {} frames of {} shapes → {} ({})",
-            summary.frames,
-            summary.shapes,
+            page.summary.frames,
+            page.summary.shapes,
             path.display(),
-            size(summary.bytes)
+            output::bytes(page.summary.bytes as f64)
         );
     }
-    if let Some(path) = &args.plot {
+    if let Some(path) = &files.plot {
+        let path = place(path);
         let options = multibody_view::PlotOptions { signals: args.signals.clone(), ..Default::default() };
-        let summary = multibody_view::write_plot(path, title, solution, &options).map_err(view_error)?;
+        let (image, summary) = match multibody_view::PlotFormat::from_path(&path) {
+            Some(multibody_view::PlotFormat::Svg) => {
+                multibody_view::plot_svg(title, solution, &options).map(|(svg, summary)| (svg.into_bytes(), summary))
+            }
+            _ => multibody_view::plot_png(title, solution, &options),
+        }
+        .map_err(view_error)?;
+        output::write_atomically(&path, |w| w.write_all(&image))?;
         let signals: usize = summary.panels.iter().map(|(_, s)| s.len()).sum();
         eprintln!(
             "  plot: {} in {} → {}",
@@ -214,22 +235,14 @@ fn write_views(args: &RunArgs, title: &str, mechanism: &Mechanism, solution: &So
     Ok(())
 }
 
-/// "88.6 kB", "2.4 MB".
-fn size(bytes: usize) -> String {
-    if bytes < 1_000_000 {
-        format!("{:.1} kB", bytes as f64 / 1e3)
-    } else {
-        format!("{:.1} MB", bytes as f64 / 1e6)
-    }
-}
-
 /// The final values of the first few states, a vector per line.
-fn print_final_states(mechanism: &Mechanism, solution: &Solution) {
-    let Some(t) = solution.time().last() else { return };
+fn print_final_states(mechanism: &Mechanism, kept: &output::Kept) {
+    let Some((_, t)) = kept.span else { return };
+    let last = |name: &str| kept.last_row.iter().find(|(n, _)| n == name).map(|(_, x)| *x);
     // Group `body.r_0[1]`, `body.r_0[2]`, ... into `body.r_0`.
     let mut groups: Vec<(String, Vec<f64>)> = Vec::new();
     for name in &mechanism.states().names {
-        let Some(value) = solution.last(name) else { continue };
+        let Some(value) = last(name) else { continue };
         let base = name.split_once('[').map_or(name.as_str(), |(b, _)| b);
         match groups.last_mut() {
             Some((b, values)) if b == base && name.contains('[') => values.push(value),
@@ -239,7 +252,7 @@ fn print_final_states(mechanism: &Mechanism, solution: &Solution) {
     if groups.is_empty() {
         return;
     }
-    eprintln!("  final state at t = {}:", number(*t));
+    eprintln!("  final state at t = {}:", number(t));
     for (name, values) in groups.iter().take(SUMMARY_STATES) {
         let shown: Vec<String> = values.iter().map(|x| number(*x)).collect();
         match shown.as_slice() {
@@ -260,8 +273,11 @@ fn method(options: &SimulationOptions) -> String {
             number(options.reltol)
         ),
         Method::Rk4 { dt } => format!("fixed-step RK4, dt = {} s", number(dt)),
-        #[allow(unreachable_patterns)]
-        _ => "the engine's method".into(),
+        Method::Rodas4 => format!(
+            "implicit Rodas4 (for stiff models), abstol {}, reltol {}",
+            number(options.abstol),
+            number(options.reltol)
+        ),
     }
 }
 

@@ -114,6 +114,11 @@ fn model_errors_exit_with_1_and_point_at_the_source() {
     assert!(err.contains("unknown_parameter_of_user_component.dyad:3:13"), "{err}");
     assert!(err.contains("did you mean `length`?"), "{err}");
     assert!(!err.contains("\x1b["), "no colours when stderr is not a terminal");
+    // Bytes that are not text are pointed at like a syntax error.
+    std::fs::write(dir.join("binary.dyad"), b"component A\n  x = \xff\xfe\n").unwrap();
+    let o = multibody(&dir, &["check", "binary.dyad"]);
+    assert_eq!(code(&o), 1);
+    assert!(stderr(&o).contains("not UTF-8 text") && stderr(&o).contains("binary.dyad:2:7"), "{}", stderr(&o));
     // Every file's syntax errors are reported, not only the first file's.
     let other = crate_path("../multibody-dyad/tests/bad/syntax_si_suffix.dyad");
     let third = crate_path("../multibody-dyad/tests/bad/syntax_missing_end.dyad");
@@ -134,27 +139,93 @@ fn io_errors_exit_with_4() {
     let o = multibody(&dir, &["run", "no/such/file.dyad"]);
     assert_eq!(code(&o), 4);
     assert!(stderr(&o).contains("cannot read no/such/file.dyad"), "{}", stderr(&o));
-    let o = multibody(&dir, &["run", &example("pendulum.dyad"), "--stop", "0.1", "--out", "missing-folder/out.csv"]);
+    // A folder for the output cannot be made where a file is; found before simulating.
+    std::fs::write(dir.join("a-file"), "").unwrap();
+    let o = multibody(&dir, &["run", &example("pendulum.dyad"), "--stop", "0.1", "--out", "a-file/out.csv"]);
     assert_eq!(code(&o), 4);
-    assert!(stderr(&o).contains("cannot write missing-folder/out.csv"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("cannot write a-file/out.csv"), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("Simulating"), "{}", stderr(&o));
+    // A missing folder is made, as for the views.
+    let o = multibody(&dir, &["run", &example("pendulum.dyad"), "--stop", "0.1", "--out", "new-folder/out.csv"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(dir.join("new-folder/out.csv").exists());
 }
 
 #[test]
-fn a_failed_simulation_writes_what_it_computed_and_exits_with_3() {
+fn a_failed_simulation_keeps_what_it_computed_as_partial_and_exits_with_3() {
     let dir = scratch("partial");
     let model = crate_path("tests/models/EulerSingularity.dyad");
-    let o = multibody(&dir, &["run", &model, "--out", "partial.csv"]);
+    std::fs::write(dir.join("result.csv"), "an earlier complete result").unwrap();
+    let o = multibody(&dir, &["run", &model, "--out", "result.csv", "--plot", "result.svg"]);
     assert_eq!(code(&o), 3, "{}", stderr(&o));
     let err = stderr(&o);
     assert!(err.contains("the simulation stopped at t = 1.5"), "{err}");
     assert!(err.contains("`body`"), "the message names the body: {err}");
     assert!(err.contains("singular"), "{err}");
     assert!(err.contains("wrote what was computed"), "{err}");
-    let table = Table::load(&dir.join("partial.csv"));
+    assert!(err.contains("result.partial.csv"), "{err}");
+    let table = Table::load(&dir.join("result.partial.csv"));
     let last = table.stop();
     assert!(last > 1.5 && last < std::f64::consts::FRAC_PI_2, "stopped at {last}");
     let phi2 = table.column("body.phi[2]");
     assert!((phi2.last().unwrap() - last).abs() < 1e-9, "phi[2] grows at 1 rad/s");
+    // The earlier result stays; the views of the partial run are named partial too.
+    assert_eq!(std::fs::read_to_string(dir.join("result.csv")).unwrap(), "an earlier complete result");
+    assert!(dir.join("result.partial.svg").exists());
+    assert!(!dir.join("result.svg").exists());
+    assert_no_temporary_files(&dir);
+}
+
+/// Nothing of the temporary files that results are written through stays.
+fn assert_no_temporary_files(dir: &std::path::Path) {
+    let left: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".tmp"))
+        .collect();
+    assert!(left.is_empty(), "temporary files left: {left:?}");
+}
+
+/// Options are checked before any work, from the command line (naming the
+/// option, negative numbers typed as such) and from the analysis (with its
+/// place); a refused run leaves earlier results as they were.
+#[test]
+fn options_are_checked_before_anything_is_written() {
+    let dir = scratch("options");
+    let pendulum = example("pendulum.dyad");
+    std::fs::write(dir.join("PendulumSimulation.csv"), "earlier results").unwrap();
+    let cases: &[(&[&str], &str)] = &[
+        (&["--stop", "-1"], "--stop -1: `stop` (-1) must be after `start` (0)"),
+        (&["--stop", "nan"], "--stop NaN: `stop` must be a finite number"),
+        (&["--stop", "inf"], "--stop inf: `stop` must be a finite number"),
+        (&["--saveat", "-0.5"], "--saveat -0.5: `saveat` must not be negative"),
+        (&["--reltol", "0"], "--reltol 0: `reltol` must be positive"),
+        (&["--abstol", "-1e-6"], "--abstol -0.000001: `abstol` must be positive"),
+        (&["--alg", "Euler"], "--alg Euler: no such method"),
+        (&["--plot", "plot.jpg"], "cannot tell the plot format; name the file .png or .svg"),
+    ];
+    for (options, message) in cases {
+        let mut args = vec!["run", pendulum.as_str()];
+        args.extend_from_slice(options);
+        let o = multibody(&dir, &args);
+        assert_eq!(code(&o), 2, "{options:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(message), "{options:?}: {}", stderr(&o));
+        assert!(!stderr(&o).contains("Simulating"), "{options:?}: refused before simulating");
+    }
+    assert_eq!(std::fs::read_to_string(dir.join("PendulumSimulation.csv")).unwrap(), "earlier results");
+    assert_no_temporary_files(&dir);
+    // The analysis's own values, in `check` too, with their place.
+    std::fs::write(
+        dir.join("bad_analysis.dyad"),
+        std::fs::read_to_string(&pendulum).unwrap().replace("stop = 5", "stop = 5, reltol = -1e-6"),
+    )
+    .unwrap();
+    for command in ["check", "run"] {
+        let o = multibody(&dir, &[command, "bad_analysis.dyad"]);
+        assert_eq!(code(&o), 1, "{command}: {}", stderr(&o));
+        assert!(stderr(&o).contains("`reltol` must be positive"), "{command}: {}", stderr(&o));
+        assert!(stderr(&o).contains("bad_analysis.dyad:"), "{command}: {}", stderr(&o));
+    }
 }
 
 /// No output may write over a model file or over another output; the
@@ -263,6 +334,7 @@ fn help_documents_the_exit_codes() {
         "2  usage error",
         "3  the simulation failed",
         "4  input/output error",
+        "130  stopped by Ctrl-C",
     ] {
         assert!(out.contains(line), "--help lacks `{line}`:\n{out}");
     }

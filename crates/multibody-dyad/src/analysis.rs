@@ -34,6 +34,8 @@ pub fn transient_options(
     }
     let mut options = SimulationOptions::default();
     let mut stop_given = false;
+    // Where each option was given, for pointing at a bad value.
+    let mut given: Vec<(String, crate::source::Span)> = Vec::new();
     let mut alg: Option<(Val, crate::source::Span)> = None;
     for m in modifiers {
         let name = m.name.name.as_str();
@@ -64,6 +66,7 @@ pub fn transient_options(
             return Err(Diagnostic::error(format!("`{name}` takes a number, but this is {}", value.describe()))
                 .primary(span, "not a number"));
         };
+        given.push((name.to_string(), span));
         match name {
             "start" => options.start = x,
             "stop" => {
@@ -82,7 +85,14 @@ pub fn transient_options(
             .help(format!("write `extends {base}(stop = 10)`")));
     }
     if let Some((value, span)) = alg {
+        given.push(("dt".into(), span));
         options.method = method(&value, span, &options, warnings)?;
+    }
+    if let Err(e) = options.validate() {
+        let span = given.iter().find(|(name, _)| name == e.option).map_or(analysis.base_span, |(_, span)| *span);
+        return Err(Diagnostic::error(e.message).primary(span, "cannot be used").help(
+            "stop must be after start, abstol and reltol positive (1e-6 is usual), saveat and dtmax 0 or positive",
+        ));
     }
     Ok(options)
 }
@@ -105,17 +115,24 @@ fn method(
             .primary(span, "not a method"))
         }
     };
-    match name.to_ascii_lowercase().as_str() {
-        "auto" => Ok(Method::DormandPrince45),
-        "rk4" => {
-            let dt = if options.saveat > 0.0 { options.saveat } else { options.dtmax };
-            if dt > 0.0 {
-                Ok(Method::Rk4 { dt })
-            } else {
-                Err(Diagnostic::error("RK4 takes a fixed step, but neither `saveat` nor `dtmax` is set")
-                    .primary(span, "needs a step")
-                    .help("set `saveat` (the step is the output interval) or `dtmax`"))
-            }
+    // Stiff methods of DifferentialEquations.jl that users name in analyses.
+    const STIFF: &[&str] = &["rodas5", "rodas5p", "rodas42", "fbdf", "qndf", "trbdf2", "kencarp4", "rosenbrock23"];
+    let dt = if options.saveat > 0.0 { options.saveat } else { options.dtmax };
+    match (Method::from_name(&name, dt), name.to_ascii_lowercase().as_str()) {
+        (Some(Method::Rk4 { .. }), _) if dt <= 0.0 => {
+            Err(Diagnostic::error("RK4 takes a fixed step, but neither `saveat` nor `dtmax` is set")
+                .primary(span, "needs a step")
+                .help("set `saveat` (the step is the output interval) or `dtmax`"))
+        }
+        (Some(method), _) => Ok(method),
+        (None, stiff) if STIFF.contains(&stiff) => {
+            warnings.push(
+                Diagnostic::warning(format!(
+                    "`{name}` is not available; using Rodas4, the implicit method for stiff models"
+                ))
+                .primary(span, "Rodas4 instead"),
+            );
+            Ok(Method::Rodas4)
         }
         _ => {
             warnings.push(
@@ -123,7 +140,10 @@ fn method(
                     "the method `{name}` is not available; using the default adaptive method (Dormand-Prince 4(5))"
                 ))
                 .primary(span, "not available")
-                .help("write `alg = ODEAlg.Auto()` for the default, or `alg = \"RK4\"` for fixed-step RK4"),
+                .help(
+                    "write `alg = ODEAlg.Auto()` for the default, `alg = \"Rodas4\"` for stiff models, or \
+                     `alg = \"RK4\"` for fixed-step RK4",
+                ),
             );
             Ok(Method::DormandPrince45)
         }

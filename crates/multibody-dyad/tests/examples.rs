@@ -3,7 +3,7 @@
 //! reference models in `examples/msl/` are checked against Modelica's own
 //! results instead (crates/multibody-cli/tests/reference.rs).
 
-use multibody::{Model, OrientationState, SimulationOptions, Solution};
+use multibody::{Method, Model, OrientationState, SimulationOptions, Solution};
 use multibody_dyad::{DefinitionKind, Package};
 use std::path::{Path, PathBuf};
 
@@ -134,6 +134,21 @@ fn spring_mass() {
 }
 
 #[test]
+fn stiff_spring() {
+    let mut m = Model::new("StiffSpring");
+    m.add("wall", "TranslationalComponents.Fixed");
+    m.add("spring", "TranslationalComponents.SpringDamper").set("c", 1e8).set("d", 1e5);
+    m.add("slider", "TranslationalComponents.Mass").set("m", 1.0).initial("s", 0.002).initial("v", 0.0);
+    m.add("push", "TranslationalComponents.Force");
+    m.add("force", "BlockComponents.Sine").set("amplitude", 1e6).set("frequency", 1.0);
+    m.connect(["wall.flange", "spring.flange_a", "push.support"]);
+    m.connect(["spring.flange_b", "slider.flange_a"]);
+    m.connect(["push.flange", "slider.flange_b"]);
+    m.connect(["force.y", "push.f"]);
+    assert_same("stiff_spring.dyad", m, SimulationOptions { method: Method::Rodas4, ..options(2.0, 0.001) });
+}
+
+#[test]
 fn documentation_pend() {
     let mut m = Model::new("Pend");
     m.add("world", "World");
@@ -215,6 +230,7 @@ fn every_example_is_checked() {
         "spring_mass.dyad",
         "four_bar.dyad",
         "geared_servo.dyad",
+        "stiff_spring.dyad",
         "docs/pend.dyad",
     ];
     let mut found = Vec::new();

@@ -71,12 +71,19 @@ fn analysis_options_map_to_the_engine() {
     let l = analysis(&with_analysis("TransientAnalysis(stop = 1, alg = \"auto\")"), "Sim");
     assert_eq!(l.options.method, Method::DormandPrince45);
 
-    // Methods that are not available fall back to the default, with a warning that says so.
+    let l = analysis(&with_analysis("TransientAnalysis(stop = 1, alg = \"Rodas4\")"), "Sim");
+    assert_eq!(l.options.method, Method::Rodas4);
+    // Stiff methods that are not available give the implicit one, others the
+    // default, each with a warning that says so.
     let l = analysis(&with_analysis("TransientAnalysis(stop = 1, alg = \"Rodas5P\", progress = false)"), "Sim");
+    assert_eq!(l.options.method, Method::Rodas4);
+    let warnings: Vec<&str> = l.warnings.iter().map(|w| w.message.as_str()).collect();
+    assert!(warnings.iter().any(|w| w.contains("`Rodas5P` is not available; using Rodas4")), "{warnings:?}");
+    assert!(warnings.iter().any(|w| w.contains("`progress` has no effect")), "{warnings:?}");
+    let l = analysis(&with_analysis("TransientAnalysis(stop = 1, alg = ODEAlg.Tsit5())"), "Sim");
     assert_eq!(l.options.method, Method::DormandPrince45);
     let warnings: Vec<&str> = l.warnings.iter().map(|w| w.message.as_str()).collect();
-    assert!(warnings.iter().any(|w| w.contains("`Rodas5P` is not available")), "{warnings:?}");
-    assert!(warnings.iter().any(|w| w.contains("`progress` has no effect")), "{warnings:?}");
+    assert!(warnings.iter().any(|w| w.contains("`Tsit5` is not available")), "{warnings:?}");
 
     let e = error(&with_analysis("TransientAnalysis(stop = 1, alg = \"RK4\")"), "Sim");
     assert!(e.contains("RK4 takes a fixed step"), "{e}");
@@ -296,4 +303,19 @@ end
     let solution = l.assemble().unwrap().simulate(&options).unwrap();
     // F = 2 N on 1 kg for 1 s.
     assert!((solution.last("thing.body.v_0[1]").unwrap() - 2.0).abs() < 1e-9);
+}
+
+/// A long flat sum is one level of nesting (not one per term), and is
+/// computed from the left.
+#[test]
+fn a_long_flat_sum_is_computed_from_the_left() {
+    let terms = " + 0.5".repeat(999);
+    let text = format!(
+        "example component P\n  parameter m::Real = 0.5{terms}\n  parameter r::Real = 100 - 1 - 2 - 3 * 2 / 4 - 1.5\n  world = MultibodyComponents.World()\n  body = MultibodyComponents.Body(m = m, r_cm = [r, 0, 0], orientation_state = OrientationState.Quaternion())\nend\n"
+    );
+    let l = component(&text, "P");
+    let body = l.model.components.iter().find(|c| c.name == "body").unwrap();
+    let param = |name: &str| body.params.iter().find(|(n, _)| n == name).map(|(_, v)| v.clone()).unwrap();
+    assert_eq!(param("m"), Value::Number(500.0));
+    assert_eq!(param("r_cm"), Value::Array(vec![100.0 - 1.0 - 2.0 - 3.0 * 2.0 / 4.0 - 1.5, 0.0, 0.0]));
 }

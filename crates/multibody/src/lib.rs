@@ -41,5 +41,5 @@ pub use assembly::{LoopInfo, Mechanism};
 pub use dynamics::{DynamicsError, Workspace};
 pub use error::{closest, Error};
 pub use model::{ComponentInstance, Connection, Model, OrientationState, Value};
-pub use simulate::{Method, OptionError, SimulationError, SimulationOptions, Solution};
+pub use simulate::{Method, OptionError, RunReport, SampleSink, SimulationError, SimulationOptions, Solution, Stopped};
 pub use system::{StateLayout, System};

@@ -4,6 +4,9 @@
 
 use multibody::{Error, Model, OrientationState};
 
+#[path = "common/four_bar.rs"]
+mod four_bar;
+
 /// Assembles a model that must fail, prints the message and returns the
 /// error with its text.
 fn failure(model: &Model) -> (Error, String) {
@@ -340,27 +343,7 @@ fn unknown_variable_suggestions_are_not_repeated() {
 /// A planar four-bar of plain revolutes `j1` to `j4` (no start values, no
 /// damper), for `setup` to change.
 fn four_bar_loop(name: &str, setup: &dyn Fn(&mut Model)) -> Model {
-    let mut model = world(name);
-    model.add("ground", "FixedTranslation").set("r", [2.0, 0.0, 0.0]);
-    for j in ["j1", "j2", "j3", "j4"] {
-        model.add(j, "Revolute");
-    }
-    for (bar, r) in [("crank", [0.0, 0.5, 0.0]), ("coupler", [2.0, 1.0, 0.0]), ("rocker", [0.0, 1.5, 0.0])] {
-        model.add(bar, "BodyShape").set("m", 1.0).set("r", r).set("I_11", 0.01).set("I_22", 0.01).set("I_33", 0.01);
-    }
-    for (a, b) in [
-        ("world.frame_b", "j1.frame_a"),
-        ("world.frame_b", "ground.frame_a"),
-        ("j1.frame_b", "crank.frame_a"),
-        ("crank.frame_b", "j2.frame_a"),
-        ("j2.frame_b", "coupler.frame_a"),
-        ("coupler.frame_b", "j3.frame_a"),
-        ("ground.frame_b", "j4.frame_a"),
-        ("j4.frame_b", "rocker.frame_a"),
-        ("rocker.frame_b", "j3.frame_b"),
-    ] {
-        model.connect([a, b]);
-    }
+    let mut model = four_bar::four_bar_linkage(name, 1.0);
     setup(&mut model);
     model
 }

@@ -41,13 +41,27 @@ pub(crate) struct SignalTable {
     names: Vec<String>,
     units: Vec<&'static str>,
     index: HashMap<String, usize>,
+    /// For a mechanism's table: the component of each column (`None` for
+    /// constraint residuals), so that outputs can skip what nobody reads.
+    owners: Vec<Option<usize>>,
 }
 
 impl SignalTable {
     pub(crate) fn new(names: Vec<String>, units: Vec<&'static str>) -> Self {
         debug_assert_eq!(names.len(), units.len());
         let index = names.iter().enumerate().map(|(i, n)| (n.clone(), i)).collect();
-        Self { names, units, index }
+        Self { names, units, index, owners: Vec::new() }
+    }
+
+    /// A mechanism's table, with the component that owns each column.
+    pub(crate) fn with_owners(names: Vec<String>, units: Vec<&'static str>, owners: Vec<Option<usize>>) -> Self {
+        debug_assert_eq!(names.len(), owners.len());
+        Self { owners, ..Self::new(names, units) }
+    }
+
+    /// The component that owns column `k`, if any.
+    pub(crate) fn owner(&self, k: usize) -> Option<usize> {
+        self.owners.get(k).copied().flatten()
     }
 
     pub(crate) fn names(&self) -> &[String] {

@@ -32,7 +32,7 @@ use crate::system::{Anchor, Attachment, Link, PointGravityMass, System, GROUND};
 
 use crate::{Error, Model};
 
-pub(crate) use mechanism::{JointRef, SignalTable};
+pub(crate) use mechanism::{CompiledComponent, JointRef, SignalTable};
 pub use mechanism::{LoopInfo, Mechanism};
 
 impl Model {

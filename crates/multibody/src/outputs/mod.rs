@@ -35,6 +35,8 @@ pub(crate) struct OutputScratch {
     cut_u: Vec<f64>,
     cut_udot: Vec<f64>,
     cut_tau: Vec<f64>,
+    /// One component's output values.
+    values: Vec<f64>,
 }
 
 const FRAME_SIGNALS: [(&str, usize, &str); 4] = [("r_0", 3, "m"), ("R", 9, ""), ("f", 3, "N"), ("tau", 3, "N.m")];
@@ -55,7 +57,8 @@ impl Mechanism {
 
     fn name_signals(&self) -> SignalTable {
         let mut out = Vec::new();
-        for c in &self.components {
+        let mut owners = Vec::new();
+        for (k, c) in self.components.iter().enumerate() {
             for v in &c.variables {
                 for suffix in v.shape.suffixes() {
                     out.push(Signal { name: format!("{}.{}{}", c.name, v.name, suffix), unit: v.unit });
@@ -73,6 +76,7 @@ impl Mechanism {
                     }
                 }
             }
+            owners.resize(out.len(), Some(k));
         }
         for constraint in &self.system.constraints {
             let name = &self.components[constraint.component].name;
@@ -85,10 +89,14 @@ impl Mechanism {
             let name = &self.components[coupling.component].name;
             out.push(Signal { name: format!("{name}.constraint_residual[1]"), unit: "" });
         }
-        SignalTable::new(out.iter().map(|s| s.name.clone()).collect(), out.iter().map(|s| s.unit).collect())
+        owners.resize(out.len(), None);
+        let (names, units) = out.into_iter().map(|s| (s.name, s.unit)).unzip();
+        SignalTable::with_owners(names, units, owners)
     }
 
-    /// Evaluates every output signal at `(t, y)` into `row` (cleared first).
+    /// Evaluates the output signals at `(t, y)` into `row` (one value per
+    /// signal): those of every component, or with `wanted` only those of
+    /// the components it marks (the other values are left as they were).
     pub(crate) fn outputs_into(
         &self,
         ws: &mut Workspace,
@@ -96,6 +104,7 @@ impl Mechanism {
         t: f64,
         y: &[f64],
         row: &mut Vec<f64>,
+        wanted: Option<&[bool]>,
     ) -> Result<(), DynamicsError> {
         let (nq, nv) = (self.system.states.nq, self.system.states.nv);
         scratch.dy.resize(nq + nv, 0.0);
@@ -118,10 +127,16 @@ impl Mechanism {
             FlangeState { s, v, a: f.acceleration(ud) }
         }));
 
-        row.clear();
+        row.resize(self.signal_table().names().len(), 0.0);
+        let mut column = 0;
         let mut joints: Vec<JointState> = Vec::new();
         let mut elements: Vec<Element1DState> = Vec::new();
-        for c in &self.components {
+        for (k, c) in self.components.iter().enumerate() {
+            let width = self.output_width(c);
+            if wanted.is_some_and(|w| !w[k]) {
+                column += width;
+                continue;
+            }
             joints.clear();
             for &joint in &c.joints {
                 joints.push(match joint {
@@ -180,10 +195,11 @@ impl Mechanism {
                 signals,
                 flanges,
             };
-            let before = row.len();
-            c.component.evaluate(&ctx, row);
+            let values = &mut scratch.values;
+            values.clear();
+            c.component.evaluate(&ctx, values);
             debug_assert_eq!(
-                row.len() - before,
+                values.len(),
                 c.variables.iter().map(|v| v.shape.len()).sum::<usize>(),
                 "{} pushed the wrong number of values",
                 c.name
@@ -191,15 +207,25 @@ impl Mechanism {
             for (local, conn) in c.spec.connectors.iter().enumerate() {
                 if conn.ty == ConnectorType::Frame && !conn.internal {
                     let f = &frames[local];
-                    row.extend_from_slice(f.r_0.as_slice());
-                    row.extend(f.rot.transpose().iter()); // row-major R[i,j]
-                    row.extend_from_slice(f.f.as_slice());
-                    row.extend_from_slice(f.tau.as_slice());
+                    values.extend_from_slice(f.r_0.as_slice());
+                    values.extend(f.rot.transpose().iter()); // row-major R[i,j]
+                    values.extend_from_slice(f.f.as_slice());
+                    values.extend_from_slice(f.tau.as_slice());
                 }
             }
+            row[column..column + width].copy_from_slice(values);
+            column += width;
         }
-        row.extend_from_slice(&ws.residual);
+        row[column..].copy_from_slice(&ws.residual);
         Ok(())
+    }
+
+    /// How many output columns a component has: its variables' values,
+    /// then 24 per public frame connector.
+    fn output_width(&self, c: &crate::assembly::CompiledComponent) -> usize {
+        let frames = c.spec.public_connectors().filter(|k| k.ty == ConnectorType::Frame).count();
+        let per_frame: usize = FRAME_SIGNALS.iter().map(|(_, size, _)| size).sum();
+        c.variables.iter().map(|v| v.shape.len()).sum::<usize>() + frames * per_frame
     }
 
     /// The coordinates, rates and accelerations of cut joints, from the

@@ -1,7 +1,7 @@
 //! Dormand-Prince 5(4) with Hairer's step-size control (dopri5, PI control
 //! with beta = 0.04) and 4th-order dense output (CONTD5).
 
-use super::integrator::{finish_step, DenseStep, Failure, OdeSystem, Stats, Stopped, Tolerances};
+use super::integrator::{finish_step, DenseStep, Failure, OdeSystem, Stats, StiffStretch, Stopped, Tolerances};
 
 const C2: f64 = 1.0 / 5.0;
 const C3: f64 = 3.0 / 10.0;
@@ -44,6 +44,13 @@ const SAFETY: f64 = 0.9;
 const BETA: f64 = 0.04;
 const FAC_MIN: f64 = 0.2; // smallest step ratio h_new / h
 const FAC_MAX: f64 = 10.0; // largest step ratio
+/// `h |lambda|` on the boundary of the method's stability region, along
+/// the negative real axis (Hairer's dopri5 uses the same).
+const STABILITY_EDGE: f64 = 3.25;
+/// Accepted steps in a row at the stability edge that make a run stiff.
+const STIFF_STEPS: usize = 15;
+/// Steps away from the edge that clear the suspicion.
+const NON_STIFF_STEPS: usize = 6;
 
 /// The integrator's memory, allocated once per integration.
 pub struct DormandPrince {
@@ -116,6 +123,7 @@ impl DormandPrince {
         };
         let mut fac_old = 1e-4f64;
         let mut rejected_last = false;
+        let (mut at_edge, mut off_edge) = (0usize, 0usize);
         while t < tf {
             if 0.1 * h.abs() <= t.abs() * f64::EPSILON * 4.0 {
                 return stop(t, Failure::StepTooSmall { h }, stats);
@@ -140,6 +148,23 @@ impl DormandPrince {
             let fac = (fac11 / fac_old.powf(BETA) / SAFETY).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN);
             if err <= 1.0 {
                 stats.accepted += 1;
+                stats.error_sum += err;
+                if stats.stiff.is_none() {
+                    match self.stiff_mode(h, n) {
+                        Some((h_lambda, state)) if h_lambda > STABILITY_EDGE => {
+                            (at_edge, off_edge) = (at_edge + 1, 0);
+                            if at_edge == STIFF_STEPS {
+                                stats.stiff = Some(StiffStretch { time: t, h, rate: h_lambda / h, state });
+                            }
+                        }
+                        _ => {
+                            off_edge += 1;
+                            if off_edge == NON_STIFF_STEPS {
+                                at_edge = 0;
+                            }
+                        }
+                    }
+                }
                 fac_old = err.max(1e-4);
                 self.dense_coefficients(h, n);
                 self.k.swap(0, 6);
@@ -191,6 +216,24 @@ impl DormandPrince {
             y_new[i] = y[i] + h * (A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i]);
         }
         sys.rhs(t + h, y_new, k7)
+    }
+
+    /// Hairer's estimate of `h |lambda|` for the dominant eigenvalue, from the
+    /// last two stages (both at `t + h`): `h |k7 - k6| / |y_new - stage6|`,
+    /// and the state that moves most in that mode.
+    fn stiff_mode(&self, h: f64, n: usize) -> Option<(f64, usize)> {
+        let (k6, k7) = (&self.k[5], &self.k[6]);
+        let (mut num, mut den, mut state, mut most) = (0.0, 0.0, 0, 0.0);
+        for i in 0..n {
+            let dk = k7[i] - k6[i];
+            num += dk * dk;
+            den += (self.y_new[i] - self.stage[i]).powi(2);
+            let scaled = dk.abs() / (self.tol.abstol + self.tol.reltol * self.y_new[i].abs());
+            if scaled > most {
+                (most, state) = (scaled, i);
+            }
+        }
+        (den > 0.0).then(|| (h * (num / den).sqrt(), state))
     }
 
     /// RMS of the error estimate scaled by `abstol + reltol max(|y|, |y_new|)`.
@@ -256,20 +299,8 @@ impl DormandPrince {
 
 #[cfg(test)]
 mod tests {
+    use super::super::integrator::test_systems::{assert_stopped_at_the_failure, FailsAfter, Oscillator};
     use super::*;
-
-    struct Oscillator;
-    impl OdeSystem for Oscillator {
-        type Error = ();
-        fn dim(&self) -> usize {
-            2
-        }
-        fn rhs(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), ()> {
-            dy[0] = y[1];
-            dy[1] = -y[0];
-            Ok(())
-        }
-    }
 
     fn run(tol: f64) -> (f64, f64, Stats) {
         let mut dp = DormandPrince::new(2, Tolerances { abstol: tol, reltol: tol, dtmax: 0.0 });
@@ -302,30 +333,12 @@ mod tests {
 
     #[test]
     fn stops_with_the_error_and_the_time_reached() {
-        struct Fails;
-        impl OdeSystem for Fails {
-            type Error = &'static str;
-            fn dim(&self) -> usize {
-                1
-            }
-            fn rhs(&mut self, t: f64, _y: &[f64], dy: &mut [f64]) -> Result<(), &'static str> {
-                dy[0] = 1.0;
-                if t > 2.5 {
-                    Err("past 2.5")
-                } else {
-                    Ok(())
-                }
-            }
-        }
         let mut dp = DormandPrince::new(1, Tolerances { abstol: 1e-6, reltol: 1e-6, dtmax: 0.1 });
         let mut last = 0.0;
-        let stopped = dp.integrate(&mut Fails, 0.0, 5.0, &[0.0], |s| {
+        let stopped = dp.integrate(&mut FailsAfter, 0.0, 5.0, &[0.0], |s| {
             last = s.span().1;
             Ok(())
         });
-        let stopped = stopped.unwrap_err();
-        assert!(matches!(stopped.failure, Failure::Rhs("past 2.5")));
-        assert!(stopped.t <= 2.5 && stopped.t > 2.3, "stopped at {}", stopped.t);
-        assert_eq!(stopped.t, last);
+        assert_stopped_at_the_failure(stopped.unwrap_err(), last);
     }
 }

@@ -25,12 +25,34 @@ pub trait DenseStep {
     fn interpolate(&self, t: f64, out: &mut [f64]);
 }
 
-/// Counts of the work an integration did.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// Counts of the work an integration did, and what it saw on the way.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Stats {
     pub accepted: usize,
     pub rejected: usize,
     pub evaluations: usize,
+    /// The sum over accepted steps of their error estimates, in units of
+    /// the tolerance (each at most 1): a rough bound on how the errors of
+    /// single steps add up.
+    pub error_sum: f64,
+    /// Where an explicit method first found its steps bounded by
+    /// stability rather than accuracy.
+    pub stiff: Option<StiffStretch>,
+}
+
+/// A stretch where the steps of an explicit method were bounded by
+/// stability: the dynamics have a fast decaying mode, `h * |lambda|` at
+/// the edge of the method's stability region.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StiffStretch {
+    /// When it was detected.
+    pub time: f64,
+    /// The step size then.
+    pub h: f64,
+    /// The estimated rate of the fast mode, `|lambda|` [1/s].
+    pub rate: f64,
+    /// The state that moves most in that mode (index into the state vector).
+    pub state: usize,
 }
 
 /// Why an integration stopped early.
@@ -92,4 +114,49 @@ pub struct Tolerances {
     pub reltol: f64,
     /// Largest step; 0 for no limit.
     pub dtmax: f64,
+}
+
+/// Small systems with known solutions, for the integrators' tests.
+#[cfg(test)]
+pub(crate) mod test_systems {
+    use super::{Failure, OdeSystem, Stopped};
+
+    /// `y'' = -y` as `(y, y')`: `(sin t, cos t)` from `(0, 1)`.
+    pub struct Oscillator;
+    impl OdeSystem for Oscillator {
+        type Error = ();
+        fn dim(&self) -> usize {
+            2
+        }
+        fn rhs(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), ()> {
+            dy[0] = y[1];
+            dy[1] = -y[0];
+            Ok(())
+        }
+    }
+
+    /// `y' = 1`, whose evaluation fails after t = 2.5.
+    pub struct FailsAfter;
+    impl OdeSystem for FailsAfter {
+        type Error = &'static str;
+        fn dim(&self) -> usize {
+            1
+        }
+        fn rhs(&mut self, t: f64, _y: &[f64], dy: &mut [f64]) -> Result<(), &'static str> {
+            dy[0] = 1.0;
+            if t > 2.5 {
+                Err("past 2.5")
+            } else {
+                Ok(())
+            }
+        }
+    }
+
+    /// An integration of [`FailsAfter`] (with `dtmax = 0.1`) stopped with
+    /// its error at the last step the observer saw, just before 2.5.
+    pub fn assert_stopped_at_the_failure(stopped: Stopped<&'static str>, last_observed: f64) {
+        assert!(matches!(stopped.failure, Failure::Rhs("past 2.5")));
+        assert!(stopped.t <= 2.5 && stopped.t > 2.3, "stopped at {}", stopped.t);
+        assert_eq!(stopped.t, last_observed);
+    }
 }

@@ -10,6 +10,7 @@ pub struct Solution {
     table: Arc<SignalTable>,
     time: Vec<f64>,
     columns: Vec<Vec<f64>>,
+    warnings: Vec<String>,
 }
 
 impl std::fmt::Debug for Solution {
@@ -30,7 +31,18 @@ impl Solution {
 
     pub(crate) fn with_signals(table: Arc<SignalTable>) -> Self {
         let columns = vec![Vec::new(); table.names().len()];
-        Self { table, time: Vec::new(), columns }
+        Self { table, time: Vec::new(), columns, warnings: Vec::new() }
+    }
+
+    /// What the integrator found doubtful about this run (a stiff
+    /// stretch, errors that add up beyond the tolerance); empty when the
+    /// run met its tolerance without doubt.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    pub(crate) fn set_warnings(&mut self, warnings: Vec<String>) {
+        self.warnings = warnings;
     }
 
     /// Makes room for `samples` more samples of every signal.
@@ -115,25 +127,54 @@ impl Solution {
             .collect()
     }
 
-    /// Writes a CSV file: a `time` column, then the chosen signals, with
-    /// the names quoted as in Modelica's result files (matrix entries like
-    /// `R[1,2]` contain commas).
+    /// Writes a CSV file: a `time` column, then the chosen signals (names
+    /// that are not signals are left out).
     pub fn write_csv(&self, out: &mut impl Write, signals: &[&str]) -> io::Result<()> {
         let signals: Vec<&str> = signals.iter().copied().filter(|s| self.get(s).is_some()).collect();
         let columns: Vec<&[f64]> = signals.iter().filter_map(|s| self.get(s)).collect();
+        let mut csv = CsvWriter::new(out, &signals)?;
+        let mut row = vec![0.0; columns.len()];
+        for (k, &t) in self.time.iter().enumerate() {
+            for (x, c) in row.iter_mut().zip(&columns) {
+                *x = c[k];
+            }
+            csv.row(t, &row)?;
+        }
+        Ok(())
+    }
+}
+
+/// Writes samples as CSV rows as they come: a `time` column, then one per
+/// signal, with the names quoted as in Modelica's result files (matrix
+/// entries like `R[1,2]` contain commas).
+pub struct CsvWriter<W: Write> {
+    out: W,
+}
+
+impl<W: Write> CsvWriter<W> {
+    /// Writes the header.
+    pub fn new(mut out: W, names: &[&str]) -> io::Result<Self> {
         write!(out, "\"time\"")?;
-        for s in &signals {
+        for s in names {
             write!(out, ",\"{}\"", s.replace('"', "\"\""))?;
         }
         writeln!(out)?;
-        for (k, t) in self.time.iter().enumerate() {
-            write!(out, "{t}")?;
-            for c in &columns {
-                write!(out, ",{}", c[k])?;
-            }
-            writeln!(out)?;
+        Ok(Self { out })
+    }
+
+    /// One row: the time and one value per signal of the header.
+    pub fn row(&mut self, t: f64, values: &[f64]) -> io::Result<()> {
+        write!(self.out, "{t}")?;
+        for x in values {
+            write!(self.out, ",{x}")?;
         }
-        Ok(())
+        writeln!(self.out)
+    }
+
+    /// The writer, flushed.
+    pub fn finish(mut self) -> io::Result<W> {
+        self.out.flush()?;
+        Ok(self.out)
     }
 }
 

@@ -1,0 +1,326 @@
+//! The files a run writes: checked before the run, streamed while it goes,
+//! and put in place only when complete. A result file is written under a
+//! temporary name in its folder and renamed at the end, so that no reader
+//! ever sees half a file and an earlier result is replaced only by a
+//! complete one. A run that stops part way keeps what it computed under a
+//! name that says so (`results.partial.csv`).
+
+use crate::exit::Failure;
+use multibody::simulate::CsvWriter;
+use multibody::{Mechanism, SampleSink, SimulationOptions, Solution};
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use tempfile::NamedTempFile;
+
+/// Bytes a CSV row takes per value, about (`-0.12345678901234567,`).
+const CSV_BYTES_PER_VALUE: f64 = 20.0;
+/// The memory budget when the machine does not say what it has.
+const DEFAULT_MEMORY: f64 = 4e9;
+
+/// The paths of a run's results, checked: none writes over a model file
+/// read, no two are the same, and the views' formats are known.
+pub struct ResultFiles {
+    pub csv: PathBuf,
+    pub animate: Option<PathBuf>,
+    pub plot: Option<PathBuf>,
+}
+
+impl ResultFiles {
+    pub fn new(inputs: &[PathBuf], csv: &Path, animate: Option<&Path>, plot: Option<&Path>) -> Result<Self, Failure> {
+        let outputs = [("--out", Some(csv)), ("--animate", animate), ("--plot", plot)];
+        outputs_are_safe(inputs, &outputs)?;
+        if let Some(plot) = plot {
+            if multibody_view::PlotFormat::from_path(plot).is_none() {
+                return Err(Failure::Usage(format!(
+                    "`--plot {}`: cannot tell the plot format; name the file .png or .svg",
+                    plot.display()
+                )));
+            }
+        }
+        Ok(Self { csv: csv.to_path_buf(), animate: animate.map(Path::to_path_buf), plot: plot.map(Path::to_path_buf) })
+    }
+}
+
+/// `results.csv` -> `results.partial.csv`: where a run that stopped part
+/// way keeps what it computed, beside (not over) an earlier complete result.
+pub fn partial_path(path: &Path) -> PathBuf {
+    let stem = path.file_stem().map_or_else(|| "results".into(), |s| s.to_string_lossy().into_owned());
+    let name = match path.extension() {
+        Some(ext) => format!("{stem}.partial.{}", ext.to_string_lossy()),
+        None => format!("{stem}.partial"),
+    };
+    path.with_file_name(name)
+}
+
+/// Writes a file whole or not at all: into a temporary file in the same
+/// folder, renamed to `path` once `write` succeeded.
+pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<(), Failure> {
+    let io = |e: std::io::Error| Failure::Io(format!("cannot write {}: {e}", path.display()));
+    let file = temporary_beside(path).map_err(io)?;
+    let mut writer = BufWriter::new(file);
+    write(&mut writer).map_err(io)?;
+    let file = writer.into_inner().map_err(|e| io(e.into_error()))?;
+    file.persist(path).map_err(|e| io(e.error))?;
+    Ok(())
+}
+
+/// A temporary file in the folder of `path` (created if missing), readable
+/// like any result file once renamed. It is deleted if never persisted.
+fn temporary_beside(path: &Path) -> std::io::Result<NamedTempFile> {
+    let folder = match path.parent() {
+        Some(f) if !f.as_os_str().is_empty() => f.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    std::fs::create_dir_all(&folder)?;
+    let name = path.file_name().map_or_else(|| "result".into(), |n| n.to_string_lossy().into_owned());
+    let prefix = format!(".{name}.");
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(&prefix).suffix(".tmp");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o644));
+    }
+    builder.tempfile_in(folder)
+}
+
+/// What a run may use: memory for the samples the views need, and disk
+/// for the CSV.
+#[derive(Clone, Copy, Debug)]
+pub struct Budget {
+    /// Bytes of samples a run may keep in memory.
+    pub memory: f64,
+}
+
+impl Budget {
+    /// Half the memory this machine has available now.
+    pub fn of_this_machine() -> Self {
+        let available = std::fs::read_to_string("/proc/meminfo").ok().and_then(|info| {
+            let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+            let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+            Some(kib * 1024.0)
+        });
+        Self { memory: available.map_or(DEFAULT_MEMORY, |bytes| 0.5 * bytes) }
+    }
+
+    /// Refuses, before it starts, a run whose output grid cannot fit: the
+    /// samples the views keep in memory, or the CSV on its disk. (With
+    /// `saveat = 0` the number of samples is not known in advance; the
+    /// streaming sink then stops the run when the views reach the budget.)
+    pub fn check(
+        &self,
+        options: &SimulationOptions,
+        all_signals: usize,
+        written_signals: usize,
+        views: bool,
+        csv: &Path,
+    ) -> Result<(), Failure> {
+        if options.saveat <= 0.0 {
+            return Ok(());
+        }
+        let samples = ((options.stop - options.start) / options.saveat).ceil() + 1.0;
+        let advice = "raise --saveat, shorten --stop, or write fewer --signals";
+        if views {
+            let memory = samples * (all_signals + 1) as f64 * 8.0;
+            if memory > self.memory {
+                return Err(Failure::Usage(format!(
+                    "the animation and plot need every signal in memory: {} samples × {all_signals} signals take \
+                     {}, more than the {} this run may use (half the memory available); {advice}, or leave out \
+                     --animate and --plot (the CSV alone is streamed to disk)",
+                    count(samples),
+                    bytes(memory),
+                    bytes(self.memory)
+                )));
+            }
+        }
+        let disk = samples * (written_signals + 1) as f64 * CSV_BYTES_PER_VALUE;
+        let folder = csv.parent().filter(|f| !f.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        let folder = folder.ancestors().find(|f| f.exists()).unwrap_or(Path::new("."));
+        if let Ok(free) = fs4::available_space(folder) {
+            if disk > free as f64 {
+                return Err(Failure::Usage(format!(
+                    "the CSV would take about {} ({} samples × {written_signals} signals), and {} has {} free; \
+                     {advice}",
+                    bytes(disk),
+                    count(samples),
+                    folder.display(),
+                    bytes(free as f64)
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The CSV of a run, written as the samples come (memory does not grow
+/// with the run), with every signal kept in memory too when the views need
+/// them.
+pub struct StreamingCsv {
+    csv: Option<CsvWriter<BufWriter<NamedTempFile>>>,
+    /// Column of each written signal in the full row.
+    picks: Vec<usize>,
+    values: Vec<f64>,
+    error: Option<std::io::Error>,
+    kept: Kept,
+    /// Bytes the kept solution may take.
+    memory: f64,
+}
+
+/// What a streamed run leaves besides its file.
+#[derive(Default)]
+pub struct Kept {
+    pub samples: usize,
+    /// First and last time written.
+    pub span: Option<(f64, f64)>,
+    /// The written signals at the last sample, by name.
+    pub last_row: Vec<(String, f64)>,
+    /// Every signal at every sample, when the views need them.
+    pub solution: Option<Solution>,
+    names: Vec<String>,
+    /// The written signals at the last sample.
+    last: Vec<f64>,
+}
+
+impl StreamingCsv {
+    /// Starts the CSV (header) under a temporary name beside `path`;
+    /// `keep` is the memory budget for keeping every signal for the views.
+    pub fn create(path: &Path, mechanism: &Mechanism, signals: &[String], keep: Option<f64>) -> Result<Self, Failure> {
+        let io = |e: std::io::Error| Failure::Io(format!("cannot write {}: {e}", path.display()));
+        let all = mechanism.signals();
+        let names: Vec<String> = all.iter().map(|s| s.name.clone()).collect();
+        let picks: Vec<usize> = signals.iter().filter_map(|s| names.iter().position(|n| n == s)).collect();
+        let header: Vec<&str> = picks.iter().map(|&k| names[k].as_str()).collect();
+        let file = temporary_beside(path).map_err(io)?;
+        let csv = CsvWriter::new(BufWriter::new(file), &header).map_err(io)?;
+        let solution = keep.map(|_| Solution::new(names.clone(), all.iter().map(|s| s.unit).collect()));
+        Ok(Self {
+            csv: Some(csv),
+            values: vec![0.0; picks.len()],
+            picks,
+            error: None,
+            kept: Kept { solution, names, ..Kept::default() },
+            memory: keep.unwrap_or(f64::INFINITY),
+        })
+    }
+
+    /// Puts the CSV in place at `path` (the final or the partial name) and
+    /// gives what was kept. A write error during the run is reported here;
+    /// the temporary file is removed then.
+    pub fn finish(&mut self, path: &Path) -> Result<Kept, Failure> {
+        let io = |e: std::io::Error| Failure::Io(format!("cannot write {}: {e}", path.display()));
+        let csv = self.csv.take().expect("the CSV is finished once");
+        if let Some(e) = self.error.take() {
+            return Err(io(e));
+        }
+        let file = csv.finish().map_err(io)?.into_inner().map_err(|e| io(e.into_error()))?;
+        file.persist(path).map_err(|e| io(e.error))?;
+        let mut kept = std::mem::take(&mut self.kept);
+        kept.last_row = self.picks.iter().map(|&k| kept.names[k].clone()).zip(kept.last.iter().copied()).collect();
+        Ok(kept)
+    }
+}
+
+impl SampleSink for StreamingCsv {
+    /// The written signals alone, unless the views need every signal.
+    fn columns(&self) -> Option<&[usize]> {
+        self.kept.solution.is_none().then_some(self.picks.as_slice())
+    }
+
+    fn sample(&mut self, t: f64, row: &[f64]) -> Result<(), String> {
+        for (v, &k) in self.values.iter_mut().zip(&self.picks) {
+            *v = row[k];
+        }
+        let csv = self.csv.as_mut().expect("samples come before the CSV is finished");
+        if let Err(e) = csv.row(t, &self.values) {
+            let reason = format!("cannot write the CSV: {e}");
+            self.error = Some(e);
+            return Err(reason);
+        }
+        let kept = &mut self.kept;
+        kept.samples += 1;
+        kept.span = Some((kept.span.map_or(t, |(first, _)| first), t));
+        kept.last.clear();
+        kept.last.extend_from_slice(&self.values);
+        if let Some(solution) = &mut kept.solution {
+            if (solution.len() + 1) as f64 * (row.len() + 1) as f64 * 8.0 > self.memory {
+                return Err(format!(
+                    "the animation and plot would need more than {} of memory for their samples; rerun with a \
+                     larger --saveat, or without --animate and --plot (the CSV alone is streamed to disk)",
+                    bytes(self.memory)
+                ));
+            }
+            solution.push(t, row);
+        }
+        Ok(())
+    }
+}
+
+/// Refuses, before anything is computed, an output that would write over
+/// one of the model files read or over another output of the same run.
+/// Only `.dyad` files in an input folder count as inputs: a rerun in a
+/// model folder may replace its own earlier results.
+fn outputs_are_safe(inputs: &[PathBuf], outputs: &[(&str, Option<&Path>)]) -> Result<(), Failure> {
+    let mut read = Vec::new();
+    for input in inputs {
+        match std::fs::read_dir(input) {
+            Ok(entries) => {
+                let models = entries.flatten().map(|e| e.path()).filter(|p| p.extension().is_some_and(|e| e == "dyad"));
+                read.extend(models)
+            }
+            Err(_) => read.push(input.clone()),
+        }
+    }
+    let mut written: Vec<(&str, PathBuf)> = Vec::new();
+    for &(option, path) in outputs {
+        let Some(path) = path else { continue };
+        let key = comparable(path);
+        if let Some(input) = read.iter().find(|i| comparable(i) == key) {
+            return Err(Failure::Usage(format!(
+                "`{option} {}` would write over the model file {}; choose another path for the output",
+                path.display(),
+                input.display()
+            )));
+        }
+        if let Some((other, _)) = written.iter().find(|(_, w)| *w == key) {
+            return Err(Failure::Usage(format!(
+                "`{other}` and `{option}` both name {}; give each output a path of its own",
+                path.display()
+            )));
+        }
+        written.push((option, key));
+    }
+    Ok(())
+}
+
+/// The absolute form of a path, through links, for comparing files that
+/// may not exist yet (their folder is resolved).
+fn comparable(path: &Path) -> PathBuf {
+    if let Ok(p) = path.canonicalize() {
+        return p;
+    }
+    let folder = match path.parent() {
+        Some(f) if !f.as_os_str().is_empty() => f.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let folder = folder.canonicalize().unwrap_or(folder);
+    path.file_name().map_or(folder.clone(), |name| folder.join(name))
+}
+
+/// "12 GB", "340 MB", "2.1 kB".
+pub fn bytes(x: f64) -> String {
+    match x {
+        x if x >= 1e12 => format!("{:.1} TB", x / 1e12),
+        x if x >= 1e9 => format!("{:.1} GB", x / 1e9),
+        x if x >= 1e6 => format!("{:.1} MB", x / 1e6),
+        x => format!("{:.1} kB", x / 1e3),
+    }
+}
+
+/// A sample count for people: "10001", "1e9".
+fn count(n: f64) -> String {
+    if n < 1e7 {
+        format!("{n:.0}")
+    } else {
+        format!("{n:.1e}")
+    }
+}
