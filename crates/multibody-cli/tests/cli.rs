@@ -200,6 +200,7 @@ fn options_are_checked_before_anything_is_written() {
         (&["--stop", "inf"], "--stop inf: `stop` must be a finite number"),
         (&["--saveat", "-0.5"], "--saveat -0.5: `saveat` must not be negative"),
         (&["--reltol", "0"], "--reltol 0: `reltol` must be positive"),
+        (&["--reltol", "1e-20"], "below what double precision can resolve"),
         (&["--abstol", "-1e-6"], "--abstol -0.000001: `abstol` must be positive"),
         (&["--alg", "Euler"], "--alg Euler: no such method"),
         (&["--plot", "plot.jpg"], "cannot tell the plot format; name the file .png or .svg"),
