@@ -8,7 +8,7 @@ use crate::Selection;
 pub fn check(selection: &Selection) -> Result<(), Failure> {
     let package = read_package(&selection.files)?;
     let target = choose(&package, selection)?;
-    let lowered = lower(&package, &target)?;
+    let lowered = lower(&package, &target, &[])?;
     let mechanism = lowered.assemble().map_err(|d| {
         print_diagnostics(&package, &[d]);
         Failure::Model

@@ -2,7 +2,7 @@
 
 use crate::exit::{color, Failure};
 use crate::Selection;
-use multibody_dyad::{diagnostics::did_you_mean, DefinitionKind, Diagnostic, Lowered, Package};
+use multibody_dyad::{diagnostics::did_you_mean, DefinitionKind, Diagnostic, Lowered, Override, Package};
 use std::path::{Path, PathBuf};
 
 /// What to simulate: an analysis, or a component with default options.
@@ -106,12 +106,10 @@ pub fn choose(package: &Package, selection: &Selection) -> Result<Target, Failur
     }
 }
 
-/// Lowers the target, printing the warnings; errors are printed too.
-pub fn lower(package: &Package, target: &Target) -> Result<Lowered, Failure> {
-    let lowered = match target {
-        Target::Analysis(name) => package.lower_analysis(name),
-        Target::Component(name) => package.lower_component(name),
-    };
+/// Lowers the target with `overrides`, printing the warnings; errors are
+/// printed too.
+pub fn lower(package: &Package, target: &Target, overrides: &[Override]) -> Result<Lowered, Failure> {
+    let lowered = lower_quietly(package, target, overrides);
     match lowered {
         Ok(l) => {
             print_diagnostics(package, &l.warnings);
@@ -121,6 +119,38 @@ pub fn lower(package: &Package, target: &Target) -> Result<Lowered, Failure> {
             print_diagnostics(package, &[d]);
             Err(Failure::Model)
         }
+    }
+}
+
+/// Lowers the target with `overrides`, printing nothing.
+pub fn lower_quietly(package: &Package, target: &Target, overrides: &[Override]) -> Result<Lowered, Diagnostic> {
+    match target {
+        Target::Analysis(name) => package.lower_analysis_with(name, overrides),
+        Target::Component(name) => package.lower_component_with(name, overrides),
+    }
+}
+
+/// `--param NAME=VALUE` and `--initial NAME=VALUE` as overrides, each value
+/// a single number (for `run`).
+pub fn overrides(params: &[String], initials: &[String]) -> Result<Vec<Override>, Failure> {
+    let mut out = Vec::new();
+    for (option, given, initial) in [("--param", params, false), ("--initial", initials, true)] {
+        for text in given {
+            let (path, value) = assignment(option, text)?;
+            let value: f64 = value.trim().parse().map_err(|_| {
+                Failure::Usage(format!("`{option} {text}`: `{value}` is not a number (write {option} {path}=2.5)"))
+            })?;
+            out.push(if initial { Override::initial(path, value) } else { Override::parameter(path, value) });
+        }
+    }
+    Ok(out)
+}
+
+/// `body.m=2` as (`body.m`, `2`).
+pub fn assignment<'t>(option: &str, text: &'t str) -> Result<(&'t str, &'t str), Failure> {
+    match text.split_once('=') {
+        Some((path, value)) if !path.trim().is_empty() => Ok((path.trim(), value)),
+        _ => Err(Failure::Usage(format!("`{option} {text}`: write NAME=VALUE, e.g. {option} body.m=2"))),
     }
 }
 

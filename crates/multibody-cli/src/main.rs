@@ -7,6 +7,7 @@ mod load;
 mod output;
 mod progress;
 mod run;
+mod sweep;
 
 use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
@@ -25,6 +26,7 @@ Examples:
   multibody run examples/pendulum.dyad
   multibody run examples/double_pendulum.dyad --animate double_pendulum.html --plot double_pendulum.png
   multibody run examples/ --analysis PendulumSimulation --signals 'rev.*' --out pendulum.csv
+  multibody sweep examples/pendulum.dyad --param body.m=0.5:0.5:2 --param damper.d=0,0.1 --out sweep.csv
   multibody check examples/free_body.dyad
   multibody describe Body";
 
@@ -48,6 +50,8 @@ enum Command {
     },
     /// List every library component with a line about it
     List,
+    /// Run a model over a grid of parameter values, on every core, into one table
+    Sweep(SweepArgs),
 }
 
 /// Which model files, and which analysis or component in them.
@@ -64,10 +68,9 @@ pub struct Selection {
     pub model: Option<String>,
 }
 
-#[derive(Args)]
-pub struct RunArgs {
-    #[command(flatten)]
-    pub selection: Selection,
+/// The simulation options the command line may set over the analysis's.
+#[derive(Args, Clone)]
+pub struct OptionArgs {
     /// Stop time [s] (default: the analysis's, or 1 s with --model)
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
     pub stop: Option<f64>,
@@ -84,6 +87,20 @@ pub struct RunArgs {
     /// (fixed step, the --saveat or the analysis's saveat/dtmax) (default: the analysis's alg)
     #[arg(long, value_name = "NAME")]
     pub alg: Option<String>,
+}
+
+#[derive(Args)]
+pub struct RunArgs {
+    #[command(flatten)]
+    pub selection: Selection,
+    #[command(flatten)]
+    pub options: OptionArgs,
+    /// Set a parameter of the model, by its path: --param length=2 --param body.m=1.5
+    #[arg(long = "param", value_name = "NAME=VALUE", allow_hyphen_values = true)]
+    pub params: Vec<String>,
+    /// Set a start value, by its path: --initial rev.phi=0.3
+    #[arg(long = "initial", value_name = "NAME=VALUE", allow_hyphen_values = true)]
+    pub initials: Vec<String>,
     /// Output CSV file (default: NAME.csv in the current folder)
     #[arg(long, short, value_name = "FILE")]
     pub out: Option<PathBuf>,
@@ -99,6 +116,31 @@ pub struct RunArgs {
     pub plot: Option<PathBuf>,
 }
 
+#[derive(Args)]
+pub struct SweepArgs {
+    #[command(flatten)]
+    pub selection: Selection,
+    #[command(flatten)]
+    pub options: OptionArgs,
+    /// Values of a parameter, by its path: a list (m=1,2,5), a range START:STEP:STOP (m=1:0.5:3), or one
+    /// value; the sweep runs every combination of the values given
+    #[arg(long = "param", value_name = "NAME=VALUES", allow_hyphen_values = true, required = true)]
+    pub params: Vec<String>,
+    /// Values of a start value, by its path, written like --param: --initial rev.phi=0:0.1:0.5
+    #[arg(long = "initial", value_name = "NAME=VALUES", allow_hyphen_values = true)]
+    pub initials: Vec<String>,
+    /// Output CSV file: one long table, a row per sample of each run, with the run number and its
+    /// parameters as the first columns (default: NAME_sweep.csv)
+    #[arg(long, short, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Signals to write, as glob patterns (default: the states)
+    #[arg(long, value_name = "PATTERN", num_args = 1..)]
+    pub signals: Vec<String>,
+    /// How many runs at once (default: one per core)
+    #[arg(long, value_name = "N")]
+    pub jobs: Option<usize>,
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -106,6 +148,7 @@ fn main() -> ExitCode {
         Command::Check(selection) => check::check(&selection),
         Command::Describe { kind } => catalog::describe(&kind),
         Command::List => catalog::list(),
+        Command::Sweep(args) => sweep::sweep(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,10 +1,10 @@
 //! `multibody run`: simulate and write a CSV.
 
 use crate::exit::{error_word, Failure};
-use crate::load::{choose, file_of, lower, print_diagnostics, read_package, Target};
+use crate::load::{choose, file_of, lower, overrides, print_diagnostics, read_package, Target};
 use crate::output::{self, Budget, ResultFiles, StreamingCsv};
 use crate::progress::Progress;
-use crate::RunArgs;
+use crate::{OptionArgs, RunArgs};
 use multibody::simulate::glob;
 use multibody::{Mechanism, Method, SimulationOptions, Solution};
 use std::path::{Path, PathBuf};
@@ -18,8 +18,9 @@ const SUMMARY_STATES: usize = 6;
 pub fn run(args: &RunArgs) -> Result<(), Failure> {
     let package = read_package(&args.selection.files)?;
     let target = choose(&package, &args.selection)?;
-    let lowered = lower(&package, &target)?;
-    let options = command_line_options(args, &lowered.options)?;
+    let overrides = overrides(&args.params, &args.initials)?;
+    let lowered = lower(&package, &target, &overrides)?;
+    let options = command_line_options(&args.options, &lowered.options)?;
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("{}.csv", lowered.name)));
     let files = ResultFiles::new(&args.selection.files, &out, args.animate.as_deref(), args.plot.as_deref())?;
     let mechanism = lowered.assemble().map_err(|d| {
@@ -110,7 +111,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
 
 /// The analysis's options with the command line's on top, checked before
 /// any work: a bad value names the option that gave it.
-fn command_line_options(args: &RunArgs, analysis: &SimulationOptions) -> Result<SimulationOptions, Failure> {
+pub fn command_line_options(args: &OptionArgs, analysis: &SimulationOptions) -> Result<SimulationOptions, Failure> {
     let mut options = analysis.clone();
     let overrides = [
         ("stop", args.stop, &mut options.stop),
@@ -168,7 +169,7 @@ fn on_ctrl_c() -> Arc<AtomicBool> {
 
 /// The signals the patterns select (all without patterns); a pattern that
 /// selects nothing is an error, caught before simulating.
-fn chosen_signals(mechanism: &Mechanism, patterns: &[String]) -> Result<Vec<String>, Failure> {
+pub fn chosen_signals(mechanism: &Mechanism, patterns: &[String]) -> Result<Vec<String>, Failure> {
     let names: Vec<String> = mechanism.signals().into_iter().map(|s| s.name).collect();
     for p in patterns {
         if !names.iter().any(|n| glob(p, n)) {
@@ -282,7 +283,7 @@ fn method(options: &SimulationOptions) -> String {
 }
 
 /// "1 signal", "3 signals".
-fn plural(n: usize, word: &str) -> String {
+pub fn plural(n: usize, word: &str) -> String {
     if n == 1 {
         format!("1 {word}")
     } else {

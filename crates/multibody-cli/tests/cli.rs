@@ -340,3 +340,57 @@ fn help_documents_the_exit_codes() {
         assert!(out.contains(line), "--help lacks `{line}`:\n{out}");
     }
 }
+
+/// A sweep runs every combination of the values into one long table: each
+/// run's rows are those of `run` with the same values; a run that fails is
+/// reported with its values and the others are kept.
+#[test]
+fn a_sweep_runs_the_grid_into_one_table() {
+    let dir = scratch("sweep");
+    let pendulum = example("pendulum.dyad");
+    let o = multibody(
+        &dir,
+        &["run", &pendulum, "--param", "body.m=2", "--initial", "rev.phi=0.5", "--stop", "1", "--out", "one.csv"],
+    );
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let one = Table::load(&dir.join("one.csv"));
+    let o = multibody(
+        &dir,
+        &[
+            "sweep",
+            &pendulum,
+            "--param",
+            "body.m=-1,1:1:2",
+            "--initial",
+            "rev.phi=0.5",
+            "--stop",
+            "1",
+            "--signals",
+            "rev.phi",
+            "rev.w",
+            "--out",
+            "sweep.csv",
+        ],
+    );
+    assert_eq!(code(&o), 3, "one run of three fails: {}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("run 1 (body.m = -1, rev.phi = 0.5)"), "{err}");
+    assert!(err.contains("2 runs of 3 ran"), "{err}");
+    let text = std::fs::read_to_string(dir.join("sweep.csv")).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next().unwrap(), "\"run\",\"body.m\",\"rev.phi\",\"time\",\"rev.phi\",\"rev.w\"");
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let run3: Vec<&Vec<&str>> = rows.iter().filter(|r| r[0] == "3").collect();
+    assert_eq!(run3.len(), one.time.len());
+    assert!(rows.iter().all(|r| r[0] != "1"), "the failed run has no rows");
+    for (k, row) in run3.iter().enumerate() {
+        assert_eq!(row[1..3], ["2", "0.5"]);
+        let (t, phi, w): (f64, f64, f64) = (row[3].parse().unwrap(), row[4].parse().unwrap(), row[5].parse().unwrap());
+        assert_eq!(t, one.time[k]);
+        assert_eq!(phi.to_bits(), one.column("rev.phi")[k].to_bits(), "the same numbers as `run`");
+        assert_eq!(w.to_bits(), one.column("rev.w")[k].to_bits());
+    }
+    let o = multibody(&dir, &["sweep", &pendulum, "--param", "body.m=1:0:2"]);
+    assert_eq!(code(&o), 2);
+    assert!(stderr(&o).contains("non-zero step"), "{}", stderr(&o));
+}

@@ -47,6 +47,7 @@ mod types;
 
 pub use diagnostics::{Diagnostic, Severity};
 pub use engine_errors::engine_diagnostic;
+pub use modifiers::Override;
 pub use source::{FileId, Sources, Span};
 pub use source_map::SourceMap;
 
@@ -197,16 +198,28 @@ impl Package {
 
     /// Lowers the analysis `name`: its model and simulation options.
     pub fn lower_analysis(&self, name: &str) -> Result<Lowered, Diagnostic> {
+        self.lower_analysis_with(name, &[])
+    }
+
+    /// Lowers the analysis `name` with parameters or start values of its
+    /// model given from outside the files (they win over the files').
+    pub fn lower_analysis_with(&self, name: &str, overrides: &[Override]) -> Result<Lowered, Diagnostic> {
         let index = lower::Index::new(&self.files)?;
         let analysis = index.analyses.get(name).copied().ok_or_else(|| self.not_found(name, "analysis"))?;
-        lower::Lowerer::analysis(&index, analysis)
+        lower::Lowerer::analysis(&index, analysis, overrides)
     }
 
     /// Lowers the component `name` as a whole model, with default options.
     pub fn lower_component(&self, name: &str) -> Result<Lowered, Diagnostic> {
+        self.lower_component_with(name, &[])
+    }
+
+    /// Lowers the component `name` with parameters or start values given
+    /// from outside the files.
+    pub fn lower_component_with(&self, name: &str, overrides: &[Override]) -> Result<Lowered, Diagnostic> {
         let index = lower::Index::new(&self.files)?;
         let def = index.components.get(name).copied().ok_or_else(|| self.not_found(name, "component"))?;
-        lower::Lowerer::component(&index, def)
+        lower::Lowerer::component(&index, def, overrides)
     }
 
     fn not_found(&self, name: &str, what: &str) -> Diagnostic {

@@ -8,7 +8,7 @@ use crate::ast::*;
 use crate::connections::{ConnectionGraph, End};
 use crate::diagnostics::{did_you_mean, Diagnostic};
 use crate::eval::{eval, Val};
-use crate::modifiers::{eval_modifiers, merge_outer, merge_same_level, Mod};
+use crate::modifiers::{apply_overrides, eval_modifiers, merge_outer, merge_same_level, Mod, Override};
 use crate::scope::ParamScope;
 use crate::source::Span;
 use crate::source_map::{ComponentSite, MemberSite, Shadowing, SourceMap};
@@ -120,14 +120,24 @@ impl<'a, 'i> Lowerer<'a, 'i> {
     }
 
     /// Lowers a component as the whole model, with default options.
-    pub fn component(index: &'i Index<'a>, def: &'a ComponentDef) -> Result<Lowered, Diagnostic> {
+    pub fn component(
+        index: &'i Index<'a>,
+        def: &'a ComponentDef,
+        overrides: &[Override],
+    ) -> Result<Lowered, Diagnostic> {
         let mut lowerer = Lowerer::new(index, def);
-        lowerer.instantiate(def, "", Vec::new(), def.header, &[])?;
+        let mut modifiers = Vec::new();
+        apply_overrides(&mut modifiers, overrides, def.header);
+        lowerer.instantiate(def, "", modifiers, def.header, &[])?;
         Ok(lowerer.finish(&def.name.name, SimulationOptions::default(), false))
     }
 
     /// Lowers an analysis: its model and its options.
-    pub fn analysis(index: &'i Index<'a>, analysis: &'a AnalysisDef) -> Result<Lowered, Diagnostic> {
+    pub fn analysis(
+        index: &'i Index<'a>,
+        analysis: &'a AnalysisDef,
+        overrides: &[Override],
+    ) -> Result<Lowered, Diagnostic> {
         let Some(model) = &analysis.model else {
             return Err(Diagnostic::error(format!("the analysis `{}` has no model", analysis.name.name))
                 .primary(analysis.header, "no `model = ...`")
@@ -143,7 +153,8 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         check_unique(analysis.parameters.iter().map(|p| &p.name))?;
         scope.resolve_all()?;
         let base_modifiers = eval_modifiers(&analysis.base_modifiers, &mut scope)?;
-        let model_modifiers = eval_modifiers(&model.modifiers, &mut scope)?;
+        let mut model_modifiers = eval_modifiers(&model.modifiers, &mut scope)?;
+        apply_overrides(&mut model_modifiers, overrides, model.span);
         let def = match resolve_kind(index, &model.kind)? {
             Kind::User(def) => def,
             _ => {

@@ -124,3 +124,62 @@ pub fn merge_outer(outer: Vec<Mod>, mut own: Vec<Mod>) -> Result<Vec<Mod>, Diagn
     }
     Ok(own)
 }
+
+/// A value given from outside the model files (the command line, a sweep,
+/// Python) for a parameter or a start value of the simulated model, by its
+/// path: `length`, `body.m`, or with `initial` a start value, `rev.phi`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Override {
+    pub path: String,
+    pub value: Val,
+    /// A start value (`rev.phi(initial = value)`) rather than a parameter.
+    pub initial: bool,
+}
+
+impl Override {
+    pub fn parameter(path: impl Into<String>, value: f64) -> Self {
+        Self { path: path.into(), value: Val::Number(value), initial: false }
+    }
+
+    pub fn initial(path: impl Into<String>, value: f64) -> Self {
+        Self { path: path.into(), value: Val::Number(value), initial: true }
+    }
+}
+
+/// Applies overrides to the model's own modifiers, replacing what the files
+/// give at the same place (`body.m = 2` becomes the modifier `body(m = 2)`).
+/// The new modifiers point at `span`, the model's declaration.
+pub fn apply_overrides(modifiers: &mut Vec<Mod>, overrides: &[Override], span: Span) {
+    for o in overrides {
+        let mut path: Vec<&str> = o.path.split('.').collect();
+        if o.initial {
+            path.push("initial");
+        }
+        set_at(modifiers, &path, &o.value, span);
+    }
+}
+
+fn set_at(modifiers: &mut Vec<Mod>, path: &[&str], value: &Val, span: Span) {
+    let Some((first, rest)) = path.split_first() else { return };
+    let index = match modifiers.iter().position(|m| m.name.name == *first) {
+        Some(i) => i,
+        None => {
+            modifiers.push(Mod {
+                name: Ident { name: first.to_string(), span },
+                is_final: false,
+                value: None,
+                nested: Vec::new(),
+                has_nested: false,
+                span,
+            });
+            modifiers.len() - 1
+        }
+    };
+    let m = &mut modifiers[index];
+    if rest.is_empty() {
+        m.value = Some((value.clone(), span));
+    } else {
+        m.has_nested = true;
+        set_at(&mut m.nested, rest, value, span);
+    }
+}

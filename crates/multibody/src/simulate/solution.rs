@@ -153,10 +153,16 @@ pub struct CsvWriter<W: Write> {
 
 impl<W: Write> CsvWriter<W> {
     /// Writes the header.
-    pub fn new(mut out: W, names: &[&str]) -> io::Result<Self> {
-        write!(out, "\"time\"")?;
-        for s in names {
-            write!(out, ",\"{}\"", s.replace('"', "\"\""))?;
+    pub fn new(out: W, names: &[&str]) -> io::Result<Self> {
+        Self::with_keys(out, &[], names)
+    }
+
+    /// Writes the header of a table whose rows start with `keys` (the run
+    /// and its parameters of a sweep), before `time`.
+    pub fn with_keys(mut out: W, keys: &[&str], names: &[&str]) -> io::Result<Self> {
+        for (k, s) in keys.iter().chain(&["time"]).chain(names).enumerate() {
+            let comma = if k == 0 { "" } else { "," };
+            write!(out, "{comma}\"{}\"", s.replace('"', "\"\""))?;
         }
         writeln!(out)?;
         Ok(Self { out })
@@ -164,6 +170,14 @@ impl<W: Write> CsvWriter<W> {
 
     /// One row: the time and one value per signal of the header.
     pub fn row(&mut self, t: f64, values: &[f64]) -> io::Result<()> {
+        self.keyed_row(&[], t, values)
+    }
+
+    /// One row of a table with keys: their values, the time, the signals.
+    pub fn keyed_row(&mut self, keys: &[f64], t: f64, values: &[f64]) -> io::Result<()> {
+        for k in keys {
+            write!(self.out, "{k},")?;
+        }
         write!(self.out, "{t}")?;
         for x in values {
             write!(self.out, ",{x}")?;

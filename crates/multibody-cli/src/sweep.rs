@@ -1,0 +1,256 @@
+//! `multibody sweep`: one model over a grid of parameter values, the runs
+//! spread over every core, into one long table.
+//!
+//! The files are read and parsed once; each run lowers the model with its
+//! values (microseconds), assembles and simulates it on its own thread. A
+//! run that fails is reported with its values and leaves the others.
+
+use crate::exit::{error_word, Failure};
+use crate::load::{assignment, choose, file_of, lower, lower_quietly, read_package};
+use crate::output::write_atomically;
+use crate::run::{chosen_signals, command_line_options, number, plural};
+use crate::SweepArgs;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use multibody::simulate::CsvWriter;
+use multibody::{SampleSink, SimulationOptions};
+use multibody_dyad::Override;
+use rayon::prelude::*;
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// More runs than this is most likely a mistyped range.
+const MAX_RUNS: usize = 1_000_000;
+
+pub fn sweep(args: &SweepArgs) -> Result<(), Failure> {
+    let package = read_package(&args.selection.files)?;
+    let target = choose(&package, &args.selection)?;
+    let axes = axes(&args.params, &args.initials)?;
+    let sets = grid(&axes)?;
+    // The first set that assembles gives the signals and checks the options;
+    // when none does, the first set's errors are shown (a misspelt name).
+    let probe = sets.iter().find_map(|set| {
+        let lowered = lower_quietly(&package, &target, set).ok()?;
+        let mechanism = lowered.assemble().ok()?;
+        Some((lowered, mechanism))
+    });
+    let Some((first, mechanism)) = probe else {
+        let lowered = lower(&package, &target, &sets[0])?;
+        let d = lowered.assemble().err().into_iter().collect::<Vec<_>>();
+        crate::load::print_diagnostics(&package, &d);
+        return Err(Failure::Model);
+    };
+    let options = command_line_options(&args.options, &first.options)?;
+    let patterns = if args.signals.is_empty() { mechanism.states().names.clone() } else { args.signals.clone() };
+    let signals = chosen_signals(&mechanism, &patterns)?;
+    let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("{}_sweep.csv", first.name)));
+    let inputs: Vec<PathBuf> = args.selection.files.clone();
+    crate::output::ResultFiles::new(&inputs, &out, None, None)?;
+    drop(mechanism);
+
+    let jobs = args.jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1);
+    eprintln!(
+        "Sweeping {} from {}: {} × {}, on {}",
+        first.name,
+        file_of(&package, &first.name),
+        plural(sets.len(), "run"),
+        plural(signals.len(), "signal"),
+        plural(jobs, "thread")
+    );
+    let bar = progress_bar(sets.len());
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(jobs)
+        .build()
+        .map_err(|e| Failure::Usage(format!("--jobs {jobs}: {e}")))?;
+    let started = Instant::now();
+    let runs: Vec<Result<Run, String>> = pool.install(|| {
+        sets.par_iter()
+            .map(|set| {
+                let run = simulate(&package, &target, set, &args.options, &options, &signals);
+                bar.inc(1);
+                run
+            })
+            .collect()
+    });
+    bar.finish_and_clear();
+    let elapsed = started.elapsed();
+
+    let failed = runs.iter().filter(|r| r.is_err()).count();
+    for (k, (set, run)) in sets.iter().zip(&runs).enumerate() {
+        if let Err(reason) = run {
+            eprintln!("{}: run {} ({}): {reason}", error_word(), k + 1, describe(set));
+        }
+    }
+    write_atomically(&out, |w| {
+        let keys: Vec<&str> = std::iter::once("run").chain(axes.iter().map(|a| a.name.as_str())).collect();
+        let signal_names: Vec<&str> = signals.iter().map(String::as_str).collect();
+        let mut csv = CsvWriter::with_keys(w, &keys, &signal_names)?;
+        for (k, (set, run)) in sets.iter().zip(&runs).enumerate() {
+            let Ok(run) = run else { continue };
+            let key_values: Vec<f64> = std::iter::once((k + 1) as f64).chain(set.iter().map(number_of)).collect();
+            for (t, row) in run.time.iter().zip(run.rows.chunks_exact(signals.len().max(1))) {
+                csv.keyed_row(&key_values, *t, row)?;
+            }
+        }
+        csv.finish().map(|_| ())
+    })?;
+    let samples: usize = runs.iter().flatten().map(|r| r.time.len()).sum();
+    eprintln!(
+        "  {} of {} ran ({} samples in all, {elapsed:.1?}) → {}",
+        plural(sets.len() - failed, "run"),
+        sets.len(),
+        samples,
+        out.display()
+    );
+    if failed > 0 {
+        eprintln!("  {} failed (above); the table holds the others", plural(failed, "run"));
+        return Err(Failure::Simulation);
+    }
+    Ok(())
+}
+
+/// One parameter (or start value) and its values.
+struct Axis {
+    name: String,
+    initial: bool,
+    values: Vec<f64>,
+}
+
+fn axes(params: &[String], initials: &[String]) -> Result<Vec<Axis>, Failure> {
+    let mut out = Vec::new();
+    for (option, given, initial) in [("--param", params, false), ("--initial", initials, true)] {
+        for text in given {
+            let (name, values) = assignment(option, text)?;
+            let values = parse_values(values).map_err(|why| Failure::Usage(format!("`{option} {text}`: {why}")))?;
+            out.push(Axis { name: name.to_string(), initial, values });
+        }
+    }
+    Ok(out)
+}
+
+/// A list of values and ranges: `1,2,5`, `1:0.5:3` (START:STEP:STOP, STOP
+/// included when on the grid), `-1,1:1:2`, or one value.
+fn parse_values(text: &str) -> Result<Vec<f64>, String> {
+    let mut values = Vec::new();
+    for item in text.split(',') {
+        values.extend(parse_item(item)?);
+        if values.len() > MAX_RUNS {
+            return Err(format!("more than {MAX_RUNS} values"));
+        }
+    }
+    Ok(values)
+}
+
+fn parse_item(item: &str) -> Result<Vec<f64>, String> {
+    let number = |s: &str| s.trim().parse::<f64>().map_err(|_| format!("`{}` is not a number", s.trim()));
+    match item.split(':').collect::<Vec<_>>().as_slice() {
+        [one] => Ok(vec![number(one)?]),
+        [start, step, stop] => {
+            let (start, step, stop) = (number(start)?, number(step)?, number(stop)?);
+            if !(step.is_finite() && step != 0.0 && start.is_finite() && stop.is_finite()) {
+                return Err("write a range as START:STEP:STOP with a non-zero step".into());
+            }
+            let count = ((stop - start) / step + 1e-9).floor();
+            if count < 0.0 {
+                return Err(format!("the step {step} never goes from {start} to {stop}"));
+            }
+            if count >= MAX_RUNS as f64 {
+                return Err(format!("{count} values: more than a sweep can run"));
+            }
+            Ok((0..=count as usize).map(|k| start + k as f64 * step).collect())
+        }
+        _ => Err("write values as a list (1,2,5), a range START:STEP:STOP (1:0.5:3), or one value".into()),
+    }
+}
+
+/// Every combination of the axes' values, the first axis slowest.
+fn grid(axes: &[Axis]) -> Result<Vec<Vec<Override>>, Failure> {
+    let total = axes.iter().try_fold(1usize, |n, a| n.checked_mul(a.values.len()).filter(|&n| n <= MAX_RUNS));
+    let Some(total) = total else {
+        return Err(Failure::Usage(format!("the grid has more than {MAX_RUNS} runs; sweep fewer values")));
+    };
+    let mut sets = Vec::with_capacity(total);
+    for mut k in 0..total {
+        let mut set = vec![Override::parameter("", 0.0); axes.len()];
+        for (slot, axis) in set.iter_mut().zip(axes).rev() {
+            let value = axis.values[k % axis.values.len()];
+            k /= axis.values.len();
+            *slot = if axis.initial {
+                Override::initial(axis.name.clone(), value)
+            } else {
+                Override::parameter(axis.name.clone(), value)
+            };
+        }
+        sets.push(set);
+    }
+    Ok(sets)
+}
+
+/// The samples of one run, the chosen signals only.
+struct Run {
+    time: Vec<f64>,
+    rows: Vec<f64>,
+    picks: Vec<usize>,
+}
+
+impl SampleSink for Run {
+    fn sample(&mut self, t: f64, row: &[f64]) -> Result<(), String> {
+        self.time.push(t);
+        self.rows.extend(self.picks.iter().map(|&k| row[k]));
+        Ok(())
+    }
+
+    fn columns(&self) -> Option<&[usize]> {
+        Some(&self.picks)
+    }
+}
+
+/// One run of the sweep, on the calling thread.
+fn simulate(
+    package: &multibody_dyad::Package,
+    target: &crate::load::Target,
+    set: &[Override],
+    given: &crate::OptionArgs,
+    first_options: &SimulationOptions,
+    signals: &[String],
+) -> Result<Run, String> {
+    let lowered = lower_quietly(package, target, set).map_err(|d| d.message.clone())?;
+    // The analysis's options may depend on the swept values; the command line's stay on top.
+    let options = if lowered.options == *first_options {
+        first_options.clone()
+    } else {
+        command_line_options(given, &lowered.options).map_err(|f| format!("{f:?}"))?
+    };
+    let mechanism = lowered.assemble().map_err(|d| d.message.clone())?;
+    let names = mechanism.signals();
+    let picks = signals.iter().filter_map(|s| names.iter().position(|n| &n.name == s)).collect();
+    let mut run = Run { time: Vec::new(), rows: Vec::new(), picks };
+    match mechanism.simulate_into(&mechanism.states().start, &options, &mut run, None) {
+        Ok(_) => Ok(run),
+        Err(stopped) => Err(format!("stopped at t = {}: {}", number(stopped.time), stopped.reason)),
+    }
+}
+
+fn describe(set: &[Override]) -> String {
+    set.iter().map(|o| format!("{} = {}", o.path, number_of(o))).collect::<Vec<_>>().join(", ")
+}
+
+/// The value of a sweep's override (always a number).
+fn number_of(o: &Override) -> f64 {
+    match o.value {
+        multibody_dyad::eval::Val::Number(x) => x,
+        _ => f64::NAN,
+    }
+}
+
+fn progress_bar(runs: usize) -> ProgressBar {
+    let target =
+        if std::io::stderr().is_terminal() { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() };
+    let bar = ProgressBar::with_draw_target(Some(runs as u64), target);
+    if let Ok(style) =
+        ProgressStyle::with_template("  {bar:40.cyan/blue} {pos}/{len} runs  ({elapsed}, about {eta} left)")
+    {
+        bar.set_style(style);
+    }
+    bar
+}
