@@ -33,6 +33,16 @@ impl Failure {
         }
     }
 
+    /// What went wrong, for a message of one run (a sweep's).
+    pub fn message(&self) -> String {
+        match self {
+            Failure::Usage(message) | Failure::Io(message) => message.clone(),
+            Failure::Model => "the model files have errors".into(),
+            Failure::Simulation => "the simulation failed".into(),
+            Failure::Interrupted => "interrupted".into(),
+        }
+    }
+
     /// Prints the message (if not printed yet) and gives the exit code.
     pub fn report(self) -> ExitCode {
         match &self {

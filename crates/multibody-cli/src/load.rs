@@ -5,11 +5,7 @@ use crate::Selection;
 use multibody_dyad::{diagnostics::did_you_mean, DefinitionKind, Diagnostic, Lowered, Override, Package};
 use std::path::{Path, PathBuf};
 
-/// What to simulate: an analysis, or a component with default options.
-pub enum Target {
-    Analysis(String),
-    Component(String),
-}
+pub use multibody_dyad::Target;
 
 /// Reads every file (folders: every `.dyad` file directly in them, sorted). Syntax
 /// errors of all files are printed before failing.
@@ -109,7 +105,7 @@ pub fn choose(package: &Package, selection: &Selection) -> Result<Target, Failur
 /// Lowers the target with `overrides`, printing the warnings; errors are
 /// printed too.
 pub fn lower(package: &Package, target: &Target, overrides: &[Override]) -> Result<Lowered, Failure> {
-    let lowered = lower_quietly(package, target, overrides);
+    let lowered = package.lower_target(target, overrides);
     match lowered {
         Ok(l) => {
             print_diagnostics(package, &l.warnings);
@@ -119,14 +115,6 @@ pub fn lower(package: &Package, target: &Target, overrides: &[Override]) -> Resu
             print_diagnostics(package, &[d]);
             Err(Failure::Model)
         }
-    }
-}
-
-/// Lowers the target with `overrides`, printing nothing.
-pub fn lower_quietly(package: &Package, target: &Target, overrides: &[Override]) -> Result<Lowered, Diagnostic> {
-    match target {
-        Target::Analysis(name) => package.lower_analysis_with(name, overrides),
-        Target::Component(name) => package.lower_component_with(name, overrides),
     }
 }
 

@@ -6,14 +6,14 @@
 //! run that fails is reported with its values and leaves the others.
 
 use crate::exit::{error_word, Failure};
-use crate::load::{assignment, choose, file_of, lower, lower_quietly, read_package};
+use crate::load::{assignment, choose, file_of, lower, read_package};
 use crate::output::write_atomically;
 use crate::run::{chosen_signals, command_line_options, number, plural};
 use crate::SweepArgs;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use multibody::simulate::CsvWriter;
-use multibody::{SampleSink, SimulationOptions};
-use multibody_dyad::Override;
+use multibody::SimulationOptions;
+use multibody_dyad::{Override, RunError, Samples, Target};
 use rayon::prelude::*;
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -30,7 +30,7 @@ pub fn sweep(args: &SweepArgs) -> Result<(), Failure> {
     // The first set that assembles gives the signals and checks the options;
     // when none does, the first set's errors are shown (a misspelt name).
     let probe = sets.iter().find_map(|set| {
-        let lowered = lower_quietly(&package, &target, set).ok()?;
+        let lowered = package.lower_target(&target, set).ok()?;
         let mechanism = lowered.assemble().ok()?;
         Some((lowered, mechanism))
     });
@@ -40,7 +40,8 @@ pub fn sweep(args: &SweepArgs) -> Result<(), Failure> {
         crate::load::print_diagnostics(&package, &d);
         return Err(Failure::Model);
     };
-    let options = command_line_options(&args.options, &first.options)?;
+    // Bad options are refused once, before the runs.
+    command_line_options(&args.options, &first.options)?;
     let patterns = if args.signals.is_empty() { mechanism.states().names.clone() } else { args.signals.clone() };
     let signals = chosen_signals(&mechanism, &patterns)?;
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("{}_sweep.csv", first.name)));
@@ -63,10 +64,10 @@ pub fn sweep(args: &SweepArgs) -> Result<(), Failure> {
         .build()
         .map_err(|e| Failure::Usage(format!("--jobs {jobs}: {e}")))?;
     let started = Instant::now();
-    let runs: Vec<Result<Run, String>> = pool.install(|| {
+    let runs: Vec<Result<Samples, String>> = pool.install(|| {
         sets.par_iter()
             .map(|set| {
-                let run = simulate(&package, &target, set, &args.options, &options, &signals);
+                let run = simulate(&package, &target, set, &args.options, &signals);
                 bar.inc(1);
                 run
             })
@@ -88,7 +89,7 @@ pub fn sweep(args: &SweepArgs) -> Result<(), Failure> {
         for (k, (set, run)) in sets.iter().zip(&runs).enumerate() {
             let Ok(run) = run else { continue };
             let key_values: Vec<f64> = std::iter::once((k + 1) as f64).chain(set.iter().map(number_of)).collect();
-            for (t, row) in run.time.iter().zip(run.rows.chunks_exact(signals.len().max(1))) {
+            for (t, row) in run.time.iter().zip(run.values.chunks_exact(signals.len().max(1))) {
                 csv.keyed_row(&key_values, *t, row)?;
             }
         }
@@ -186,49 +187,20 @@ fn grid(axes: &[Axis]) -> Result<Vec<Vec<Override>>, Failure> {
     Ok(sets)
 }
 
-/// The samples of one run, the chosen signals only.
-struct Run {
-    time: Vec<f64>,
-    rows: Vec<f64>,
-    picks: Vec<usize>,
-}
-
-impl SampleSink for Run {
-    fn sample(&mut self, t: f64, row: &[f64]) -> Result<(), String> {
-        self.time.push(t);
-        self.rows.extend(self.picks.iter().map(|&k| row[k]));
-        Ok(())
-    }
-
-    fn columns(&self) -> Option<&[usize]> {
-        Some(&self.picks)
-    }
-}
-
 /// One run of the sweep, on the calling thread.
 fn simulate(
     package: &multibody_dyad::Package,
-    target: &crate::load::Target,
+    target: &Target,
     set: &[Override],
     given: &crate::OptionArgs,
-    first_options: &SimulationOptions,
     signals: &[String],
-) -> Result<Run, String> {
-    let lowered = lower_quietly(package, target, set).map_err(|d| d.message.clone())?;
-    // The analysis's options may depend on the swept values; the command line's stay on top.
-    let options = if lowered.options == *first_options {
-        first_options.clone()
-    } else {
-        command_line_options(given, &lowered.options).map_err(|f| format!("{f:?}"))?
-    };
-    let mechanism = lowered.assemble().map_err(|d| d.message.clone())?;
-    let names = mechanism.signals();
-    let picks = signals.iter().filter_map(|s| names.iter().position(|n| &n.name == s)).collect();
-    let mut run = Run { time: Vec::new(), rows: Vec::new(), picks };
-    match mechanism.simulate_into(&mechanism.states().start, &options, &mut run, None) {
-        Ok(_) => Ok(run),
-        Err(stopped) => Err(format!("stopped at t = {}: {}", number(stopped.time), stopped.reason)),
-    }
+) -> Result<Samples, String> {
+    let options = |analysis: &SimulationOptions| command_line_options(given, analysis).map_err(|f| f.message());
+    package.run(target, set, options, signals).map_err(|e| match e {
+        RunError::Model(d) => d.message,
+        RunError::Options(why) => why,
+        RunError::Stopped { time, reason, .. } => format!("stopped at t = {}: {reason}", number(time)),
+    })
 }
 
 fn describe(set: &[Override]) -> String {

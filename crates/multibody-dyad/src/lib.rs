@@ -43,6 +43,7 @@ pub mod parser;
 mod scope;
 pub mod source;
 pub mod source_map;
+pub mod study;
 mod types;
 
 pub use diagnostics::{Diagnostic, Severity};
@@ -50,6 +51,7 @@ pub use engine_errors::engine_diagnostic;
 pub use modifiers::Override;
 pub use source::{FileId, Sources, Span};
 pub use source_map::SourceMap;
+pub use study::{RunError, Samples, Target};
 
 use ast::{ComponentKind, Item};
 use multibody::{Mechanism, Model, SimulationOptions};

@@ -68,13 +68,16 @@ impl Sources {
 
     /// `file:line:col` of the start of a span (1-based), for short messages.
     pub fn location(&self, span: Span) -> String {
-        match self.line_index(span.file, span.start).and_then(|line| {
-            let col = self.column_number(span.file, line, span.start)?;
-            Ok((line + 1, col))
-        }) {
-            Ok((line, col)) => format!("{}:{line}:{col}", self.name(span.file)),
-            Err(_) => self.name(span.file).to_string(),
+        match self.line_column(span) {
+            Some((line, col)) => format!("{}:{line}:{col}", self.name(span.file)),
+            None => self.name(span.file).to_string(),
         }
+    }
+
+    /// Line and column (1-based) of the start of a span.
+    pub fn line_column(&self, span: Span) -> Option<(usize, usize)> {
+        let line = self.line_index(span.file, span.start).ok()?;
+        Some((line + 1, self.column_number(span.file, line, span.start).ok()?))
     }
 }
 

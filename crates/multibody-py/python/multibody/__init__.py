@@ -1,0 +1,257 @@
+"""Multibody dynamics from Dyad model files.
+
+Load a model (``load`` a ``.dyad`` file, or ``loads`` its text), then
+``Model.simulate`` it, with other parameters, start values and options if
+you like, and read every signal of the result by name as a numpy array
+(``result["link1.joint.phi"]``, ``result.time``), or as a pandas or polars
+DataFrame. ``Model.sweep`` runs many sets of values on every core.
+
+Parameters and start values are named by their path in the model, as in
+the model file: ``length`` (a parameter of the model itself),
+``link1.length`` (of a component in it), ``rev.phi`` (a start value, in
+``initial=``).
+
+Errors are exceptions: ``ModelError`` for mistakes in the model files
+(with ``file``, ``line`` and ``column``), ``SimulationError`` for a
+simulation that stopped part way (with ``time`` and the ``partial``
+result), ``ValueError`` for options that cannot be used. All derive from
+``MultibodyError`` except ``ValueError``.
+"""
+
+from __future__ import annotations
+
+import fnmatch
+import os
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _multibody
+from ._multibody import ModelError, MultibodyError, SimulationError
+
+__all__ = ["load", "loads", "Model", "Result", "MultibodyError", "ModelError", "SimulationError"]
+
+
+class Result:
+    """The samples of one simulation.
+
+    ``time`` is a numpy array of the sample times; ``result[name]`` the
+    samples of one signal (``result["body.r_0[2]"]``); ``names`` lists the
+    signals kept; ``values`` is the whole table (one row per time, one
+    column per name); ``warnings`` says what the integrator found doubtful.
+    """
+
+    def __init__(self, names: Sequence[str], time: bytes, values: bytes, warnings: Sequence[str]):
+        self.names: List[str] = list(names)
+        self.time: np.ndarray = np.frombuffer(time, dtype=np.float64)
+        self.values: np.ndarray = np.frombuffer(values, dtype=np.float64).reshape(len(self.time), len(self.names))
+        self.warnings: List[str] = list(warnings)
+        self._index = {name: k for k, name in enumerate(self.names)}
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        if name == "time":
+            return self.time
+        try:
+            return self.values[:, self._index[name]]
+        except KeyError:
+            close = [n for n in self.names if n.split("[")[0] == name.split("[")[0]][:5]
+            hint = f"; did you mean {', '.join(close)}?" if close else "; pass signals=[...] to simulate() to keep it"
+            raise KeyError(f"no signal {name!r} in this result{hint}") from None
+
+    def __contains__(self, name: object) -> bool:
+        return name in self._index
+
+    def __len__(self) -> int:
+        return len(self.time)
+
+    def __repr__(self) -> str:
+        span = f"t = {self.time[0]} .. {self.time[-1]}" if len(self.time) else "empty"
+        return f"<multibody.Result: {len(self.names)} signals, {len(self.time)} samples, {span}>"
+
+    def to_pandas(self):
+        """The samples as a pandas DataFrame: a ``time`` column, then one per signal."""
+        import pandas as pd
+
+        frame = pd.DataFrame(self.values, columns=self.names)
+        frame.insert(0, "time", self.time)
+        return frame
+
+    def to_polars(self):
+        """The samples as a polars DataFrame: a ``time`` column, then one per signal."""
+        import polars as pl
+
+        return pl.DataFrame({"time": self.time, **{n: self.values[:, k] for k, n in enumerate(self.names)}})
+
+
+class Model:
+    """A loaded model: the analysis (or component) to simulate, with its options."""
+
+    def __init__(self, native: "_multibody.Model", file: str):
+        self._native = native
+        self.file = file
+        self._all: Optional[List[str]] = None
+
+    @property
+    def name(self) -> str:
+        """The analysis's name (or the component's, without an analysis)."""
+        return self._native.name
+
+    @property
+    def options(self) -> Dict[str, float]:
+        """The analysis's options: start, stop, abstol, reltol, saveat, dtmax."""
+        return dict(self._native.options)
+
+    def signals(self, *patterns: str) -> List[str]:
+        """Every signal's name, or those matching the glob patterns (``"*.phi"``)."""
+        names = self._every_signal()
+        if not patterns:
+            return list(names)
+        return [n for n in names if any(_glob(n, p) for p in patterns)]
+
+    def simulate(
+        self,
+        params: Optional[Mapping[str, float]] = None,
+        initial: Optional[Mapping[str, float]] = None,
+        *,
+        signals: Union[None, str, Sequence[str]] = None,
+        stop: Optional[float] = None,
+        saveat: Optional[float] = None,
+        abstol: Optional[float] = None,
+        reltol: Optional[float] = None,
+        alg: Optional[str] = None,
+    ) -> Result:
+        """Simulates the model and returns its samples.
+
+        ``params`` and ``initial`` map paths to values (``{"body.m": 2}``,
+        ``{"rev.phi": 0.3}``); they win over the model files. ``signals``
+        picks what is kept: names or glob patterns (``"*.phi"``), ``"all"``
+        for every signal; by default the states. The options default to the
+        analysis's; ``alg`` is ``"auto"``, ``"Rodas4"`` (stiff models) or
+        ``"RK4"``. Raises ``SimulationError`` (with the partial result) if
+        the simulation stops part way.
+        """
+        names = self._signal_names(signals)
+        columns = _call(
+            self._native.simulate,
+            _pairs(params),
+            _pairs(initial),
+            names,
+            stop=stop,
+            saveat=saveat,
+            abstol=abstol,
+            reltol=reltol,
+            alg=alg,
+        )
+        return Result(*columns)
+
+    def sweep(
+        self,
+        sets: Iterable[Mapping[str, float]],
+        initial: Optional[Iterable[Mapping[str, float]]] = None,
+        *,
+        signals: Union[None, str, Sequence[str]] = None,
+        threads: Optional[int] = None,
+        stop: Optional[float] = None,
+        saveat: Optional[float] = None,
+        abstol: Optional[float] = None,
+        reltol: Optional[float] = None,
+        alg: Optional[str] = None,
+    ) -> List[Union[Result, MultibodyError, ValueError]]:
+        """Simulates once per set of parameter values, on ``threads`` threads
+        (all cores by default), and returns one entry per set, in order: its
+        ``Result``, or the exception it raised (the others are kept).
+
+        ``initial``, when given, is a list of start values of the same length.
+        """
+        sets = [dict(s) for s in sets]
+        starts = [dict(s) for s in initial] if initial is not None else [{} for _ in sets]
+        if len(starts) != len(sets):
+            raise ValueError(f"{len(sets)} sets of parameters but {len(starts)} sets of start values")
+        names = self._signal_names(signals)
+        pairs = [(_pairs(p), _pairs(i)) for p, i in zip(sets, starts)]
+        out = self._native.sweep(
+            pairs, names, threads=threads, stop=stop, saveat=saveat, abstol=abstol, reltol=reltol, alg=alg
+        )
+        return [_wrap_error(r) if isinstance(r, BaseException) else Result(*r) for r in out]
+
+    def _signal_names(self, signals: Union[None, str, Sequence[str]]) -> List[str]:
+        if signals is None:
+            return []
+        if isinstance(signals, str):
+            signals = [signals]
+        everything = self._every_signal()
+        if list(signals) == ["all"]:
+            return everything
+        chosen: List[str] = []
+        for pattern in signals:
+            matches = [n for n in everything if _glob(n, pattern)]
+            if not matches:
+                raise ValueError(f"no signal matches {pattern!r}; Model.signals() lists them")
+            chosen.extend(m for m in matches if m not in chosen)
+        return chosen
+
+    def _every_signal(self) -> List[str]:
+        # Parameters may change values, not which signals a model has.
+        if self._all is None:
+            self._all = self._native.signals()
+        return self._all
+
+    def __repr__(self) -> str:
+        return f"<multibody.Model {self.name!r} from {self.file}>"
+
+
+def load(path: Union[str, "os.PathLike[str]"], *, analysis: Optional[str] = None, model: Optional[str] = None) -> Model:
+    """Loads a ``.dyad`` file: its analysis (``analysis=`` when it has
+    several), or a component with default options (``model=``)."""
+    path = os.fspath(path)
+    with open(path, "rb") as f:
+        data = f.read()
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise ModelError(f"{path} is not UTF-8 text (byte offset {e.start})", path, 0, 0) from None
+    return loads(text, file=path, analysis=analysis, model=model)
+
+
+def loads(text: str, *, file: str = "<text>", analysis: Optional[str] = None, model: Optional[str] = None) -> Model:
+    """Loads a model from its ``.dyad`` text; ``file`` names it in messages."""
+    return Model(_call(_multibody.load_text, text, file, analysis=analysis, model=model), file)
+
+
+def _glob(name: str, pattern: str) -> bool:
+    """``*`` and ``?`` as in the command's ``--signals``; brackets are literal
+    (signal names hold them: ``body.r_0[2]``)."""
+    return fnmatch.fnmatchcase(name, pattern.replace("[", "[[]"))
+
+
+def _pairs(values: Optional[Mapping[str, float]]) -> List[tuple]:
+    return [(str(k), float(v)) for k, v in (values or {}).items()]
+
+
+def _call(function, *args, **kwargs):
+    try:
+        return function(*args, **kwargs)
+    except MultibodyError as e:
+        raise _wrap_error(e) from None
+
+
+def _wrap_error(e: BaseException) -> BaseException:
+    """Gives the native exceptions their named attributes."""
+    if isinstance(e, ModelError) and len(e.args) == 4:
+        message, file, line, column = e.args
+        e.message, e.file, e.line, e.column = message, file, line, column
+    elif isinstance(e, SimulationError) and len(e.args) == 3:
+        message, time, partial = e.args
+        e.message, e.time = message, time
+        e.partial = Result(*partial) if partial is not None else None
+        e.args = (message, time)
+    return e
+
+
+def _message(self) -> str:
+    return str(self.args[0]) if self.args else ""
+
+
+# The message alone, not the tuple of arguments.
+ModelError.__str__ = _message
+SimulationError.__str__ = _message

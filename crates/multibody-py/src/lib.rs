@@ -1,0 +1,269 @@
+//! The native part of the `multibody` Python package: load a `.dyad`
+//! model, simulate it with other parameters, start values and options,
+//! and sweep it over many sets of values on every core. The Python layer
+//! (`python/multibody/__init__.py`) turns the samples into numpy arrays.
+//!
+//! The GIL is released while simulating, so that Python threads (and a
+//! Dask worker's other tasks) go on meanwhile.
+
+use multibody::{Method, SimulationOptions};
+use multibody_dyad::{DefinitionKind, Diagnostic, Override, Package, RunError, Samples, Target};
+use pyo3::create_exception;
+use pyo3::exceptions::{PyException, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyBytes;
+use rayon::prelude::*;
+
+create_exception!(_multibody, MultibodyError, PyException, "Base of the errors of this package.");
+create_exception!(
+    _multibody,
+    ModelError,
+    MultibodyError,
+    "The model files have an error: `args` holds the message (rendered with its place), the file, the line and the column."
+);
+create_exception!(
+    _multibody,
+    SimulationError,
+    MultibodyError,
+    "The simulation stopped part way: `args` holds the message, the time it stopped, and the samples computed until then."
+);
+
+/// A parsed `.dyad` package and what of it to simulate.
+#[pyclass(frozen, module = "multibody._multibody")]
+struct Model {
+    package: Package,
+    target: Target,
+    /// The analysis's (or component's) name.
+    #[pyo3(get)]
+    name: String,
+    options: SimulationOptions,
+}
+
+/// Parses model text; `file` names it in messages.
+#[pyfunction]
+#[pyo3(signature = (text, file, analysis = None, model = None))]
+fn load_text(text: String, file: String, analysis: Option<String>, model: Option<String>) -> PyResult<Model> {
+    let mut package = Package::new();
+    if let Err(d) = package.add_source(file, text) {
+        return Err(model_error(&package, &d));
+    }
+    let target = choose(&package, analysis, model)?;
+    let lowered = package.lower_target(&target, &[]).map_err(|d| model_error(&package, &d))?;
+    lowered.assemble().map_err(|d| model_error(&package, &d))?;
+    Ok(Model { name: lowered.name.clone(), options: lowered.options.clone(), package, target })
+}
+
+/// The analysis or component asked for, or the only one.
+fn choose(package: &Package, analysis: Option<String>, model: Option<String>) -> PyResult<Target> {
+    if let Some(name) = analysis {
+        return Ok(Target::Analysis(name));
+    }
+    if let Some(name) = model {
+        return Ok(Target::Component(name));
+    }
+    let definitions = package.definitions();
+    let analyses: Vec<String> =
+        definitions.iter().filter(|d| d.kind == DefinitionKind::Analysis).map(|d| d.name.clone()).collect();
+    match analyses.as_slice() {
+        [one] => Ok(Target::Analysis(one.clone())),
+        [] => match package.top_components().as_slice() {
+            [one] => Ok(Target::Component(one.name.clone())),
+            _ => Err(PyValueError::new_err("the model has no analysis and no single component: pass model=NAME")),
+        },
+        many => Err(PyValueError::new_err(format!(
+            "the model has {} analyses ({}): pass analysis=NAME",
+            many.len(),
+            many.join(", ")
+        ))),
+    }
+}
+
+fn model_error(package: &Package, d: &Diagnostic) -> PyErr {
+    let rendered = d.render(package.sources(), false);
+    let place = d.primary_span().map(|span| {
+        let (line, column) = package.sources().line_column(span).unwrap_or((0, 0));
+        (package.sources().name(span.file).to_string(), line, column)
+    });
+    match place {
+        Some((file, line, column)) => ModelError::new_err((rendered, file, line, column)),
+        None => ModelError::new_err((rendered, Option::<String>::None, 0usize, 0usize)),
+    }
+}
+
+/// Options given from Python on top of the analysis's.
+#[derive(Clone, Default)]
+struct GivenOptions {
+    stop: Option<f64>,
+    saveat: Option<f64>,
+    abstol: Option<f64>,
+    reltol: Option<f64>,
+    alg: Option<String>,
+}
+
+impl GivenOptions {
+    fn over(&self, analysis: &SimulationOptions) -> Result<SimulationOptions, String> {
+        let mut options = analysis.clone();
+        for (given, field) in [
+            (self.stop, &mut options.stop),
+            (self.saveat, &mut options.saveat),
+            (self.abstol, &mut options.abstol),
+            (self.reltol, &mut options.reltol),
+        ] {
+            if let Some(x) = given {
+                *field = x;
+            }
+        }
+        if let Some(name) = &self.alg {
+            let dt = if options.saveat > 0.0 { options.saveat } else { options.dtmax };
+            options.method = Method::from_name(name, dt)
+                .ok_or_else(|| format!("alg={name:?}: no such method; the methods are auto, Rodas4 and RK4"))?;
+        }
+        options.validate().map_err(|e| e.message)?;
+        Ok(options)
+    }
+}
+
+/// Values by path, as Python gives them: `[("body.m", 2.0)]`.
+type Values = Vec<(String, f64)>;
+
+fn overrides(params: Values, initial: Values) -> Vec<Override> {
+    let params = params.into_iter().map(|(path, x)| Override::parameter(path, x));
+    params.chain(initial.into_iter().map(|(path, x)| Override::initial(path, x))).collect()
+}
+
+/// A run's samples as `(names, time bytes, values bytes, warnings)`: the
+/// bytes are native f64, row-major values.
+type Columns<'py> = (Vec<String>, Bound<'py, PyBytes>, Bound<'py, PyBytes>, Vec<String>);
+
+fn to_python<'py>(py: Python<'py>, samples: &Samples) -> PyResult<Columns<'py>> {
+    // Written straight into the Python object: one copy, no intermediate buffer.
+    let bytes = |xs: &[f64]| {
+        PyBytes::new_with(py, std::mem::size_of_val(xs), |buf| {
+            for (chunk, x) in buf.chunks_exact_mut(8).zip(xs) {
+                chunk.copy_from_slice(&x.to_ne_bytes());
+            }
+            Ok(())
+        })
+    };
+    Ok((samples.names.clone(), bytes(&samples.time)?, bytes(&samples.values)?, samples.warnings.clone()))
+}
+
+impl Model {
+    fn run(&self, overrides: &[Override], given: &GivenOptions, signals: &[String]) -> Result<Samples, RunError> {
+        self.package.run(&self.target, overrides, |analysis| given.over(analysis), signals)
+    }
+
+    fn error(&self, py: Python<'_>, e: RunError) -> PyErr {
+        match e {
+            RunError::Model(d) => model_error(&self.package, &d),
+            RunError::Options(why) => PyValueError::new_err(why),
+            RunError::Stopped { time, reason, partial } => {
+                let message = format!("the simulation stopped at t = {time}: {reason}");
+                let partial = to_python(py, &partial).ok().and_then(|c| c.into_pyobject(py).ok()).map(Bound::unbind);
+                SimulationError::new_err((message, time, partial))
+            }
+        }
+    }
+}
+
+#[pymethods]
+impl Model {
+    /// The analysis's options: start, stop, abstol, reltol, saveat, dtmax.
+    #[getter]
+    fn options(&self) -> Vec<(&'static str, f64)> {
+        let o = &self.options;
+        vec![
+            ("start", o.start),
+            ("stop", o.stop),
+            ("abstol", o.abstol),
+            ("reltol", o.reltol),
+            ("saveat", o.saveat),
+            ("dtmax", o.dtmax),
+        ]
+    }
+
+    /// Every signal of the model, by name.
+    fn signals(&self) -> PyResult<Vec<String>> {
+        let lowered = self.package.lower_target(&self.target, &[]).map_err(|d| model_error(&self.package, &d))?;
+        let mechanism = lowered.assemble().map_err(|d| model_error(&self.package, &d))?;
+        Ok(mechanism.signals().into_iter().map(|s| s.name).collect())
+    }
+
+    /// One simulation; the GIL is released meanwhile.
+    #[pyo3(signature = (params, initial, signals, stop = None, saveat = None, abstol = None, reltol = None, alg = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn simulate<'py>(
+        &self,
+        py: Python<'py>,
+        params: Values,
+        initial: Values,
+        signals: Vec<String>,
+        stop: Option<f64>,
+        saveat: Option<f64>,
+        abstol: Option<f64>,
+        reltol: Option<f64>,
+        alg: Option<String>,
+    ) -> PyResult<Columns<'py>> {
+        let given = GivenOptions { stop, saveat, abstol, reltol, alg };
+        let overrides = overrides(params, initial);
+        let result = py.detach(|| self.run(&overrides, &given, &signals));
+        match result {
+            Ok(samples) => to_python(py, &samples),
+            Err(e) => Err(self.error(py, e)),
+        }
+    }
+
+    /// The simulation of `simulate` with the analysis's values, without
+    /// handing the samples to Python: the cost of the Rust call alone, for
+    /// the benchmark of the Python layer's overhead. Returns the number of
+    /// samples.
+    fn _simulate_in_rust(&self, py: Python<'_>, signals: Vec<String>) -> PyResult<usize> {
+        let run = py.detach(|| self.run(&[], &GivenOptions::default(), &signals));
+        run.map(|samples| samples.time.len()).map_err(|e| self.error(py, e))
+    }
+
+    /// Many simulations, one per set of (params, initial), on `threads`
+    /// threads (all cores by default); a failed set gives its exception in
+    /// its place, the others their samples.
+    #[pyo3(signature = (sets, signals, threads = None, stop = None, saveat = None, abstol = None, reltol = None, alg = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn sweep<'py>(
+        &self,
+        py: Python<'py>,
+        sets: Vec<(Values, Values)>,
+        signals: Vec<String>,
+        threads: Option<usize>,
+        stop: Option<f64>,
+        saveat: Option<f64>,
+        abstol: Option<f64>,
+        reltol: Option<f64>,
+        alg: Option<String>,
+    ) -> PyResult<Vec<Bound<'py, PyAny>>> {
+        let given = GivenOptions { stop, saveat, abstol, reltol, alg };
+        let sets: Vec<Vec<Override>> = sets.into_iter().map(|(p, i)| overrides(p, i)).collect();
+        let threads = threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| PyValueError::new_err(format!("threads={threads}: {e}")))?;
+        let results: Vec<Result<Samples, RunError>> =
+            py.detach(|| pool.install(|| sets.par_iter().map(|set| self.run(set, &given, &signals)).collect()));
+        results
+            .into_iter()
+            .map(|r| match r {
+                Ok(samples) => to_python(py, &samples)?.into_pyobject(py).map(|t| t.into_any()),
+                Err(e) => Ok(self.error(py, e).into_value(py).into_bound(py).into_any()),
+            })
+            .collect()
+    }
+}
+
+#[pymodule]
+fn _multibody(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Model>()?;
+    m.add_function(wrap_pyfunction!(load_text, m)?)?;
+    m.add("MultibodyError", m.py().get_type::<MultibodyError>())?;
+    m.add("ModelError", m.py().get_type::<ModelError>())?;
+    m.add("SimulationError", m.py().get_type::<SimulationError>())?;
+    Ok(())
+}

@@ -1,0 +1,149 @@
+"""The Python package against the `multibody` command (the same numbers,
+bit for bit), its errors, sweeps, and the GIL released while simulating.
+
+Run by scripts/test-python.sh, which builds the command and installs the
+package in a virtual environment first."""
+
+import csv
+import os
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import multibody
+
+ROOT = Path(__file__).resolve().parents[3]
+EXAMPLES = ROOT / "examples"
+COMMAND = os.environ.get("MULTIBODY_COMMAND", str(ROOT / "target" / "release" / "multibody"))
+
+
+def run_command(tmp_path, *args):
+    out = tmp_path / "out.csv"
+    done = subprocess.run([COMMAND, "run", *map(str, args), "--out", str(out)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    with open(out, newline="") as f:
+        rows = list(csv.reader(f))
+    names = rows[0]
+    table = np.array([[float(x) for x in row] for row in rows[1:]])
+    return {name: table[:, k] for k, name in enumerate(names)}
+
+
+def test_results_equal_the_command_bit_for_bit(tmp_path):
+    model = multibody.load(EXAMPLES / "double_pendulum.dyad")
+    result = model.simulate(signals="all")
+    ours = run_command(tmp_path, EXAMPLES / "double_pendulum.dyad")
+    assert np.array_equal(result.time, ours["time"])
+    assert len(result.names) == len(ours) - 1
+    for name in result.names:
+        assert np.array_equal(result[name], ours[name]), name
+
+
+def test_parameters_and_start_values_by_path_as_on_the_command_line(tmp_path):
+    model = multibody.load(EXAMPLES / "pendulum.dyad")
+    result = model.simulate(params={"body.m": 2.0}, initial={"rev.phi": 0.5}, stop=1.0)
+    ours = run_command(tmp_path, EXAMPLES / "pendulum.dyad", "--param", "body.m=2", "--initial", "rev.phi=0.5", "--stop", "1")
+    assert result.names == ["rev.phi", "rev.w"]
+    for name in result.names:
+        assert np.array_equal(result[name], ours[name]), name
+    assert result["rev.phi"][0] == 0.5
+    # Another start value changes the motion; the model itself is unchanged.
+    assert model.simulate(stop=1.0)["rev.phi"][0] == 0.0
+
+
+def test_dataframes_have_a_time_column_and_the_signals():
+    pd = pytest.importorskip("pandas")
+    result = multibody.load(EXAMPLES / "pendulum.dyad").simulate(signals=["rev.phi", "rev.w"], stop=0.5)
+    frame = result.to_pandas()
+    assert isinstance(frame, pd.DataFrame)
+    assert list(frame.columns) == ["time", "rev.phi", "rev.w"]
+    assert np.array_equal(frame["rev.w"].to_numpy(), result["rev.w"])
+
+
+def test_model_errors_carry_the_place():
+    bad = ROOT / "crates" / "multibody-dyad" / "tests" / "bad" / "unknown_parameter.dyad"
+    with pytest.raises(multibody.ModelError) as caught:
+        multibody.load(bad)
+    e = caught.value
+    assert e.file == str(bad) and e.line == 5 and e.column == 40
+    assert "has no parameter `dd`" in str(e) and "did you mean `d`" in str(e).lower()
+    with pytest.raises(multibody.ModelError) as caught:
+        multibody.loads("component A\n  x = Body(m = 1\nend\n", file="inline.dyad")
+    assert caught.value.file == "inline.dyad" and caught.value.line >= 2
+
+
+def test_a_failed_simulation_keeps_its_partial_result():
+    model = multibody.load(ROOT / "crates" / "multibody-cli" / "tests" / "models" / "EulerSingularity.dyad")
+    with pytest.raises(multibody.SimulationError) as caught:
+        model.simulate(signals="body.phi[2]")
+    e = caught.value
+    # As the command says it: from the step where the singular point was passed.
+    assert 1.5 < e.time < 1.6
+    assert e.partial.time[-1] < np.pi / 2
+    assert abs(e.partial["body.phi[2]"][-1] - e.partial.time[-1]) < 1e-9
+
+
+def test_bad_options_and_names_are_value_errors():
+    model = multibody.load(EXAMPLES / "pendulum.dyad")
+    with pytest.raises(ValueError, match="stop"):
+        model.simulate(stop=-1.0)
+    with pytest.raises(ValueError, match="no signal matches"):
+        model.simulate(signals="rev.ph")
+    with pytest.raises(ValueError, match="no such method"):
+        model.simulate(alg="Euler")
+    with pytest.raises(multibody.ModelError, match="no parameter `mm`"):
+        model.simulate(params={"body.mm": 1.0})
+
+
+def test_a_sweep_gives_each_set_its_result_or_its_error():
+    model = multibody.load(EXAMPLES / "pendulum.dyad")
+    masses = [0.5, 1.0, -1.0, 2.0]
+    runs = model.sweep([{"body.m": m} for m in masses], stop=1.0, threads=2)
+    assert isinstance(runs[2], multibody.ModelError) and "must not be negative" in str(runs[2])
+    for m, run in zip(masses, runs):
+        if m > 0:
+            alone = model.simulate(params={"body.m": m}, stop=1.0)
+            assert np.array_equal(run.values, alone.values)
+
+
+def test_the_gil_is_released_while_simulating():
+    model = multibody.load(EXAMPLES / "double_pendulum.dyad")
+    ticks = []
+    running = threading.Event()
+
+    def count():
+        running.set()
+        while len(ticks) < 10_000_000 and not stop.is_set():
+            ticks.append(1)
+
+    stop = threading.Event()
+    counter = threading.Thread(target=count)
+    counter.start()
+    running.wait()
+    before = len(ticks)
+    model.simulate(stop=60.0, saveat=0.0)
+    during = len(ticks) - before
+    stop.set()
+    counter.join()
+    assert during > 1000, f"the counting thread advanced {during} times during the simulation"
+
+
+def test_the_example_plots_the_double_pendulum(tmp_path):
+    pytest.importorskip("matplotlib")
+    out = tmp_path / "plot.png"
+    done = subprocess.run([sys.executable, str(EXAMPLES / "python" / "double_pendulum.py"), str(out)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert out.stat().st_size > 10_000
+    assert "3 runs" in done.stdout
+
+
+def test_help_reads_well():
+    doc = multibody.__doc__
+    assert "simulate" in doc and "ModelError" in doc
+    assert "samples" in multibody.Model.simulate.__doc__
+    model = multibody.load(EXAMPLES / "free_body.dyad")
+    assert all("[" in n for n in model.signals("*.r_0[?]"))

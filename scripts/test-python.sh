@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# The Python package's tests: makes a virtual environment (target/python-venv,
+# kept between runs), installs pytest, pandas and matplotlib and the package
+# itself from crates/multibody-py (built by maturin with the release
+# profile, sharing the workspace's target folder), builds the `multibody`
+# command the tests compare with, and runs pytest on crates/multibody-py/tests.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+VENV=${MULTIBODY_PYTHON_VENV:-target/python-venv}
+PYTHON=${PYTHON:-python3}
+if [ ! -x "$VENV/bin/python" ]; then
+    "$PYTHON" -m venv "$VENV"
+fi
+"$VENV/bin/python" -m pip install -q --upgrade pip
+"$VENV/bin/python" -m pip install -q "maturin>=1.5,<2" numpy pytest pandas matplotlib
+"$VENV/bin/python" -m pip install -q ./crates/multibody-py
+cargo build --release -q -p multibody-cli
+"$VENV/bin/python" -m pytest -q crates/multibody-py/tests
