@@ -8,6 +8,7 @@ mod output;
 mod progress;
 mod run;
 mod sweep;
+mod table;
 
 use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
@@ -101,7 +102,7 @@ pub struct RunArgs {
     /// Set a start value, by its path: --initial rev.phi=0.3
     #[arg(long = "initial", value_name = "NAME=VALUE", allow_hyphen_values = true)]
     pub initials: Vec<String>,
-    /// Output CSV file (default: NAME.csv in the current folder)
+    /// Output file: CSV, or Parquet when named .parquet (default: NAME.csv in the current folder)
     #[arg(long, short, value_name = "FILE")]
     pub out: Option<PathBuf>,
     /// Signals to write, as glob patterns such as 'body.r_0[*]' or '*.phi' (default: all; the
@@ -129,8 +130,8 @@ pub struct SweepArgs {
     /// Values of a start value, by its path, written like --param: --initial rev.phi=0:0.1:0.5
     #[arg(long = "initial", value_name = "NAME=VALUES", allow_hyphen_values = true)]
     pub initials: Vec<String>,
-    /// Output CSV file: one long table, a row per sample of each run, with the run number and its
-    /// parameters as the first columns (default: NAME_sweep.csv)
+    /// Output file (CSV, or Parquet when named .parquet): one long table, a row per sample of each
+    /// run, with the run number and its parameters as the first columns (default: NAME_sweep.csv)
     #[arg(long, short, value_name = "FILE")]
     pub out: Option<PathBuf>,
     /// Signals to write, as glob patterns (default: the states)

@@ -6,7 +6,7 @@
 //! name that says so (`results.partial.csv`).
 
 use crate::exit::Failure;
-use multibody::simulate::CsvWriter;
+use crate::table::{Format, TableWriter};
 use multibody::{Mechanism, SampleSink, SimulationOptions, Solution};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -61,6 +61,22 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> std::
     write(&mut writer).map_err(io)?;
     let file = writer.into_inner().map_err(|e| io(e.into_error()))?;
     file.persist(path).map_err(|e| io(e.error))?;
+    Ok(())
+}
+
+/// Writes a table (CSV or Parquet, by the extension of `path`) whole or not
+/// at all, with `keys` columns before `time` and then `names`.
+pub fn write_table_atomically(
+    path: &Path,
+    keys: &[&str],
+    names: &[&str],
+    fill: impl FnOnce(&mut TableWriter) -> std::io::Result<()>,
+) -> Result<(), Failure> {
+    let io = |e: std::io::Error| Failure::Io(format!("cannot write {}: {e}", path.display()));
+    let file = temporary_beside(path).map_err(io)?;
+    let mut table = TableWriter::new(Format::of(path), file, keys, names).map_err(io)?;
+    fill(&mut table).map_err(io)?;
+    table.finish().map_err(io)?.persist(path).map_err(|e| io(e.error))?;
     Ok(())
 }
 
@@ -152,11 +168,11 @@ impl Budget {
     }
 }
 
-/// The CSV of a run, written as the samples come (memory does not grow
-/// with the run), with every signal kept in memory too when the views need
-/// them.
+/// The table of a run (CSV or Parquet), written as the samples come
+/// (memory does not grow with the run), with every signal kept in memory
+/// too when the views need them.
 pub struct StreamingCsv {
-    csv: Option<CsvWriter<BufWriter<NamedTempFile>>>,
+    csv: Option<TableWriter>,
     /// Column of each written signal in the full row.
     picks: Vec<usize>,
     values: Vec<f64>,
@@ -191,7 +207,7 @@ impl StreamingCsv {
         let picks: Vec<usize> = signals.iter().filter_map(|s| names.iter().position(|n| n == s)).collect();
         let header: Vec<&str> = picks.iter().map(|&k| names[k].as_str()).collect();
         let file = temporary_beside(path).map_err(io)?;
-        let csv = CsvWriter::new(BufWriter::new(file), &header).map_err(io)?;
+        let csv = TableWriter::new(Format::of(path), file, &[], &header).map_err(io)?;
         let solution = keep.map(|_| Solution::new(names.clone(), all.iter().map(|s| s.unit).collect()));
         Ok(Self {
             csv: Some(csv),
@@ -212,8 +228,7 @@ impl StreamingCsv {
         if let Some(e) = self.error.take() {
             return Err(io(e));
         }
-        let file = csv.finish().map_err(io)?.into_inner().map_err(|e| io(e.into_error()))?;
-        file.persist(path).map_err(|e| io(e.error))?;
+        csv.finish().map_err(io)?.persist(path).map_err(|e| io(e.error))?;
         let mut kept = std::mem::take(&mut self.kept);
         kept.last_row = self.picks.iter().map(|&k| kept.names[k].clone()).zip(kept.last.iter().copied()).collect();
         Ok(kept)
@@ -231,7 +246,7 @@ impl SampleSink for StreamingCsv {
             *v = row[k];
         }
         let csv = self.csv.as_mut().expect("samples come before the CSV is finished");
-        if let Err(e) = csv.row(t, &self.values) {
+        if let Err(e) = csv.row(&[], t, &self.values) {
             let reason = format!("cannot write the CSV: {e}");
             self.error = Some(e);
             return Err(reason);

@@ -7,11 +7,10 @@
 
 use crate::exit::{error_word, Failure};
 use crate::load::{assignment, choose, file_of, lower, read_package};
-use crate::output::write_atomically;
+use crate::output::write_table_atomically;
 use crate::run::{chosen_signals, command_line_options, number, plural};
 use crate::SweepArgs;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use multibody::simulate::CsvWriter;
 use multibody::SimulationOptions;
 use multibody_dyad::{Override, RunError, Samples, Target};
 use rayon::prelude::*;
@@ -82,18 +81,17 @@ pub fn sweep(args: &SweepArgs) -> Result<(), Failure> {
             eprintln!("{}: run {} ({}): {reason}", error_word(), k + 1, describe(set));
         }
     }
-    write_atomically(&out, |w| {
-        let keys: Vec<&str> = std::iter::once("run").chain(axes.iter().map(|a| a.name.as_str())).collect();
-        let signal_names: Vec<&str> = signals.iter().map(String::as_str).collect();
-        let mut csv = CsvWriter::with_keys(w, &keys, &signal_names)?;
+    let keys: Vec<&str> = std::iter::once("run").chain(axes.iter().map(|a| a.name.as_str())).collect();
+    let signal_names: Vec<&str> = signals.iter().map(String::as_str).collect();
+    write_table_atomically(&out, &keys, &signal_names, |table| {
         for (k, (set, run)) in sets.iter().zip(&runs).enumerate() {
             let Ok(run) = run else { continue };
             let key_values: Vec<f64> = std::iter::once((k + 1) as f64).chain(set.iter().map(number_of)).collect();
             for (t, row) in run.time.iter().zip(run.values.chunks_exact(signals.len().max(1))) {
-                csv.keyed_row(&key_values, *t, row)?;
+                table.row(&key_values, *t, row)?;
             }
         }
-        csv.finish().map(|_| ())
+        Ok(())
     })?;
     let samples: usize = runs.iter().flatten().map(|r| r.time.len()).sum();
     eprintln!(

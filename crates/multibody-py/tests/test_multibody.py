@@ -147,3 +147,53 @@ def test_help_reads_well():
     assert "samples" in multibody.Model.simulate.__doc__
     model = multibody.load(EXAMPLES / "free_body.dyad")
     assert all("[" in n for n in model.signals("*.r_0[?]"))
+
+
+def test_parquet_from_the_command_and_from_python_reads_back_as_the_csv(tmp_path):
+    pq = pytest.importorskip("pyarrow.parquet")
+    ours = run_command(tmp_path, EXAMPLES / "double_pendulum.dyad")
+    table_path = tmp_path / "out.parquet"
+    done = subprocess.run([COMMAND, "run", str(EXAMPLES / "double_pendulum.dyad"), "--out", str(table_path)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    table = pq.read_table(table_path)
+    assert table.column_names == list(ours)
+    for name in ours:
+        assert np.array_equal(table.column(name).to_numpy(), ours[name]), name
+    # A sweep's long table: the run and its values, then time and the signals.
+    sweep_path = tmp_path / "sweep.parquet"
+    done = subprocess.run(
+        [COMMAND, "sweep", str(EXAMPLES / "pendulum.dyad"), "--param", "body.m=1,2", "--stop", "1", "--out", str(sweep_path)],
+        capture_output=True, text=True,
+    )
+    assert done.returncode == 0, done.stderr
+    sweep = pq.read_table(sweep_path)
+    assert sweep.column_names == ["run", "body.m", "time", "rev.phi", "rev.w"]
+    model = multibody.load(EXAMPLES / "pendulum.dyad")
+    heavy = model.simulate(params={"body.m": 2.0}, stop=1.0)
+    import pyarrow.compute as pc
+
+    rows = sweep.filter(pc.equal(sweep.column("run"), 2.0))
+    assert np.array_equal(rows.column("rev.phi").to_numpy(), heavy["rev.phi"])
+    # From Python.
+    heavy.to_parquet(tmp_path / "python.parquet")
+    back = pq.read_table(tmp_path / "python.parquet")
+    assert back.column_names == ["time", "rev.phi", "rev.w"]
+    assert np.array_equal(back.column("rev.w").to_numpy(), heavy["rev.w"])
+
+
+def test_a_dask_cluster_of_two_workers_shares_a_sweep():
+    pytest.importorskip("distributed")
+    from distributed import Client, LocalCluster
+
+    sys.path.insert(0, str(EXAMPLES / "python"))
+    import dask_sweep
+
+    lengths = [0.5 + 0.1 * k for k in range(12)]
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        with Client(cluster) as client:
+            results, workers = dask_sweep.sweep(client, lengths)
+    assert len(set(workers)) == 2, f"the work went to {set(workers)}"
+    model = multibody.load(EXAMPLES / "double_pendulum.dyad")
+    for length, result in zip(lengths, results):
+        alone = model.simulate(params={"link1.length": length})
+        assert np.array_equal(result.values, alone.values), length

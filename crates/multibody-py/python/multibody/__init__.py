@@ -76,6 +76,15 @@ class Result:
         frame.insert(0, "time", self.time)
         return frame
 
+    def to_parquet(self, path: Union[str, "os.PathLike[str]"]) -> None:
+        """Writes the samples to a Parquet file (needs pyarrow), with the
+        columns of the command's CSV: ``time``, then one per signal."""
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        columns = {"time": self.time, **{n: self.values[:, k] for k, n in enumerate(self.names)}}
+        pq.write_table(pa.table(columns), os.fspath(path))
+
     def to_polars(self):
         """The samples as a polars DataFrame: a ``time`` column, then one per signal."""
         import polars as pl
