@@ -110,6 +110,17 @@ def test_a_sweep_gives_each_set_its_result_or_its_error():
             assert np.array_equal(run.values, alone.values)
 
 
+def test_a_grid_gives_every_combination_the_first_path_slowest():
+    sets = multibody.grid({"body.m": [1, 2], "damper.d": [0.0, 0.1, 0.2]})
+    assert len(sets) == 6
+    assert sets[0] == {"body.m": 1.0, "damper.d": 0.0} and sets[3] == {"body.m": 2.0, "damper.d": 0.0}
+    runs = multibody.load(EXAMPLES / "pendulum.dyad").sweep(sets, stop=0.5)
+    assert all(isinstance(r, multibody.Result) for r in runs)
+    # More damping, less swing: the grid's order is the runs' order.
+    swing = [np.abs(r["rev.w"]).max() for r in runs[:3]]
+    assert swing[0] > swing[1] > swing[2]
+
+
 def test_the_gil_is_released_while_simulating():
     model = multibody.load(EXAMPLES / "double_pendulum.dyad")
     ticks = []

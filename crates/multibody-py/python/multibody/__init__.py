@@ -4,7 +4,8 @@ Load a model (``load`` a ``.dyad`` file, or ``loads`` its text), then
 ``Model.simulate`` it, with other parameters, start values and options if
 you like, and read every signal of the result by name as a numpy array
 (``result["link1.joint.phi"]``, ``result.time``), or as a pandas or polars
-DataFrame. ``Model.sweep`` runs many sets of values on every core.
+DataFrame. ``Model.sweep`` runs many sets of values on every core (``grid`` makes
+every combination of values of several parameters).
 
 Parameters and start values are named by their path in the model, as in
 the model file: ``length`` (a parameter of the model itself),
@@ -29,7 +30,7 @@ import numpy as np
 from . import _multibody
 from ._multibody import ModelError, MultibodyError, SimulationError
 
-__all__ = ["load", "loads", "Model", "Result", "MultibodyError", "ModelError", "SimulationError"]
+__all__ = ["load", "loads", "grid", "Model", "Result", "MultibodyError", "ModelError", "SimulationError"]
 
 
 class Result:
@@ -225,6 +226,17 @@ def load(path: Union[str, "os.PathLike[str]"], *, analysis: Optional[str] = None
 def loads(text: str, *, file: str = "<text>", analysis: Optional[str] = None, model: Optional[str] = None) -> Model:
     """Loads a model from its ``.dyad`` text; ``file`` names it in messages."""
     return Model(_call(_multibody.load_text, text, file, analysis=analysis, model=model), file)
+
+
+def grid(axes: Mapping[str, Iterable[float]]) -> List[Dict[str, float]]:
+    """Every combination of the values of each path, the first path slowest,
+    for ``Model.sweep``: ``grid({"body.m": [1, 2], "damper.d": [0, 0.1]})``
+    gives four sets."""
+    sets: List[Dict[str, float]] = [{}]
+    for path, values in axes.items():
+        values = [float(v) for v in values]
+        sets = [{**s, path: v} for s in sets for v in values]
+    return sets
 
 
 def _glob(name: str, pattern: str) -> bool:
