@@ -90,6 +90,18 @@ pub struct OptionArgs {
     pub alg: Option<String>,
 }
 
+impl OptionArgs {
+    pub fn overrides(&self) -> multibody_dyad::OptionOverrides {
+        multibody_dyad::OptionOverrides {
+            stop: self.stop,
+            saveat: self.saveat,
+            abstol: self.abstol,
+            reltol: self.reltol,
+            alg: self.alg.clone(),
+        }
+    }
+}
+
 #[derive(Args)]
 pub struct RunArgs {
     #[command(flatten)]

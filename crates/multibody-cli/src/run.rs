@@ -112,43 +112,14 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
 /// The analysis's options with the command line's on top, checked before
 /// any work: a bad value names the option that gave it.
 pub fn command_line_options(args: &OptionArgs, analysis: &SimulationOptions) -> Result<SimulationOptions, Failure> {
-    let mut options = analysis.clone();
-    let overrides = [
-        ("stop", args.stop, &mut options.stop),
-        ("saveat", args.saveat, &mut options.saveat),
-        ("abstol", args.abstol, &mut options.abstol),
-        ("reltol", args.reltol, &mut options.reltol),
-    ];
-    let mut given = Vec::new();
-    for (name, value, field) in overrides {
-        if let Some(x) = value {
-            *field = x;
-            given.push((name, x));
-        }
-    }
-    if let Some(name) = &args.alg {
-        let dt = if options.saveat > 0.0 { options.saveat } else { options.dtmax };
-        options.method = Method::from_name(name, dt).ok_or_else(|| {
-            Failure::Usage(format!("--alg {name}: no such method; the methods are auto, Rodas4 and RK4"))
-        })?;
-        given.push(("alg", dt));
-    }
-    if let (Some(saveat), Method::Rk4 { dt }) = (args.saveat, &mut options.method) {
-        if saveat > 0.0 {
-            *dt = saveat;
-        }
-    }
-    if let Err(e) = options.validate() {
-        let named = |name: &str| name == e.option || (e.option == "dt" && (name == "saveat" || name == "alg"));
-        let from = match given.iter().find(|(name, _)| named(name)) {
-            Some(("alg", _)) => format!("--alg {}: ", args.alg.as_deref().unwrap_or_default()),
-            Some((name, x)) => format!("--{name} {x}: "),
+    args.overrides().over(analysis).map_err(|e| {
+        let from = match e.given {
+            Some((name, value)) => format!("--{name} {value}: "),
             // Only a combination reaches here: the analysis was checked on its own.
             None => String::new(),
         };
-        return Err(Failure::Usage(format!("{from}{}", e.message)));
-    }
-    Ok(options)
+        Failure::Usage(format!("{from}{}", e.message))
+    })
 }
 
 /// A flag that Ctrl-C raises: the run stops after its current step and

@@ -51,7 +51,7 @@ pub use engine_errors::engine_diagnostic;
 pub use modifiers::Override;
 pub use source::{FileId, Sources, Span};
 pub use source_map::SourceMap;
-pub use study::{RunError, Samples, Target};
+pub use study::{BadOption, OptionOverrides, RunError, Samples, Target};
 
 use ast::{ComponentKind, Item};
 use multibody::{Mechanism, Model, SimulationOptions};

@@ -90,3 +90,73 @@ pub enum RunError {
     /// The simulation stopped part way; `partial` holds what it computed.
     Stopped { time: f64, reason: String, partial: Box<Samples> },
 }
+
+/// Simulation options given from outside the files (the command line,
+/// Python), to put over an analysis's.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct OptionOverrides {
+    pub stop: Option<f64>,
+    pub saveat: Option<f64>,
+    pub abstol: Option<f64>,
+    pub reltol: Option<f64>,
+    /// A method by name: `auto`, `Rodas4`, `RK4`.
+    pub alg: Option<String>,
+}
+
+/// An option given from outside that cannot be used: which (`stop`,
+/// `alg`, ..., with the value as given) and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BadOption {
+    /// The option and its value, as given: `("stop", "-1")`; `None` when
+    /// only the combination with the analysis's values is wrong.
+    pub given: Option<(&'static str, String)>,
+    pub message: String,
+}
+
+impl BadOption {
+    /// `alg="Euler": no such method; ...`, for a message of its own.
+    pub fn describe(&self) -> String {
+        match &self.given {
+            Some((name, value)) => format!("{name}={value}: {}", self.message),
+            None => self.message.clone(),
+        }
+    }
+}
+
+impl OptionOverrides {
+    /// The analysis's options with these on top, checked. RK4's fixed step
+    /// follows a given `saveat`.
+    pub fn over(&self, analysis: &SimulationOptions) -> Result<SimulationOptions, BadOption> {
+        let mut options = analysis.clone();
+        let mut given: Vec<(&'static str, String)> = Vec::new();
+        for (name, value, field) in [
+            ("stop", self.stop, &mut options.stop),
+            ("saveat", self.saveat, &mut options.saveat),
+            ("abstol", self.abstol, &mut options.abstol),
+            ("reltol", self.reltol, &mut options.reltol),
+        ] {
+            if let Some(x) = value {
+                *field = x;
+                given.push((name, format!("{x}")));
+            }
+        }
+        if let Some(name) = &self.alg {
+            let dt = if options.saveat > 0.0 { options.saveat } else { options.dtmax };
+            options.method = multibody::Method::from_name(name, dt).ok_or_else(|| BadOption {
+                given: Some(("alg", name.clone())),
+                message: "no such method; the methods are auto, Rodas4 and RK4".into(),
+            })?;
+            given.push(("alg", name.clone()));
+        }
+        if let (Some(saveat), multibody::Method::Rk4 { dt }) = (self.saveat, &mut options.method) {
+            if saveat > 0.0 {
+                *dt = saveat;
+            }
+        }
+        options.validate().map_err(|e| {
+            let named = |name: &str| name == e.option || (e.option == "dt" && (name == "saveat" || name == "alg"));
+            BadOption { given: given.iter().find(|(name, _)| named(name)).cloned(), message: e.message }
+        })?;
+        Ok(options)
+    }
+}

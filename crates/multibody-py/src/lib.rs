@@ -6,8 +6,8 @@
 //! The GIL is released while simulating, so that Python threads (and a
 //! Dask worker's other tasks) go on meanwhile.
 
-use multibody::{Method, SimulationOptions};
-use multibody_dyad::{DefinitionKind, Diagnostic, Override, Package, RunError, Samples, Target};
+use multibody::SimulationOptions;
+use multibody_dyad::{DefinitionKind, Diagnostic, OptionOverrides, Override, Package, RunError, Samples, Target};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyValueError};
 use pyo3::prelude::*;
@@ -90,39 +90,6 @@ fn model_error(package: &Package, d: &Diagnostic) -> PyErr {
     }
 }
 
-/// Options given from Python on top of the analysis's.
-#[derive(Clone, Default)]
-struct GivenOptions {
-    stop: Option<f64>,
-    saveat: Option<f64>,
-    abstol: Option<f64>,
-    reltol: Option<f64>,
-    alg: Option<String>,
-}
-
-impl GivenOptions {
-    fn over(&self, analysis: &SimulationOptions) -> Result<SimulationOptions, String> {
-        let mut options = analysis.clone();
-        for (given, field) in [
-            (self.stop, &mut options.stop),
-            (self.saveat, &mut options.saveat),
-            (self.abstol, &mut options.abstol),
-            (self.reltol, &mut options.reltol),
-        ] {
-            if let Some(x) = given {
-                *field = x;
-            }
-        }
-        if let Some(name) = &self.alg {
-            let dt = if options.saveat > 0.0 { options.saveat } else { options.dtmax };
-            options.method = Method::from_name(name, dt)
-                .ok_or_else(|| format!("alg={name:?}: no such method; the methods are auto, Rodas4 and RK4"))?;
-        }
-        options.validate().map_err(|e| e.message)?;
-        Ok(options)
-    }
-}
-
 /// Values by path, as Python gives them: `[("body.m", 2.0)]`.
 type Values = Vec<(String, f64)>;
 
@@ -149,8 +116,8 @@ fn to_python<'py>(py: Python<'py>, samples: &Samples) -> PyResult<Columns<'py>> 
 }
 
 impl Model {
-    fn run(&self, overrides: &[Override], given: &GivenOptions, signals: &[String]) -> Result<Samples, RunError> {
-        self.package.run(&self.target, overrides, |analysis| given.over(analysis), signals)
+    fn run(&self, overrides: &[Override], given: &OptionOverrides, signals: &[String]) -> Result<Samples, RunError> {
+        self.package.run(&self.target, overrides, |analysis| given.over(analysis).map_err(|e| e.describe()), signals)
     }
 
     fn error(&self, py: Python<'_>, e: RunError) -> PyErr {
@@ -204,7 +171,7 @@ impl Model {
         reltol: Option<f64>,
         alg: Option<String>,
     ) -> PyResult<Columns<'py>> {
-        let given = GivenOptions { stop, saveat, abstol, reltol, alg };
+        let given = OptionOverrides { stop, saveat, abstol, reltol, alg };
         let overrides = overrides(params, initial);
         let result = py.detach(|| self.run(&overrides, &given, &signals));
         match result {
@@ -218,7 +185,7 @@ impl Model {
     /// the benchmark of the Python layer's overhead. Returns the number of
     /// samples.
     fn _simulate_in_rust(&self, py: Python<'_>, signals: Vec<String>) -> PyResult<usize> {
-        let run = py.detach(|| self.run(&[], &GivenOptions::default(), &signals));
+        let run = py.detach(|| self.run(&[], &OptionOverrides::default(), &signals));
         run.map(|samples| samples.time.len()).map_err(|e| self.error(py, e))
     }
 
@@ -239,7 +206,7 @@ impl Model {
         reltol: Option<f64>,
         alg: Option<String>,
     ) -> PyResult<Vec<Bound<'py, PyAny>>> {
-        let given = GivenOptions { stop, saveat, abstol, reltol, alg };
+        let given = OptionOverrides { stop, saveat, abstol, reltol, alg };
         let sets: Vec<Vec<Override>> = sets.into_iter().map(|(p, i)| overrides(p, i)).collect();
         let threads = threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1);
         let pool = rayon::ThreadPoolBuilder::new()
