@@ -490,10 +490,12 @@ impl Mechanism {
                 Ok(RunReport { stats, warnings: self.doubts(&stats, options) })
             }
             Err(integrator::Stopped { t, failure, .. }) => {
-                // A singularity inside the last step stops at its own time.
+                // A singularity inside the last step stops at its own time,
+                // whether the step's check or its outputs found it.
                 let t = match failure {
                     Failure::Rhs(StepError::Dynamics(DynamicsError::EulerSingularity { time, .. }))
-                        if time.is_finite() =>
+                    | Failure::Observer(StepError::Dynamics(DynamicsError::EulerSingularity { time, .. }))
+                        if time.is_finite() && time <= t =>
                     {
                         time
                     }
