@@ -75,6 +75,9 @@ mod parquet_table {
 
     /// Rows buffered before they go out as one record batch.
     const BATCH: usize = 8192;
+    /// Rows of a row group, which the writer holds until it is full: small
+    /// enough that a long run's memory stays bounded.
+    const ROW_GROUP: usize = 2 * BATCH;
 
     pub struct ParquetTable {
         writer: ArrowWriter<NamedTempFile>,
@@ -91,7 +94,12 @@ mod parquet_table {
                 .map(|name| Field::new(name.to_string(), DataType::Float64, false))
                 .collect();
             let schema = Arc::new(Schema::new(fields));
-            let properties = WriterProperties::builder().set_compression(Compression::SNAPPY).build();
+            let properties = WriterProperties::builder()
+                .set_compression(Compression::SNAPPY)
+                .set_max_row_group_row_count(Some(ROW_GROUP))
+                // Samples of a simulation seldom repeat: dictionaries would only cost memory.
+                .set_dictionary_enabled(false)
+                .build();
             let writer = ArrowWriter::try_new(file, schema.clone(), Some(properties)).map_err(io::Error::other)?;
             let columns = vec![Vec::with_capacity(BATCH); schema.fields().len()];
             Ok(Self { writer, schema, columns })
