@@ -1,7 +1,9 @@
 //! Dormand-Prince 5(4) with Hairer's step-size control (dopri5, PI control
 //! with beta = 0.04) and 4th-order dense output (CONTD5).
 
-use super::integrator::{finish_step, DenseStep, Failure, OdeSystem, Stats, StiffStretch, Stopped, Tolerances};
+use super::integrator::{
+    finish_step, initial_step, DenseStep, Failure, OdeSystem, Stats, StiffStretch, Stopped, Tolerances,
+};
 
 const C2: f64 = 1.0 / 5.0;
 const C3: f64 = 3.0 / 10.0;
@@ -117,7 +119,9 @@ impl DormandPrince {
         }
         stats.evaluations += 1;
         let h_max = if self.tol.dtmax > 0.0 { self.tol.dtmax } else { (tf - t0).abs() };
-        let mut h = match self.initial_step(sys, t, h_max, &mut stats) {
+        let [k1, k2, ..] = &mut self.k;
+        let scratch = (&mut self.stage[..], &mut k2[..]);
+        let mut h = match initial_step(sys, t, &self.y, k1, &self.tol, h_max, 0.2, scratch, &mut stats) {
             Ok(h) => h,
             Err(e) => return stop(t, Failure::Rhs(e), stats),
         };
@@ -260,40 +264,6 @@ impl DormandPrince {
             r3[i] = ydiff - h * k7[i] - bspl;
             r4[i] = h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
         }
-    }
-
-    /// Hairer's starting step: an explicit Euler probe of the second
-    /// derivative.
-    fn initial_step<S: OdeSystem>(
-        &mut self,
-        sys: &mut S,
-        t: f64,
-        h_max: f64,
-        stats: &mut Stats,
-    ) -> Result<f64, S::Error> {
-        let n = self.y.len();
-        let (mut dnf, mut dny) = (0.0, 0.0);
-        for i in 0..n {
-            let sk = self.tol.abstol + self.tol.reltol * self.y[i].abs();
-            dnf += (self.k[0][i] / sk).powi(2);
-            dny += (self.y[i] / sk).powi(2);
-        }
-        let mut h = if dnf <= 1e-10 || dny <= 1e-10 { 1e-6 } else { (dny / dnf).sqrt() * 0.01 };
-        h = h.min(h_max);
-        for i in 0..n {
-            self.stage[i] = self.y[i] + h * self.k[0][i];
-        }
-        sys.rhs(t + h, &self.stage, &mut self.k[1])?;
-        stats.evaluations += 1;
-        let mut der2 = 0.0;
-        for i in 0..n {
-            let sk = self.tol.abstol + self.tol.reltol * self.y[i].abs();
-            der2 += ((self.k[1][i] - self.k[0][i]) / sk).powi(2);
-        }
-        let der2 = der2.sqrt() / h;
-        let der12 = der2.abs().max(dnf.sqrt());
-        let h1 = if der12 <= 1e-15 { (h.abs() * 1e-3).max(1e-6) } else { (0.01 / der12).powf(0.2) };
-        Ok((100.0 * h).min(h1).min(h_max))
     }
 }
 

@@ -107,6 +107,45 @@ pub(crate) fn finish_step<S: OdeSystem, D: DenseStep>(
     Ok(())
 }
 
+/// Hairer's starting step for an adaptive method whose error estimate
+/// goes as `h^(1/exponent)`: an explicit Euler probe of the second
+/// derivative from `(t, y)` with derivative `f`. `probe` and `f_probe` are
+/// scratch of the state's size.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn initial_step<S: OdeSystem>(
+    sys: &mut S,
+    t: f64,
+    y: &[f64],
+    f: &[f64],
+    tol: &Tolerances,
+    h_max: f64,
+    exponent: f64,
+    (probe, f_probe): (&mut [f64], &mut [f64]),
+    stats: &mut Stats,
+) -> Result<f64, S::Error> {
+    let scale = |y: f64| tol.abstol + tol.reltol * y.abs();
+    let (mut dnf, mut dny) = (0.0, 0.0);
+    for (&yi, &fi) in y.iter().zip(f) {
+        dnf += (fi / scale(yi)).powi(2);
+        dny += (yi / scale(yi)).powi(2);
+    }
+    let mut h = if dnf <= 1e-10 || dny <= 1e-10 { 1e-6 } else { (dny / dnf).sqrt() * 0.01 };
+    h = h.min(h_max);
+    for ((p, &yi), &fi) in probe.iter_mut().zip(y).zip(f) {
+        *p = yi + h * fi;
+    }
+    sys.rhs(t + h, probe, f_probe)?;
+    stats.evaluations += 1;
+    let mut der2 = 0.0;
+    for ((&f1, &f0), &yi) in f_probe.iter().zip(f).zip(y) {
+        der2 += ((f1 - f0) / scale(yi)).powi(2);
+    }
+    let der2 = der2.sqrt() / h;
+    let der12 = der2.abs().max(dnf.sqrt());
+    let h1 = if der12 <= 1e-15 { (h.abs() * 1e-3).max(1e-6) } else { (0.01 / der12).powf(exponent) };
+    Ok((100.0 * h).min(h1).min(h_max))
+}
+
 /// Settings of the adaptive integrators.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tolerances {

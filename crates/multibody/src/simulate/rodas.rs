@@ -82,7 +82,7 @@
 //!
 //! All memory is allocated in [`Rodas4::new`]; `integrate` allocates nothing.
 
-use super::integrator::{finish_step, DenseStep, Failure, OdeSystem, Stats, Stopped, Tolerances};
+use super::integrator::{finish_step, initial_step, DenseStep, Failure, OdeSystem, Stats, Stopped, Tolerances};
 use crate::math::dense::{lu, lu_solve};
 
 /// The diagonal of the method: `W = I/(hγ) - J`.
@@ -217,7 +217,8 @@ impl Rodas4 {
             return stop(t, Failure::Rhs(e), stats);
         }
         let h_max = if self.tol.dtmax > 0.0 { self.tol.dtmax } else { (tf - t0).abs() };
-        let mut h = match self.initial_step(sys, t, h_max, &mut stats) {
+        let scratch = (&mut self.arg[..], &mut self.k[0][..]);
+        let mut h = match initial_step(sys, t, &self.y, &self.f, &self.tol, h_max, EXPONENT, scratch, &mut stats) {
             Ok(h) => h,
             Err(e) => return stop(t, Failure::Rhs(e), stats),
         };
@@ -440,42 +441,6 @@ impl Rodas4 {
             p[i] = pi;
             q[i] = qi;
         }
-    }
-
-    /// Hairer's starting step: the step whose error estimate would be about
-    /// 1/100, from an explicit Euler probe of the second derivative, at most
-    /// 100 times the step that moves `y` by 1% of its scale.
-    fn initial_step<S: OdeSystem>(
-        &mut self,
-        sys: &mut S,
-        t: f64,
-        h_max: f64,
-        stats: &mut Stats,
-    ) -> Result<f64, S::Error> {
-        let n = self.y.len();
-        let scale = |y: f64| self.tol.abstol + self.tol.reltol * y.abs();
-        let (mut norm_f, mut norm_y) = (0.0, 0.0);
-        for i in 0..n {
-            let sk = scale(self.y[i]);
-            norm_f += (self.f[i] / sk).powi(2);
-            norm_y += (self.y[i] / sk).powi(2);
-        }
-        let (norm_f, norm_y) = ((norm_f / n.max(1) as f64).sqrt(), (norm_y / n.max(1) as f64).sqrt());
-        let mut h = if norm_f <= 1e-5 || norm_y <= 1e-5 { 1e-6 } else { 0.01 * norm_y / norm_f };
-        h = h.min(h_max);
-        for i in 0..n {
-            self.arg[i] = self.y[i] + h * self.f[i];
-        }
-        stats.evaluations += 1;
-        sys.rhs(t + h, &self.arg, &mut self.k[0])?;
-        let mut second = 0.0;
-        for i in 0..n {
-            second += ((self.k[0][i] - self.f[i]) / scale(self.y[i])).powi(2);
-        }
-        let second = (second / n.max(1) as f64).sqrt() / h;
-        let larger = second.max(norm_f);
-        let h1 = if larger <= 1e-15 { (h * 1e-3).max(1e-6) } else { (0.01 / larger).powf(EXPONENT) };
-        Ok((100.0 * h).min(h1).min(h_max))
     }
 }
 
