@@ -362,7 +362,7 @@ fn loop_accelerations_satisfy_the_constrained_equations() {
     for k in 1..solution.len() {
         let t = solution.time()[k];
         let mut y = state_at(&mechanism, &solution, k);
-        mechanism.project(&mut ws, &mut y).unwrap();
+        mechanism.project(&mut ws, t, &mut y).unwrap();
         let (q, u) = y.split_at(nq);
         let mut ud = vec![0.0; nv];
         mechanism.forward_dynamics(&mut ws, t, q, u, &mut ud).unwrap();

@@ -68,7 +68,7 @@ pub fn inertia_behind_every_joint(
             d[(0, 0)] += l.armature;
         }
         let singular = (0..nv).any(|i| d[(i, i)] <= 1e-12 * scale) || d.clone().cholesky().is_none();
-        if singular && !constrained[k] {
+        if singular && !constrained[k] && l.driven == 0 {
             let component = &components[l.source.0];
             let dof = match l.joint {
                 JointModel::Revolute { .. } => "rotation about the axis",

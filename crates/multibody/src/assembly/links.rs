@@ -249,7 +249,10 @@ pub fn spanning_tree(
     }
     let ground_cluster = joined.find(groups.ground);
     for o in &owners {
-        if let (JointModel::Translation, false) = (o.model, o.line_end) {
+        // A root PointMass has no orientation to share; a prescribed
+        // position keeps its frame's orientation the world's.
+        let prescribed = components[o.component].parts.iter().any(|p| matches!(p, Part::Drive { .. }));
+        if let (JointModel::Translation, false, false) = (o.model, o.line_end, prescribed) {
             let others: Vec<String> = conn.frame_nodes[o.node]
                 .iter()
                 .filter(|&&c| conn.infos[c].component != o.component)

@@ -240,9 +240,17 @@ impl Mechanism {
         self.system.forward_dynamics(ws, t, q, u, ud)
     }
 
-    /// Moves `y` onto the constraints; see [`System::project`].
-    pub fn project(&self, ws: &mut Workspace, y: &mut [f64]) -> Result<bool, DynamicsError> {
-        self.system.project(ws, y)
+    /// Moves `y` onto the constraints at time `t`; see [`System::project`].
+    pub fn project(&self, ws: &mut Workspace, t: f64, y: &mut [f64]) -> Result<bool, DynamicsError> {
+        self.system.project(ws, t, y)
+    }
+
+    /// Sets the coordinates that drives know exactly (prescribed positions
+    /// and speeds) to their values at `t`.
+    pub fn impose_drives(&self, ws: &mut Workspace, t: f64, y: &mut [f64]) {
+        if !self.system.drives.is_empty() {
+            self.system.impose_drives(ws, t, y);
+        }
     }
 
     /// For each floating group, the component that owns its orientation

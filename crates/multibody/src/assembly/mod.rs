@@ -16,6 +16,7 @@
 mod axis;
 mod checks;
 mod connections;
+mod drives;
 mod flows;
 mod forces;
 mod instances;
@@ -98,13 +99,16 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         link.articulated = (&link.inertia).into();
     }
 
-    let signals = signals::resolve(&components, &conn, &tree, &drive.places)?;
-    warnings.extend(signals.warnings);
+    let mut signals = signals::resolve(&components, &conn, &tree, &drive.places)?;
+    warnings.extend(std::mem::take(&mut signals.warnings));
     let axis_elements = axis::elements(&mut components, &conn, &drive.places, &signals.of_connector)?;
     let couplings = axis::couplings(&components, &conn, &drive, constraint_rows)?;
     let constraint_rows = constraint_rows + couplings.len();
     let force_elements = forces::elements(&components, &conn, &mut tree, &signals.of_connector)?;
-    let states = states::layout(model, &components, &tree, &drive.geared)?;
+    let (drives, drive_starts) = drives::attach(&components, &conn, &mut tree, &drive.places, &signals)?;
+    let mut states = states::layout(model, &components, &tree, &drive.geared)?;
+    drives::apply_starts(&drive_starts, &tree, &mut states);
+    let free_coordinates = drives::free_coordinates(&tree, states.nv);
     checks::inertia_behind_every_joint(&components, &conn, &tree, &states.start[..states.nq])?;
 
     // Start each massless group at the centre of the frames that hold it.
@@ -124,12 +128,15 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     let flow_tree = flows::flow_tree(&components, &conn, &tree);
 
     let flange_of_connector = axis::of_connectors(&conn, &drive.places);
-    let dof = states.nv;
+    let dof = free_coordinates.iter().filter(|free| **free).count();
     let system = System {
         links: tree.links,
         axis_elements,
         axis_forces: drive.axis_forces.clone(),
         signals_read_frames: signals.blocks.iter().any(|b| b.law.reads_frames()),
+        time_signals: signals.time_signals,
+        drives,
+        free_coordinates,
         signals: signals.blocks,
         couplings,
         force_elements,

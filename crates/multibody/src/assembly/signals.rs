@@ -9,12 +9,14 @@ use super::connections::Connectors;
 use super::links::Tree;
 use super::mechanism::CompiledComponent;
 use crate::components::{ConnectorType, Part};
-use crate::system::{Attachment, FlangeRef, SignalBlock};
+use crate::system::{Attachment, FlangeRef, SignalBlock, SignalLaw};
 use crate::Error;
 
 pub struct Signals {
-    /// The blocks in evaluation order.
+    /// The blocks in evaluation order, those of time only first.
     pub blocks: Vec<SignalBlock>,
+    /// How many blocks depend on time only.
+    pub time_signals: usize,
     /// For every connector, its signal slot (`blocks.len()` reads zero).
     pub of_connector: Vec<usize>,
     pub warnings: Vec<String>,
@@ -65,8 +67,22 @@ pub fn resolve(
         components: cycle.into_iter().map(|slot| components[owners[slot]].name.clone()).collect(),
     })?;
     let mut slots: Vec<Option<SignalBlock>> = blocks.into_iter().map(Some).collect();
-    let blocks = order.into_iter().filter_map(|slot| slots[slot].take()).collect();
-    Ok(Signals { blocks, of_connector, warnings })
+    let blocks: Vec<SignalBlock> = order.into_iter().filter_map(|slot| slots[slot].take()).collect();
+    // Blocks of time only read only blocks of time only: putting them
+    // first keeps every block after those it reads.
+    let mut of_time = vec![false; zero + 1];
+    of_time[zero] = true;
+    for b in &blocks {
+        of_time[b.output] = match b.law {
+            SignalLaw::Source(_) => true,
+            SignalLaw::Affine { .. } | SignalLaw::Product | SignalLaw::Division => b.inputs.iter().all(|&i| of_time[i]),
+            _ => false,
+        };
+    }
+    let (mut blocks, rest): (Vec<_>, Vec<_>) = blocks.into_iter().partition(|b| of_time[b.output]);
+    let time_signals = blocks.len();
+    blocks.extend(rest);
+    Ok(Signals { blocks, time_signals, of_connector, warnings })
 }
 
 /// The slot of every connector: each signal node reads its one output.

@@ -32,11 +32,13 @@ mod gear_constraint;
 mod ideal_gear;
 mod inertia_1d;
 mod line_force;
+mod motion_sources;
 mod mounting_1d;
 pub mod one_d;
 mod orientation;
 mod planar;
 mod point_mass;
+mod prescribed;
 mod prismatic;
 mod prismatic_constraint;
 mod revolute;
@@ -58,7 +60,7 @@ mod world_force;
 mod world_torque;
 
 pub use crate::system::laws::{resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, RotationLock, SignalSource};
-pub use crate::system::SignalLaw;
+pub use crate::system::{DriveLevel, DriveMap, SignalLaw};
 pub use params::ParamSet;
 pub use spec::{ComponentSpec, ConnectorSpec, ConnectorType, Default, ParamSpec, ParamType, Shape, VarSpec};
 pub use world::WorldSettings;
@@ -88,6 +90,10 @@ static REGISTRY: &[&ComponentSpec] = &[
     &cylindrical::SPEC,
     &planar::SPEC,
     &free_motion::SPEC,
+    &prescribed::POSITION,
+    &prescribed::POSE,
+    &prescribed::VELOCITY,
+    &prescribed::ACCELERATION,
     &revolute_constraint::SPEC,
     &prismatic_constraint::SPEC,
     &spherical_constraint::SPEC,
@@ -111,6 +117,9 @@ static REGISTRY: &[&ComponentSpec] = &[
     &one_d::rotational::SPEED_SENSOR,
     &one_d::rotational::FIXED,
     &inertia_1d::INERTIA,
+    &motion_sources::ROTATIONAL_POSITION,
+    &motion_sources::ROTATIONAL_SPEED,
+    &motion_sources::ROTATIONAL_ACCELERATE,
     &one_d::translational::DAMPER,
     &one_d::translational::SPRING,
     &one_d::translational::SPRING_DAMPER,
@@ -120,6 +129,9 @@ static REGISTRY: &[&ComponentSpec] = &[
     &one_d::translational::SPEED_SENSOR,
     &one_d::translational::FIXED,
     &inertia_1d::MASS,
+    &motion_sources::TRANSLATIONAL_POSITION,
+    &motion_sources::TRANSLATIONAL_SPEED,
+    &motion_sources::TRANSLATIONAL_ACCELERATE,
     &blocks::constant::SPEC,
     &blocks::step::SPEC,
     &blocks::ramp::SPEC,
@@ -253,6 +265,22 @@ pub enum Part {
     /// (`fixed_rotation_at_frame_a/b`): it owns the orientation of a
     /// group that nothing else orients.
     FixedRotationEnd { frame: usize },
+    /// The joint (or owner) that is this component's part number `part`
+    /// moves as the signals at the input connectors `inputs` impose, at
+    /// `level` (see [`DriveMap`] for which coordinates they set). `start`
+    /// gives the start positions and speeds of the integrated levels
+    /// (where the model sets none).
+    Drive {
+        part: usize,
+        level: DriveLevel,
+        map: DriveMap,
+        inputs: [Option<usize>; 7],
+        start: Option<([f64; 3], [f64; 3])>,
+    },
+    /// A 1-D source imposing the motion of `flange` relative to `support`
+    /// (a housing) from the signal at the input connector `input`: on a
+    /// joint's axis it makes the joint rheonomic.
+    AxisDrive { flange: usize, support: usize, input: usize, level: DriveLevel },
 }
 
 /// The motion of one frame connector and the cut force on it.

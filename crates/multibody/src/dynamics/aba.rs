@@ -43,7 +43,13 @@ impl System {
         u: &[f64],
     ) -> Result<(), DynamicsError> {
         self.kinematics_and_bias(ws, q, u)?;
+        if !self.drives.is_empty() {
+            self.evaluate_time_jets(ws, t);
+        }
         self.evaluate_signals(ws, t, q, u);
+        if !self.drives.is_empty() {
+            self.drive_accelerations(ws, q, u);
+        }
         if !self.massless.is_empty() {
             self.solve_massless(ws)?;
         }
@@ -143,7 +149,14 @@ impl System {
             let (done, rest) = links.split_at_mut(k);
             let w = &mut rest[0];
             let (mut ia, mut pa);
-            if nv == 1 {
+            if link.driven != 0 && nv == 1 {
+                // Its acceleration is known (in `c`): the link moves with its parent rigidly.
+                if link.parent == GROUND {
+                    continue;
+                }
+                ia = w.ia;
+                pa = w.pa + ia.apply(&w.c);
+            } else if nv == 1 {
                 w.u_force = w.ia.apply(&w.s);
                 let d = w.s.dot(&w.u_force) + link.armature;
                 if d.is_nan() || d <= 0.0 {
@@ -160,13 +173,18 @@ impl System {
             } else {
                 let m = &mut multi[multi_index[k]];
                 let mut d = nalgebra::Matrix6::<f64>::identity();
+                // Driven columns carry no force of their own: zero U and u
+                // leave them out (D is the identity there).
                 for i in 0..nv {
-                    m.u_force[i] = w.ia.apply(&m.s[i]);
-                    m.u[i] = tau[link.v_offset + i] - m.s[i].dot(&w.pa);
+                    let free = link.driven & (1 << i) == 0;
+                    m.u_force[i] = if free { w.ia.apply(&m.s[i]) } else { Force::ZERO };
+                    m.u[i] = if free { tau[link.v_offset + i] - m.s[i].dot(&w.pa) } else { 0.0 };
                 }
                 for i in 0..nv {
                     for j in 0..nv {
-                        d[(i, j)] = m.s[i].dot(&m.u_force[j]);
+                        if (link.driven >> i | link.driven >> j) & 1 == 0 {
+                            d[(i, j)] = m.s[i].dot(&m.u_force[j]);
+                        }
                     }
                 }
                 m.d_inv = d.cholesky().ok_or(DynamicsError::SingularInertia { link: k })?.inverse();
@@ -195,7 +213,7 @@ impl System {
 
     /// Pass 3: accelerations from the ground outwards.
     fn accelerations(&self, ws: &mut Workspace, ud: &mut [f64]) {
-        let Workspace { links, multi, multi_index, .. } = ws;
+        let Workspace { links, multi, multi_index, imposed, .. } = ws;
         links[GROUND].a = Motion::new(Vec3::zeros(), -self.uniform_gravity);
         for k in 1..self.links.len() {
             let link = &self.links[k];
@@ -203,7 +221,10 @@ impl System {
             let (done, rest) = links.split_at_mut(k);
             let w = &mut rest[0];
             let a_in = w.x_up.apply_motion(&done[link.parent].a) + w.c;
-            w.a = if nv == 1 {
+            w.a = if link.driven != 0 && nv == 1 {
+                ud[link.v_offset] = imposed[link.v_offset];
+                a_in
+            } else if nv == 1 {
                 let qdd = w.d_inv * (w.u - a_in.dot(&w.u_force));
                 ud[link.v_offset] = qdd;
                 a_in + w.s * qdd
@@ -216,8 +237,12 @@ impl System {
                 let qdd = m.d_inv * rhs;
                 let mut a = a_in;
                 for i in 0..nv {
-                    ud[link.v_offset + i] = qdd[i];
-                    a += m.s[i] * qdd[i];
+                    if link.driven & (1 << i) == 0 {
+                        ud[link.v_offset + i] = qdd[i];
+                        a += m.s[i] * qdd[i];
+                    } else {
+                        ud[link.v_offset + i] = imposed[link.v_offset + i];
+                    }
                 }
                 a
             };

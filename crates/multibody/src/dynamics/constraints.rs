@@ -278,6 +278,15 @@ impl System {
         self.bias_accelerations(ws);
         self.constraint_terms(ws, q, true);
         self.bias_forces(ws, ud);
+        // Driven coordinates: their imposed accelerations are already in
+        // the velocity-product terms (so in `f` and `Jdot u`); what is
+        // solved for is the rest, zero for them.
+        for (i, _) in self.free_coordinates.iter().enumerate().filter(|(_, free)| !**free) {
+            ud[i] = 0.0;
+            for r in 0..m {
+                ws.jac[r * nv + i] = 0.0;
+            }
+        }
         let w = self.augmented_mass_matrix(ws);
         // A rotor's spin coupled to a light carrier (Modelica's Rotor1D) can
         // make M indefinite, though regular: LU solves it when Cholesky cannot.
@@ -334,7 +343,11 @@ impl System {
             let link = &self.links[k];
             let mut a = ws.links[k].x_up.apply_motion(&ws.links[link.parent].a) + ws.links[k].c;
             for d in 0..link.joint.nv() {
-                a += self.subspace(ws, k, d) * ud[link.v_offset + d];
+                if link.driven & (1 << d) == 0 {
+                    a += self.subspace(ws, k, d) * ud[link.v_offset + d];
+                } else {
+                    ud[link.v_offset + d] = ws.imposed[link.v_offset + d];
+                }
             }
             ws.links[k].a = a;
         }
@@ -353,6 +366,14 @@ impl System {
                 let jtj: f64 = (0..m).map(|r| ws.jac[r * nv + i] * ws.jac[r * nv + j]).sum();
                 ws.mass[i * nv + j] += w * jtj;
             }
+        }
+        // A driven coordinate is not solved for: a unit row and column.
+        for (i, _) in self.free_coordinates.iter().enumerate().filter(|(_, free)| !**free) {
+            for j in 0..nv {
+                ws.mass[i * nv + j] = 0.0;
+                ws.mass[j * nv + i] = 0.0;
+            }
+            ws.mass[i * nv + i] = w;
         }
         w
     }
@@ -414,24 +435,32 @@ impl System {
     /// Moves `y` onto the constraints: positions by Newton steps of least
     /// norm, then velocities by removing their constraint-violating part.
     /// Returns whether anything changed.
-    pub fn project(&self, ws: &mut Workspace, y: &mut [f64]) -> Result<bool, DynamicsError> {
+    pub fn project(&self, ws: &mut Workspace, t: f64, y: &mut [f64]) -> Result<bool, DynamicsError> {
         if self.constraint_rows == 0 {
             return Ok(false);
         }
         let (nq, nv) = (self.states.nq, self.states.nv);
         let mut changed = false;
+        let free = if self.drives.is_empty() {
+            None
+        } else {
+            // Driven coordinates are exact and stay so: only the others move.
+            self.impose_drives(ws, t, y);
+            changed = true;
+            Some(self.free_coordinates.as_slice())
+        };
         for _ in 0..PROJECTION_ITERATIONS {
             self.constraint_state(ws, y)?;
             if ws.residual.iter().all(|r| r.abs() <= PROJECT_ABOVE) {
                 break;
             }
-            self.least_norm_step(ws, None, true);
+            self.least_norm_step(ws, free, true);
             self.retract(y, ws);
             changed = true;
         }
         self.velocity_residual(ws, y)?;
         if ws.lambda.iter().any(|v| *v != 0.0) {
-            self.least_norm_step(ws, None, false);
+            self.least_norm_step(ws, free, false);
             for i in 0..nv {
                 y[nq + i] += ws.du[i];
             }

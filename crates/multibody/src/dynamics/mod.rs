@@ -5,6 +5,7 @@
 
 mod aba;
 mod constraints;
+mod drives;
 pub(crate) mod forces;
 mod signals;
 
@@ -38,6 +39,12 @@ pub struct Workspace {
     pub(crate) tau: Vec<f64>,
     /// Signal values at the current time; the last slot is always zero.
     pub(crate) signals: Vec<f64>,
+    /// First and second time derivatives of the signals of time only.
+    pub(crate) signal_rates: Vec<[f64; 2]>,
+    /// The state with the driven coordinates set exactly (scratch).
+    pub(crate) driven_state: Vec<f64>,
+    /// Accelerations the drives impose, by velocity coordinate.
+    pub(crate) imposed: Vec<f64>,
     /// Positions and velocities of the massless groups.
     pub(crate) massless_pos: Vec<Vec3>,
     pub(crate) massless_vel: Vec<Vec3>,
@@ -109,6 +116,9 @@ impl Workspace {
             multi_index,
             tau: vec![0.0; system.states.nv],
             signals: vec![0.0; system.signals.len() + 1],
+            signal_rates: vec![[0.0; 2]; system.signals.len() + 1],
+            driven_state: vec![0.0; if system.drives.is_empty() { 0 } else { system.states.nq + nv }],
+            imposed: vec![0.0; if system.drives.is_empty() { 0 } else { nv }],
             massless_pos: system.massless.iter().map(|g| g.guess).collect(),
             massless_vel: vec![Vec3::zeros(); system.massless.len()],
             jac: vec![0.0; m * nv],
@@ -152,6 +162,19 @@ impl System {
     /// The right-hand side of the ODE: `dy = f(t, y)` with
     /// `y = [q, u]`. Allocates nothing.
     pub fn rhs(&self, ws: &mut Workspace, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
+        if self.drives.is_empty() {
+            return self.rhs_at(ws, t, y, dy);
+        }
+        let mut exact = std::mem::take(&mut ws.driven_state);
+        exact.copy_from_slice(y);
+        self.impose_drives(ws, t, &mut exact);
+        let result = self.rhs_at(ws, t, &exact, dy);
+        ws.driven_state = exact;
+        result
+    }
+
+    /// [`System::rhs`] at a state whose driven coordinates are exact.
+    fn rhs_at(&self, ws: &mut Workspace, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
         let nq = self.states.nq;
         let (q, u) = y.split_at(nq);
         let (qd, ud) = dy.split_at_mut(nq);

@@ -108,6 +108,16 @@ impl Mechanism {
     ) -> Result<(), DynamicsError> {
         let (nq, nv) = (self.system.states.nq, self.system.states.nv);
         scratch.dy.resize(nq + nv, 0.0);
+        // Driven coordinates read their exact values, as the dynamics did.
+        let exact;
+        let y = if self.system.drives.is_empty() {
+            y
+        } else {
+            let mut y_exact = y.to_vec();
+            self.impose_drives(ws, t, &mut y_exact);
+            exact = y_exact;
+            &exact[..]
+        };
         self.rhs(ws, t, y, &mut scratch.dy)?;
         self.system.world_poses(ws);
         // True link accelerations: the ABA ran in a frame falling with gravity.

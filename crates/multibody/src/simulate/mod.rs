@@ -229,7 +229,7 @@ impl OdeSystem for Dynamics<'_> {
         if !self.euler_sides.is_empty() {
             self.euler_crossing(step, y)?;
         }
-        Ok(self.mechanism.project(&mut self.ws, y)?)
+        Ok(self.mechanism.project(&mut self.ws, step.span().1, y)?)
     }
 }
 
@@ -431,6 +431,16 @@ impl Mechanism {
             );
             return Err(fail(options.start, reason));
         }
+        // Prescribed positions and speeds start where their signals are.
+        let imposed_start;
+        let y0 = if self.system.drives.is_empty() {
+            y0
+        } else {
+            let mut start = y0.to_vec();
+            self.impose_drives(&mut self.workspace(), options.start, &mut start);
+            imposed_start = start;
+            &imposed_start
+        };
         let wanted = sink.columns().map(|columns| {
             let table = self.signal_table();
             let mut wanted = vec![false; self.components.len()];

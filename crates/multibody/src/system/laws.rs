@@ -211,6 +211,45 @@ impl SignalSource {
     }
 }
 
+impl SignalSource {
+    /// The value and its first two time derivatives at `t`, for motion
+    /// that a source prescribes (positions need their speed and
+    /// acceleration). Jumps and kinks count as having zero derivative at
+    /// the instant itself, as an integrator that steps over them sees it.
+    pub fn jet(&self, t: f64) -> [f64; 3] {
+        let value = self.value(t);
+        match *self {
+            SignalSource::Constant { .. } | SignalSource::Step { .. } => [value, 0.0, 0.0],
+            SignalSource::Ramp { height, duration, start_time, .. } => {
+                let rising = t >= start_time && t < start_time + duration;
+                [value, if rising { height / duration } else { 0.0 }, 0.0]
+            }
+            SignalSource::Sine { amplitude, frequency, phase, start_time, .. } => {
+                if t < start_time {
+                    return [value, 0.0, 0.0];
+                }
+                let w = 2.0 * std::f64::consts::PI * frequency;
+                let angle = w * (t - start_time) + phase;
+                [value, amplitude * w * angle.cos(), -amplitude * w * w * angle.sin()]
+            }
+            SignalSource::Table { ref points } => {
+                let k = points.partition_point(|p| p.0 <= t);
+                let slope = if k == 0 || k >= points.len() {
+                    0.0
+                } else {
+                    let ((t0, y0), (t1, y1)) = (points[k - 1], points[k]);
+                    if t1 > t0 {
+                        (y1 - y0) / (t1 - t0)
+                    } else {
+                        0.0
+                    }
+                };
+                [value, slope, 0.0]
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -225,5 +264,26 @@ mod tests {
         assert!((sine.value(1.0) - 3.0).abs() < 1e-15);
         let table = SignalSource::Table { points: vec![(0.0, 0.0), (1.0, 10.0), (2.0, 10.0)] };
         assert_eq!([table.value(-1.0), table.value(0.25), table.value(5.0)], [0.0, 2.5, 10.0]);
+    }
+
+    #[test]
+    fn jets_are_the_derivatives_of_the_values() {
+        let sources = [
+            SignalSource::Ramp { height: 2.0, duration: 4.0, offset: 1.0, start_time: 1.0 },
+            SignalSource::Sine { amplitude: 2.0, frequency: 0.3, phase: 0.4, offset: 1.0, start_time: 0.5 },
+            SignalSource::Table { points: vec![(0.0, 0.0), (1.0, 10.0), (2.0, 10.0)] },
+        ];
+        // Central differences of step 1e-4 err by about h^2 |y'''| / 6 and
+        // by rounding 1e-16 / h^2: 1e-6 covers both for these amplitudes.
+        let h = 1e-4;
+        for source in &sources {
+            for t in [0.7, 1.3, 2.2, 3.9] {
+                let [_, d1, d2] = source.jet(t);
+                let fd1 = (source.value(t + h) - source.value(t - h)) / (2.0 * h);
+                let fd2 = (source.jet(t + h)[1] - source.jet(t - h)[1]) / (2.0 * h);
+                assert!((d1 - fd1).abs() < 1e-6, "{source:?} at {t}: {d1} vs {fd1}");
+                assert!((d2 - fd2).abs() < 1e-6, "{source:?} at {t}: {d2} vs {fd2}");
+            }
+        }
     }
 }

@@ -7,10 +7,12 @@
 //! Assembly writes it once; `dynamics` reads it with a
 //! [`Workspace`](crate::dynamics::Workspace).
 
+pub mod drive;
 pub mod joint;
 pub mod laws;
 pub mod signals;
 
+pub use drive::{Drive, DriveLevel, DriveMap};
 pub use joint::{JointModel, JointMotion, RotationCoordinates};
 pub use laws::{resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, RotationLock, SignalSource};
 pub(crate) use signals::SignalBlock;
@@ -35,6 +37,14 @@ pub struct System {
     pub(crate) signals: Vec<SignalBlock>,
     /// Whether a signal block reads frame poses.
     pub(crate) signals_read_frames: bool,
+    /// How many of the first blocks depend on time only (and so have
+    /// derivatives a drive can use, evaluated before the kinematics).
+    pub(crate) time_signals: usize,
+    /// Joints whose motion signals impose.
+    pub(crate) drives: Vec<Drive>,
+    /// Per velocity coordinate, whether the dynamics decides it (no drive
+    /// imposes it): what projection onto the constraints may move.
+    pub(crate) free_coordinates: Vec<bool>,
     /// Linear relations between joint coordinates (gears), kept by
     /// constraint forces in the rows after those of `constraints`.
     pub(crate) couplings: Vec<Coupling>,
@@ -172,6 +182,9 @@ pub(crate) struct Link {
     /// joint's diagonal of the mass matrix. A free 1-D inertia is a link of
     /// its own with no rigid inertia and only this.
     pub armature: f64,
+    /// Bit `k` set: a drive imposes the acceleration of velocity
+    /// coordinate `k` of this joint.
+    pub driven: u8,
 }
 
 impl Link {
@@ -197,6 +210,7 @@ impl Link {
             states_of,
             inverted: false,
             armature: 0.0,
+            driven: 0,
         }
     }
 
