@@ -163,3 +163,11 @@ fn every_msl_example_is_checked() {
         assert!(checked.iter().any(|c| source.contains(c)), "examples/msl/{name}.dyad has no reference test");
     }
 }
+
+/// A crank turned through Modelica's Position filter drives three coupled
+/// four-bar loops: the drive imposes the crank's motion inside the loops'
+/// constrained dynamics.
+#[test]
+fn planar_loops_analytic() {
+    check("PlanarLoops_analytic", &["rev.phi", "rev.w"]);
+}

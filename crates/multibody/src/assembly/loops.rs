@@ -112,6 +112,8 @@ pub fn close(mechanism: &mut Mechanism) -> Result<(), Error> {
     let mut ws = mechanism.workspace();
     let (nq, nv) = (mechanism.system.states.nq, mechanism.system.states.nv);
     let mut y = mechanism.system.states.start.clone();
+    // Driven coordinates start where their drives put them at t = 0, and stay.
+    mechanism.impose_drives(&mut ws, 0.0, &mut y);
     let free = free_velocity_coordinates(mechanism);
     let fixed_values = |range: std::ops::Range<usize>| -> Vec<String> {
         range
@@ -184,7 +186,7 @@ pub fn close(mechanism: &mut Mechanism) -> Result<(), Error> {
     mechanism.system.constraint_state(&mut ws, &y).map_err(as_error)?;
     mechanism.system.states.start = y;
     mechanism.loops = loop_reports(mechanism, &mut ws);
-    mechanism.system.dof = nv - mechanism.system.constraint_rank(&mut ws);
+    mechanism.system.dof = mechanism.system.free_degrees_of_freedom(&mut ws);
     Ok(())
 }
 
@@ -203,8 +205,9 @@ fn free_velocity_coordinates(mechanism: &Mechanism) -> Vec<bool> {
                 }
                 _ => fixed[link.q_offset + dof.min(link.joint.nq() - 1)],
             };
-            free[link.v_offset + dof] = !position_fixed;
-            free[nv + link.v_offset + dof] = !fixed[nq + link.v_offset + dof];
+            let driven = !mechanism.system.free_coordinates[link.v_offset + dof];
+            free[link.v_offset + dof] = !position_fixed && !driven;
+            free[nv + link.v_offset + dof] = !fixed[nq + link.v_offset + dof] && !driven;
         }
     }
     free

@@ -31,6 +31,7 @@ mod free_motion;
 mod gear_constraint;
 mod ideal_gear;
 mod inertia_1d;
+mod joint_rrr;
 mod line_force;
 mod motion_sources;
 mod mounting_1d;
@@ -101,6 +102,7 @@ static REGISTRY: &[&ComponentSpec] = &[
     &spherical_spherical::SPEC,
     &universal_spherical::SPEC,
     &revolute_planar_loop_constraint::SPEC,
+    &joint_rrr::SPEC,
     &spring::SPEC,
     &damper::SPEC,
     &spring_damper_parallel::SPEC,

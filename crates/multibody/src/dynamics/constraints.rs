@@ -535,6 +535,18 @@ impl System {
         }
     }
 
+    /// Velocity coordinates that neither a drive nor a constraint decides,
+    /// at the workspace's state.
+    pub(crate) fn free_degrees_of_freedom(&self, ws: &mut Workspace) -> usize {
+        let (nv, m) = (self.states.nv, self.constraint_rows);
+        for (i, _) in self.free_coordinates.iter().enumerate().filter(|(_, free)| !**free) {
+            for r in 0..m {
+                ws.jac[r * nv + i] = 0.0;
+            }
+        }
+        self.free_coordinates.iter().filter(|free| **free).count() - self.constraint_rank(ws)
+    }
+
     /// Rank of the constraint Jacobian at the workspace's state.
     pub(crate) fn constraint_rank(&self, ws: &mut Workspace) -> usize {
         let (nv, m) = (self.states.nv, self.constraint_rows);
