@@ -171,3 +171,10 @@ fn every_msl_example_is_checked() {
 fn planar_loops_analytic() {
     check("PlanarLoops_analytic", &["rev.phi", "rev.w"]);
 }
+
+/// Fourbar1's loop closed by a JointSSP: a massless rod between two ball
+/// joints and a slider carrying a body.
+#[test]
+fn fourbar_analytic() {
+    check("Fourbar_analytic", &["j1.phi", "j1.w"]);
+}

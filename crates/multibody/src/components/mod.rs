@@ -31,8 +31,8 @@ mod free_motion;
 mod gear_constraint;
 mod ideal_gear;
 mod inertia_1d;
-mod joint_rrr;
 mod line_force;
+mod loop_assemblies;
 mod motion_sources;
 mod mounting_1d;
 pub mod one_d;
@@ -102,7 +102,10 @@ static REGISTRY: &[&ComponentSpec] = &[
     &spherical_spherical::SPEC,
     &universal_spherical::SPEC,
     &revolute_planar_loop_constraint::SPEC,
-    &joint_rrr::SPEC,
+    &loop_assemblies::RRR,
+    &loop_assemblies::RRP,
+    &loop_assemblies::SSR,
+    &loop_assemblies::SSP,
     &spring::SPEC,
     &damper::SPEC,
     &spring_damper_parallel::SPEC,
