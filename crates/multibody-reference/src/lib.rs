@@ -77,6 +77,17 @@ impl Table {
         *self.time.last().expect("an empty table")
     }
 
+    /// The rows up to time `stop`.
+    pub fn until(&self, stop: f64) -> Table {
+        let n = self.time.partition_point(|&t| t <= stop);
+        Table {
+            name: self.name.clone(),
+            names: self.names.clone(),
+            time: self.time[..n].to_vec(),
+            columns: self.columns.iter().map(|c| c[..n].to_vec()).collect(),
+        }
+    }
+
     /// The output interval.
     pub fn interval(&self) -> f64 {
         self.time[1] - self.time[0]

@@ -192,7 +192,7 @@ pub fn close(mechanism: &mut Mechanism) -> Result<(), Error> {
 
 /// For positions (first `nv`) and velocities (last `nv`): which velocity
 /// coordinates may change to close the loops.
-fn free_velocity_coordinates(mechanism: &Mechanism) -> Vec<bool> {
+pub(super) fn free_velocity_coordinates(mechanism: &Mechanism) -> Vec<bool> {
     let (nq, nv) = (mechanism.system.states.nq, mechanism.system.states.nv);
     let fixed = &mechanism.system.states.fixed;
     let mut free = vec![true; 2 * nv];

@@ -19,6 +19,7 @@ mod connections;
 mod drives;
 mod flows;
 mod forces;
+mod initial;
 mod instances;
 mod links;
 mod loops;
@@ -125,6 +126,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
             group.guess = ends.iter().sum::<Vec3>() / ends.len() as f64;
         }
     }
+    let initial_equations = initial::collect(model, &components, &conn, &tree)?;
     let flow_tree = flows::flow_tree(&components, &conn, &tree);
 
     let flange_of_connector = axis::of_connectors(&conn, &drive.places);
@@ -168,6 +170,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     if mechanism.system.constraint_rows > 0 {
         loops::close(&mut mechanism)?;
     }
+    initial::solve(&mut mechanism, &initial_equations)?;
     Ok(mechanism)
 }
 

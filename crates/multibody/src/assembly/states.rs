@@ -46,6 +46,9 @@ pub fn layout(
         let guesses = instance.guess.iter().filter(|(g, _)| !instance.initial.iter().any(|(i, _)| i == g));
         let given = instance.initial.iter().map(|e| (e, true)).chain(guesses.map(|e| (e, false)));
         for ((variable, value), holds) in given {
+            if super::initial::is_initial_equation(c, variable) {
+                continue;
+            }
             if let Some((index, scale, offset)) = through_gear(ci, geared, nq, variable) {
                 let x = numbers(&c.name, variable, value, 1)?[0];
                 start[index] = (x - offset) / scale;

@@ -28,6 +28,7 @@ mod fixed_rotation;
 mod fixed_translation;
 mod force;
 mod free_motion;
+mod free_motion_scalar_init;
 mod gear_constraint;
 mod ideal_gear;
 mod inertia_1d;
@@ -91,6 +92,7 @@ static REGISTRY: &[&ComponentSpec] = &[
     &cylindrical::SPEC,
     &planar::SPEC,
     &free_motion::SPEC,
+    &free_motion_scalar_init::SPEC,
     &prescribed::POSITION,
     &prescribed::POSE,
     &prescribed::VELOCITY,
@@ -282,6 +284,10 @@ pub enum Part {
         inputs: [Option<usize>; 7],
         start: Option<([f64; 3], [f64; 3])>,
     },
+    /// Initial values given on this component's `r_rel_a_k` (with
+    /// `position`) and `v_rel_a_k` (with `velocity`) are initial equations
+    /// on the motion of frame `b` relative to frame `a`, resolved in `a`.
+    InitialMotion { a: usize, b: usize, position: bool, velocity: bool },
     /// A 1-D source imposing the motion of `flange` relative to `support`
     /// (a housing) from the signal at the input connector `input`: on a
     /// joint's axis it makes the joint rheonomic.
