@@ -147,6 +147,8 @@ pub enum Relation {
     Connect { ends: Vec<Path>, span: Span },
     /// `initial x.y = expr`: a start value.
     Initial { target: Path, value: Expr, span: Span },
+    /// `x.y = expr`: an equation (today: a signal input's formula of time).
+    Equation { lhs: Path, rhs: Expr, span: Span },
 }
 
 #[derive(Clone, Debug, PartialEq)]

@@ -168,6 +168,70 @@ pub fn eval(expr: &Expr, scope: &mut dyn Scope) -> EResult {
     finite(value, expr.span)
 }
 
+/// A formula of time for a signal input: numbers, parameters, `time`,
+/// `+ - * / ^` and functions of one argument (`sin`, `exp`, ...).
+pub fn formula(expr: &Expr, scope: &mut dyn Scope) -> Result<multibody::TimeExpr, Diagnostic> {
+    use multibody::TimeExpr as T;
+    if !mentions_time(expr) {
+        return match eval(expr, scope)? {
+            Val::Number(x) => Ok(T::Const(x)),
+            other => Err(Diagnostic::error(format!("a signal input takes one number, not {}", other.describe()))
+                .primary(expr.span, "not a number")),
+        };
+    }
+    let binary = |op: BinaryOp, a: T, b: T| {
+        let (a, b) = (Box::new(a), Box::new(b));
+        match op {
+            BinaryOp::Add | BinaryOp::ElemAdd => T::Add(a, b),
+            BinaryOp::Sub | BinaryOp::ElemSub => T::Sub(a, b),
+            BinaryOp::Mul | BinaryOp::ElemMul => T::Mul(a, b),
+            BinaryOp::Div | BinaryOp::ElemDiv => T::Div(a, b),
+            BinaryOp::Pow | BinaryOp::ElemPow => T::Pow(a, b),
+        }
+    };
+    Ok(match &expr.kind {
+        ExprKind::Name(_) => T::Time,
+        ExprKind::Unary { op: UnaryOp::Plus, operand } => formula(operand, scope)?,
+        ExprKind::Unary { op: UnaryOp::Neg, operand } => T::Neg(Box::new(formula(operand, scope)?)),
+        ExprKind::Binary { op, lhs, rhs } => binary(*op, formula(lhs, scope)?, formula(rhs, scope)?),
+        ExprKind::Chain { first, rest } => {
+            let mut value = formula(first, scope)?;
+            for (op, rhs) in rest {
+                value = binary(*op, value, formula(rhs, scope)?);
+            }
+            value
+        }
+        ExprKind::Call { callee, args } if args.len() == 1 && callee.parts.len() == 1 => {
+            let name = &callee.parts[0].name;
+            let f = multibody::Func::from_name(name).ok_or_else(|| {
+                Diagnostic::error(format!("`{name}` cannot be used in a formula of time"))
+                    .primary(callee.span, "not supported here")
+                    .help("formulas of time use + - * / ^ and sin, cos, tan, exp, log, sqrt, abs, asin, acos, atan, sinh, cosh, tanh")
+            })?;
+            T::Call(f, Box::new(formula(&args[0], scope)?))
+        }
+        _ => {
+            return Err(Diagnostic::error("this is not supported in a formula of time yet")
+                .primary(expr.span, "not supported here")
+                .help("formulas of time use numbers, parameters, `time`, + - * / ^ and functions of one argument"))
+        }
+    })
+}
+
+/// Whether `time` appears in `expr` (as a bare name).
+fn mentions_time(expr: &Expr) -> bool {
+    match &expr.kind {
+        ExprKind::Name(p) => p.parts.len() == 1 && p.parts[0].name == "time",
+        ExprKind::Call { args, .. } => args.iter().any(mentions_time),
+        ExprKind::Array(items) => items.iter().any(mentions_time),
+        ExprKind::Index { base, indices } => mentions_time(base) || indices.iter().any(mentions_time),
+        ExprKind::Unary { operand, .. } => mentions_time(operand),
+        ExprKind::Binary { lhs, rhs, .. } => mentions_time(lhs) || mentions_time(rhs),
+        ExprKind::Chain { first, rest } => mentions_time(first) || rest.iter().any(|(_, e)| mentions_time(e)),
+        _ => false,
+    }
+}
+
 /// An array literal, within the size limits.
 fn array(items: &[Expr], span: Span, scope: &mut dyn Scope) -> EResult {
     let mut values = Vec::with_capacity(items.len());

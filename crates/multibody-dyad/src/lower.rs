@@ -332,6 +332,29 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             initial.insert(first.name.clone(), merge_same_level(list, vec![m])?);
         }
 
+        // `sub.input = formula`: a signal input of a library component
+        // driven by a formula of time.
+        for relation in &def.relations {
+            let Relation::Equation { lhs, rhs, span } = relation else { continue };
+            let first = &lhs.parts[0];
+            let input = match (sub(&first.name), lhs.parts.get(1)) {
+                (Some((_, Kind::Library(spec))), Some(connector)) if lhs.parts.len() == 2 => spec
+                    .connectors
+                    .iter()
+                    .find(|c| c.name == connector.name && !c.internal)
+                    .filter(|c| c.ty == multibody::components::ConnectorType::RealInput)
+                    .map(|_| format!("{}.{}", flat(prefix, &first.name), connector.name)),
+                _ => None,
+            };
+            let Some(input) = input else {
+                return Err(Diagnostic::error("equations are not supported here yet")
+                    .primary(*span, "not a signal input given a formula of time")
+                    .help("an equation may give a library component's signal input a formula of time, e.g. `prescribed.r_x = sin(time)`; for other behaviour use a library component"));
+            };
+            let f = crate::eval::formula(rhs, &mut scope)?;
+            self.model.set_input(input, f);
+        }
+
         for &(decl, kind) in &subs {
             let child = flat(prefix, &decl.name.name);
             let own = eval_modifiers(&decl.modifiers, &mut scope)?;

@@ -569,6 +569,10 @@ impl<'a> Parser<'a> {
         if self.at(&TokenKind::Eq) {
             self.bump();
             let rhs = self.expr()?;
+            if let ExprKind::Name(path) = &lhs.kind {
+                let span = lhs.span.to(rhs.span);
+                return Ok(Relation::Equation { lhs: path.clone(), rhs, span });
+            }
             return Err(unsupported("equations such as this one are", lhs.span.to(rhs.span)).help(
                 "relations here connect components, `connect(a.frame_b, b.frame_a)`, and give start values, `initial joint.phi = 0.5`; use a library component for the behaviour you want",
             ));

@@ -40,6 +40,7 @@ pub mod system;
 pub use assembly::{LoopInfo, Mechanism};
 pub use dynamics::{DynamicsError, Workspace};
 pub use error::{closest, Error};
-pub use model::{ComponentInstance, Connection, Model, OrientationState, Value};
+pub use math::expr::{Func, TimeExpr};
+pub use model::{ComponentInstance, Connection, InputEquation, Model, OrientationState, Value};
 pub use simulate::{Method, OptionError, RunReport, SampleSink, SimulationError, SimulationOptions, Solution, Stopped};
 pub use system::{StateLayout, System};

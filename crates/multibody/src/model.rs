@@ -188,12 +188,22 @@ pub struct Connection {
     pub ends: Vec<String>,
 }
 
-/// A model: components and the connections between them.
+/// A signal input given by a formula of time: `input` is
+/// `component.connector`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InputEquation {
+    pub input: String,
+    pub formula: crate::math::expr::TimeExpr,
+}
+
+/// A model: components, the connections between them, and formulas of
+/// time for signal inputs.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Model {
     pub name: String,
     pub components: Vec<ComponentInstance>,
     pub connections: Vec<Connection>,
+    pub equations: Vec<InputEquation>,
 }
 
 impl Model {
@@ -222,6 +232,13 @@ impl Model {
 
     pub fn component(&self, name: &str) -> Option<&ComponentInstance> {
         self.components.iter().find(|c| c.name == name)
+    }
+
+    /// Gives the signal input `input` (`component.connector`) the formula
+    /// of time `formula` (what `input = formula` says in a model file).
+    pub fn set_input(&mut self, input: impl Into<String>, formula: crate::math::expr::TimeExpr) -> &mut Self {
+        self.equations.push(InputEquation { input: input.into(), formula });
+        self
     }
 
     /// Connects connectors, each written `component.connector`.

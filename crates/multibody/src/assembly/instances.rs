@@ -2,8 +2,10 @@
 //! the components.
 
 use super::mechanism::CompiledComponent;
+use crate::components::blocks::equation::{self, EquationBlock};
 use crate::components::{lookup, registry, world, ConnectorType, ParamSet, WorldSettings};
 use crate::error::closest;
+use crate::math::expr::TimeFunction;
 use crate::{Error, Model};
 use std::collections::HashSet;
 
@@ -52,7 +54,36 @@ pub fn build(model: &Model, world: &WorldSettings) -> Result<Vec<CompiledCompone
         });
         first_connector += spec.connectors.len();
     }
+    // Each formula of a signal input is a source block after the model's
+    // components (whose numbers stay those of the model).
+    for equation in &model.equations {
+        let formula = TimeFunction::new(&equation.formula).map_err(|reason| Error::InvalidValue {
+            component: equation.input.clone(),
+            name: "formula".into(),
+            value: String::new(),
+            reason,
+        })?;
+        let component: Box<dyn crate::components::Component> = Box::new(EquationBlock { formula });
+        built.push(CompiledComponent {
+            name: equation_block_name(&equation.input),
+            spec: &equation::SPEC,
+            parts: component.parts(),
+            component: component.into(),
+            first_connector,
+            joints: Vec::new(),
+            elements: Vec::new(),
+            variables: Vec::new(),
+            shapes: Vec::new(),
+        });
+        first_connector += equation::SPEC.connectors.len();
+    }
     Ok(built)
+}
+
+/// The name of the block that gives `input` its formula (no model
+/// component can have it: names have no spaces).
+pub fn equation_block_name(input: &str) -> String {
+    format!("{input} (equation)")
 }
 
 /// Whether the component has 3-D frames (unknown kinds count as having

@@ -45,6 +45,18 @@ impl Model {
 }
 
 pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
+    // Each formula's block drives its input through a connection.
+    let with_equations;
+    let model = if model.equations.is_empty() {
+        model
+    } else {
+        let mut m = model.clone();
+        for e in &model.equations {
+            m.connect([format!("{}.y", instances::equation_block_name(&e.input)), e.input.clone()]);
+        }
+        with_equations = m;
+        &with_equations
+    };
     let world = instances::world_settings(model)?;
     let mut components = instances::build(model, &world)?;
     let conn = connections::resolve(model, &components)?;

@@ -13,7 +13,7 @@ pub mod shapes;
 pub mod spec;
 
 mod bevel_gear_1d;
-mod blocks;
+pub(crate) mod blocks;
 mod body;
 mod body_box;
 mod body_cylinder;

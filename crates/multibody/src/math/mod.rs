@@ -2,6 +2,7 @@
 //! small dense factorizations, geometry helpers and a union-find.
 
 pub mod dense;
+pub mod expr;
 pub mod rotation;
 pub mod spatial;
 pub mod union_find;

@@ -169,6 +169,8 @@ pub enum SignalSource {
     Table {
         points: Vec<(f64, f64)>,
     },
+    /// A formula of time from the model's equations.
+    Formula(crate::math::expr::TimeFunction),
 }
 
 impl SignalSource {
@@ -192,6 +194,7 @@ impl SignalSource {
                     offset + amplitude * (2.0 * std::f64::consts::PI * frequency * (t - start_time) + phase).sin()
                 }
             }
+            SignalSource::Formula(ref f) => f.value(t),
             SignalSource::Table { ref points } => {
                 let k = points.partition_point(|p| p.0 <= t);
                 match k {
@@ -219,6 +222,7 @@ impl SignalSource {
     pub fn jet(&self, t: f64) -> [f64; 3] {
         let value = self.value(t);
         match *self {
+            SignalSource::Formula(ref f) => f.jet(t),
             SignalSource::Constant { .. } | SignalSource::Step { .. } => [value, 0.0, 0.0],
             SignalSource::Ramp { height, duration, start_time, .. } => {
                 let rising = t >= start_time && t < start_time + duration;

@@ -1,6 +1,7 @@
 //! Dyad's BlockComponents sources: signals of time on an output `y`.
 
 pub mod constant;
+pub mod equation;
 pub mod math;
 pub mod ramp;
 pub mod sine;
