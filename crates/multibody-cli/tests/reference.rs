@@ -207,3 +207,12 @@ fn double_pendulum_init_tip() {
         assert!((start - expected).abs() < 1e-12, "{name}(0) = {start}, the tip's inverse kinematics gives {expected}");
     }
 }
+
+/// Fourbar2: the coupler a massless UniversalSpherical whose rod frame is
+/// left unconnected; a massless coupler makes it Fourbar_analytic's
+/// mechanism, so it is compared with that reference.
+#[test]
+fn fourbar2() {
+    let signals = ["j1.phi", "j1.w"];
+    check_model("Fourbar2", "Fourbar_analytic", &signals.map(|s| (s, s)));
+}

@@ -1,5 +1,5 @@
 //! Joint assemblies that close a kinematic loop: JointRRR, JointRRP,
-//! JointSSR and JointSSP.
+//! JointUSR, JointUSP, JointSSR and JointSSP.
 //!
 //! Modelica and the Dyad library solve their closure in closed form. Here
 //! each is built from its elementary parts (revolutes, a prismatic, rods,
@@ -8,12 +8,12 @@
 //! same motion (the assemblies have no mass) at the cost of a few
 //! constraint rows. The branch is the one the start configuration is on.
 //!
-//! Connectors, in this order for all four: frame_a, frame_b, frame_ia (the
-//! RR kinds), frame_ib, frame_im, axis, bearing, then the internal frames.
+//! Connectors, in this order: frame_a, frame_b, frame_ia (not for the SS
+//! kinds), frame_ib, frame_im, axis, bearing, then the internal frames.
 //! The joint at frame_b is driven through axis and bearing.
 
 use super::spec::{ComponentSpec, ConnectorSpec, ConnectorType, ParamSpec};
-use super::{AxisFlanges, Component, ConstraintKind, ParamSet, Part, StateNames};
+use super::{AxisFlanges, Component, ConstraintKind, ParamSet, Part, RotationLock, StateNames};
 use crate::math::{planar_rotation, Transform, Vec3};
 use crate::system::JointModel;
 use crate::Error;
@@ -113,6 +113,75 @@ pub static RRP: ComponentSpec = ComponentSpec {
     shapes: super::shapes::none,
 };
 
+const N1_A: ParamSpec =
+    ParamSpec::vector("n1_a", &[0.0, 0.0, 1.0], "", "Axis 1 of the universal joint, resolved in frame_a");
+const R_ROD1_IA_US: ParamSpec =
+    ParamSpec::vector("rRod1_ia", &[1.0, 0.0, 0.0], "m", "From frame_a to the ball joint, in frame_ia (the rod frame)");
+
+pub static USR: ComponentSpec = ComponentSpec {
+    kind: "JointUSR",
+    doc: "A rod from a universal joint at frame_a (axis 1 n1_a, axis 2 across it and the rod; rRod1_ia in the rod \
+          frame frame_ia) to a ball joint at frame_im, and a revolute about n_b at frame_b carrying rod 2 \
+          (rRod2_ib from frame_ib to frame_im).",
+    params: &[
+        POSITIVE_BRANCH,
+        N1_A,
+        ParamSpec::vector("n_b", &[0.0, 0.0, 1.0], "", "Axis of the revolute, resolved in frame_b"),
+        R_ROD1_IA_US,
+        ParamSpec::vector("rRod2_ib", &[1.0, 0.0, 0.0], "m", "From frame_ib to the ball joint, in frame_ib"),
+        ParamSpec::real("phi_offset", 0.0, "rad", "Angle offset of the revolute"),
+        ParamSpec::real("phi_guess", 0.0, "rad", "Kept for compatibility: the start configuration gives the branch"),
+        ROD_RADIUS,
+        ROD_COLOR,
+    ],
+    connectors: &[
+        FRAME_A,
+        FRAME_B,
+        FRAME_IA,
+        FRAME_IB,
+        FRAME_IM,
+        REVOLUTE_AXIS[0],
+        REVOLUTE_AXIS[1],
+        ConnectorSpec::internal("rod1_tip", ConnectorType::Frame),
+        ConnectorSpec::internal("base_b", ConnectorType::Frame),
+    ],
+    variables: &[],
+    build: |p| build(p, Kind::Usr),
+    shapes: super::shapes::none,
+};
+
+pub static USP: ComponentSpec = ComponentSpec {
+    kind: "JointUSP",
+    doc: "A rod from a universal joint at frame_a (axis 1 n1_a, axis 2 across it and the rod; rRod1_ia in the rod \
+          frame frame_ia) to a ball joint at frame_im, and a prismatic joint along n_b at frame_b carrying rod 2 \
+          (rRod2_ib from frame_ib to frame_im); the slider sits at s + s_offset from frame_b.",
+    params: &[
+        POSITIVE_BRANCH,
+        N1_A,
+        ParamSpec::vector("n_b", &[0.0, 0.0, 1.0], "", "Axis of the prismatic joint, resolved in frame_b"),
+        R_ROD1_IA_US,
+        ParamSpec::vector("rRod2_ib", &[1.0, 0.0, 0.0], "m", "From frame_ib to the ball joint, in frame_ib"),
+        ParamSpec::real("s_offset", 0.0, "m", "Distance offset of the prismatic joint"),
+        ParamSpec::real("s_guess", 0.0, "m", "Kept for compatibility: the start configuration gives the branch"),
+        ROD_RADIUS,
+        ROD_COLOR,
+    ],
+    connectors: &[
+        FRAME_A,
+        FRAME_B,
+        FRAME_IA,
+        FRAME_IB,
+        FRAME_IM,
+        PRISMATIC_AXIS[0],
+        PRISMATIC_AXIS[1],
+        ConnectorSpec::internal("rod1_tip", ConnectorType::Frame),
+        ConnectorSpec::internal("base_b", ConnectorType::Frame),
+    ],
+    variables: &[],
+    build: |p| build(p, Kind::Usp),
+    shapes: super::shapes::none,
+};
+
 /// Connectors of the two kinds with a rod between ball joints (no frame_ia).
 const SS: [ConnectorSpec; 4] = [FRAME_A, FRAME_B, FRAME_IB, FRAME_IM];
 
@@ -181,6 +250,8 @@ pub static SSP: ComponentSpec = ComponentSpec {
 enum Kind {
     Rrr,
     Rrp,
+    Usr,
+    Usp,
     Ssr,
     Ssp,
 }
@@ -190,10 +261,10 @@ fn build(p: &ParamSet, kind: Kind) -> Result<Box<dyn Component>, Error> {
     let rod2 = Transform::translation(p.vec3("rRod2_ib"));
     // The joint at frame_b starts from an offset of its coordinate.
     let (joint_b, offset_b) = match kind {
-        Kind::Rrr | Kind::Ssr => {
+        Kind::Rrr | Kind::Usr | Kind::Ssr => {
             (JointModel::Revolute { axis: n_b }, Transform::rotation(planar_rotation(&n_b, p.real("phi_offset"))))
         }
-        Kind::Rrp | Kind::Ssp => {
+        Kind::Rrp | Kind::Usp | Kind::Ssp => {
             (JointModel::Prismatic { axis: n_b }, Transform::translation(n_b * p.real("s_offset")))
         }
     };
@@ -205,6 +276,15 @@ fn build(p: &ParamSet, kind: Kind) -> Result<Box<dyn Component>, Error> {
                 return Err(p.invalid("rRod1_ia", "rod 1 must have a length"));
             }
             First::Revolutes { n_a, rod1: Transform::translation(rod1) }
+        }
+        Kind::Usr | Kind::Usp => {
+            let n1 = p.direction("n1_a")?;
+            let rod1 = p.vec3("rRod1_ia");
+            let across = n1.cross(&rod1);
+            if across.norm() <= 1e-10 * rod1.norm() {
+                return Err(p.invalid("rRod1_ia", "rod 1 must have a length and not lie along n1_a"));
+            }
+            First::Universal { n1, n2: across.normalize(), rod1: Transform::translation(rod1) }
         }
         Kind::Ssr | Kind::Ssp => {
             if p.boolean("has_mass") && p.real("rod1_mass") != 0.0 {
@@ -229,6 +309,9 @@ fn build(p: &ParamSet, kind: Kind) -> Result<Box<dyn Component>, Error> {
 enum First {
     /// A revolute about `n_a` at frame_a, rod 1 to a revolute about `n_a` at the middle.
     Revolutes { n_a: Vec3, rod1: Transform },
+    /// A universal joint (`n1` in frame_a, `n2` in the rod frame) and rod 1
+    /// to a ball joint at the middle.
+    Universal { n1: Vec3, n2: Vec3, rod1: Transform },
     /// A massless rod of `length` with ball joints at both ends.
     Rod { length: f64 },
 }
@@ -256,6 +339,24 @@ impl Component for LoopAssembly {
                     joint(0, 2, revolute, StateNames { q: &[("phi_a", 1)], u: &[("w_a", 1)] }, None),
                     Part::Rigid { a: 2, b: 7, pose: rod1 },
                     joint(7, 4, revolute, StateNames { q: &[("phi_m", 1)], u: &[("w_m", 1)] }, None),
+                    Part::Rigid { a: 1, b: 8, pose: self.offset_b },
+                    joint(8, 3, self.joint_b, states_b, Some(AxisFlanges { axis: 5, support: 6 })),
+                    Part::Rigid { a: 3, b: 4, pose: self.rod2 },
+                ]
+            }
+            First::Universal { n1, n2, rod1 } => {
+                // frame_a 0, frame_b 1, frame_ia 2, frame_ib 3, frame_im 4, axis 5, bearing 6, rod1_tip 7, base_b 8.
+                let ball = ConstraintKind::locking_axes(RotationLock::Free, [true; 3]);
+                vec![
+                    joint(
+                        0,
+                        2,
+                        JointModel::Universal { n_a: n1, n_b: n2 },
+                        StateNames { q: &[("phi_a", 1), ("phi_ia", 1)], u: &[("w_a", 1), ("w_ia", 1)] },
+                        None,
+                    ),
+                    Part::Rigid { a: 2, b: 7, pose: rod1 },
+                    Part::Constraint { a: 7, b: 4, kind: ball },
                     Part::Rigid { a: 1, b: 8, pose: self.offset_b },
                     joint(8, 3, self.joint_b, states_b, Some(AxisFlanges { axis: 5, support: 6 })),
                     Part::Rigid { a: 3, b: 4, pose: self.rod2 },

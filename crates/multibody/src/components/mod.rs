@@ -106,6 +106,8 @@ static REGISTRY: &[&ComponentSpec] = &[
     &revolute_planar_loop_constraint::SPEC,
     &loop_assemblies::RRR,
     &loop_assemblies::RRP,
+    &loop_assemblies::USR,
+    &loop_assemblies::USP,
     &loop_assemblies::SSR,
     &loop_assemblies::SSP,
     &spring::SPEC,

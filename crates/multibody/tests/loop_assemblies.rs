@@ -1,0 +1,198 @@
+//! The joint assemblies (JointRRR, JointRRP, JointUSR, JointUSP, JointSSR,
+//! JointSSP, UniversalSpherical) close a loop as the same loop built from
+//! elementary joints does: the same motion, to integration tolerance.
+
+use multibody::{Model, SimulationOptions, Solution};
+
+fn options() -> SimulationOptions {
+    SimulationOptions { stop: 2.0, saveat: 0.01, abstol: 1e-10, reltol: 1e-10, ..Default::default() }
+}
+
+/// Largest difference of `name` between two runs.
+fn difference(a: &Solution, b: &Solution, name: &str) -> f64 {
+    let (x, y) = (a.get(name).unwrap(), b.get(name).unwrap());
+    x.iter().zip(y).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()))
+}
+
+/// Both runs agree to 1e-7: each integrates to 1e-10, and the chaos-free
+/// loop amplifies that little over 2 s.
+fn assert_same_motion(label: &str, a: &Model, b: &Model, names: &[&str]) {
+    let (sa, sb) =
+        (a.assemble().unwrap().simulate(&options()).unwrap(), b.assemble().unwrap().simulate(&options()).unwrap());
+    for name in names {
+        let d = difference(&sa, &sb, name);
+        assert!(d < 1e-7, "{label}: {name} differs by {d:e}");
+    }
+    // And it moves: the comparison is not of two resting mechanisms.
+    let moved = sa.get(names[0]).unwrap().iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    assert!(moved > 0.1, "{label}: {} hardly moves", names[0]);
+}
+
+/// Fourbar's crank, slider and bodies; the coupler is added by `close`.
+fn spatial_four_bar(name: &str) -> Model {
+    let mut m = Model::new(name);
+    m.add("world", "World");
+    m.add("j1", "Revolute").set("n", [1.0, 0.0, 0.0]).initial("phi", 0.0).initial("w", 5.235987755983);
+    m.add("b1", "BodyCylinder").set("r", [0.0, 0.5, 0.1]).set("diameter", 0.05);
+    m.add("b0", "FixedTranslation").set("r", [1.2, 0.0, 0.0]);
+    m.add("b2", "BodyCylinder").set("r", [0.0, 0.2, 0.0]).set("diameter", 0.05);
+    m.connect(["world.frame_b", "j1.frame_a"]);
+    m.connect(["j1.frame_b", "b1.frame_a"]);
+    m.connect(["world.frame_b", "b0.frame_a"]);
+    m
+}
+
+/// The slider and the massless coupler from elementary joints: a prismatic
+/// joint, a universal pair of revolutes at the slider and three at the crank.
+fn spatial_elementary() -> Model {
+    let mut m = spatial_four_bar("elementary");
+    m.add("j2", "Prismatic").set("n", [1.0, 0.0, 0.0]).guess("s", -0.2);
+    m.add("rev", "Revolute").set("n", [0.0, 1.0, 0.0]);
+    m.add("rev1", "Revolute").set("n", [0.0, 0.0, 1.0]);
+    m.add("rod", "FixedTranslation").set("r", [-1.0, 0.3, 0.1]);
+    for (name, n) in [("j3", [1.0, 0.0, 0.0]), ("j4", [0.0, 1.0, 0.0]), ("j5", [0.0, 0.0, 1.0])] {
+        m.add(name, "Revolute").set("n", n);
+    }
+    m.connect(["b0.frame_b", "j2.frame_a"]);
+    m.connect(["j2.frame_b", "b2.frame_a"]);
+    m.connect(["b2.frame_b", "rev.frame_a"]);
+    m.connect(["rev.frame_b", "rev1.frame_a"]);
+    m.connect(["rev1.frame_b", "rod.frame_a"]);
+    m.connect(["b1.frame_b", "j3.frame_a"]);
+    m.connect(["j3.frame_b", "j4.frame_a"]);
+    m.connect(["j4.frame_b", "j5.frame_a"]);
+    m.connect(["j5.frame_b", "rod.frame_b"]);
+    m
+}
+
+#[test]
+fn spatial_assemblies_move_as_elementary_joints() {
+    let reference = spatial_elementary();
+    let names = ["j1.phi", "j1.w", "b2.frame_a.r_0[1]"];
+
+    let mut ssp = spatial_four_bar("ssp");
+    ssp.add("a", "JointSSP")
+        .set("rod1_length", 1.1f64.sqrt())
+        .set("n_b", [1.0, 0.0, 0.0])
+        .set("s_offset", -0.2)
+        .set("rRod2_ib", [0.0, 0.2, 0.0]);
+    ssp.connect(["b1.frame_b", "a.frame_a"]);
+    ssp.connect(["b0.frame_b", "a.frame_b"]);
+    ssp.connect(["a.frame_ib", "b2.frame_a"]);
+    assert_same_motion("JointSSP", &reference, &ssp, &names);
+
+    // The universal joint at the crank's tip, its rod to the slider.
+    let mut usp = spatial_four_bar("usp");
+    usp.add("a", "JointUSP")
+        .set("n1_a", [0.0, 1.0, 0.0])
+        .set("rRod1_ia", [1.0, -0.3, -0.1])
+        .set("n_b", [1.0, 0.0, 0.0])
+        .set("s_offset", -0.2)
+        .set("rRod2_ib", [0.0, 0.2, 0.0]);
+    usp.connect(["b1.frame_b", "a.frame_a"]);
+    usp.connect(["b0.frame_b", "a.frame_b"]);
+    usp.connect(["a.frame_ib", "b2.frame_a"]);
+    assert_same_motion("JointUSP", &reference, &usp, &names);
+
+    let mut us = spatial_four_bar("universal_spherical");
+    us.add("j2", "Prismatic").set("n", [1.0, 0.0, 0.0]).guess("s", -0.2);
+    us.add("a", "UniversalSpherical").set("n1_a", [0.0, 1.0, 0.0]).set("rRod_ia", [-1.0, 0.3, 0.1]);
+    us.connect(["b0.frame_b", "j2.frame_a"]);
+    us.connect(["j2.frame_b", "b2.frame_a"]);
+    us.connect(["b2.frame_b", "a.frame_a"]);
+    us.connect(["a.frame_b", "b1.frame_b"]);
+    assert_same_motion("UniversalSpherical", &reference, &us, &names);
+}
+
+/// A planar four-bar swinging under gravity: crank at the origin (to A =
+/// (0, 0.5)), the ground pivot B = (1, 0); a body on the crank. The
+/// four-bars add a rocker from B to M = (1.1, 0.6) with a body, and a
+/// massless coupler from A to M.
+fn planar_four_bar(name: &str) -> Model {
+    let mut m = Model::new(name);
+    m.add("world", "World");
+    m.add("crank", "Revolute").set("n", [0.0, 0.0, 1.0]).initial("phi", 0.0).initial("w", 2.0);
+    m.add("crank_rod", "FixedTranslation").set("r", [0.0, 0.5, 0.0]);
+    m.add("crank_mass", "Body").set("m", 1.0).set("r_cm", [0.0, 0.25, 0.0]);
+    m.add("ground", "FixedTranslation").set("r", [1.0, 0.0, 0.0]);
+    m.connect(["world.frame_b", "crank.frame_a", "ground.frame_a"]);
+    m.connect(["crank.frame_b", "crank_rod.frame_a", "crank_mass.frame_a"]);
+    m
+}
+
+fn with_rocker_mass(mut m: Model) -> Model {
+    m.add("rocker_mass", "Body").set("m", 2.0).set("r_cm", [0.05, 0.3, 0.0]);
+    m
+}
+
+fn planar_elementary() -> Model {
+    let mut m = with_rocker_mass(planar_four_bar("elementary"));
+    m.add("rev_a", "Revolute").set("n", [0.0, 0.0, 1.0]);
+    m.add("coupler", "FixedTranslation").set("r", [1.1, 0.1, 0.0]);
+    m.add("rev_m", "Revolute").set("n", [0.0, 0.0, 1.0]);
+    m.add("rev_b", "Revolute").set("n", [0.0, 0.0, 1.0]);
+    m.add("rocker", "FixedTranslation").set("r", [0.1, 0.6, 0.0]);
+    m.connect(["crank_rod.frame_b", "rev_a.frame_a"]);
+    m.connect(["rev_a.frame_b", "coupler.frame_a"]);
+    m.connect(["coupler.frame_b", "rev_m.frame_a"]);
+    m.connect(["ground.frame_b", "rev_b.frame_a"]);
+    m.connect(["rev_b.frame_b", "rocker.frame_a", "rocker_mass.frame_a"]);
+    m.connect(["rocker.frame_b", "rev_m.frame_b"]);
+    m
+}
+
+#[test]
+fn planar_assemblies_move_as_elementary_joints() {
+    let reference = planar_elementary();
+    let names = ["crank.phi", "crank.w", "rocker_mass.frame_a.R[1,2]"];
+    let coupler = [1.1, 0.1, 0.0];
+    let rocker = [0.1, 0.6, 0.0];
+    for kind in ["JointRRR", "JointUSR", "JointSSR"] {
+        let mut m = with_rocker_mass(planar_four_bar(kind));
+        let a = m.add("a", kind).set("rRod2_ib", rocker);
+        match kind {
+            "JointRRR" => a.set("rRod1_ia", coupler),
+            "JointUSR" => a.set("n1_a", [0.0, 0.0, 1.0]).set("rRod1_ia", coupler),
+            _ => a.set("rod1_length", (1.1f64 * 1.1 + 0.1 * 0.1).sqrt()),
+        };
+        m.connect(["crank_rod.frame_b", "a.frame_a"]);
+        m.connect(["ground.frame_b", "a.frame_b"]);
+        m.connect(["a.frame_ib", "rocker_mass.frame_a"]);
+        assert_same_motion(kind, &reference, &m, &names);
+    }
+}
+
+/// A slider-crank: the crank as above, a slider along x through B = (1, 0)
+/// (the prismatic joint at frame_b), the coupler from A to the slider.
+#[test]
+fn slider_crank_assemblies_move_as_elementary_joints() {
+    let slider = |name: &str| {
+        let mut m = planar_four_bar(name);
+        m.add("slider_mass", "Body").set("m", 2.0);
+        m
+    };
+    let mut reference = slider("elementary");
+    reference.add("rev_a", "Revolute").set("n", [0.0, 0.0, 1.0]);
+    reference.add("coupler", "FixedTranslation").set("r", [1.0, -0.5, 0.0]);
+    reference.add("rev_m", "Revolute").set("n", [0.0, 0.0, 1.0]);
+    reference.add("slide", "Prismatic").set("n", [1.0, 0.0, 0.0]);
+    reference.connect(["crank_rod.frame_b", "rev_a.frame_a"]);
+    reference.connect(["rev_a.frame_b", "coupler.frame_a"]);
+    reference.connect(["coupler.frame_b", "rev_m.frame_a"]);
+    reference.connect(["ground.frame_b", "slide.frame_a"]);
+    reference.connect(["slide.frame_b", "rev_m.frame_b", "slider_mass.frame_a"]);
+    let names = ["crank.phi", "crank.w", "slider_mass.frame_a.r_0[1]"];
+    for kind in ["JointRRP", "JointUSP", "JointSSP"] {
+        let mut m = slider(kind);
+        let a = m.add("a", kind).set("n_b", [1.0, 0.0, 0.0]).set("rRod2_ib", [0.0, 0.0, 0.0]);
+        match kind {
+            "JointRRP" => a.set("rRod1_ia", [1.0, -0.5, 0.0]),
+            "JointUSP" => a.set("n1_a", [0.0, 0.0, 1.0]).set("rRod1_ia", [1.0, -0.5, 0.0]),
+            _ => a.set("rod1_length", 1.25f64.sqrt()),
+        };
+        m.connect(["crank_rod.frame_b", "a.frame_a"]);
+        m.connect(["ground.frame_b", "a.frame_b"]);
+        m.connect(["a.frame_ib", "slider_mass.frame_a"]);
+        assert_same_motion(kind, &reference, &m, &names);
+    }
+}
