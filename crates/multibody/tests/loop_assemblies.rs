@@ -196,3 +196,33 @@ fn slider_crank_assemblies_move_as_elementary_joints() {
         assert_same_motion(kind, &reference, &m, &names);
     }
 }
+
+/// CutMount releasing a planar loop's redundant directions (translation
+/// along z, rotations about x, y and z) closes it as
+/// RevolutePlanarLoopConstraint does.
+#[test]
+fn a_cut_mount_releasing_the_redundant_directions_closes_a_planar_loop() {
+    let close = |kind: &str| {
+        let mut m = with_rocker_mass(planar_four_bar(kind));
+        m.add("rev_a", "Revolute").set("n", [0.0, 0.0, 1.0]);
+        m.add("coupler", "FixedTranslation").set("r", [1.1, 0.1, 0.0]);
+        m.add("rev_b", "Revolute").set("n", [0.0, 0.0, 1.0]);
+        m.add("rocker", "FixedTranslation").set("r", [0.1, 0.6, 0.0]);
+        let c = m.add("cut", kind);
+        if kind == "CutMount" {
+            c.set("z_locked", false).set("rx_locked", false).set("ry_locked", false).set("rz_locked", false);
+        } else {
+            c.set("n", [0.0, 0.0, 1.0]);
+        }
+        m.connect(["crank_rod.frame_b", "rev_a.frame_a"]);
+        m.connect(["rev_a.frame_b", "coupler.frame_a"]);
+        m.connect(["coupler.frame_b", "cut.frame_a"]);
+        m.connect(["ground.frame_b", "rev_b.frame_a"]);
+        m.connect(["rev_b.frame_b", "rocker.frame_a", "rocker_mass.frame_a"]);
+        m.connect(["rocker.frame_b", "cut.frame_b"]);
+        m
+    };
+    let names = ["crank.phi", "crank.w", "rocker_mass.frame_a.R[1,2]"];
+    assert_same_motion("CutMount", &close("RevolutePlanarLoopConstraint"), &close("CutMount"), &names);
+    assert_same_motion("CutMount", &planar_elementary(), &close("CutMount"), &names);
+}

@@ -20,6 +20,7 @@ mod body_cylinder;
 mod body_shape;
 mod constraint_joint;
 mod coordinate_joint;
+mod cut_mount;
 mod cylindrical;
 mod damper;
 mod external_load;
@@ -104,6 +105,7 @@ static REGISTRY: &[&ComponentSpec] = &[
     &spherical_spherical::SPEC,
     &universal_spherical::SPEC,
     &revolute_planar_loop_constraint::SPEC,
+    &cut_mount::SPEC,
     &loop_assemblies::RRR,
     &loop_assemblies::RRP,
     &loop_assemblies::USR,

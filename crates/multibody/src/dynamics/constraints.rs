@@ -64,6 +64,12 @@ fn rows(kind: &ConstraintKind, a: &EndState, b: &EndState, out: &mut [(Row, f64)
                         push(Row::Rotation(crate::math::unit(k)), theta[k]);
                     }
                 }
+                RotationLock::Axes(locked) => {
+                    let theta = rotation_vector(&r_rel);
+                    for k in (0..3).filter(|&k| locked[k]) {
+                        push(Row::Rotation(crate::math::unit(k)), theta[k]);
+                    }
+                }
                 RotationLock::AllBut(axis) => {
                     let e1 = crate::math::width_direction(&axis);
                     let e2 = axis.cross(&e1);

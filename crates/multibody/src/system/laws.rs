@@ -95,6 +95,8 @@ pub enum RotationLock {
         n_a: Vec3,
         n_b: Vec3,
     },
+    /// The rotations about the marked axes of frame_a (CutMount).
+    Axes([bool; 3]),
 }
 
 /// What a constraint (a joint without states, or the cut of a loop)
@@ -133,6 +135,7 @@ impl ConstraintKind {
                         RotationLock::AllBut(_) => 2,
                         RotationLock::All => 3,
                         RotationLock::Universal { .. } => 1,
+                        RotationLock::Axes(locked) => locked.iter().filter(|l| **l).count(),
                     }
             }
             ConstraintKind::Distance { .. } => 1,
