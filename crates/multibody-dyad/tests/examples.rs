@@ -219,6 +219,38 @@ fn geared_servo() {
     assert_same("geared_servo.dyad", m, options(10.0, 0.01));
 }
 
+/// 3-D sensors in feedback: a mass on a vertical rail held by a PD force
+/// from an AbsolutePosition and an AbsoluteVelocity.
+#[test]
+fn sensors() {
+    use multibody::Value;
+    let world = || Value::Enum("World".into());
+    let mut m = Model::new("Hover");
+    m.add("world", "World");
+    m.add("rail", "Prismatic").set("n", [0.0, 1.0, 0.0]).initial("s", 0.0).initial("v", 0.0);
+    m.add("mass", "Body").set("m", 2.0).set("r_cm", [0.0, 0.0, 0.0]);
+    m.add("position", "AbsolutePosition").set("resolve_in_frame", world());
+    m.add("velocity", "AbsoluteVelocity").set("resolve_in_frame", world());
+    m.add("setpoint", "BlockComponents.Constant").set("k", 1.0);
+    m.add("error", "BlockComponents.Feedback");
+    m.add("pd", "BlockComponents.Add").set("k1", 200.0).set("k2", -40.0);
+    m.add("thrust", "WorldForce");
+    m.add("zero", "BlockComponents.Constant").set("k", 0.0);
+    m.connect(["world.frame_b", "rail.frame_a"]);
+    m.connect(["rail.frame_b", "mass.frame_a", "position.frame_a", "velocity.frame_a", "thrust.frame_b"]);
+    m.connect(["setpoint.y", "error.u1"]);
+    m.connect(["position.r_y", "error.u2"]);
+    m.connect(["error.y", "pd.u1"]);
+    m.connect(["velocity.v_y", "pd.u2"]);
+    m.connect(["pd.y", "thrust.force_y"]);
+    m.connect(["zero.y", "thrust.force_x", "thrust.force_z"]);
+    assert_same("sensors.dyad", m, options(2.0, 0.01));
+    // It settles where the pull balances the weight: y = 1 - m g / kp.
+    let (_, _, solution) = run_file("sensors.dyad");
+    let y = solution.last("position.r[2]").unwrap();
+    assert!((y - (1.0 - 2.0 * 9.80665 / 200.0)).abs() < 1e-4, "settled at {y}");
+}
+
 /// A new example must get a hand-built twin above (or, in `msl/`, a reference test).
 /// Formulas of time in `relations` drive signal inputs: the file against
 /// the same model built with `Model::set_input`, and the carried body
@@ -257,6 +289,55 @@ fn prescribed_motion() {
     assert!(worst < 1e-9, "the carried body is {worst:e} m off its formula");
 }
 
+/// The two-link arm of URDF parts, with visual-only components.
+#[test]
+fn urdf_arm() {
+    let mut m = Model::new("UrdfArm");
+    m.add("world", "World");
+    m.add("shoulder", "URDFRevolute")
+        .set("r", [0.0, 1.0, 0.0])
+        .set("n", [1.0, 0.0, 0.0])
+        .set("angle", -std::f64::consts::PI / 2.0)
+        .set("joint_n", [0.0, 1.0, 0.0])
+        .initial("phi", 0.8)
+        .initial("w", 0.0);
+    m.add("upper", "URDFBodyCylinder")
+        .set("m", 2.0)
+        .set("r_cm", [0.0, 0.0, -0.25])
+        .set("I_11", 0.042117)
+        .set("I_22", 0.042117)
+        .set("I_33", 0.0009)
+        .set("r_visual", [0.0, 0.0, -0.25])
+        .set("length", 0.5)
+        .set("radius", 0.03);
+    m.add("elbow", "URDFRevolute")
+        .set("r", [0.0, 0.0, -0.5])
+        .set("joint_n", [0.0, 1.0, 0.0])
+        .initial("phi", 0.0)
+        .initial("w", 0.0);
+    m.add("fore", "URDFBodyBox")
+        .set("m", 1.0)
+        .set("r_cm", [0.0, 0.0, -0.2])
+        .set("I_11", 0.013542)
+        .set("I_22", 0.013542)
+        .set("I_33", 0.00041667)
+        .set("r_visual", [0.0, 0.0, -0.2])
+        .set("length_direction", [0.0, 0.0, 1.0])
+        .set("width_direction", [1.0, 0.0, 0.0])
+        .set("length", 0.4)
+        .set("width", 0.05)
+        .set("height", 0.05);
+    m.add("damper", "RotationalComponents.Damper").set("d", 0.05);
+    m.add("hand", "SphereVisualizer").set("radius", 0.04).set("r_shape", [0.0, 0.0, -0.4]);
+    m.add("axes", "FrameVisualizer").set("axis_length", 0.2);
+    m.connect(["world.frame_b", "shoulder.frame_a"]);
+    m.connect(["shoulder.frame_b", "upper.frame_a", "elbow.frame_a"]);
+    m.connect(["elbow.frame_b", "fore.frame_a", "hand.frame_a", "axes.frame_a"]);
+    m.connect(["damper.spline_a", "elbow.support"]);
+    m.connect(["damper.spline_b", "elbow.axis"]);
+    assert_same("urdf_arm.dyad", m, options(4.0, 0.01));
+}
+
 #[test]
 fn every_example_is_checked() {
     let checked = [
@@ -269,6 +350,8 @@ fn every_example_is_checked() {
         "geared_servo.dyad",
         "stiff_spring.dyad",
         "prescribed_motion.dyad",
+        "sensors.dyad",
+        "urdf_arm.dyad",
         "docs/pend.dyad",
     ];
     let mut found = Vec::new();

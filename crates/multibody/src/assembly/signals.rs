@@ -110,7 +110,10 @@ fn connect(
                 }
                 zero
             }
-            [one] => slot_of_output[*one],
+            [one] => {
+                refuse_unavailable(components, conn, *one, members)?;
+                slot_of_output[*one]
+            }
             [first, second, ..] => {
                 return Err(Error::Unsupported {
                     component: components[conn.infos[*second].component].name.clone(),
@@ -128,6 +131,36 @@ fn connect(
         }
     }
     Ok((of_connector, warnings))
+}
+
+/// An error when a signal node whose source is an output the signal graph
+/// cannot compute (`SignalLaw::Unavailable`: cut forces, accelerations, or
+/// an output switched off) has a reader.
+fn refuse_unavailable(
+    components: &[CompiledComponent],
+    conn: &Connectors,
+    output: usize,
+    members: &[usize],
+) -> Result<(), Error> {
+    let Some(&reader) = members.iter().find(|&&c| conn.types[c] == ConnectorType::RealInput) else { return Ok(()) };
+    let ci = conn.infos[output].component;
+    let local = output - components[ci].first_connector;
+    let reason = components[ci].parts.iter().find_map(|p| match p {
+        Part::Signal { output, law: SignalLaw::Unavailable { reason }, .. } if *output == local => Some(*reason),
+        _ => None,
+    });
+    match reason {
+        None => Ok(()),
+        Some(reason) => Err(Error::Unsupported {
+            component: components[ci].name.clone(),
+            what: format!(
+                "reading the output `{}` in the model (by `{}`): it {reason}",
+                conn.name(components, output),
+                conn.name(components, reader)
+            ),
+            fix: "leave it unconnected and read it from the results, or measure a position or velocity instead".into(),
+        }),
+    }
 }
 
 /// The blocks' slots in an order where each block comes after the blocks

@@ -49,6 +49,7 @@ mod revolute_constraint;
 mod revolute_planar_loop_constraint;
 mod rod;
 mod rotor_1d;
+mod sensors;
 mod spherical;
 mod spherical_constraint;
 mod spherical_spherical;
@@ -58,6 +59,9 @@ mod torque;
 mod universal;
 mod universal_constraint;
 mod universal_spherical;
+mod urdf_body;
+mod urdf_joint;
+mod visualizers;
 pub mod world;
 mod world_force;
 mod world_torque;
@@ -157,6 +161,39 @@ static REGISTRY: &[&ComponentSpec] = &[
     &mounting_1d::SPEC,
     &bevel_gear_1d::SPEC,
     &gear_constraint::SPEC,
+    &sensors::ABSOLUTE_POSITION,
+    &sensors::ABSOLUTE_VELOCITY,
+    &sensors::ABSOLUTE_ANGLES,
+    &sensors::ABSOLUTE_ANGULAR_VELOCITY,
+    &sensors::RELATIVE_POSITION,
+    &sensors::RELATIVE_VELOCITY,
+    &sensors::RELATIVE_ANGLES,
+    &sensors::RELATIVE_ANGULAR_VELOCITY,
+    &sensors::ABSOLUTE_SENSOR,
+    &sensors::RELATIVE_SENSOR,
+    &sensors::CUT_FORCE,
+    &sensors::CUT_TORQUE,
+    &sensors::CUT_FORCE_AND_TORQUE,
+    &sensors::POWER,
+    &sensors::DISTANCE,
+    &urdf_joint::REVOLUTE,
+    &urdf_joint::PRISMATIC,
+    &urdf_body::CYLINDER,
+    &urdf_body::BOX,
+    &urdf_body::SPHERE,
+    &visualizers::SPHERE_SHAPE,
+    &visualizers::BOX_SHAPE,
+    &visualizers::CYLINDER_SHAPE,
+    &visualizers::CONE_SHAPE,
+    &visualizers::ARROW_SHAPE,
+    &visualizers::BOX_VISUALIZER,
+    &visualizers::CYLINDER_VISUALIZER,
+    &visualizers::SPHERE_VISUALIZER,
+    &visualizers::FRAME_VISUALIZER,
+    &blocks::trajectories::KINEMATIC5,
+    &blocks::trajectories::KINEMATIC_PTP,
+    &blocks::trajectories::KINEMATIC_PTP_BOUNDED_JERK,
+    &blocks::trajectories::BLOCK_KINEMATIC_PTP,
 ];
 
 /// The kind named `kind`. Accepts the library prefix

@@ -58,7 +58,7 @@ fn shapes(p: &ParamSet) -> Vec<LocalShape> {
         .colored(color, specular)]
 }
 
-const VARIABLES: &[VarSpec] = &[
+pub(crate) const VARIABLES: &[VarSpec] = &[
     VarSpec::scalar("s", "m", "Relative distance between frame_a and frame_b along n"),
     VarSpec::scalar("v", "m/s", "Relative velocity (= der(s))"),
     VarSpec::scalar("a", "m/s2", "Relative acceleration (= der(v))"),
@@ -68,11 +68,17 @@ const VARIABLES: &[VarSpec] = &[
 const STATES: StateNames = StateNames { q: &[("s", 1)], u: &[("v", 1)] };
 
 fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
-    Ok(Box::new(CoordinateJoint {
-        model: JointModel::Prismatic { axis: p.direction("n")? },
+    Ok(Box::new(joint(p.direction("n")?, p.boolean("iscut"))))
+}
+
+/// The joint along the unit `axis`, with its states, variables and flanges
+/// (URDFPrismatic reuses it behind a fixed offset).
+pub(crate) fn joint(axis: crate::math::Vec3, iscut: bool) -> CoordinateJoint {
+    CoordinateJoint {
+        model: JointModel::Prismatic { axis },
         states: STATES,
         variables: VARIABLES,
         flanges: Some(FLANGES),
-        iscut: p.boolean("iscut"),
-    }))
+        iscut,
+    }
 }

@@ -47,7 +47,7 @@ fn shapes(p: &ParamSet) -> Vec<LocalShape> {
     joint_cylinder(p, "frame_a", n, p.real("cylinder_length"), 2.0 * p.real("radius"))
 }
 
-const VARIABLES: &[VarSpec] = &[
+pub(crate) const VARIABLES: &[VarSpec] = &[
     VarSpec::scalar("phi", "rad", "Relative rotation angle from frame_a to frame_b"),
     VarSpec::scalar("w", "rad/s", "Relative angular velocity (= der(phi))"),
     VarSpec::scalar("a", "rad/s2", "Relative angular acceleration (= der(w))"),
@@ -57,11 +57,17 @@ const VARIABLES: &[VarSpec] = &[
 const STATES: StateNames = StateNames { q: &[("phi", 1)], u: &[("w", 1)] };
 
 fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
-    Ok(Box::new(CoordinateJoint {
-        model: JointModel::Revolute { axis: p.direction("n")? },
+    Ok(Box::new(joint(p.direction("n")?, p.boolean("iscut"))))
+}
+
+/// The joint along the unit `axis`, with its states, variables and flanges
+/// (URDFRevolute reuses it behind a fixed offset).
+pub(crate) fn joint(axis: crate::math::Vec3, iscut: bool) -> CoordinateJoint {
+    CoordinateJoint {
+        model: JointModel::Revolute { axis },
         states: STATES,
         variables: VARIABLES,
         flanges: Some(FLANGES),
-        iscut: p.boolean("iscut"),
-    }))
+        iscut,
+    }
 }

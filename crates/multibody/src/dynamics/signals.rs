@@ -32,6 +32,28 @@ impl System {
                     let (a, b) = self.frame_pair(ws, &block.frames);
                     resolved(b.w - a.w, resolve, &a.rot, &b.rot)[index]
                 }
+                &SignalLaw::RelativeVelocity { index, seen_from, resolve } => {
+                    let (a, b) = self.frame_pair(ws, &block.frames);
+                    let w = match seen_from {
+                        Resolve::World => Vec3::zeros(),
+                        Resolve::FrameA => a.w,
+                        Resolve::FrameB => b.w,
+                    };
+                    resolved(b.v - a.v - w.cross(&(b.r - a.r)), resolve, &a.rot, &b.rot)[index]
+                }
+                &SignalLaw::FrameAngles { index, sequence, guess } => {
+                    let (a, b) = self.frame_pair(ws, &block.frames);
+                    axes_rotations_angles_near(&(b.rot * a.rot.transpose()), sequence, guess)[index]
+                }
+                &SignalLaw::FrameDistance { s_small } => {
+                    let (a, b) = self.frame_pair(ws, &block.frames);
+                    smooth_distance((b.r - a.r).norm_squared(), s_small)
+                }
+                &SignalLaw::ResolveVector { index } => {
+                    let (_, b) = self.frame_pair(ws, &block.frames);
+                    (b.rot * Vec3::new(input(0), input(1), input(2)))[index]
+                }
+                SignalLaw::Unavailable { .. } => f64::NAN,
             };
             ws.signals[block.output] = value;
         }
@@ -79,5 +101,56 @@ fn resolved(v: Vec3, resolve: Resolve, rot_a: &Mat3, rot_b: &Mat3) -> Vec3 {
         Resolve::World => v,
         Resolve::FrameA => rot_a * v,
         Resolve::FrameB => rot_b * v,
+    }
+}
+
+/// The distance `sqrt(l2)` of a squared distance `l2`, replaced below
+/// `s_small` by a smooth polynomial that is zero at zero (Modelica's
+/// Distance sensor), so that it stays differentiable there.
+pub(crate) fn smooth_distance(l2: f64, s_small: f64) -> f64 {
+    let s2 = s_small * s_small;
+    if l2 > s2 {
+        l2.sqrt()
+    } else {
+        l2 / (2.0 * s_small) * (3.0 - l2 / s2)
+    }
+}
+
+/// The angles `phi` of `r = axes_rotations(sequence, phi)` (each in
+/// `[-pi, pi]`), of the two solutions the one whose first angle is nearest
+/// `guess`; in a singular configuration (first and third axes aligned) the
+/// first angle is `guess` itself.
+pub(crate) fn axes_rotations_angles_near(r: &Mat3, sequence: [usize; 3], guess: f64) -> Vec3 {
+    use crate::math::rotation::{axes_rotations_angles, axis_rotation};
+    use std::f64::consts::PI;
+    let wrap = |x: f64| {
+        if x > PI {
+            x - 2.0 * PI
+        } else if x < -PI {
+            x + 2.0 * PI
+        } else {
+            x
+        }
+    };
+    let base = axes_rotations_angles(r, sequence);
+    let cardan = sequence[0] != sequence[2];
+    // Distance from the singular middle angle (+-pi/2 for Cardan, 0 or pi for Euler).
+    let off_singular = if cardan { base[1].cos().abs() } else { base[1].sin().abs() };
+    if off_singular < 1e-10 {
+        // Only phi1 + phi3 (or their difference) is defined: take phi1 = guess.
+        let phi2 = base[1];
+        let rest = r * axis_rotation(sequence[0] - 1, guess).transpose();
+        let a_k = rest * axis_rotation(sequence[1] - 1, phi2).transpose();
+        let k = sequence[2] - 1;
+        let (p, q) = ((k + 1) % 3, (k + 2) % 3);
+        return Vec3::new(guess, phi2, a_k[(p, q)].atan2(a_k[(p, p)]));
+    }
+    // The other solution: phi1 + pi, the middle angle mirrored, phi3 + pi.
+    let phi2 = if cardan { wrap(PI - base[1]) } else { -base[1] };
+    let other = Vec3::new(wrap(base[0] + PI), phi2, wrap(base[2] + PI));
+    if (other[0] - guess).abs() < (base[0] - guess).abs() {
+        other
+    } else {
+        base
     }
 }

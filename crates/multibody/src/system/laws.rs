@@ -174,6 +174,12 @@ pub enum SignalSource {
     },
     /// A formula of time from the model's equations.
     Formula(crate::math::expr::TimeFunction),
+    /// The derivative of order `order` (0 position, 1 speed, 2
+    /// acceleration, 3 jerk) of a trajectory (Kinematic5, KinematicPTP, ...).
+    Trajectory {
+        path: crate::math::trajectory::Trajectory,
+        order: usize,
+    },
 }
 
 impl SignalSource {
@@ -213,6 +219,7 @@ impl SignalSource {
                     }
                 }
             }
+            SignalSource::Trajectory { ref path, order } => path.value_and_derivatives(t, order)[0],
         }
     }
 }
@@ -253,6 +260,7 @@ impl SignalSource {
                 };
                 [value, slope, 0.0]
             }
+            SignalSource::Trajectory { ref path, order } => path.value_and_derivatives(t, order),
         }
     }
 }

@@ -33,6 +33,26 @@ pub enum SignalLaw {
     /// Component `index` of the angular velocity of frame b relative to
     /// frame a, resolved in `resolve`.
     AngularVelocity { index: usize, resolve: Resolve },
+    /// Component `index` of the velocity of frame b's origin relative to
+    /// frame a's as an observer fixed in `seen_from` sees it (the time
+    /// derivative of the relative position resolved in that frame; the
+    /// world's for `World`), resolved in `resolve`.
+    RelativeVelocity { index: usize, seen_from: Resolve, resolve: Resolve },
+    /// Angle `index` of the rotation from frame a (the world without one)
+    /// to frame b about the axes of `sequence` (1-based), the first angle
+    /// the one of its two solutions nearest `guess`.
+    FrameAngles { index: usize, sequence: [usize; 3], guess: f64 },
+    /// Distance between the origins of frames a and b, smoothed below
+    /// `s_small`.
+    FrameDistance { s_small: f64 },
+    /// Component `index` of the vector of the three inputs, given in world
+    /// coordinates, resolved in frame b (the world without one).
+    ResolveVector { index: usize },
+    /// An output the signal graph cannot compute before the accelerations
+    /// (it depends on them or on cut forces), or that the component's
+    /// parameters switch off: assembly refuses a model that reads it, and
+    /// it reads NaN. `reason` says why, for that error.
+    Unavailable { reason: &'static str },
 }
 
 impl SignalLaw {
@@ -47,7 +67,13 @@ impl SignalLaw {
     pub fn reads_frames(&self) -> bool {
         matches!(
             self,
-            SignalLaw::FramePosition { .. } | SignalLaw::FrameVelocity { .. } | SignalLaw::AngularVelocity { .. }
+            SignalLaw::FramePosition { .. }
+                | SignalLaw::FrameVelocity { .. }
+                | SignalLaw::AngularVelocity { .. }
+                | SignalLaw::RelativeVelocity { .. }
+                | SignalLaw::FrameAngles { .. }
+                | SignalLaw::FrameDistance { .. }
+                | SignalLaw::ResolveVector { .. }
         )
     }
 }

@@ -7,6 +7,7 @@ pub mod ramp;
 pub mod sine;
 pub mod step;
 pub mod time_table;
+pub mod trajectories;
 
 use super::spec::{ConnectorSpec, ParamSpec, VarSpec};
 use super::{Component, EvalContext, Part, SignalLaw, SignalSource};
