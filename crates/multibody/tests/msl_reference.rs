@@ -174,6 +174,31 @@ fn three_springs() {
     assert_within_tube(&reference, &solution, &as_pairs(&pairs));
 }
 
+/// SpringWithMass.md: a free body hanging on a spring (c = 40,
+/// s_unstretched = 0.2) with a 0.5 kg point mass at its middle, which is no
+/// degree of freedom; x, z and w_a stay exactly zero.
+#[test]
+fn spring_with_mass() {
+    let mut model = Model::new("SpringWithMass");
+    model.add("world", "World");
+    model.add("spring", "Spring").set("c", 40.0).set("s_unstretched", 0.2).set("hasmass", true).set("m", 0.5);
+    model
+        .add("body", "Body")
+        .set("m", 1.0)
+        .set("r_cm", [0.0, 0.0, 0.0])
+        .set("orientation_state", OrientationState::Quaternion)
+        .initial("r_0", [0.0, -0.3, 0.0])
+        .initial("v_0", [0.0, 0.0, 0.0])
+        .initial("w_a", [0.0, 0.0, 0.0]);
+    model.connect(["world.frame_b", "spring.frame_a"]);
+    model.connect(["spring.frame_b", "body.frame_a"]);
+    let reference = Reference::reference("SpringWithMass");
+    let solution = model.assemble().unwrap().simulate(&options_for(&reference)).unwrap();
+    let mut pairs = vector_pairs("body.frame_a", "body.frame_a", &["r_0"]);
+    pairs.extend(vector_pairs("body", "body", &["v_0", "w_a"]));
+    assert_within_tube(&reference, &solution, &as_pairs(&pairs));
+}
+
 /// ForceAndTorque.md: a cylinder on two revolutes, pushed at its tip by a
 /// constant force and torque given in a frame rotated 30 degrees about z
 /// (here resolved in the world, with the vectors rotated accordingly).

@@ -30,7 +30,7 @@ mod states;
 use crate::components::Part;
 use crate::math::{Mat3, Transform, Vec3};
 use crate::system::joint::JointMotion;
-use crate::system::{Anchor, Attachment, Link, PointGravityMass, System, GROUND};
+use crate::system::{Anchor, Attachment, LineMass, Link, PointGravityMass, System, GROUND};
 
 use crate::{Error, Model};
 
@@ -111,6 +111,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     for link in &mut tree.links {
         link.articulated = (&link.inertia).into();
     }
+    let line_masses = line_masses(&components, &conn, &tree)?;
 
     let mut signals = signals::resolve(&components, &conn, &tree, &drive.places)?;
     warnings.extend(std::mem::take(&mut signals.warnings));
@@ -157,6 +158,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         massless: tree.massless,
         constraints,
         constraint_rows,
+        line_masses,
         cut_nq,
         cut_nv,
         point_masses,
@@ -206,4 +208,33 @@ fn position(poses: &[(Mat3, Vec3)], end: &Attachment) -> Vec3 {
         Anchor::Link(k) => poses[k].1 + poses[k].0.tr_mul(&end.pose.trans),
         Anchor::Massless(_) => Vec3::zeros(),
     }
+}
+
+/// The point masses of line forces, between the frames their ends are on.
+fn line_masses(
+    components: &[CompiledComponent],
+    conn: &connections::Connectors,
+    tree: &links::Tree,
+) -> Result<Vec<LineMass>, Error> {
+    let mut out = Vec::new();
+    for c in components {
+        for part in &c.parts {
+            let Part::LineMass { a, b, m, h, point_gravity } = *part else { continue };
+            let connectors = (c.first_connector + a, c.first_connector + b);
+            let attach = |id: usize| {
+                let node = &tree.nodes[conn.node(id)];
+                match node.anchor {
+                    Anchor::Massless(_) => Err(Error::Unsupported {
+                        component: c.name.clone(),
+                        what: "a line force with mass (hasmass = true) ending at frames without mass".into(),
+                        fix: "give those frames mass, or put a PointMass between two massless springs".into(),
+                    }),
+                    anchor => Ok(Attachment { anchor, pose: node.pose }),
+                }
+            };
+            let (a, b) = (attach(connectors.0)?, attach(connectors.1)?);
+            out.push(LineMass { a, b, connectors, m, h, point_gravity });
+        }
+    }
+    Ok(out)
 }

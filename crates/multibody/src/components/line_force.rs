@@ -3,8 +3,9 @@
 //! optionally ends that fix their frame's orientation.
 
 use super::spec::{ParamSpec, VarSpec};
-use super::{Component, EvalContext, ForceLaw, Part};
+use super::{Component, EvalContext, ForceLaw, ParamSet, Part};
 use crate::dynamics::forces::{line_force, PointState};
+use crate::Error;
 
 pub const FIXED_ROTATION_A: ParamSpec = ParamSpec::boolean(
     "fixed_rotation_at_frame_a",
@@ -38,6 +39,32 @@ pub struct LineForce {
     pub s_unstretched: f64,
     pub s_small: f64,
     pub fixed_rotation: [bool; 2],
+}
+
+/// A line force's point mass: `m` at `r_a + h (r_b - r_a)`, with whether
+/// it feels point gravity.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LineMass {
+    pub m: f64,
+    pub h: f64,
+    pub point_gravity: bool,
+}
+
+/// The point mass of a line force with `hasmass = true`, from the
+/// parameters `m`, `lengthfraction` and, where the kind has it,
+/// `point_gravity` (or the world's point gravity);
+/// `None` when `m = 0`.
+pub fn line_mass(p: &ParamSet) -> Result<Option<LineMass>, Error> {
+    let m = p.non_negative("m", true)?;
+    let h = p.real("lengthfraction");
+    if !(0.0..=1.0).contains(&h) {
+        return Err(
+            p.invalid("lengthfraction", "the point mass must lie between the frames (0 <= lengthfraction <= 1)")
+        );
+    }
+    let own = p.spec.params.iter().any(|q| q.name == "point_gravity") && p.boolean("point_gravity");
+    let point_gravity = own || p.world.point_gravity;
+    Ok((m > 0.0).then_some(LineMass { m, h, point_gravity }))
 }
 
 impl Component for LineForce {
@@ -77,3 +104,44 @@ pub fn helix(p: &super::ParamSet, windings: f64) -> Vec<super::shapes::LocalShap
     vec![super::shapes::between(super::shapes::ShapeKind::Helix { windings }, "frame_a", "frame_b", d, d / 10.0)
         .colored(color, specular)]
 }
+
+/// A line force with a point mass on its line (Modelica's
+/// LineForceWithMass): the mass is no degree of freedom; the dynamics adds
+/// its inertia and weight to the mass matrix and shares them between the
+/// ends.
+#[derive(Debug)]
+pub struct WithMass {
+    pub line: LineForce,
+    pub mass: LineMass,
+}
+
+impl Component for WithMass {
+    fn parts(&self) -> Vec<Part> {
+        let LineMass { m, h, point_gravity } = self.mass;
+        let mut parts = self.line.parts();
+        parts.push(Part::LineMass { a: 0, b: 1, m, h, point_gravity });
+        parts
+    }
+
+    fn variables(&self) -> Vec<VarSpec> {
+        let mut vars = self.line.variables();
+        vars.extend_from_slice(MASS_VARIABLES);
+        vars
+    }
+
+    fn evaluate(&self, ctx: &EvalContext, out: &mut Vec<f64>) {
+        self.line.evaluate(ctx, out);
+        let h = self.mass.h;
+        let (a, b) = (&ctx.frames[0], &ctx.frames[1]);
+        out.extend_from_slice((a.r_0 * (1.0 - h) + b.r_0 * h).as_slice());
+        out.extend_from_slice((a.v_0 * (1.0 - h) + b.v_0 * h).as_slice());
+        out.extend_from_slice((a.a_0 * (1.0 - h) + b.a_0 * h).as_slice());
+    }
+}
+
+/// The point mass's motion, as outputs.
+pub const MASS_VARIABLES: &[VarSpec] = &[
+    VarSpec::vector("r_CM_0", 3, "m", "Position of the point mass, resolved in world frame"),
+    VarSpec::vector("v_CM_0", 3, "m/s", "Velocity of the point mass, resolved in world frame"),
+    VarSpec::vector("a_CM_0", 3, "m/s2", "Acceleration of the point mass, resolved in world frame"),
+];

@@ -309,6 +309,10 @@ pub enum Part {
     /// A relation between two frames kept by constraint forces (a joint
     /// without states, or the cut of a kinematic loop).
     Constraint { a: usize, b: usize, kind: ConstraintKind },
+    /// A point mass `m` on the line from frame `a`'s origin to frame `b`'s,
+    /// at the fraction `h` of the way; no degree of freedom (its ends move
+    /// it). It feels point gravity with `point_gravity`.
+    LineMass { a: usize, b: usize, m: f64, h: f64, point_gravity: bool },
     /// A line-force end that fixes its frame's orientation to the world's
     /// (`fixed_rotation_at_frame_a/b`): it owns the orientation of a
     /// group that nothing else orients.

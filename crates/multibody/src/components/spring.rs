@@ -1,7 +1,7 @@
 //! Spring: a linear spring acting as a line force between two frames.
 
 use super::line_force::helix;
-use super::line_force::{LineForce, FIXED_ROTATION_A, FIXED_ROTATION_B, VARIABLES};
+use super::line_force::{line_mass, LineForce, WithMass, FIXED_ROTATION_A, FIXED_ROTATION_B, VARIABLES};
 use super::shapes::LocalShape;
 use super::spec::{ComponentSpec, ConnectorSpec, ParamSpec, ParamType};
 use super::{Component, ParamSet};
@@ -10,14 +10,16 @@ use crate::Error;
 pub static SPEC: ComponentSpec = ComponentSpec {
     kind: "Spring",
     doc: "Linear spring acting as a line force between frame_a and frame_b: f = c (s - s_unstretched) pulls the \
-          origins together along the line between them (pushes them apart when compressed). No torques.",
+          origins together along the line between them (pushes them apart when compressed). No torques. With \
+          hasmass, a point mass m sits on the line at lengthfraction of the way from frame_a to frame_b; it is \
+          not a degree of freedom: its inertia and weight are shared by the two ends.",
     params: &[
         FIXED_ROTATION_A,
         FIXED_ROTATION_B,
         ParamSpec::boolean(
             "hasmass",
             false,
-            "Put a point mass m on the line (not supported yet: use a PointMass between two springs)",
+            "Put a point mass m on the line between the frames' origins (at lengthfraction from frame_a)",
         ),
         ParamSpec::boolean("render", true, "Render the spring in animations"),
         ParamSpec::world("color", ParamType::Vector(4), "default_spring_color", 1.0, "", "Colour (RGBA)"),
@@ -55,18 +57,16 @@ fn shapes(p: &ParamSet) -> Vec<LocalShape> {
 }
 
 fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
-    if p.boolean("hasmass") {
-        return Err(Error::Unsupported {
-            component: p.component.into(),
-            what: "a spring with mass (hasmass = true)".into(),
-            fix: "put a PointMass between two springs instead".into(),
-        });
-    }
-    Ok(Box::new(LineForce {
+    let line = LineForce {
         c: p.non_negative("c", true)?,
         d: 0.0,
         s_unstretched: p.non_negative("s_unstretched", true)?,
         s_small: 1e-10,
         fixed_rotation: [p.boolean("fixed_rotation_at_frame_a"), p.boolean("fixed_rotation_at_frame_b")],
-    }))
+    };
+    let mass = if p.boolean("hasmass") { line_mass(p)? } else { None };
+    Ok(match mass {
+        Some(mass) => Box::new(WithMass { line, mass }),
+        None => Box::new(line),
+    })
 }

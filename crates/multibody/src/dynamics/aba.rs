@@ -21,13 +21,14 @@ impl System {
         ud: &mut [f64],
     ) -> Result<(), DynamicsError> {
         self.motion_and_loads(ws, t, q, u)?;
-        if self.constraint_rows == 0 {
+        if !self.uses_mass_matrix() {
             self.articulated_inertias(ws)?;
             self.accelerations(ws, ud);
             Ok(())
         } else {
-            // Loops may leave massless links in the tree: solve the
-            // constrained system as a whole instead of the ABA's recursion.
+            // Loops may leave massless links in the tree, and a line
+            // force's point mass couples two branches: solve the system as
+            // a whole instead of the ABA's recursion.
             self.constrained_accelerations(ws, q, ud)
         }
     }
@@ -99,6 +100,7 @@ impl System {
             && self.point_masses.is_empty()
             && self.massless.is_empty()
             && self.constraints.is_empty()
+            && self.line_masses.is_empty()
             && !self.signals_read_frames)
     }
 

@@ -13,7 +13,7 @@
 use super::{DynamicsError, Workspace};
 use crate::math::dense::{cholesky, cholesky_solve, ldlt_pivoted, ldlt_solve, lu, lu_solve};
 use crate::math::{rotation_vector, Force, Mat3, Motion, RigidInertia, Vec3};
-use crate::system::{Anchor, Attachment, Constraint, System, GROUND};
+use crate::system::{Anchor, Attachment, Constraint, LineMass, System, GROUND};
 use crate::system::{ConstraintKind, RotationLock};
 
 /// Rows whose pivot is below this fraction of the largest are redundant.
@@ -266,6 +266,70 @@ impl System {
                 ws.composite[link.parent] += c;
             }
         }
+        // Point masses of line forces: `m J_m' J_m`, with the mass's
+        // velocity Jacobian `J_m = (1 - h) J_a + h J_b`.
+        for lm in &self.line_masses {
+            let (m, h) = (lm.m, lm.h);
+            let ends = [(self.end_point(ws, &lm.a), 1.0 - h), (self.end_point(ws, &lm.b), h)];
+            for &((ki, ri), wi) in &ends {
+                self.point_columns(ws, ki, &ri, |i, ci| {
+                    for &((kj, rj), wj) in &ends {
+                        self.point_columns(ws, kj, &rj, |j, cj| mass[i * nv + j] += m * wi * wj * ci.dot(&cj));
+                    }
+                });
+            }
+        }
+    }
+
+    /// The link and world position of an attachment's origin (the ground's
+    /// for a massless group, which assembly keeps away from line masses).
+    fn end_point(&self, ws: &Workspace, att: &Attachment) -> (usize, Vec3) {
+        let Anchor::Link(k) = att.anchor else { return (GROUND, Vec3::zeros()) };
+        let lw = &ws.links[k];
+        (k, lw.pos + lw.rot.tr_mul(&att.pose.trans))
+    }
+
+    /// Calls `each(i, column)` for every velocity coordinate `i` that moves
+    /// the point at `point` (world) fixed to link `k`: `column` is the
+    /// point's world velocity per unit `u_i`.
+    fn point_columns(&self, ws: &Workspace, mut k: usize, point: &Vec3, mut each: impl FnMut(usize, Vec3)) {
+        while k != GROUND {
+            let link = &self.links[k];
+            let lw = &ws.links[k];
+            for dof in 0..link.joint.nv() {
+                let s = self.subspace(ws, k, dof);
+                let dw = lw.rot.tr_mul(&s.ang);
+                each(link.v_offset + dof, lw.rot.tr_mul(&s.lin) + dw.cross(&(point - lw.pos)));
+            }
+            k = link.parent;
+        }
+    }
+
+    /// The world acceleration of the point at `point` (world) fixed to link
+    /// `k`, from the links' spatial accelerations in the workspace (in the
+    /// dynamics they include the ground's acceleration `-uniform_gravity`).
+    fn point_acceleration(&self, ws: &Workspace, k: usize, point: &Vec3) -> Vec3 {
+        let lw = &ws.links[k];
+        let p = lw.rot * (point - lw.pos);
+        let (v, a) = (lw.v, lw.a);
+        let v_point = v.lin + v.ang.cross(&p);
+        lw.rot.tr_mul(&(a.lin + a.ang.cross(&p) + v.ang.cross(&v_point)))
+    }
+
+    /// The force (world) that a line force's point mass needs to move as
+    /// its ends do against gravity, `m (a_m - g(r_m))`, from the links'
+    /// accelerations in the workspace: relative to a frame falling with
+    /// the uniform gravity (`falling`, as the dynamics has them) or true
+    /// accelerations (as outputs have them).
+    fn line_mass_force(&self, ws: &Workspace, lm: &LineMass, falling: bool) -> Vec3 {
+        let LineMass { m, h, point_gravity, .. } = *lm;
+        let ((ka, ra), (kb, rb)) = (self.end_point(ws, &lm.a), self.end_point(ws, &lm.b));
+        let r_m = ra * (1.0 - h) + rb * h;
+        let a_m = self.point_acceleration(ws, ka, &ra) * (1.0 - h) + self.point_acceleration(ws, kb, &rb) * h;
+        let field = if point_gravity { crate::math::point_gravity(self.mu, &r_m) } else { self.uniform_gravity };
+        // Falling links' accelerations hold `- uniform_gravity` already.
+        let field = if falling { field - self.uniform_gravity } else { field };
+        (a_m - field) * m
     }
 
     /// The joint accelerations under the constraints, with the multipliers
@@ -405,6 +469,15 @@ impl System {
             if link.parent != GROUND {
                 let up = ws.links[k].x_up.inv_apply_force(&force);
                 ws.links[link.parent].pa += up;
+            }
+        }
+        // Point masses of line forces: `- J_m' m (a_m - g)` with the
+        // accelerations of zero joint accelerations.
+        for lm in &self.line_masses {
+            let force = self.line_mass_force(ws, lm, true);
+            for (end, w) in [(&lm.a, 1.0 - lm.h), (&lm.b, lm.h)] {
+                let (k, r) = self.end_point(ws, end);
+                self.point_columns(ws, k, &r, |i, column| f[i] -= w * column.dot(&force));
             }
         }
     }
@@ -588,5 +661,16 @@ impl System {
             _ => (-force, -torque - r_ab.cross(&force)),
         };
         (on_a, on_b)
+    }
+}
+
+impl System {
+    /// The forces (world, at each end's origin, no moments) that a line
+    /// force's point mass applies to its ends: its inertia and weight,
+    /// shared in the ratio of its place on the line. Outputs call this with
+    /// the links' true accelerations (gravity added back).
+    pub(crate) fn line_mass_wrenches(&self, ws: &Workspace, lm: &LineMass) -> ((Vec3, Vec3), (Vec3, Vec3)) {
+        let force = self.line_mass_force(ws, lm, false);
+        ((-force * (1.0 - lm.h), Vec3::zeros()), (-force * lm.h, Vec3::zeros()))
     }
 }

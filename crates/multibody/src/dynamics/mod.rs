@@ -110,6 +110,7 @@ impl Workspace {
         }
         let ground = LinkWork { rot: Mat3::identity(), ..LinkWork::default() };
         let (m, nv) = (system.constraint_rows, system.states.nv);
+        let full = system.uses_mass_matrix();
         Self {
             links: vec![ground; n],
             multi,
@@ -122,11 +123,11 @@ impl Workspace {
             massless_pos: system.massless.iter().map(|g| g.guess).collect(),
             massless_vel: vec![Vec3::zeros(); system.massless.len()],
             jac: vec![0.0; m * nv],
-            mass: vec![0.0; if m > 0 { nv * nv } else { 0 }],
+            mass: vec![0.0; if full { nv * nv } else { 0 }],
             y_rows: vec![0.0; m * nv],
             schur: vec![0.0; m * m],
             perm: vec![0; m],
-            pivots: vec![0; if m > 0 { nv } else { 0 }],
+            pivots: vec![0; if full { nv } else { 0 }],
             lambda: vec![0.0; m],
             residual: vec![0.0; m],
             bias: vec![0.0; m],

@@ -360,6 +360,12 @@ impl Mechanism {
                     .constraints
                     .iter()
                     .map(|c| (Some(c.connectors.0), c.connectors.1, self.system.constraint_wrenches(ws, c))),
+            )
+            .chain(
+                self.system
+                    .line_masses
+                    .iter()
+                    .map(|lm| (Some(lm.connectors.0), lm.connectors.1, self.system.line_mass_wrenches(ws, lm))),
             );
         for (a, b, (on_a, on_b)) in applied {
             let ends = [(a, on_a), (Some(b), on_b)];

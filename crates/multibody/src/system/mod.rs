@@ -57,6 +57,8 @@ pub struct System {
     pub(crate) constraints: Vec<Constraint>,
     /// Total number of constraint rows, couplings included.
     pub(crate) constraint_rows: usize,
+    /// Point masses on the lines between two frames (line forces with mass).
+    pub(crate) line_masses: Vec<LineMass>,
     /// Sizes of the coordinate arrays of cut joints (outputs only).
     pub(crate) cut_nq: usize,
     pub(crate) cut_nv: usize,
@@ -100,6 +102,32 @@ pub(crate) struct Constraint {
     pub rows: usize,
     /// A cut joint: its model and where its output coordinates go.
     pub joint: Option<CutJoint>,
+}
+
+/// A point mass `m` on the line between the origins of two frames, at
+/// `r_a + h (r_b - r_a)` (a line force with mass). It is no degree of
+/// freedom: its acceleration is `(1 - h) a_a + h a_b`, so its inertia
+/// couples the two ends' links (the mass matrix holds it; the
+/// articulated-body recursion cannot), and its weight loads both ends.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct LineMass {
+    pub a: Attachment,
+    pub b: Attachment,
+    /// The component's connectors at `a` and `b` (global numbers).
+    pub connectors: (usize, usize),
+    pub m: f64,
+    pub h: f64,
+    /// Whether it feels point gravity rather than the uniform field.
+    pub point_gravity: bool,
+}
+
+impl System {
+    /// Whether accelerations come from the mass matrix (constraints, or
+    /// inertia shared between links) rather than the articulated-body
+    /// recursion.
+    pub(crate) fn uses_mass_matrix(&self) -> bool {
+        self.constraint_rows > 0 || !self.line_masses.is_empty()
+    }
 }
 
 #[derive(Debug, Clone, Copy)]
