@@ -98,6 +98,17 @@ pub enum Error {
 
     #[error("the signals of {} depend on each other at the same instant (an algebraic loop); break the loop with a block that has a state, or change the connections", list(components))]
     AlgebraicLoop { components: Vec<String> },
+
+    #[error("{problem}{}{}", if equations.is_empty() { String::new() } else { format!("\nin: {}", equations.join("; ")) }, if fix.is_empty() { String::new() } else { format!("\n{fix}") })]
+    Equations {
+        problem: String,
+        /// The origins of the equations concerned (as the model gave them).
+        equations: Vec<String>,
+        /// The variables concerned.
+        variables: Vec<String>,
+        /// What to do (may be empty).
+        fix: String,
+    },
 }
 
 impl Error {
@@ -132,7 +143,7 @@ impl Error {
             IncompatibleConnectors { a, b, .. } => vec![component_of(a), component_of(b)],
             UnknownComponent { reference, .. } => vec![component_of(reference)],
             LonelyConnection(c) | FloatingFlange { connector: c } => vec![component_of(c)],
-            NoWorld | SeveralWorlds { .. } => vec![],
+            NoWorld | SeveralWorlds { .. } | Equations { .. } => vec![],
         }
     }
 

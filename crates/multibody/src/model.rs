@@ -14,6 +14,7 @@
 //! assert_eq!(mechanism.degrees_of_freedom(), 1);
 //! ```
 
+use crate::math::expr::Expr;
 use std::fmt;
 
 /// A parameter or start value.
@@ -188,22 +189,81 @@ pub struct Connection {
     pub ends: Vec<String>,
 }
 
-/// A signal input given by a formula of time: `input` is
-/// `component.connector`.
+/// One equation `lhs = rhs` of the model's own (user-written) equations.
 #[derive(Clone, Debug, PartialEq)]
-pub struct InputEquation {
-    pub input: String,
-    pub formula: crate::math::expr::TimeExpr,
+pub struct Equation {
+    pub lhs: Expr,
+    pub rhs: Expr,
+    /// What the equation is, for messages: the front end's words for it
+    /// (where it was written, say), or empty.
+    pub origin: String,
 }
 
-/// A model: components, the connections between them, and formulas of
-/// time for signal inputs.
+impl Equation {
+    pub fn new(lhs: Expr, rhs: Expr) -> Self {
+        Self { lhs, rhs, origin: String::new() }
+    }
+}
+
+/// A variable of the model's equations: an unknown the equations decide,
+/// or a state when its derivative appears (`der(x)`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Variable {
+    pub name: String,
+    /// Its start value, if given; `fixed` says whether it must hold (an
+    /// `initial` value) or is a guess the start may change.
+    pub start: Option<f64>,
+    pub fixed: bool,
+    pub unit: String,
+    /// Where it was declared, for messages.
+    pub origin: String,
+}
+
+impl Variable {
+    pub fn new(name: impl Into<String>) -> Self {
+        Self { name: name.into(), start: None, fixed: false, unit: String::new(), origin: String::new() }
+    }
+}
+
+/// The flows a component of the model's equations gives a connector that
+/// the mechanics moves: the names of the variables that hold them. The
+/// flows act on that component, so the connector's node receives their
+/// opposite (Modelica's sign convention).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Flow {
+    /// At the frame of library connector `connector` (`body.frame_a`):
+    /// force and torque, resolved in that frame.
+    Frame { connector: String, force: [String; 3], torque: [String; 3] },
+    /// At the 1-D library connector `connector` (`rev.axis`): torque or force.
+    Flange { connector: String, value: String },
+}
+
+/// The model's own equations: variables, equations, initial equations and
+/// the flows they put on the mechanics. Names in the equations are these
+/// variables or quantities of the library components (see
+/// [`crate::Model::equation`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Equations {
+    pub variables: Vec<Variable>,
+    pub equations: Vec<Equation>,
+    /// Equations that hold at the start only.
+    pub initial: Vec<Equation>,
+    pub flows: Vec<Flow>,
+}
+
+impl Equations {
+    pub fn is_empty(&self) -> bool {
+        self.variables.is_empty() && self.equations.is_empty() && self.initial.is_empty() && self.flows.is_empty()
+    }
+}
+
+/// A model: components, the connections between them, and equations.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Model {
     pub name: String,
     pub components: Vec<ComponentInstance>,
     pub connections: Vec<Connection>,
-    pub equations: Vec<InputEquation>,
+    pub equations: Equations,
 }
 
 impl Model {
@@ -236,9 +296,25 @@ impl Model {
 
     /// Gives the signal input `input` (`component.connector`) the formula
     /// of time `formula` (what `input = formula` says in a model file).
-    pub fn set_input(&mut self, input: impl Into<String>, formula: crate::math::expr::TimeExpr) -> &mut Self {
-        self.equations.push(InputEquation { input: input.into(), formula });
+    pub fn set_input(&mut self, input: impl Into<String>, formula: Expr) -> &mut Self {
+        self.equation(Expr::Var(input.into()), formula)
+    }
+
+    /// Adds the equation `lhs = rhs`. Its names are variables declared with
+    /// [`Model::variable`] or quantities of library components: a signal
+    /// connector (`sensor.phi`, `torque.tau`), a frame connector's `r_0[i]`
+    /// and `R[i,j]`, a 1-D connector's `phi` or `s`, or a state
+    /// (`rev.phi`, `rev.w`); `der` of these gives their rates.
+    pub fn equation(&mut self, lhs: Expr, rhs: Expr) -> &mut Self {
+        self.equations.equations.push(Equation::new(lhs, rhs));
         self
+    }
+
+    /// Declares a variable of the equations, and returns it to set its
+    /// start value.
+    pub fn variable(&mut self, name: impl Into<String>) -> &mut Variable {
+        self.equations.variables.push(Variable::new(name));
+        self.equations.variables.last_mut().expect("just pushed")
     }
 
     /// Connects connectors, each written `component.connector`.

@@ -440,6 +440,7 @@ pub fn elements(
                 let (a, b) = (flange(components, conn, places, id(a))?, flange(components, conn, places, id(b))?);
                 let law = match law {
                     Law1D::Input { signal } => Law1D::Input { signal: signal_of_connector[id(signal)] },
+                    Law1D::Flow { signal } => Law1D::Flow { signal: signal_of_connector[id(signal)] },
                     other => other,
                 };
                 own.push(elements.len());

@@ -27,6 +27,9 @@ pub fn elements(
                 ForceLaw::Line { c, d, s_unstretched, s_small } => Load::Line { c, d, s_unstretched, s_small },
                 ForceLaw::Force { inputs, resolve } => Load::Force { signals: slots(inputs), resolve },
                 ForceLaw::Torque { inputs, resolve } => Load::Torque { signals: slots(inputs), resolve },
+                ForceLaw::Flow { inputs } => {
+                    Load::Flow { signals: inputs.map(|i| signal_of_connector[Connectors::id(components, ci, i)]) }
+                }
             };
             let id = |local: usize| Connectors::id(components, ci, local);
             let element = ForceElement { load, a: a.map(attach), b: attach(b), connectors: (a.map(id), id(b)) };

@@ -1,11 +1,10 @@
 //! Finds the World, checks every component's kind and parameters, and builds
 //! the components.
 
+use super::equations::Extra;
 use super::mechanism::CompiledComponent;
-use crate::components::blocks::equation::{self, EquationBlock};
 use crate::components::{lookup, registry, world, ConnectorType, ParamSet, WorldSettings};
 use crate::error::closest;
-use crate::math::expr::TimeFunction;
 use crate::{Error, Model};
 use std::collections::HashSet;
 
@@ -23,7 +22,7 @@ pub fn world_settings(model: &Model) -> Result<WorldSettings, Error> {
 }
 
 /// Every component, built from validated parameters, in model order.
-pub fn build(model: &Model, world: &WorldSettings) -> Result<Vec<CompiledComponent>, Error> {
+pub fn build(model: &Model, world: &WorldSettings, extras: &[Extra]) -> Result<Vec<CompiledComponent>, Error> {
     let mut names = HashSet::new();
     let mut built = Vec::with_capacity(model.components.len());
     let mut first_connector = 0;
@@ -51,39 +50,30 @@ pub fn build(model: &Model, world: &WorldSettings) -> Result<Vec<CompiledCompone
             elements: Vec::new(),
             variables,
             shapes,
+            hidden: false,
         });
         first_connector += spec.connectors.len();
     }
-    // Each formula of a signal input is a source block after the model's
+    // The hidden pieces of the model's equations come after the model's
     // components (whose numbers stay those of the model).
-    for equation in &model.equations {
-        let formula = TimeFunction::new(&equation.formula).map_err(|reason| Error::InvalidValue {
-            component: equation.input.clone(),
-            name: "formula".into(),
-            value: String::new(),
-            reason,
-        })?;
-        let component: Box<dyn crate::components::Component> = Box::new(EquationBlock { formula });
+    for extra in extras {
+        let spec = extra.part.spec(extra.rotational);
+        let component: std::sync::Arc<dyn crate::components::Component> = std::sync::Arc::new(extra.part.clone());
         built.push(CompiledComponent {
-            name: equation_block_name(&equation.input),
-            spec: &equation::SPEC,
+            name: extra.name.clone(),
+            spec,
             parts: component.parts(),
-            component: component.into(),
+            component,
             first_connector,
             joints: Vec::new(),
             elements: Vec::new(),
             variables: Vec::new(),
             shapes: Vec::new(),
+            hidden: true,
         });
-        first_connector += equation::SPEC.connectors.len();
+        first_connector += spec.connectors.len();
     }
     Ok(built)
-}
-
-/// The name of the block that gives `input` its formula (no model
-/// component can have it: names have no spaces).
-pub fn equation_block_name(input: &str) -> String {
-    format!("{input} (equation)")
 }
 
 /// Whether the component has 3-D frames (unknown kinds count as having

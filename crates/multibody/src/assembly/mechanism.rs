@@ -94,6 +94,8 @@ pub(crate) struct CompiledComponent {
     pub variables: Vec<VarSpec>,
     /// What it draws in animations.
     pub shapes: Vec<crate::components::shapes::Shape>,
+    /// A piece assembly added for the model's equations: no results of its own.
+    pub hidden: bool,
 }
 
 #[derive(Debug, Clone)]
@@ -298,6 +300,14 @@ impl Mechanism {
             DynamicsError::MasslessWithoutBalance { group } => format!(
                 "no position of the frames without mass between {} balances the forces on them (springs that cannot hold them, or pulled apart without limit); give them mass or change the springs",
                 self.system.massless[group].components.iter().map(|c| format!("`{c}`")).collect::<Vec<_>>().join(", ")
+            ),
+            DynamicsError::EquationsSingular { block } => format!(
+                "the equations {} have a singular Jacobian here: they do not determine their unknowns at this state",
+                self.system.equations.blocks[block].label
+            ),
+            DynamicsError::EquationsDiverged { block } => format!(
+                "Newton's method found no solution of the equations {} here (no solution near the last one, or a                  discontinuity); give their variables better start values, or reformulate them",
+                self.system.equations.blocks[block].label
             ),
         }
     }

@@ -17,6 +17,7 @@ mod axis;
 mod checks;
 mod connections;
 mod drives;
+mod equations;
 mod flows;
 mod forces;
 mod initial;
@@ -45,20 +46,21 @@ impl Model {
 }
 
 pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
-    // Each formula's block drives its input through a connection.
+    // The model's equations: hidden components joined to what they drive.
+    let plan = equations::plan(model)?;
     let with_equations;
-    let model = if model.equations.is_empty() {
+    let model = if plan.extras.is_empty() {
         model
     } else {
         let mut m = model.clone();
-        for e in &model.equations {
-            m.connect([format!("{}.y", instances::equation_block_name(&e.input)), e.input.clone()]);
+        for extra in &plan.extras {
+            m.connect([format!("{}.{}", extra.name, extra.joins.0), extra.joins.1.clone()]);
         }
         with_equations = m;
         &with_equations
     };
     let world = instances::world_settings(model)?;
-    let mut components = instances::build(model, &world)?;
+    let mut components = instances::build(model, &world, &plan.extras)?;
     let conn = connections::resolve(model, &components)?;
     let groups = links::rigid_groups(&components, &conn)?;
     let fixed: Vec<bool> = model.components.iter().map(|c| !c.initial.is_empty()).collect();
@@ -123,6 +125,14 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     let mut states = states::layout(model, &components, &tree, &drive.geared)?;
     drives::apply_starts(&drive_starts, &tree, &mut states);
     let free_coordinates = drives::free_coordinates(&tree, states.nv);
+    let context = equations::Context {
+        components: &components,
+        conn: &conn,
+        tree: &tree,
+        places: &drive.places,
+        links: &tree.links,
+    };
+    let (program, initial_of_equations) = plan.compile(&context, &mut signals, &mut states)?;
     checks::inertia_behind_every_joint(&components, &conn, &tree, &states.start[..states.nq])?;
 
     // Start each massless group at the centre of the frames that hold it.
@@ -149,6 +159,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         axis_elements,
         axis_forces: drive.axis_forces.clone(),
         signals_read_frames: signals.blocks.iter().any(|b| b.law.reads_frames()),
+        signal_slots: signals.slots,
         time_signals: signals.time_signals,
         drives,
         free_coordinates,
@@ -159,6 +170,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         constraints,
         constraint_rows,
         line_masses,
+        equations: program,
         cut_nq,
         cut_nv,
         point_masses,
@@ -185,6 +197,9 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         loops::close(&mut mechanism)?;
     }
     initial::solve(&mut mechanism, &initial_equations)?;
+    if let Some(init) = initial_of_equations {
+        equations::initialize(&mut mechanism, &init)?;
+    }
     Ok(mechanism)
 }
 

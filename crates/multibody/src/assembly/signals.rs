@@ -17,8 +17,10 @@ pub struct Signals {
     pub blocks: Vec<SignalBlock>,
     /// How many blocks depend on time only.
     pub time_signals: usize,
-    /// For every connector, its signal slot (`blocks.len()` reads zero).
+    /// For every connector, its signal slot (the last slot reads zero).
     pub of_connector: Vec<usize>,
+    /// How many slots there are, the zero slot included.
+    pub slots: usize,
     pub warnings: Vec<String>,
 }
 
@@ -82,7 +84,7 @@ pub fn resolve(
     let (mut blocks, rest): (Vec<_>, Vec<_>) = blocks.into_iter().partition(|b| of_time[b.output]);
     let time_signals = blocks.len();
     blocks.extend(rest);
-    Ok(Signals { blocks, time_signals, of_connector, warnings })
+    Ok(Signals { blocks, time_signals, of_connector, slots: zero + 1, warnings })
 }
 
 /// The slot of every connector: each signal node reads its one output.

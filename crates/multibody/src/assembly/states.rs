@@ -78,7 +78,7 @@ pub fn layout(
             }
         }
     }
-    Ok(StateLayout { nq, nv, names, start, fixed })
+    Ok(StateLayout { nq, nv, nx: 0, names, start, fixed })
 }
 
 /// For a 1-D body `c` that turns with another coordinate: the state its

@@ -24,7 +24,7 @@ pub struct Element1D {
 impl Component for Element1D {
     fn parts(&self) -> Vec<Part> {
         let mut parts = vec![Part::Element1D { a: self.a, b: self.b, law: self.law }];
-        if matches!(self.law, Law1D::Source { .. } | Law1D::Input { .. }) {
+        if matches!(self.law, Law1D::Source { .. } | Law1D::Input { .. } | Law1D::Flow { .. }) {
             // A source's support is the housing it pushes against.
             parts.push(Part::Housing { flange: self.a });
         }
@@ -48,9 +48,9 @@ impl Element1D {
             Law1D::Spring { c, s_rel0 } => (c, 0.0, s_rel0),
             Law1D::Damper { d } => (0.0, d, 0.0),
             Law1D::SpringDamper { c, d, s_rel0 } => (c, d, s_rel0),
-            Law1D::Source { .. } | Law1D::Input { .. } => (0.0, 0.0, 0.0),
+            Law1D::Source { .. } | Law1D::Input { .. } | Law1D::Flow { .. } => (0.0, 0.0, 0.0),
         };
-        let source = matches!(self.law, Law1D::Source { .. } | Law1D::Input { .. });
+        let source = matches!(self.law, Law1D::Source { .. } | Law1D::Input { .. } | Law1D::Flow { .. });
         match name {
             "phi_rel" | "s_rel" | "phi" | "s" => st.s_rel,
             "w_rel" | "v_rel" | "w" | "v" => st.v_rel,

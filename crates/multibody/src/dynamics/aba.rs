@@ -47,7 +47,7 @@ impl System {
         if !self.drives.is_empty() {
             self.evaluate_time_jets(ws, t);
         }
-        self.evaluate_signals(ws, t, q, u);
+        self.evaluate_signals(ws, t, q, u)?;
         if !self.drives.is_empty() {
             self.drive_accelerations(ws, q, u);
         }
@@ -101,7 +101,8 @@ impl System {
             && self.massless.is_empty()
             && self.constraints.is_empty()
             && self.line_masses.is_empty()
-            && !self.signals_read_frames)
+            && !self.signals_read_frames
+            && !self.equations.reads_frames)
     }
 
     /// Each link's pose in the world from the transforms of pass 1 (for

@@ -69,6 +69,12 @@ impl System {
                 let t = resolved(input(signals), resolve);
                 ((zero, -t), (zero, t))
             }
+            Load::Flow { signals } => {
+                let at = |k: usize| {
+                    Vec3::new(ws.signals[signals[k]], ws.signals[signals[k + 1]], ws.signals[signals[k + 2]])
+                };
+                ((zero, zero), (-kb.rot.tr_mul(&at(0)), -kb.rot.tr_mul(&at(3))))
+            }
         }
     }
 

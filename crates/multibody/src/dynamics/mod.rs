@@ -6,6 +6,7 @@
 mod aba;
 mod constraints;
 mod drives;
+mod equations;
 pub(crate) mod forces;
 mod signals;
 
@@ -24,6 +25,10 @@ pub enum DynamicsError {
     NotFinite,
     /// No position of a massless group balances the forces on it.
     MasslessWithoutBalance { group: usize },
+    /// The Jacobian of a block of the model's equations is singular.
+    EquationsSingular { block: usize },
+    /// Newton's method did not converge on a block of the model's equations.
+    EquationsDiverged { block: usize },
 }
 
 /// Scratch memory of the dynamics for one mechanism: everything the
@@ -64,6 +69,12 @@ pub struct Workspace {
     pub(crate) du: Vec<f64>,
     pub(crate) composite: Vec<crate::math::RigidInertia>,
     pub(crate) bias_acc: Vec<Motion>,
+    /// Registers of the model's own equations (see `system::equations`),
+    /// holding their last solution (Newton's next start).
+    pub(crate) registers: Vec<f64>,
+    /// Newton's scratch: the Jacobian, the step and LU work; and pivots.
+    pub(crate) newton: Vec<f64>,
+    pub(crate) newton_pivots: Vec<usize>,
 }
 
 /// What the articulated-body algorithm keeps per link.
@@ -116,9 +127,12 @@ impl Workspace {
             multi,
             multi_index,
             tau: vec![0.0; system.states.nv],
-            signals: vec![0.0; system.signals.len() + 1],
-            signal_rates: vec![[0.0; 2]; system.signals.len() + 1],
-            driven_state: vec![0.0; if system.drives.is_empty() { 0 } else { system.states.nq + nv }],
+            signals: vec![0.0; system.signal_slots],
+            signal_rates: vec![[0.0; 2]; system.signal_slots],
+            driven_state: vec![
+                0.0;
+                if system.drives.is_empty() { 0 } else { system.states.nq + nv + system.states.nx }
+            ],
             imposed: vec![0.0; if system.drives.is_empty() { 0 } else { nv }],
             massless_pos: system.massless.iter().map(|g| g.guess).collect(),
             massless_vel: vec![Vec3::zeros(); system.massless.len()],
@@ -135,6 +149,9 @@ impl Workspace {
             du: vec![0.0; nv],
             composite: vec![crate::math::RigidInertia::ZERO; n],
             bias_acc: vec![Motion::ZERO; n],
+            registers: system.equation_registers(),
+            newton: vec![0.0; system.equations.largest_block * (system.equations.largest_block + 2)],
+            newton_pivots: vec![0; system.equations.largest_block],
         }
     }
 }
@@ -176,7 +193,12 @@ impl System {
 
     /// [`System::rhs`] at a state whose driven coordinates are exact.
     fn rhs_at(&self, ws: &mut Workspace, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
-        let nq = self.states.nq;
+        let (nq, nv) = (self.states.nq, self.states.nv);
+        let (y, x) = y.split_at(nq + nv);
+        let (dy, dx) = dy.split_at_mut(nq + nv);
+        if !x.is_empty() {
+            self.load_equation_states(ws, x);
+        }
         let (q, u) = y.split_at(nq);
         let (qd, ud) = dy.split_at_mut(nq);
         for link in &self.links[1..] {
@@ -190,7 +212,22 @@ impl System {
         self.forward_dynamics(ws, t, q, u, ud).map_err(|e| match e {
             DynamicsError::EulerSingularity { link, .. } => DynamicsError::EulerSingularity { link, time: t },
             other => other,
-        })
+        })?;
+        self.equation_rates(ws, dx);
+        Ok(())
+    }
+
+    /// The equations' registers with their constants and the states' start values.
+    fn equation_registers(&self) -> Vec<f64> {
+        let program = &self.equations;
+        let mut r = vec![0.0; program.registers];
+        for &(reg, value) in &program.constants {
+            r[reg as usize] = value;
+        }
+        let first = program.first_state as usize;
+        let start = &self.states.start[self.states.nq + self.states.nv..];
+        r[first..first + start.len()].copy_from_slice(start);
+        r
     }
 
     /// Between which singular configurations the middle angle of each

@@ -6,10 +6,27 @@ use crate::math::{Mat3, Vec3};
 use crate::system::{Anchor, Attachment, Resolve, SignalLaw, System};
 
 impl System {
-    /// Every block's output into `ws.signals`. Needs the link velocities
-    /// (and world poses when a block reads frames) of the kinematics pass.
-    pub(crate) fn evaluate_signals(&self, ws: &mut Workspace, t: f64, q: &[f64], u: &[f64]) {
-        for block in &self.signals {
+    /// Every block's output into `ws.signals`, with the blocks of the
+    /// model's own equations at their places among them. Needs the link
+    /// velocities (and world poses when a block reads frames) of the
+    /// kinematics pass.
+    pub(crate) fn evaluate_signals(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        q: &[f64],
+        u: &[f64],
+    ) -> Result<(), super::DynamicsError> {
+        let positions = &self.equations.positions;
+        if !self.equations.is_empty() {
+            self.gather_equation_inputs(ws, t, q, u);
+        }
+        let mut next = 0;
+        for (index, block) in self.signals.iter().enumerate() {
+            while next < positions.len() && positions[next] == index {
+                self.run_equation_block(ws, next)?;
+                next += 1;
+            }
             let input = |k: usize| ws.signals[block.inputs[k]];
             let value = match &block.law {
                 SignalLaw::Source(source) => source.value(t),
@@ -54,9 +71,15 @@ impl System {
                     (b.rot * Vec3::new(input(0), input(1), input(2)))[index]
                 }
                 SignalLaw::Unavailable { .. } => f64::NAN,
+                SignalLaw::Written => continue,
             };
             ws.signals[block.output] = value;
         }
+        while next < positions.len() {
+            self.run_equation_block(ws, next)?;
+            next += 1;
+        }
+        Ok(())
     }
 
     /// The motion of a sensor's frame a (the world when absent) and frame b.

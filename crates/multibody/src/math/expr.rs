@@ -1,43 +1,90 @@
-//! Formulas of time (what a model's `x.u = sin(2*time)` gives a signal
-//! input), evaluated with their first two derivatives, which prescribed
-//! motion needs.
+//! Scalar expressions of time and named variables: what a model's
+//! equations are made of (`ctrl.y = -kp * (sensor.phi - ref)`), plain data.
 //!
-//! A formula is compiled into a postfix program over jets `[f, f', f'']`;
-//! evaluating it allocates nothing.
+//! A formula of time alone (no variables) also compiles into a
+//! [`TimeFunction`], evaluated with its first two time derivatives, which
+//! prescribed motion needs; evaluating it allocates nothing.
 
-/// A formula of time: plain data.
+use std::ops;
+
+/// A scalar expression. Booleans are numbers: a comparison gives 1 or 0,
+/// and a condition holds when it is not 0.
 #[derive(Clone, Debug, PartialEq)]
-pub enum TimeExpr {
-    Time,
+pub enum Expr {
     Const(f64),
-    Neg(Box<TimeExpr>),
-    Add(Box<TimeExpr>, Box<TimeExpr>),
-    Sub(Box<TimeExpr>, Box<TimeExpr>),
-    Mul(Box<TimeExpr>, Box<TimeExpr>),
-    Div(Box<TimeExpr>, Box<TimeExpr>),
-    Pow(Box<TimeExpr>, Box<TimeExpr>),
-    Call(Func, Box<TimeExpr>),
+    Time,
+    /// A variable by name: a variable of the model's equations, or a
+    /// quantity of a library component (`body.frame_a.r_0[2]`, `rev.phi`,
+    /// `sensor.phi`).
+    Var(String),
+    /// The time derivative of an expression.
+    Der(Box<Expr>),
+    Neg(Box<Expr>),
+    Add(Box<Expr>, Box<Expr>),
+    Sub(Box<Expr>, Box<Expr>),
+    Mul(Box<Expr>, Box<Expr>),
+    Div(Box<Expr>, Box<Expr>),
+    Pow(Box<Expr>, Box<Expr>),
+    Call(Func, Box<Expr>),
+    Call2(Func2, Box<Expr>, Box<Expr>),
+    Compare(Cmp, Box<Expr>, Box<Expr>),
+    And(Box<Expr>, Box<Expr>),
+    Or(Box<Expr>, Box<Expr>),
+    Not(Box<Expr>),
+    /// `if condition then a else b`.
+    If(Box<Expr>, Box<Expr>, Box<Expr>),
 }
 
-/// The functions of one argument a formula may call.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// The name formulas of time had before equations could name variables.
+pub type TimeExpr = Expr;
+
+/// The functions of one argument an expression may call.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Func {
     Sin,
     Cos,
     Tan,
     Exp,
     Log,
+    Log10,
     Sqrt,
     Abs,
+    Sign,
     Asin,
     Acos,
     Atan,
     Sinh,
     Cosh,
     Tanh,
+    Floor,
+    Ceil,
+}
+
+/// The functions of two arguments.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Func2 {
+    Atan2,
+    Min,
+    Max,
+}
+
+/// Comparisons; they give 1 when they hold and 0 otherwise.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Cmp {
+    Lt,
+    Le,
+    Gt,
+    Ge,
+    Eq,
+    Ne,
 }
 
 impl Func {
+    pub const NAMES: &'static [&'static str] = &[
+        "sin", "cos", "tan", "exp", "log", "log10", "sqrt", "abs", "sign", "asin", "acos", "atan", "sinh", "cosh",
+        "tanh", "floor", "ceil",
+    ];
+
     /// The function called `name` in a model file.
     pub fn from_name(name: &str) -> Option<Func> {
         Some(match name {
@@ -46,20 +93,55 @@ impl Func {
             "tan" => Func::Tan,
             "exp" => Func::Exp,
             "log" => Func::Log,
+            "log10" => Func::Log10,
             "sqrt" => Func::Sqrt,
             "abs" => Func::Abs,
+            "sign" => Func::Sign,
             "asin" => Func::Asin,
             "acos" => Func::Acos,
             "atan" => Func::Atan,
             "sinh" => Func::Sinh,
             "cosh" => Func::Cosh,
             "tanh" => Func::Tanh,
+            "floor" => Func::Floor,
+            "ceil" => Func::Ceil,
             _ => return None,
         })
     }
 
+    #[inline]
+    pub fn apply(self, x: f64) -> f64 {
+        match self {
+            Func::Sin => x.sin(),
+            Func::Cos => x.cos(),
+            Func::Tan => x.tan(),
+            Func::Exp => x.exp(),
+            Func::Log => x.ln(),
+            Func::Log10 => x.log10(),
+            Func::Sqrt => x.sqrt(),
+            Func::Abs => x.abs(),
+            Func::Sign => {
+                if x > 0.0 {
+                    1.0
+                } else if x < 0.0 {
+                    -1.0
+                } else {
+                    0.0
+                }
+            }
+            Func::Asin => x.asin(),
+            Func::Acos => x.acos(),
+            Func::Atan => x.atan(),
+            Func::Sinh => x.sinh(),
+            Func::Cosh => x.cosh(),
+            Func::Tanh => x.tanh(),
+            Func::Floor => x.floor(),
+            Func::Ceil => x.ceil(),
+        }
+    }
+
     /// `f(x), f'(x), f''(x)`.
-    fn derivatives(self, x: f64) -> [f64; 3] {
+    pub fn derivatives(self, x: f64) -> [f64; 3] {
         match self {
             Func::Sin => [x.sin(), x.cos(), -x.sin()],
             Func::Cos => [x.cos(), -x.sin(), -x.cos()],
@@ -70,11 +152,16 @@ impl Func {
             }
             Func::Exp => [x.exp(); 3],
             Func::Log => [x.ln(), 1.0 / x, -1.0 / (x * x)],
+            Func::Log10 => {
+                let k = std::f64::consts::LN_10;
+                [x.log10(), 1.0 / (x * k), -1.0 / (x * x * k)]
+            }
             Func::Sqrt => {
                 let s = x.sqrt();
                 [s, 0.5 / s, -0.25 / (s * x)]
             }
-            Func::Abs => [x.abs(), x.signum(), 0.0],
+            Func::Abs => [x.abs(), Func::Sign.apply(x), 0.0],
+            Func::Sign | Func::Floor | Func::Ceil => [self.apply(x), 0.0, 0.0],
             Func::Asin => {
                 let r = 1.0 - x * x;
                 [x.asin(), 1.0 / r.sqrt(), x / (r * r.sqrt())]
@@ -98,21 +185,185 @@ impl Func {
     }
 }
 
-/// One instruction of a compiled formula.
+impl Func2 {
+    pub const NAMES: &'static [&'static str] = &["atan2", "min", "max"];
+
+    pub fn from_name(name: &str) -> Option<Func2> {
+        Some(match name {
+            "atan2" => Func2::Atan2,
+            "min" => Func2::Min,
+            "max" => Func2::Max,
+            _ => return None,
+        })
+    }
+
+    #[inline]
+    pub fn apply(self, a: f64, b: f64) -> f64 {
+        match self {
+            Func2::Atan2 => a.atan2(b),
+            Func2::Min => a.min(b),
+            Func2::Max => a.max(b),
+        }
+    }
+}
+
+impl Cmp {
+    #[inline]
+    pub fn apply(self, a: f64, b: f64) -> f64 {
+        let holds = match self {
+            Cmp::Lt => a < b,
+            Cmp::Le => a <= b,
+            Cmp::Gt => a > b,
+            Cmp::Ge => a >= b,
+            Cmp::Eq => a == b,
+            Cmp::Ne => a != b,
+        };
+        if holds {
+            1.0
+        } else {
+            0.0
+        }
+    }
+}
+
+fn b(e: Expr) -> Box<Expr> {
+    Box::new(e)
+}
+
+impl Expr {
+    pub fn var(name: impl Into<String>) -> Expr {
+        Expr::Var(name.into())
+    }
+
+    pub fn der(e: Expr) -> Expr {
+        Expr::Der(b(e))
+    }
+
+    pub fn call(f: Func, e: Expr) -> Expr {
+        Expr::Call(f, b(e))
+    }
+
+    pub fn call2(f: Func2, x: Expr, y: Expr) -> Expr {
+        Expr::Call2(f, b(x), b(y))
+    }
+
+    pub fn compare(op: Cmp, x: Expr, y: Expr) -> Expr {
+        Expr::Compare(op, b(x), b(y))
+    }
+
+    pub fn if_else(condition: Expr, then: Expr, otherwise: Expr) -> Expr {
+        Expr::If(b(condition), b(then), b(otherwise))
+    }
+
+    pub fn pow(self, e: Expr) -> Expr {
+        Expr::Pow(b(self), b(e))
+    }
+
+    /// Every variable the expression names, in order of appearance (with
+    /// repeats), into `out`.
+    pub fn variables<'a>(&'a self, out: &mut Vec<&'a str>) {
+        self.visit(&mut |e| {
+            if let Expr::Var(n) = e {
+                out.push(n);
+            }
+        });
+    }
+
+    /// Whether the expression names a variable.
+    pub fn has_variables(&self) -> bool {
+        let mut found = false;
+        self.visit(&mut |e| found |= matches!(e, Expr::Var(_)));
+        found
+    }
+
+    /// Calls `f` on this node and every node below it.
+    pub fn visit<'a>(&'a self, f: &mut impl FnMut(&'a Expr)) {
+        f(self);
+        match self {
+            Expr::Const(_) | Expr::Time | Expr::Var(_) => {}
+            Expr::Der(a) | Expr::Neg(a) | Expr::Call(_, a) | Expr::Not(a) => a.visit(f),
+            Expr::Add(x, y)
+            | Expr::Sub(x, y)
+            | Expr::Mul(x, y)
+            | Expr::Div(x, y)
+            | Expr::Pow(x, y)
+            | Expr::Call2(_, x, y)
+            | Expr::Compare(_, x, y)
+            | Expr::And(x, y)
+            | Expr::Or(x, y) => {
+                x.visit(f);
+                y.visit(f);
+            }
+            Expr::If(c, x, y) => {
+                c.visit(f);
+                x.visit(f);
+                y.visit(f);
+            }
+        }
+    }
+}
+
+impl From<f64> for Expr {
+    fn from(x: f64) -> Self {
+        Expr::Const(x)
+    }
+}
+
+macro_rules! binary_operator {
+    ($trait:ident, $method:ident, $variant:ident) => {
+        impl ops::$trait for Expr {
+            type Output = Expr;
+            fn $method(self, rhs: Expr) -> Expr {
+                Expr::$variant(b(self), b(rhs))
+            }
+        }
+        impl ops::$trait<f64> for Expr {
+            type Output = Expr;
+            fn $method(self, rhs: f64) -> Expr {
+                Expr::$variant(b(self), b(Expr::Const(rhs)))
+            }
+        }
+        impl ops::$trait<Expr> for f64 {
+            type Output = Expr;
+            fn $method(self, rhs: Expr) -> Expr {
+                Expr::$variant(b(Expr::Const(self)), b(rhs))
+            }
+        }
+    };
+}
+binary_operator!(Add, add, Add);
+binary_operator!(Sub, sub, Sub);
+binary_operator!(Mul, mul, Mul);
+binary_operator!(Div, div, Div);
+
+impl ops::Neg for Expr {
+    type Output = Expr;
+    fn neg(self) -> Expr {
+        Expr::Neg(b(self))
+    }
+}
+
+/// One instruction of a compiled formula of time.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Op {
     Time,
     Const(f64),
     Neg,
+    Not,
     Add,
     Sub,
     Mul,
     Div,
     Pow,
     Call(Func),
+    Call2(Func2),
+    Compare(Cmp),
+    And,
+    Or,
+    If,
 }
 
-/// A formula compiled for evaluation, with the stack depth it needs.
+/// A formula of time compiled for evaluation, with the stack depth it needs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TimeFunction {
     ops: Vec<Op>,
@@ -125,10 +376,10 @@ pub const MAX_DEPTH: usize = 32;
 type Jet = [f64; 3];
 
 impl TimeFunction {
-    /// Compiles `expr`, or says it nests too deeply.
-    pub fn new(expr: &TimeExpr) -> Result<Self, String> {
+    /// Compiles `expr`, or says why it is not a formula of time.
+    pub fn new(expr: &Expr) -> Result<Self, String> {
         let mut ops = Vec::new();
-        let depth = compile(expr, &mut ops);
+        let depth = compile(expr, &mut ops)?;
         if depth > MAX_DEPTH {
             return Err(format!("the formula nests {depth} levels deep; at most {MAX_DEPTH} are supported"));
         }
@@ -147,11 +398,23 @@ impl TimeFunction {
                     n -= 1;
                     stack[n].map(|x| -x)
                 }
+                Op::Not => {
+                    n -= 1;
+                    [if stack[n][0] == 0.0 { 1.0 } else { 0.0 }, 0.0, 0.0]
+                }
                 Op::Call(f) => {
                     n -= 1;
                     let [u, u1, u2] = stack[n];
                     let [g, g1, g2] = f.derivatives(u);
                     [g, g1 * u1, g2 * u1 * u1 + g1 * u2]
+                }
+                Op::If => {
+                    n -= 3;
+                    if stack[n][0] != 0.0 {
+                        stack[n + 1]
+                    } else {
+                        stack[n + 2]
+                    }
                 }
                 binary => {
                     n -= 2;
@@ -172,42 +435,56 @@ impl TimeFunction {
 }
 
 /// Postfix code of `expr` into `ops`; returns the stack depth it needs.
-fn compile(expr: &TimeExpr, ops: &mut Vec<Op>) -> usize {
-    let binary = |a: &TimeExpr, b: &TimeExpr, op: Op, ops: &mut Vec<Op>| {
-        let da = compile(a, ops);
-        let db = compile(b, ops);
+fn compile(expr: &Expr, ops: &mut Vec<Op>) -> Result<usize, String> {
+    let binary = |x: &Expr, y: &Expr, op: Op, ops: &mut Vec<Op>| -> Result<usize, String> {
+        let dx = compile(x, ops)?;
+        let dy = compile(y, ops)?;
         ops.push(op);
-        da.max(db + 1)
+        Ok(dx.max(dy + 1))
     };
-    match expr {
-        TimeExpr::Time => {
+    Ok(match expr {
+        Expr::Time => {
             ops.push(Op::Time);
             1
         }
-        TimeExpr::Const(c) => {
+        Expr::Const(c) => {
             ops.push(Op::Const(*c));
             1
         }
-        TimeExpr::Neg(a) => {
-            let d = compile(a, ops);
-            ops.push(Op::Neg);
+        Expr::Var(name) => return Err(format!("`{name}` is not a function of time alone")),
+        Expr::Der(_) => return Err("`der` of a formula of time is not supported; differentiate it by hand".into()),
+        Expr::Neg(a) | Expr::Not(a) | Expr::Call(_, a) => {
+            let d = compile(a, ops)?;
+            ops.push(match expr {
+                Expr::Neg(_) => Op::Neg,
+                Expr::Not(_) => Op::Not,
+                Expr::Call(f, _) => Op::Call(*f),
+                _ => unreachable!(),
+            });
             d
         }
-        TimeExpr::Call(f, a) => {
-            let d = compile(a, ops);
-            ops.push(Op::Call(*f));
-            d
+        Expr::Add(x, y) => binary(x, y, Op::Add, ops)?,
+        Expr::Sub(x, y) => binary(x, y, Op::Sub, ops)?,
+        Expr::Mul(x, y) => binary(x, y, Op::Mul, ops)?,
+        Expr::Div(x, y) => binary(x, y, Op::Div, ops)?,
+        Expr::Pow(x, y) => binary(x, y, Op::Pow, ops)?,
+        Expr::Call2(f, x, y) => binary(x, y, Op::Call2(*f), ops)?,
+        Expr::Compare(c, x, y) => binary(x, y, Op::Compare(*c), ops)?,
+        Expr::And(x, y) => binary(x, y, Op::And, ops)?,
+        Expr::Or(x, y) => binary(x, y, Op::Or, ops)?,
+        Expr::If(c, x, y) => {
+            let dc = compile(c, ops)?;
+            let dx = compile(x, ops)?;
+            let dy = compile(y, ops)?;
+            ops.push(Op::If);
+            dc.max(dx + 1).max(dy + 2)
         }
-        TimeExpr::Add(a, b) => binary(a, b, Op::Add, ops),
-        TimeExpr::Sub(a, b) => binary(a, b, Op::Sub, ops),
-        TimeExpr::Mul(a, b) => binary(a, b, Op::Mul, ops),
-        TimeExpr::Div(a, b) => binary(a, b, Op::Div, ops),
-        TimeExpr::Pow(a, b) => binary(a, b, Op::Pow, ops),
-    }
+    })
 }
 
 /// The jet of `a op b`.
 fn binary_jet(op: Op, a: Jet, b: Jet) -> Jet {
+    let flat = |x: f64| [x, 0.0, 0.0];
     match op {
         Op::Add => [a[0] + b[0], a[1] + b[1], a[2] + b[2]],
         Op::Sub => [a[0] - b[0], a[1] - b[1], a[2] - b[2]],
@@ -233,6 +510,31 @@ fn binary_jet(op: Op, a: Jet, b: Jet) -> Jet {
             let y = e[0].exp();
             [y, y * e[1], y * (e[2] + e[1] * e[1])]
         }
+        Op::Call2(Func2::Min) => {
+            if a[0] <= b[0] {
+                a
+            } else {
+                b
+            }
+        }
+        Op::Call2(Func2::Max) => {
+            if a[0] >= b[0] {
+                a
+            } else {
+                b
+            }
+        }
+        Op::Call2(Func2::Atan2) => {
+            // atan2(y = a, x = b): d = (x y' - y x') / r with r = x^2 + y^2.
+            let r = a[0] * a[0] + b[0] * b[0];
+            let num = b[0] * a[1] - a[0] * b[1];
+            let num1 = b[0] * a[2] - a[0] * b[2];
+            let r1 = 2.0 * (a[0] * a[1] + b[0] * b[1]);
+            [a[0].atan2(b[0]), num / r, (num1 * r - num * r1) / (r * r)]
+        }
+        Op::Compare(c) => flat(c.apply(a[0], b[0])),
+        Op::And => flat(if a[0] != 0.0 && b[0] != 0.0 { 1.0 } else { 0.0 }),
+        Op::Or => flat(if a[0] != 0.0 || b[0] != 0.0 { 1.0 } else { 0.0 }),
         _ => unreachable!("not a binary operation"),
     }
 }
@@ -241,30 +543,24 @@ fn binary_jet(op: Op, a: Jet, b: Jet) -> Jet {
 mod tests {
     use super::*;
 
-    fn b(e: TimeExpr) -> Box<TimeExpr> {
-        Box::new(e)
-    }
-
     #[test]
     fn jets_are_the_derivatives_of_the_formula() {
-        use TimeExpr::*;
-        // 2 sin(3 t) + t^2 / (1 + t) - exp(-t) cos(t) + t^1.5 + (1 + t)^t
-        let formula = Add(
-            b(Add(
-                b(Sub(
-                    b(Add(
-                        b(Mul(b(Const(2.0)), b(Call(Func::Sin, b(Mul(b(Const(3.0)), b(Time))))))),
-                        b(Div(b(Pow(b(Time), b(Const(2.0)))), b(Add(b(Const(1.0)), b(Time))))),
-                    )),
-                    b(Mul(b(Call(Func::Exp, b(Neg(b(Time))))), b(Call(Func::Cos, b(Time))))),
-                )),
-                b(Pow(b(Time), b(Const(1.5)))),
-            )),
-            b(Pow(b(Add(b(Const(1.0)), b(Time))), b(Time))),
-        );
+        use Expr::*;
+        let t = || Time;
+        let c = Const;
+        // 2 sin(3 t) + t^2 / (1 + t) - exp(-t) cos(t) + t^1.5 + (1 + t)^t + atan2(t, 2 - t)
+        let formula = 2.0 * Expr::call(Func::Sin, 3.0 * t()) + t().pow(c(2.0)) / (1.0 + t())
+            - Expr::call(Func::Exp, -t()) * Expr::call(Func::Cos, t())
+            + t().pow(c(1.5))
+            + (1.0 + t()).pow(t())
+            + Expr::call2(Func2::Atan2, t(), 2.0 - t());
         let f = TimeFunction::new(&formula).unwrap();
-        let exact =
-            |t: f64| 2.0 * (3.0 * t).sin() + t * t / (1.0 + t) - (-t).exp() * t.cos() + t.powf(1.5) + (1.0 + t).powf(t);
+        let exact = |t: f64| {
+            2.0 * (3.0 * t).sin() + t * t / (1.0 + t) - (-t).exp() * t.cos()
+                + t.powf(1.5)
+                + (1.0 + t).powf(t)
+                + t.atan2(2.0 - t)
+        };
         // Central differences of step 1e-4: truncation ~1e-8 |f'''|, rounding ~1e-16/h^2.
         let h = 1e-4;
         for t in [0.3, 1.1, 2.7] {
@@ -278,13 +574,24 @@ mod tests {
     }
 
     #[test]
+    fn conditions_pick_the_branch_and_its_derivatives() {
+        let t = || Expr::Time;
+        let f = Expr::if_else(Expr::compare(Cmp::Lt, t(), 1.0.into()), t() * t(), 3.0 * t());
+        let f = TimeFunction::new(&f).unwrap();
+        assert_eq!(f.jet(0.5), [0.25, 1.0, 2.0]);
+        assert_eq!(f.jet(2.0), [6.0, 3.0, 0.0]);
+        assert!(TimeFunction::new(&Expr::var("x")).is_err());
+    }
+
+    #[test]
     fn every_function_differentiates_correctly() {
         let h = 1e-5;
-        for name in ["sin", "cos", "tan", "exp", "log", "sqrt", "abs", "asin", "acos", "atan", "sinh", "cosh", "tanh"] {
+        for name in Func::NAMES {
             let f = Func::from_name(name).unwrap();
             for x in [0.3, 0.7] {
                 let value = |x: f64| f.derivatives(x)[0];
-                let [_, d1, d2] = f.derivatives(x);
+                let [y, d1, d2] = f.derivatives(x);
+                assert_eq!(y, f.apply(x), "{name}");
                 let fd1 = (value(x + h) - value(x - h)) / (2.0 * h);
                 let fd2 = (f.derivatives(x + h)[1] - f.derivatives(x - h)[1]) / (2.0 * h);
                 // Truncation h^2 |f''''| / 6 reaches 1e-8 for log at 0.3.

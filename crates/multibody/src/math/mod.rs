@@ -3,8 +3,10 @@
 
 pub mod dense;
 pub mod expr;
+pub mod graph;
 pub mod rotation;
 pub mod spatial;
+pub mod symbolic;
 pub mod trajectory;
 pub mod union_find;
 

@@ -58,7 +58,7 @@ impl Mechanism {
     fn name_signals(&self) -> SignalTable {
         let mut out = Vec::new();
         let mut owners = Vec::new();
-        for (k, c) in self.components.iter().enumerate() {
+        for (k, c) in self.components.iter().enumerate().filter(|(_, c)| !c.hidden) {
             for v in &c.variables {
                 for suffix in v.shape.suffixes() {
                     out.push(Signal { name: format!("{}.{}{}", c.name, v.name, suffix), unit: v.unit });
@@ -78,6 +78,11 @@ impl Mechanism {
             }
             owners.resize(out.len(), Some(k));
         }
+        // The variables of the model's own equations.
+        for (name, _) in &self.system.equations.outputs {
+            out.push(Signal { name: name.clone(), unit: "" });
+        }
+        owners.resize(out.len(), None);
         for constraint in &self.system.constraints {
             let name = &self.components[constraint.component].name;
             for k in 1..=constraint.rows {
@@ -106,8 +111,8 @@ impl Mechanism {
         row: &mut Vec<f64>,
         wanted: Option<&[bool]>,
     ) -> Result<(), DynamicsError> {
-        let (nq, nv) = (self.system.states.nq, self.system.states.nv);
-        scratch.dy.resize(nq + nv, 0.0);
+        let nq = self.system.states.nq;
+        scratch.dy.resize(y.len(), 0.0);
         // Driven coordinates read their exact values, as the dynamics did.
         let exact;
         let y = if self.system.drives.is_empty() {
@@ -143,7 +148,7 @@ impl Mechanism {
         let mut elements: Vec<Element1DState> = Vec::new();
         for (k, c) in self.components.iter().enumerate() {
             let width = self.output_width(c);
-            if wanted.is_some_and(|w| !w[k]) {
+            if c.hidden || wanted.is_some_and(|w| !w[k]) {
                 column += width;
                 continue;
             }
@@ -226,6 +231,10 @@ impl Mechanism {
             row[column..column + width].copy_from_slice(values);
             column += width;
         }
+        for (_, reg) in &self.system.equations.outputs {
+            row[column] = ws.registers[*reg as usize];
+            column += 1;
+        }
         row[column..].copy_from_slice(&ws.residual);
         Ok(())
     }
@@ -233,6 +242,9 @@ impl Mechanism {
     /// How many output columns a component has: its variables' values,
     /// then 24 per public frame connector.
     fn output_width(&self, c: &crate::assembly::CompiledComponent) -> usize {
+        if c.hidden {
+            return 0;
+        }
         let frames = c.spec.public_connectors().filter(|k| k.ty == ConnectorType::Frame).count();
         let per_frame: usize = FRAME_SIGNALS.iter().map(|(_, size, _)| size).sum();
         c.variables.iter().map(|v| v.shape.len()).sum::<usize>() + frames * per_frame

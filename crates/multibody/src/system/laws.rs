@@ -20,6 +20,9 @@ pub enum Law1D {
     /// A source driving flange_b forward by the value of a signal: a
     /// component's input connector, which assembly turns into a signal slot.
     Input { signal: usize },
+    /// The flow (torque or force) that the model's equations give a
+    /// component at flange_b, from a signal: flange_b receives its opposite.
+    Flow { signal: usize },
 }
 
 impl Law1D {
@@ -33,6 +36,7 @@ impl Law1D {
             Law1D::SpringDamper { c, d, s_rel0 } => c * (s_rel - s_rel0) + d * v_rel,
             Law1D::Source { value } => -value,
             Law1D::Input { signal } => -signals[signal],
+            Law1D::Flow { signal } => signals[signal],
         }
     }
 }
@@ -80,6 +84,10 @@ pub enum ForceLaw {
     Force { inputs: [usize; 3], resolve: Resolve },
     /// A torque on frame_b from `inputs`; the reaction acts on frame_a.
     Torque { inputs: [usize; 3], resolve: Resolve },
+    /// The flows (force, then torque, resolved in frame_b) that the model's
+    /// equations give a component at frame_b, from `inputs`: frame_b
+    /// receives their opposite. No frame_a.
+    Flow { inputs: [usize; 6] },
 }
 
 /// Which relative rotations of frame_b a constraint locks.

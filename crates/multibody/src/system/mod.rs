@@ -8,6 +8,7 @@
 //! [`Workspace`](crate::dynamics::Workspace).
 
 pub mod drive;
+pub(crate) mod equations;
 pub mod joint;
 pub mod laws;
 pub mod signals;
@@ -32,11 +33,13 @@ pub struct System {
     /// 1-D force elements acting on joint coordinates.
     pub(crate) axis_elements: Vec<AxisElement>,
     /// The signal blocks in evaluation order (each after the blocks it
-    /// reads); each writes its own slot, and the slot `signals.len()`
+    /// reads); each writes its own slot, and the last slot (`signal_slots - 1`)
     /// always reads zero.
     pub(crate) signals: Vec<SignalBlock>,
     /// Whether a signal block reads frame poses.
     pub(crate) signals_read_frames: bool,
+    /// How many signal slots there are (the last reads zero).
+    pub(crate) signal_slots: usize,
     /// How many of the first blocks depend on time only (and so have
     /// derivatives a drive can use, evaluated before the kinematics).
     pub(crate) time_signals: usize,
@@ -59,6 +62,8 @@ pub struct System {
     pub(crate) constraint_rows: usize,
     /// Point masses on the lines between two frames (line forces with mass).
     pub(crate) line_masses: Vec<LineMass>,
+    /// The model's own equations, compiled.
+    pub(crate) equations: equations::EquationProgram,
     /// Sizes of the coordinate arrays of cut joints (outputs only).
     pub(crate) cut_nq: usize,
     pub(crate) cut_nv: usize,
@@ -169,6 +174,7 @@ pub(crate) enum Load {
     Line { c: f64, d: f64, s_unstretched: f64, s_small: f64 },
     Force { signals: [usize; 3], resolve: Resolve },
     Torque { signals: [usize; 3], resolve: Resolve },
+    Flow { signals: [usize; 6] },
 }
 
 /// Frames without mass held by force elements only; their orientation is
@@ -329,11 +335,14 @@ pub(crate) struct PointGravityMass {
     pub com: Vec3,
 }
 
-/// Names and start values of the states: positions first, then velocities.
+/// Names and start values of the states: positions first, then
+/// velocities, then the states of the model's own equations.
 #[derive(Debug, Clone, Default)]
 pub struct StateLayout {
     pub nq: usize,
     pub nv: usize,
+    /// States of the model's own equations, after the joints' velocities.
+    pub nx: usize,
     pub names: Vec<String>,
     pub start: Vec<f64>,
     /// Which start values the model fixed (`initial`), as opposed to

@@ -53,6 +53,8 @@ pub enum SignalLaw {
     /// parameters switch off: assembly refuses a model that reads it, and
     /// it reads NaN. `reason` says why, for that error.
     Unavailable { reason: &'static str },
+    /// A slot the model's own equations write (they run in its place).
+    Written,
 }
 
 impl SignalLaw {

@@ -1,12 +1,24 @@
-//! A signal input given by a formula of time in the model's equations
-//! (`prescribed.r_x = sin(time)`): a source block the assembly adds for
-//! each such equation, not a kind users name.
+//! The pieces assembly adds for a model's own equations (not kinds users
+//! name; they are hidden from the results):
+//! - a signal input given by a formula of time (`prescribed.r_x =
+//!   sin(time)`): a source block;
+//! - a signal input the equations write: a slot their blocks fill;
+//! - the flows the equations give a frame or a 1-D connector that the
+//!   mechanics moves: loads on it, from slots the equations fill.
 
 use super::OUTPUT;
-use crate::components::spec::ComponentSpec;
-use crate::components::{Component, EvalContext, Part, SignalLaw, SignalSource, VarSpec};
+use crate::components::spec::{ComponentSpec, ConnectorSpec, ConnectorType};
+use crate::components::{Component, EvalContext, ForceLaw, Law1D, Part, SignalLaw, SignalSource, VarSpec};
 use crate::math::expr::TimeFunction;
 use crate::Error;
+
+fn not_by_name(_: &crate::components::ParamSet) -> Result<Box<dyn Component>, Error> {
+    Err(Error::Unsupported {
+        component: "Equation".into(),
+        what: "a part of the model's equations by name".into(),
+        fix: "write the equation in the model's relations".into(),
+    })
+}
 
 pub static SPEC: ComponentSpec = ComponentSpec {
     kind: "Equation",
@@ -14,30 +26,130 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     params: &[],
     connectors: &OUTPUT,
     variables: &[],
-    build: |_| {
-        Err(Error::Unsupported {
-            component: "Equation".into(),
-            what: "an equation block by name".into(),
-            fix: "write the formula as an equation: `component.input = formula`".into(),
-        })
-    },
+    build: not_by_name,
     shapes: crate::components::shapes::none,
 };
 
-#[derive(Debug)]
-pub struct EquationBlock {
-    pub formula: TimeFunction,
+/// A signal input the model's equations write.
+pub static WRITTEN: ComponentSpec = ComponentSpec {
+    kind: "EquationOutput",
+    doc: "A signal input that the model's equations write.",
+    params: &[],
+    connectors: &OUTPUT,
+    variables: &[],
+    build: not_by_name,
+    shapes: crate::components::shapes::none,
+};
+
+const FLOW_SIGNALS: [ConnectorSpec; 6] = [
+    ConnectorSpec::output("f_1", "Force on the component, x (frame coordinates)"),
+    ConnectorSpec::output("f_2", "Force on the component, y"),
+    ConnectorSpec::output("f_3", "Force on the component, z"),
+    ConnectorSpec::output("tau_1", "Torque on the component, x (frame coordinates)"),
+    ConnectorSpec::output("tau_2", "Torque on the component, y"),
+    ConnectorSpec::output("tau_3", "Torque on the component, z"),
+];
+
+/// The flows the model's equations give a frame.
+pub static FRAME_FLOW: ComponentSpec = ComponentSpec {
+    kind: "EquationFrameFlow",
+    doc: "The force and torque that the model's equations give a component at a frame.",
+    params: &[],
+    connectors: &[
+        ConnectorSpec::frame("frame", "The frame"),
+        FLOW_SIGNALS[0],
+        FLOW_SIGNALS[1],
+        FLOW_SIGNALS[2],
+        FLOW_SIGNALS[3],
+        FLOW_SIGNALS[4],
+        FLOW_SIGNALS[5],
+    ],
+    variables: &[],
+    build: not_by_name,
+    shapes: crate::components::shapes::none,
+};
+
+/// The torque the model's equations give a component at a spline.
+pub static SPLINE_FLOW: ComponentSpec = ComponentSpec {
+    kind: "EquationSplineFlow",
+    doc: "The torque that the model's equations give a component at a spline.",
+    params: &[],
+    connectors: &[
+        ConnectorSpec::flange("spline", ConnectorType::Spline, "The spline"),
+        ConnectorSpec::flange("support", ConnectorType::Spline, "Where the reaction goes (fixed)"),
+        ConnectorSpec::output("y", "The torque on the component"),
+    ],
+    variables: &[],
+    build: not_by_name,
+    shapes: crate::components::shapes::none,
+};
+
+/// The force the model's equations give a component at a flange.
+pub static FLANGE_FLOW: ComponentSpec = ComponentSpec {
+    kind: "EquationFlangeFlow",
+    doc: "The force that the model's equations give a component at a flange.",
+    params: &[],
+    connectors: &[
+        ConnectorSpec::flange("flange", ConnectorType::Flange, "The flange"),
+        ConnectorSpec::flange("support", ConnectorType::Flange, "Where the reaction goes (fixed)"),
+        ConnectorSpec::output("y", "The force on the component"),
+    ],
+    variables: &[],
+    build: not_by_name,
+    shapes: crate::components::shapes::none,
+};
+
+/// A piece of the model's equations, as a component.
+#[derive(Clone, Debug)]
+pub enum EquationPart {
+    /// A formula of time for a signal input.
+    Formula(TimeFunction),
+    /// A signal input the equations write.
+    Written,
+    /// Flows at a frame.
+    FrameFlow,
+    /// A flow at a 1-D connector.
+    AxisFlow,
 }
 
-impl Component for EquationBlock {
+impl EquationPart {
+    pub fn spec(&self, rotational: bool) -> &'static ComponentSpec {
+        match self {
+            EquationPart::Formula(_) => &SPEC,
+            EquationPart::Written => &WRITTEN,
+            EquationPart::FrameFlow => &FRAME_FLOW,
+            EquationPart::AxisFlow if rotational => &SPLINE_FLOW,
+            EquationPart::AxisFlow => &FLANGE_FLOW,
+        }
+    }
+}
+
+fn written(output: usize) -> Part {
+    Part::Signal { output, law: SignalLaw::Written, inputs: [None; 3], frames: [None; 2], flanges: [None; 2] }
+}
+
+impl Component for EquationPart {
     fn parts(&self) -> Vec<Part> {
-        vec![Part::Signal {
-            output: 0,
-            law: SignalLaw::Source(SignalSource::Formula(self.formula.clone())),
-            inputs: [None; 3],
-            frames: [None; 2],
-            flanges: [None; 2],
-        }]
+        match self {
+            EquationPart::Formula(formula) => vec![Part::Signal {
+                output: 0,
+                law: SignalLaw::Source(SignalSource::Formula(formula.clone())),
+                inputs: [None; 3],
+                frames: [None; 2],
+                flanges: [None; 2],
+            }],
+            EquationPart::Written => vec![written(0)],
+            EquationPart::FrameFlow => {
+                let mut parts: Vec<Part> = (1..=6).map(written).collect();
+                parts.push(Part::Force { a: None, b: 0, law: ForceLaw::Flow { inputs: [1, 2, 3, 4, 5, 6] } });
+                parts
+            }
+            EquationPart::AxisFlow => vec![
+                written(2),
+                Part::Element1D { a: 1, b: 0, law: Law1D::Flow { signal: 2 } },
+                Part::Housing { flange: 1 },
+            ],
+        }
     }
 
     fn variables(&self) -> Vec<VarSpec> {

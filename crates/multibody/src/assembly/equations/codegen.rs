@@ -1,0 +1,521 @@
+//! Register code for sorted equations: a closed form for a block of one
+//! equation linear in its unknown, Newton with an exact Jacobian
+//! otherwise; loads of the signals a block reads, stores of the signals
+//! and flows it writes; and the blocks' places among the signal blocks.
+
+use super::sort::{is_unknown, Sorted};
+use super::{problem, Context, Pending, Role, Source};
+use crate::assembly::signals::Signals;
+use crate::math::symbolic::{self as sym, Sym, S};
+use crate::system::equations::{EquationBlock, EquationProgram, Gather, Op, Reg, Solve, TIME};
+use crate::system::{Attachment, SignalLaw, StateLayout};
+use crate::Error;
+use std::collections::{BinaryHeap, HashMap};
+
+/// Registers and ops being written.
+struct Emitter {
+    registers: usize,
+    constants: HashMap<u64, Reg>,
+    initial: Vec<(Reg, f64)>,
+    ops: Vec<Op>,
+    /// Registers already holding a subexpression (by its address) within
+    /// the current block; `keep` holds those expressions so that no
+    /// address is reused while the block is written.
+    memo: HashMap<*const Sym, Reg>,
+    keep: Vec<S>,
+}
+
+impl Emitter {
+    fn register(&mut self) -> Reg {
+        self.registers += 1;
+        (self.registers - 1) as Reg
+    }
+
+    fn constant(&mut self, x: f64) -> Reg {
+        if let Some(&r) = self.constants.get(&x.to_bits()) {
+            return r;
+        }
+        let r = self.register();
+        self.constants.insert(x.to_bits(), r);
+        self.initial.push((r, x));
+        r
+    }
+
+    /// Code that leaves the value of `e` in a register, which it returns.
+    fn emit(&mut self, e: &S, vars: &[Reg]) -> Reg {
+        if let Some(&r) = self.memo.get(&Rc_ptr(e)) {
+            return r;
+        }
+        let r = match &**e {
+            Sym::Const(x) => return self.constant(*x),
+            Sym::Time => return TIME,
+            Sym::Var(v) => return vars[*v],
+            Sym::Neg(a) | Sym::Call(_, a) | Sym::Not(a) => {
+                let a = self.emit(a, vars);
+                let d = self.register();
+                self.ops.push(match &**e {
+                    Sym::Neg(_) => Op::Neg(d, a),
+                    Sym::Call(f, _) => Op::Call(*f, d, a),
+                    _ => Op::Not(d, a),
+                });
+                d
+            }
+            Sym::Add(a, b)
+            | Sym::Sub(a, b)
+            | Sym::Mul(a, b)
+            | Sym::Div(a, b)
+            | Sym::Pow(a, b)
+            | Sym::Call2(_, a, b)
+            | Sym::Compare(_, a, b)
+            | Sym::And(a, b)
+            | Sym::Or(a, b) => {
+                let (a, b) = (self.emit(a, vars), self.emit(b, vars));
+                let d = self.register();
+                self.ops.push(match &**e {
+                    Sym::Add(..) => Op::Add(d, a, b),
+                    Sym::Sub(..) => Op::Sub(d, a, b),
+                    Sym::Mul(..) => Op::Mul(d, a, b),
+                    Sym::Div(..) => Op::Div(d, a, b),
+                    Sym::Pow(..) => Op::Pow(d, a, b),
+                    Sym::Call2(f, ..) => Op::Call2(*f, d, a, b),
+                    Sym::Compare(c, ..) => Op::Compare(*c, d, a, b),
+                    Sym::And(..) => Op::And(d, a, b),
+                    _ => Op::Or(d, a, b),
+                });
+                d
+            }
+            Sym::If(c, a, b) => {
+                let (c, a, b) = (self.emit(c, vars), self.emit(a, vars), self.emit(b, vars));
+                let d = self.register();
+                self.ops.push(Op::Select(d, c, a, b));
+                d
+            }
+        };
+        self.keep.push(e.clone());
+        self.memo.insert(Rc_ptr(e), r);
+        r
+    }
+
+    /// Code that leaves the value of `e` in register `target`.
+    fn emit_into(&mut self, e: &S, vars: &[Reg], target: Reg) {
+        let before = self.ops.len();
+        let r = self.emit(e, vars);
+        // Write the last op's result straight into the target when it made it.
+        let last = self.ops.len().checked_sub(1).filter(|&i| i >= before);
+        match last.map(|i| &mut self.ops[i]) {
+            Some(op) if result_of(op) == Some(r) => {
+                set_result(op, target);
+                // The temporary is never written now: later uses read the target.
+                self.memo.insert(Rc_ptr(e), target);
+            }
+            _ => self.ops.push(Op::Copy(target, r)),
+        }
+    }
+
+    fn new_block(&mut self) {
+        self.memo.clear();
+        self.keep.clear();
+    }
+}
+
+#[allow(non_snake_case)]
+fn Rc_ptr(e: &S) -> *const Sym {
+    std::rc::Rc::as_ptr(e)
+}
+
+fn result_of(op: &Op) -> Option<Reg> {
+    match *op {
+        Op::Copy(d, _)
+        | Op::Neg(d, _)
+        | Op::Add(d, ..)
+        | Op::Sub(d, ..)
+        | Op::Mul(d, ..)
+        | Op::Div(d, ..)
+        | Op::Pow(d, ..)
+        | Op::Call(_, d, _)
+        | Op::Call2(_, d, ..)
+        | Op::Compare(_, d, ..)
+        | Op::And(d, ..)
+        | Op::Or(d, ..)
+        | Op::Not(d, _)
+        | Op::Select(d, ..)
+        | Op::Load(d, _) => Some(d),
+        Op::Store(..) => None,
+    }
+}
+
+fn set_result(op: &mut Op, target: Reg) {
+    match op {
+        Op::Copy(d, _)
+        | Op::Neg(d, _)
+        | Op::Add(d, ..)
+        | Op::Sub(d, ..)
+        | Op::Mul(d, ..)
+        | Op::Div(d, ..)
+        | Op::Pow(d, ..)
+        | Op::Call(_, d, _)
+        | Op::Call2(_, d, ..)
+        | Op::Compare(_, d, ..)
+        | Op::And(d, ..)
+        | Op::Or(d, ..)
+        | Op::Not(d, _)
+        | Op::Select(d, ..)
+        | Op::Load(d, _) => *d = target,
+        Op::Store(..) => {}
+    }
+}
+
+/// The signal slot of the connector `local` of the hidden component `extra`.
+fn slot_of(ctx: &Context, signals: &Signals, extra: &str, local: &str) -> usize {
+    let id = super::connector_id(ctx, &format!("{extra}.{local}")).expect("hidden components are built");
+    signals.of_connector[id]
+}
+
+pub(super) fn generate(
+    pending: &Pending,
+    reads: &[Option<Source>],
+    sorted: &Sorted,
+    ctx: &Context,
+    signals: &mut Signals,
+    states: &mut StateLayout,
+) -> Result<(EquationProgram, Vec<Reg>), Error> {
+    let n = pending.vars.len();
+    let mut em = Emitter {
+        registers: 1,
+        constants: HashMap::new(),
+        initial: Vec::new(),
+        ops: Vec::new(),
+        memo: HashMap::new(),
+        keep: Vec::new(),
+    };
+    let mut reg = vec![Reg::MAX; n];
+    let mut slot_reads: Vec<Option<usize>> = vec![None; n];
+    let mut frames: Vec<(usize, Vec<_>)> = Vec::new();
+    let mut gathers = Vec::new();
+    for (v, source) in reads.iter().enumerate() {
+        let Some(source) = source else { continue };
+        reg[v] = em.register();
+        match source {
+            Source::Slot(slot) => slot_reads[v] = Some(*slot),
+            Source::Frame { node, quantity } => match frames.iter_mut().find(|(n, _)| n == node) {
+                Some((_, list)) => list.push((*quantity, reg[v])),
+                None => frames.push((*node, vec![(*quantity, reg[v])])),
+            },
+            Source::Axis { flange, speed } => {
+                gathers.push(Gather::Flange { at: *flange, speed: *speed, register: reg[v] })
+            }
+            Source::State(index) => gathers.push(Gather::State { index: *index, register: reg[v] }),
+        }
+    }
+    let reads_frames = !frames.is_empty();
+    for (node, reads) in frames {
+        let at = Attachment { anchor: ctx.tree.nodes[node].anchor, pose: ctx.tree.nodes[node].pose };
+        if let crate::system::Anchor::Massless(_) = at.anchor {
+            return Err(problem(
+                "equations read the motion of a frame without mass, which force elements alone hold",
+                vec![],
+                vec![],
+                "give that frame mass, or read another frame",
+            ));
+        }
+        gathers.insert(0, Gather::Frame { at, reads });
+    }
+
+    // States, then unknowns; an alias shares its unknown's register, or
+    // (negated) gets its own.
+    let first_state = em.registers as Reg;
+    for &s in &sorted.states {
+        reg[s] = em.register();
+    }
+    let mut is_state = vec![false; n];
+    for &s in &sorted.states {
+        is_state[s] = true;
+    }
+    for (v, r) in reg.iter_mut().enumerate() {
+        if is_unknown(pending, &is_state, v) && sorted.alias[v].is_none() {
+            *r = em.register();
+            if let Role::Declared(d) = pending.vars[v].role {
+                if let Some(start) = pending.declared[d].start {
+                    em.initial.push((*r, start));
+                }
+            }
+        }
+    }
+    let mut negated = Vec::new();
+    for v in 0..n {
+        match sorted.alias[v] {
+            Some((of, s)) if s > 0.0 => reg[v] = reg[of],
+            Some((of, _)) => {
+                reg[v] = em.register();
+                negated.push((v, of));
+            }
+            None => {}
+        }
+    }
+
+    // Each unknown with its aliases.
+    let mut members: Vec<Vec<usize>> = (0..n).map(|v| vec![v]).collect();
+    for v in 0..n {
+        if let Some((of, _)) = sorted.alias[v] {
+            members[of].push(v);
+        }
+    }
+    // What each unknown's block must store: written inputs and flows.
+    let mut stores_of: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for (v, var) in pending.vars.iter().enumerate() {
+        if let Role::Written { extra } = &var.role {
+            stores_of[v].push(slot_of(ctx, signals, extra, "y"));
+        }
+    }
+    for (v, extra, local) in &pending.stores {
+        stores_of[*v].push(slot_of(ctx, signals, extra, local));
+    }
+
+    let mut blocks = Vec::with_capacity(sorted.blocks.len());
+    let mut block_reads: Vec<Vec<usize>> = Vec::with_capacity(sorted.blocks.len());
+    let mut block_writes: Vec<Vec<usize>> = Vec::with_capacity(sorted.blocks.len());
+    let mut block_of_unknown = vec![usize::MAX; n];
+    let mut block_deps: Vec<Vec<usize>> = Vec::with_capacity(sorted.blocks.len());
+    let mut largest_block = 0;
+    for (b, (rows, unknowns)) in sorted.blocks.iter().enumerate() {
+        em.new_block();
+        for &u in unknowns {
+            block_of_unknown[u] = b;
+        }
+        let residuals: Vec<&S> = rows.iter().map(|&r| &sorted.residuals[r]).collect();
+        let mut mentioned = Vec::new();
+        for r in &residuals {
+            r.each_var(&mut |v| {
+                if !mentioned.contains(&v) {
+                    mentioned.push(v);
+                }
+            });
+        }
+        let before = em.ops.len();
+        let mut loads = Vec::new();
+        let mut deps = Vec::new();
+        for &v in &mentioned {
+            if let Some(slot) = slot_reads[v] {
+                em.ops.push(Op::Load(reg[v], slot));
+                loads.push(slot);
+            }
+            let other = block_of_unknown[v];
+            if other != usize::MAX && other != b && !deps.contains(&other) {
+                deps.push(other);
+            }
+        }
+        let label: Vec<&str> = rows.iter().map(|&r| pending.origins[sorted.source[r]].as_str()).collect();
+        let label = label.join("; ");
+        let solve = match (residuals.as_slice(), unknowns.as_slice()) {
+            ([r], [x]) if explicit(r, *x).is_some() => {
+                let value = explicit(r, *x).expect("checked");
+                em.emit_into(&value, &reg, reg[*x]);
+                Solve::Explicit
+            }
+            _ => {
+                let k = unknowns.len();
+                largest_block = largest_block.max(k);
+                let residual_start = em.ops.len();
+                let residual_regs: Vec<Reg> = residuals.iter().map(|r| em.emit(r, &reg)).collect();
+                let residual_ops = residual_start..em.ops.len();
+                let mut linear = true;
+                let mut jacobian = Vec::with_capacity(k * k);
+                for r in &residuals {
+                    for &x in unknowns {
+                        let d = sym::derivative(r, x);
+                        linear &= unknowns.iter().all(|&y| !d.depends_on(y)) && sym::affine_in(r, x).is_some();
+                        jacobian.push(d);
+                    }
+                }
+                let jacobian_start = em.ops.len();
+                let jacobian: Vec<Reg> = jacobian.iter().map(|d| em.emit(d, &reg)).collect();
+                Solve::Newton {
+                    unknowns: unknowns.iter().map(|&x| reg[x]).collect(),
+                    residuals: residual_regs,
+                    jacobian,
+                    residual_ops,
+                    jacobian_ops: jacobian_start..em.ops.len(),
+                    linear,
+                }
+            }
+        };
+        let before = match solve {
+            Solve::Explicit => before..em.ops.len(),
+            Solve::Newton { ref residual_ops, .. } => before..residual_ops.start,
+        };
+        let after = em.ops.len();
+        let mut writes = Vec::new();
+        for &u in unknowns {
+            for &v in &members[u] {
+                if let Some(&(_, of)) = negated.iter().find(|(w, _)| *w == v) {
+                    em.ops.push(Op::Neg(reg[v], reg[of]));
+                }
+                for &slot in &stores_of[v] {
+                    em.ops.push(Op::Store(slot, reg[v]));
+                    writes.push(slot);
+                }
+            }
+        }
+        blocks.push(EquationBlock { before, solve, after: after..em.ops.len(), label });
+        block_reads.push(loads);
+        block_writes.push(writes);
+        block_deps.push(deps);
+    }
+
+    let positions = place(&mut blocks, &block_reads, &block_writes, &block_deps, signals, ctx, pending, sorted)?;
+
+    // The states of the equations join the state vector.
+    for &s in &sorted.states {
+        let Role::Declared(d) = pending.vars[s].role else { unreachable!("states are declared variables") };
+        let v = &pending.declared[d];
+        states.names.push(v.name.clone());
+        states.start.push(v.start.unwrap_or(0.0));
+        states.fixed.push(v.start.is_some() && v.fixed);
+    }
+    states.nx = sorted.states.len();
+
+    let outputs = pending
+        .vars
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| matches!(v.role, Role::Declared(_)))
+        .map(|(i, v)| (v.name.clone(), reg[i]))
+        .collect();
+    let program = EquationProgram {
+        registers: em.registers,
+        constants: em.initial,
+        gathers,
+        first_state,
+        rates: sorted.rates.iter().map(|&d| reg[d]).collect(),
+        ops: em.ops,
+        blocks,
+        positions,
+        largest_block,
+        outputs,
+        reads_frames,
+    };
+    Ok((program, reg))
+}
+
+/// The closed form of unknown `x` from residual `r = 0`, if `r` is
+/// linear in it with a slope that cannot vanish structurally.
+fn explicit(r: &S, x: usize) -> Option<S> {
+    let (slope, rest) = sym::affine_in(r, x)?;
+    match slope.as_const() {
+        Some(0.0) => None,
+        Some(1.0) => Some(sym::neg(rest)),
+        Some(-1.0) => Some(rest),
+        _ => Some(sym::div(sym::neg(rest), slope)),
+    }
+}
+
+/// Puts the equation blocks among the signal blocks so that each runs
+/// after what it reads; drops the placeholders of written signals;
+/// returns each block's place (blocks are renumbered in that order).
+#[allow(clippy::too_many_arguments)]
+fn place(
+    blocks: &mut Vec<EquationBlock>,
+    reads: &[Vec<usize>],
+    writes: &[Vec<usize>],
+    deps: &[Vec<usize>],
+    signals: &mut Signals,
+    ctx: &Context,
+    pending: &Pending,
+    sorted: &Sorted,
+) -> Result<Vec<usize>, Error> {
+    let library: Vec<_> =
+        std::mem::take(&mut signals.blocks).into_iter().filter(|b| b.law != SignalLaw::Written).collect();
+    let nl = library.len();
+    let total = nl + blocks.len();
+    // Who writes each slot: a library block or an equation block.
+    let mut writer: HashMap<usize, usize> = HashMap::new();
+    for (i, b) in library.iter().enumerate() {
+        writer.insert(b.output, i);
+    }
+    for (k, slots) in writes.iter().enumerate() {
+        for &s in slots {
+            writer.insert(s, nl + k);
+        }
+    }
+    let mut needs: Vec<Vec<usize>> = vec![Vec::new(); total];
+    for (i, b) in library.iter().enumerate() {
+        needs[i] = b.inputs.iter().filter_map(|s| writer.get(s).copied()).filter(|&w| w != i).collect();
+    }
+    for k in 0..blocks.len() {
+        let mut list: Vec<usize> = reads[k].iter().filter_map(|s| writer.get(s).copied()).collect();
+        list.extend(deps[k].iter().map(|&d| nl + d));
+        needs[nl + k] = list;
+    }
+    // Kahn's algorithm, taking the lowest ready node first: library blocks
+    // of time alone stay first, everything else keeps its order where it can.
+    let mut waiting: Vec<usize> = needs.iter().map(Vec::len).collect();
+    let mut users: Vec<Vec<usize>> = vec![Vec::new(); total];
+    for (node, list) in needs.iter().enumerate() {
+        for &w in list {
+            users[w].push(node);
+        }
+    }
+    let mut ready: BinaryHeap<std::cmp::Reverse<usize>> =
+        (0..total).filter(|&i| waiting[i] == 0).map(std::cmp::Reverse).collect();
+    let mut order = Vec::with_capacity(total);
+    while let Some(std::cmp::Reverse(node)) = ready.pop() {
+        order.push(node);
+        for &u in &users[node] {
+            waiting[u] -= 1;
+            if waiting[u] == 0 {
+                ready.push(std::cmp::Reverse(u));
+            }
+        }
+    }
+    if order.len() < total {
+        let stuck: Vec<usize> = (0..total).filter(|&i| waiting[i] > 0).collect();
+        let mut names: Vec<String> = Vec::new();
+        for &i in &stuck {
+            if i < nl {
+                let owner = owner_of_slot(ctx, signals, library[i].output);
+                if !names.contains(&owner) {
+                    names.push(owner);
+                }
+            }
+        }
+        let equations: Vec<String> = stuck
+            .iter()
+            .filter(|&&i| i >= nl)
+            .flat_map(|&i| sorted.blocks[i - nl].0.iter().map(|&r| pending.origins[sorted.source[r]].clone()))
+            .collect();
+        return Err(problem(
+            format!(
+                "the equations and the blocks {} depend on each other at the same instant (an algebraic loop through \
+                 library blocks)",
+                names.join(", ")
+            ),
+            equations,
+            vec![],
+            "write the loop in equations alone, or break it with a block that has a state",
+        ));
+    }
+    let mut old: Vec<Option<EquationBlock>> = std::mem::take(blocks).into_iter().map(Some).collect();
+    let mut positions = Vec::new();
+    let mut kept = Vec::with_capacity(nl);
+    let mut library: Vec<Option<_>> = library.into_iter().map(Some).collect();
+    for node in order {
+        if node < nl {
+            kept.push(library[node].take().expect("each node once"));
+        } else {
+            positions.push(kept.len());
+            blocks.push(old[node - nl].take().expect("each node once"));
+        }
+    }
+    signals.blocks = kept;
+    Ok(positions)
+}
+
+/// The component that owns a signal slot, for messages.
+fn owner_of_slot(ctx: &Context, signals: &Signals, slot: usize) -> String {
+    signals
+        .of_connector
+        .iter()
+        .position(|&s| s == slot)
+        .map(|id| ctx.components[ctx.conn.infos[id].component].name.clone())
+        .unwrap_or_default()
+}

@@ -1,0 +1,704 @@
+//! The model's own equations, from names to a compiled program.
+//!
+//! 1. [`plan`], before the components are built: every name is classified
+//!    (a variable of the equations, a quantity of a library component the
+//!    mechanics decides, or a signal input the equations write); formulas
+//!    of time for signal inputs become source blocks (prescribed motion
+//!    needs their exact derivatives); inputs the equations write and flows
+//!    they give the mechanics become hidden components connected to them.
+//! 2. [`compile`], once the mechanism's structure is known: the equations
+//!    become symbolic residuals; aliases (`a = b`, `a = -b`) are removed;
+//!    the rest are matched to their unknowns and sorted into blocks
+//!    ([`sort`]); each block is solved in closed form where it is linear
+//!    in its one unknown, by Newton otherwise, and compiled into register
+//!    code ([`codegen`]); the blocks take their places among the signal
+//!    blocks.
+
+mod codegen;
+mod initial;
+mod sort;
+
+pub(crate) use initial::{solve as initialize, Initial};
+
+use super::axis::{self, Places};
+use super::connections::Connectors;
+use super::links::Tree;
+use super::mechanism::CompiledComponent;
+use super::signals::Signals;
+use crate::components::blocks::equation::EquationPart;
+use crate::components::{lookup, ComponentSpec, ConnectorType};
+use crate::error::closest;
+use crate::math::expr::{Expr, TimeFunction};
+use crate::math::symbolic::{self as sym, S};
+use crate::math::union_find::UnionFind;
+use crate::model::Flow;
+use crate::system::equations::{EquationProgram, FrameQuantity};
+use crate::system::{Link, StateLayout};
+use crate::{Error, Model};
+use std::collections::HashMap;
+
+/// A hidden component the equations need, connected to `connector`.
+pub(crate) struct Extra {
+    pub name: String,
+    pub part: EquationPart,
+    /// For a 1-D flow: whether the connector is a spline (rotational).
+    pub rotational: bool,
+    /// The connector of the extra (local name) and the model's connector it joins.
+    pub joins: (&'static str, String),
+}
+
+/// What [`plan`] found: hidden components to add, and the equations to
+/// compile once the mechanism is assembled.
+pub(crate) struct Plan {
+    pub extras: Vec<Extra>,
+    equations: Option<Pending>,
+}
+
+/// What a name of the equations stands for.
+#[derive(Clone, Debug, PartialEq)]
+enum Role {
+    /// A variable the model declared (a state if its derivative appears).
+    Declared(usize),
+    /// The time derivative of variable `of` (an unknown).
+    Derivative { of: usize },
+    /// A signal input the equations write through the hidden component `extra`.
+    Written { extra: String },
+    /// A value the equations read.
+    Read(Read),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+enum Read {
+    /// The signal at a library connector (an output, or an input something drives).
+    Signal {
+        connector: String,
+    },
+    Frame {
+        connector: String,
+        quantity: FrameQuantity,
+    },
+    Axis {
+        connector: String,
+        speed: bool,
+    },
+    /// A state of the mechanics by name (`rev.phi`), or its rate.
+    State {
+        name: String,
+        rate: bool,
+    },
+}
+
+#[derive(Clone, Debug)]
+struct Var {
+    name: String,
+    role: Role,
+}
+
+/// The equations as symbolic residuals over numbered variables.
+struct Pending {
+    vars: Vec<Var>,
+    residuals: Vec<S>,
+    /// The origin of each residual (for messages).
+    origins: Vec<String>,
+    initial: Vec<S>,
+    initial_origins: Vec<String>,
+    /// Declared variables whose values go to hidden flow components:
+    /// (variable, extra, its output connector).
+    stores: Vec<(usize, String, &'static str)>,
+    declared: Vec<crate::model::Variable>,
+}
+
+/// The library connector types of the model's components, and which
+/// signal connectors share a connection (by name).
+struct Connectivity<'m> {
+    specs: HashMap<&'m str, &'static ComponentSpec>,
+    sets: UnionFind,
+    index: HashMap<String, usize>,
+}
+
+impl<'m> Connectivity<'m> {
+    fn new(model: &'m Model) -> Self {
+        let specs = model.components.iter().filter_map(|c| Some((c.name.as_str(), lookup(&c.kind)?))).collect();
+        let mut index: HashMap<String, usize> = HashMap::new();
+        for c in &model.connections {
+            for end in &c.ends {
+                let n = index.len();
+                index.entry(end.clone()).or_insert(n);
+            }
+        }
+        let mut sets = UnionFind::new(index.len());
+        for c in &model.connections {
+            for w in c.ends.windows(2) {
+                sets.union(index[&w[0]], index[&w[1]]);
+            }
+        }
+        Self { specs, sets, index }
+    }
+
+    /// The component and the rest of a name (`link1.body` + `frame_a.r_0[1]`):
+    /// the longest leading part that names a component.
+    fn split<'n>(&self, name: &'n str) -> Option<(&'n str, &'n str)> {
+        let mut end = name.len();
+        while let Some(dot) = name[..end].rfind('.') {
+            if self.specs.contains_key(&name[..dot]) {
+                return Some((&name[..dot], &name[dot + 1..]));
+            }
+            end = dot;
+        }
+        None
+    }
+
+    /// The type of the library connector `component.connector`.
+    fn connector_type(&self, connector: &str) -> Option<ConnectorType> {
+        let (component, local) = self.split(connector)?;
+        self.specs.get(component)?.connector(local).map(|(_, c)| c.ty)
+    }
+
+    /// A representative of the connection set of `connector`.
+    fn set_of(&mut self, connector: &str) -> Option<usize> {
+        let &i = self.index.get(connector)?;
+        Some(self.sets.find(i))
+    }
+
+    /// Whether a library output is in the connection set of `connector`.
+    fn driven(&mut self, connector: &str, sources: &[String]) -> bool {
+        let Some(set) = self.set_of(connector) else { return sources.iter().any(|s| s == connector) };
+        let members: Vec<String> = self.index.iter().filter(|(_, &i)| i < usize::MAX).map(|(n, _)| n.clone()).collect();
+        members.iter().any(|m| {
+            let output = self.connector_type(m) == Some(ConnectorType::RealOutput);
+            (output || sources.contains(m)) && self.set_of(m) == Some(set)
+        })
+    }
+}
+
+/// Splits `r_0[2]` into `("r_0", [2])`; `None` if the brackets do not parse.
+fn indexed(member: &str) -> Option<(&str, Vec<usize>)> {
+    match member.find('[') {
+        None => Some((member, Vec::new())),
+        Some(open) => {
+            let inner = member[open..].strip_prefix('[')?.strip_suffix(']')?;
+            let indices = inner.split(',').map(|s| s.trim().parse().ok()).collect::<Option<Vec<usize>>>()?;
+            Some((&member[..open], indices))
+        }
+    }
+}
+
+fn problem(
+    problem: impl Into<String>,
+    equations: Vec<String>,
+    variables: Vec<String>,
+    fix: impl Into<String>,
+) -> Error {
+    Error::Equations { problem: problem.into(), equations, variables, fix: fix.into() }
+}
+
+/// Classifies the equations' names and finds the hidden components they need.
+pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
+    let eqs = &model.equations;
+    if eqs.is_empty() {
+        return Ok(Plan { extras: Vec::new(), equations: None });
+    }
+    let mut net = Connectivity::new(model);
+    let declared: HashMap<&str, usize> = eqs.variables.iter().enumerate().map(|(i, v)| (v.name.as_str(), i)).collect();
+    if declared.len() != eqs.variables.len() {
+        let mut seen = std::collections::HashSet::new();
+        let twice = eqs.variables.iter().find(|v| !seen.insert(v.name.as_str())).map(|v| v.name.clone());
+        return Err(problem(
+            format!("the variable `{}` is declared twice", twice.unwrap_or_default()),
+            vec![],
+            vec![],
+            "give each variable its own name",
+        ));
+    }
+    for v in &eqs.variables {
+        if net.split(&v.name).is_some_and(|(c, _)| model.component(c).is_some())
+            && net.connector_type(&v.name).is_some()
+        {
+            return Err(problem(
+                format!("the variable `{}` has the name of a library connector", v.name),
+                vec![],
+                vec![v.name.clone()],
+                "rename the variable",
+            ));
+        }
+    }
+
+    // Formulas of time for signal inputs: source blocks with exact derivatives.
+    let mut extras = Vec::new();
+    let mut formulas: Vec<String> = Vec::new();
+    let mut general = Vec::new();
+    for e in &eqs.equations {
+        if let (Expr::Var(input), false) = (&e.lhs, e.rhs.has_variables()) {
+            let is_input = !declared.contains_key(input.as_str())
+                && net.connector_type(input) == Some(ConnectorType::RealInput)
+                && !contains_der(&e.rhs);
+            if is_input && !formulas.contains(input) {
+                let formula = TimeFunction::new(&e.rhs).map_err(|reason| {
+                    problem(format!("the formula for `{input}`: {reason}"), vec![e.origin.clone()], vec![], "")
+                })?;
+                extras.push(Extra {
+                    name: format!("{input} (equation)"),
+                    part: EquationPart::Formula(formula),
+                    rotational: false,
+                    joins: ("y", input.clone()),
+                });
+                formulas.push(input.clone());
+                continue;
+            }
+        }
+        general.push(e);
+    }
+
+    let mut table = Table { vars: Vec::new(), by_name: HashMap::new() };
+    for (i, v) in eqs.variables.iter().enumerate() {
+        table.add(v.name.clone(), Role::Declared(i));
+    }
+    let mut written_sets: HashMap<usize, usize> = HashMap::new();
+    let mut classify = |name: &str, table: &mut Table, extras: &mut Vec<Extra>| -> Result<usize, Error> {
+        if let Some(&v) = table.by_name.get(name) {
+            return Ok(v);
+        }
+        let role = classify_library(name, &mut net, &formulas, &declared, model)?;
+        let role = match role {
+            Some(r) => r,
+            None => {
+                // A signal input nothing drives: the equations write it, once per connection set.
+                let set = net.set_of(name);
+                if let Some(v) = set.and_then(|s| written_sets.get(&s)) {
+                    let v = *v;
+                    table.by_name.insert(name.to_string(), v);
+                    return Ok(v);
+                }
+                let extra = format!("{name} (equation)");
+                extras.push(Extra {
+                    name: extra.clone(),
+                    part: EquationPart::Written,
+                    rotational: false,
+                    joins: ("y", name.to_string()),
+                });
+                let v = table.add(name.to_string(), Role::Written { extra });
+                if let Some(s) = set {
+                    written_sets.insert(s, v);
+                }
+                return Ok(v);
+            }
+        };
+        Ok(table.add(name.to_string(), role))
+    };
+
+    let mut residuals = Vec::with_capacity(general.len());
+    let mut origins = Vec::with_capacity(general.len());
+    for e in &general {
+        let lhs = to_sym(&e.lhs, &mut table, &mut classify, &mut extras, &e.origin)?;
+        let rhs = to_sym(&e.rhs, &mut table, &mut classify, &mut extras, &e.origin)?;
+        residuals.push(sym::sub(lhs, rhs));
+        origins.push(e.origin.clone());
+    }
+    let mut initial = Vec::new();
+    let mut initial_origins = Vec::new();
+    for e in &eqs.initial {
+        let lhs = to_sym(&e.lhs, &mut table, &mut classify, &mut extras, &e.origin)?;
+        let rhs = to_sym(&e.rhs, &mut table, &mut classify, &mut extras, &e.origin)?;
+        initial.push(sym::sub(lhs, rhs));
+        initial_origins.push(e.origin.clone());
+    }
+
+    // Flows: a hidden load on the connector, fed by the declared variables.
+    let mut stores = Vec::new();
+    for (k, flow) in eqs.flows.iter().enumerate() {
+        let (connector, names, outputs, part, rotational): (&String, Vec<&String>, &[&'static str], _, _) = match flow {
+            Flow::Frame { connector, force, torque } => (
+                connector,
+                force.iter().chain(torque.iter()).collect(),
+                &["f_1", "f_2", "f_3", "tau_1", "tau_2", "tau_3"],
+                EquationPart::FrameFlow,
+                false,
+            ),
+            Flow::Flange { connector, value } => (
+                connector,
+                vec![value],
+                &["y"],
+                EquationPart::AxisFlow,
+                net.connector_type(connector) == Some(ConnectorType::Spline),
+            ),
+        };
+        let expected = match flow {
+            Flow::Frame { .. } => [ConnectorType::Frame].as_slice(),
+            Flow::Flange { .. } => [ConnectorType::Spline, ConnectorType::Flange].as_slice(),
+        };
+        if !net.connector_type(connector).is_some_and(|t| expected.contains(&t)) {
+            return Err(problem(
+                format!("flows are given at `{connector}`, which is not a library connector of the right kind"),
+                vec![],
+                names.iter().map(|n| n.to_string()).collect(),
+                "name a frame connector for forces and torques, a spline or flange for 1-D flows",
+            ));
+        }
+        let extra = format!("{connector} (flow {k})");
+        for (name, &output) in names.iter().zip(outputs) {
+            let Some(&v) = declared.get(name.as_str()) else {
+                return Err(problem(format!("the flow variable `{name}` is not declared"), vec![], vec![], ""));
+            };
+            stores.push((table.by_name[name.as_str()], extra.clone(), output));
+            let _ = v;
+        }
+        let local = match part {
+            EquationPart::FrameFlow => "frame",
+            _ if rotational => "spline",
+            _ => "flange",
+        };
+        extras.push(Extra { name: extra, part, rotational, joins: (local, connector.clone()) });
+    }
+
+    Ok(Plan {
+        extras,
+        equations: Some(Pending {
+            vars: table.vars,
+            residuals,
+            origins,
+            initial,
+            initial_origins,
+            stores,
+            declared: eqs.variables.clone(),
+        }),
+    })
+}
+
+/// The interned variables.
+struct Table {
+    vars: Vec<Var>,
+    by_name: HashMap<String, usize>,
+}
+
+impl Table {
+    fn add(&mut self, name: String, role: Role) -> usize {
+        self.vars.push(Var { name: name.clone(), role });
+        self.by_name.insert(name, self.vars.len() - 1);
+        self.vars.len() - 1
+    }
+
+    /// The variable that is the derivative of `v`, made on first use.
+    fn derivative(&mut self, v: usize, origin: &str) -> Result<usize, Error> {
+        let role = match &self.vars[v].role {
+            Role::Declared(_) => Role::Derivative { of: v },
+            Role::Read(Read::Frame { connector, quantity }) => Role::Read(Read::Frame {
+                connector: connector.clone(),
+                quantity: match *quantity {
+                    FrameQuantity::Position(i) => FrameQuantity::Velocity(i),
+                    FrameQuantity::Rotation(i, j) => FrameQuantity::RotationRate(i, j),
+                    _ => return Err(second_derivative(&self.vars[v].name, origin)),
+                },
+            }),
+            Role::Read(Read::Axis { connector, speed: false }) => {
+                Role::Read(Read::Axis { connector: connector.clone(), speed: true })
+            }
+            Role::Read(Read::State { name, rate: false }) => Role::Read(Read::State { name: name.clone(), rate: true }),
+            Role::Derivative { .. } | Role::Read(Read::Axis { speed: true, .. } | Read::State { rate: true, .. }) => {
+                return Err(second_derivative(&self.vars[v].name, origin))
+            }
+            Role::Written { .. } | Role::Read(Read::Signal { .. }) => {
+                return Err(problem(
+                    format!(
+                        "`der({})` is not available: it is a signal, whose rate nothing computes",
+                        self.vars[v].name
+                    ),
+                    vec![origin.to_string()],
+                    vec![self.vars[v].name.clone()],
+                    "differentiate a variable of the equations instead, or use a BlockComponents.Derivative block",
+                ))
+            }
+        };
+        let name = format!("der({})", self.vars[v].name);
+        if let Some(&d) = self.by_name.get(&name) {
+            return Ok(d);
+        }
+        Ok(self.add(name, role))
+    }
+}
+
+fn second_derivative(name: &str, origin: &str) -> Error {
+    problem(
+        format!("`der` of `{name}` needs accelerations, which the equations cannot read"),
+        vec![origin.to_string()],
+        vec![name.to_string()],
+        "equations read positions and velocities of the mechanics; for a mass or inertia use Body, PointMass or \
+         RotationalComponents.Inertia",
+    )
+}
+
+fn contains_der(e: &Expr) -> bool {
+    let mut found = false;
+    e.visit(&mut |n| found |= matches!(n, Expr::Der(_)));
+    found
+}
+
+/// The role of a name that is not a declared variable: a quantity of a
+/// library component; `None` for a signal input that nothing drives.
+fn classify_library(
+    name: &str,
+    net: &mut Connectivity,
+    formulas: &[String],
+    declared: &HashMap<&str, usize>,
+    model: &Model,
+) -> Result<Option<Role>, Error> {
+    let unknown = || {
+        let candidates = declared.keys().copied().chain(model.components.iter().map(|c| c.name.as_str()));
+        problem(
+            format!("`{name}` is neither a variable of the equations nor a quantity of a component{}", {
+                let s = closest(name, candidates);
+                if s.is_empty() {
+                    String::new()
+                } else {
+                    format!(" (did you mean `{}`?)", s.join("`, `"))
+                }
+            }),
+            vec![],
+            vec![name.to_string()],
+            "declare it as a variable, or name a connector quantity such as `body.frame_a.r_0[1]` or `sensor.phi`",
+        )
+    };
+    let Some((component, member)) = net.split(name) else { return Err(unknown()) };
+    let spec = net.specs[component];
+    let (head, rest) = member.split_once('.').unwrap_or((member, ""));
+    let Some((_, connector)) = spec.connector(indexed(head).map_or(head, |(h, _)| h)) else {
+        // Not a connector: a variable of the component (a state, say).
+        return Ok(Some(Role::Read(Read::State { name: name.to_string(), rate: false })));
+    };
+    let connector_name = format!("{component}.{}", connector.name);
+    let field = indexed(rest);
+    let bad_field = |what: &str| {
+        problem(
+            format!("`{name}`: {what}"),
+            vec![],
+            vec![name.to_string()],
+            match connector.ty {
+                ConnectorType::Frame => "a frame's equations read `r_0[i]` and `R[i, j]` (and `der` of them)",
+                ConnectorType::Spline => "a spline's equations read `phi` (and `der(phi)`)",
+                ConnectorType::Flange => "a flange's equations read `s` (and `der(s)`)",
+                _ => "a signal connector is read by its name alone",
+            },
+        )
+    };
+    let in_range = |indices: &[usize], n: usize| indices.iter().all(|&i| (1..=3).contains(&i)) && indices.len() == n;
+    Ok(Some(match connector.ty {
+        ConnectorType::RealOutput | ConnectorType::RealInput if rest.is_empty() => {
+            if connector.ty == ConnectorType::RealInput && !net.driven(&connector_name, formulas) {
+                return Ok(None);
+            }
+            Role::Read(Read::Signal { connector: connector_name })
+        }
+        ConnectorType::RealOutput | ConnectorType::RealInput => return Err(bad_field("a signal has no fields")),
+        ConnectorType::Frame => match field {
+            Some(("r_0", i)) if in_range(&i, 1) => {
+                Role::Read(Read::Frame { connector: connector_name, quantity: FrameQuantity::Position(i[0] - 1) })
+            }
+            Some(("R", i)) if in_range(&i, 2) => Role::Read(Read::Frame {
+                connector: connector_name,
+                quantity: FrameQuantity::Rotation(i[0] - 1, i[1] - 1),
+            }),
+            Some(("f" | "tau", _)) => {
+                return Err(problem(
+                    format!("`{name}` is a flow that the mechanics decides; equations cannot read it"),
+                    vec![],
+                    vec![name.to_string()],
+                    "measure it in the results (every connector's `f` and `tau` are there)",
+                ))
+            }
+            _ => return Err(bad_field("not a quantity of a frame")),
+        },
+        ConnectorType::Spline | ConnectorType::Flange => match rest {
+            "phi" | "s" => Role::Read(Read::Axis { connector: connector_name, speed: false }),
+            "tau" | "f" => {
+                return Err(problem(
+                    format!("`{name}` is a flow that the mechanics decides; equations cannot read it"),
+                    vec![],
+                    vec![name.to_string()],
+                    "measure it with a torque or force sensor in the results",
+                ))
+            }
+            _ => return Err(bad_field("not a quantity of a 1-D connector")),
+        },
+    }))
+}
+
+/// `expr` as a symbolic expression, interning its names.
+fn to_sym(
+    expr: &Expr,
+    table: &mut Table,
+    classify: &mut impl FnMut(&str, &mut Table, &mut Vec<Extra>) -> Result<usize, Error>,
+    extras: &mut Vec<Extra>,
+    origin: &str,
+) -> Result<S, Error> {
+    let mut go = |e: &Expr, table: &mut Table| to_sym(e, table, classify, extras, origin);
+    Ok(match expr {
+        Expr::Const(x) => sym::constant(*x),
+        Expr::Time => std::rc::Rc::new(sym::Sym::Time),
+        Expr::Var(name) => sym::var(classify(name, table, extras).map_err(|e| with_origin(e, origin))?),
+        Expr::Der(inner) => {
+            let s = go(inner, table)?;
+            let mut failure = None;
+            let d = sym::time_derivative(&s, &mut |v| match table.derivative(v, origin) {
+                Ok(d) => d,
+                Err(e) => {
+                    failure.get_or_insert(e);
+                    v
+                }
+            });
+            if let Some(e) = failure {
+                return Err(e);
+            }
+            d
+        }
+        Expr::Neg(a) => sym::neg(go(a, table)?),
+        Expr::Add(a, b) => sym::add(go(a, table)?, go(b, table)?),
+        Expr::Sub(a, b) => sym::sub(go(a, table)?, go(b, table)?),
+        Expr::Mul(a, b) => sym::mul(go(a, table)?, go(b, table)?),
+        Expr::Div(a, b) => sym::div(go(a, table)?, go(b, table)?),
+        Expr::Pow(a, b) => sym::pow(go(a, table)?, go(b, table)?),
+        Expr::Call(f, a) => sym::call(*f, go(a, table)?),
+        Expr::Call2(f, a, b) => sym::call2(*f, go(a, table)?, go(b, table)?),
+        Expr::Compare(c, a, b) => sym::compare(*c, go(a, table)?, go(b, table)?),
+        Expr::And(a, b) => sym::and(go(a, table)?, go(b, table)?),
+        Expr::Or(a, b) => sym::or(go(a, table)?, go(b, table)?),
+        Expr::Not(a) => sym::not(go(a, table)?),
+        Expr::If(c, a, b) => sym::if_else(go(c, table)?, go(a, table)?, go(b, table)?),
+    })
+}
+
+/// The error with the equation it comes from, if it names none yet.
+fn with_origin(e: Error, origin: &str) -> Error {
+    match e {
+        Error::Equations { problem, equations, variables, fix } if equations.is_empty() && !origin.is_empty() => {
+            Error::Equations { problem, equations: vec![origin.to_string()], variables, fix }
+        }
+        other => other,
+    }
+}
+
+/// What compiling needs from the assembly.
+pub(crate) struct Context<'a> {
+    pub components: &'a [CompiledComponent],
+    pub conn: &'a Connectors,
+    pub tree: &'a Tree,
+    pub places: &'a Places,
+    pub links: &'a [Link],
+}
+
+impl Plan {
+    /// Compiles the equations into a program, adds their states to
+    /// `states`, and puts their blocks among the signal blocks.
+    pub(crate) fn compile(
+        self,
+        ctx: &Context,
+        signals: &mut Signals,
+        states: &mut StateLayout,
+    ) -> Result<(EquationProgram, Option<Initial>), Error> {
+        let Some(pending) = self.equations else {
+            return Ok((EquationProgram::default(), None));
+        };
+        let reads = resolve_reads(&pending, ctx, signals, states)?;
+        let sorted = sort::sort(&pending, &reads)?;
+        let (nq, nv) = (states.nq, states.nv);
+        let (program, registers) = codegen::generate(&pending, &reads, &sorted, ctx, signals, states)?;
+        let free: Vec<(usize, String)> = sorted
+            .states
+            .iter()
+            .enumerate()
+            .filter(|&(k, _)| !states.fixed[nq + nv + k])
+            .map(|(k, &s)| (nq + nv + k, pending.vars[s].name.clone()))
+            .collect();
+        let initial = (!pending.initial.is_empty()).then(|| Initial {
+            residuals: pending.initial,
+            origins: pending.initial_origins,
+            registers,
+            free: free.iter().map(|(i, _)| *i).collect(),
+            free_names: free.into_iter().map(|(_, n)| n).collect(),
+        });
+        Ok((program, initial))
+    }
+}
+
+/// Where each read comes from, once the mechanism is assembled.
+#[derive(Clone, Debug)]
+enum Source {
+    Slot(usize),
+    Frame {
+        node: usize,
+        quantity: FrameQuantity,
+    },
+    Axis {
+        flange: crate::system::FlangeRef,
+        speed: bool,
+    },
+    /// An index into the state `y` (coordinates then rates).
+    State(usize),
+}
+
+/// The global connector number of `component.connector`.
+fn connector_id(ctx: &Context, name: &str) -> Option<usize> {
+    let (component, local) = name.rsplit_once('.')?;
+    let ci = ctx.components.iter().position(|c| c.name == component)?;
+    let c = &ctx.components[ci];
+    let (k, _) = c.spec.connector(local)?;
+    Some(c.first_connector + k)
+}
+
+fn resolve_reads(
+    pending: &Pending,
+    ctx: &Context,
+    signals: &Signals,
+    states: &StateLayout,
+) -> Result<Vec<Option<Source>>, Error> {
+    let mut out = Vec::with_capacity(pending.vars.len());
+    for var in &pending.vars {
+        let Role::Read(read) = &var.role else {
+            out.push(None);
+            continue;
+        };
+        let missing = || problem(format!("`{}` names no connector", var.name), vec![], vec![var.name.clone()], "");
+        out.push(Some(match read {
+            Read::Signal { connector } => {
+                Source::Slot(signals.of_connector[connector_id(ctx, connector).ok_or_else(missing)?])
+            }
+            Read::Frame { connector, quantity } => {
+                let id = connector_id(ctx, connector).ok_or_else(missing)?;
+                Source::Frame { node: ctx.conn.node(id), quantity: *quantity }
+            }
+            Read::Axis { connector, speed } => {
+                let id = connector_id(ctx, connector).ok_or_else(missing)?;
+                Source::Axis { flange: axis::flange(ctx.components, ctx.conn, ctx.places, id)?, speed: *speed }
+            }
+            Read::State { name, rate } => Source::State(state_index(name, *rate, ctx, states)?),
+        }));
+    }
+    Ok(out)
+}
+
+/// The index in `y` of the state `name` (or of its rate).
+fn state_index(name: &str, rate: bool, ctx: &Context, states: &StateLayout) -> Result<usize, Error> {
+    let (nq, nv) = (states.nq, states.nv);
+    let Some(i) = states.names[..nq + nv].iter().position(|n| n == name) else {
+        let candidates = states.names[..nq + nv].iter().map(String::as_str);
+        let s = closest(name, candidates);
+        return Err(problem(
+            format!(
+                "`{name}` is not a quantity the equations can read{}",
+                if s.is_empty() { String::new() } else { format!(" (did you mean `{}`?)", s.join("`, `")) }
+            ),
+            vec![],
+            vec![name.to_string()],
+            "equations read the states of joints and bodies (`rev.phi`, `rev.w`), signal connectors, and the \
+             positions of frames and 1-D connectors; other variables are in the results, or measure them with a \
+             sensor",
+        ));
+    };
+    if !rate {
+        return Ok(i);
+    }
+    // der of a coordinate of a one-coordinate joint is its rate.
+    let link = ctx.links.iter().skip(1).find(|l| l.q_offset == i && i < nq && l.joint.nq() == 1 && l.joint.nv() == 1);
+    match link {
+        Some(l) => Ok(nq + l.v_offset),
+        None => Err(second_derivative(name, "")),
+    }
+}

@@ -1,0 +1,157 @@
+//! Evaluates the model's own equations (the register machine of
+//! [`crate::system::equations`]): gathers what they read from the motion,
+//! then runs each block at its place among the signal blocks. Allocates
+//! nothing.
+
+use super::{DynamicsError, Workspace};
+use crate::math::dense::{lu, lu_solve};
+use crate::math::{skew, Vec3};
+use crate::system::equations::{
+    EquationProgram, FrameQuantity, Gather, Op, Solve, NEWTON_ITERATIONS, NEWTON_TOLERANCE, TIME,
+};
+use crate::system::System;
+
+/// Runs `ops` on the registers and signal slots.
+#[inline]
+fn run(ops: &[Op], r: &mut [f64], signals: &mut [f64]) {
+    for op in ops {
+        match *op {
+            Op::Copy(d, a) => r[d as usize] = r[a as usize],
+            Op::Neg(d, a) => r[d as usize] = -r[a as usize],
+            Op::Add(d, a, b) => r[d as usize] = r[a as usize] + r[b as usize],
+            Op::Sub(d, a, b) => r[d as usize] = r[a as usize] - r[b as usize],
+            Op::Mul(d, a, b) => r[d as usize] = r[a as usize] * r[b as usize],
+            Op::Div(d, a, b) => r[d as usize] = r[a as usize] / r[b as usize],
+            Op::Pow(d, a, b) => r[d as usize] = power(r[a as usize], r[b as usize]),
+            Op::Call(f, d, a) => r[d as usize] = f.apply(r[a as usize]),
+            Op::Call2(f, d, a, b) => r[d as usize] = f.apply(r[a as usize], r[b as usize]),
+            Op::Compare(c, d, a, b) => r[d as usize] = c.apply(r[a as usize], r[b as usize]),
+            Op::And(d, a, b) => r[d as usize] = truth(r[a as usize] != 0.0 && r[b as usize] != 0.0),
+            Op::Or(d, a, b) => r[d as usize] = truth(r[a as usize] != 0.0 || r[b as usize] != 0.0),
+            Op::Not(d, a) => r[d as usize] = truth(r[a as usize] == 0.0),
+            Op::Select(d, c, a, b) => r[d as usize] = if r[c as usize] != 0.0 { r[a as usize] } else { r[b as usize] },
+            Op::Load(d, slot) => r[d as usize] = signals[slot],
+            Op::Store(slot, a) => signals[slot] = r[a as usize],
+        }
+    }
+}
+
+#[inline]
+fn truth(b: bool) -> f64 {
+    if b {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+/// `a^b`, with whole exponents exact for negative bases.
+#[inline]
+fn power(a: f64, b: f64) -> f64 {
+    if b == 2.0 {
+        a * a
+    } else if b.fract() == 0.0 && b.abs() <= 64.0 {
+        a.powi(b as i32)
+    } else {
+        a.powf(b)
+    }
+}
+
+impl System {
+    /// Fills the registers the equations read from time, the state and the
+    /// motion of the last kinematics pass.
+    pub(crate) fn gather_equation_inputs(&self, ws: &mut Workspace, t: f64, q: &[f64], u: &[f64]) {
+        let program = &self.equations;
+        let r = &mut ws.registers;
+        r[TIME as usize] = t;
+        for gather in &program.gathers {
+            match gather {
+                Gather::Frame { at, reads } => {
+                    let p = self.point_state(ws, at);
+                    // Angular velocity in frame coordinates: der(R) = -[w] R.
+                    let w = match at.anchor {
+                        crate::system::Anchor::Link(k) => p.rot * ws.links[k].rot.tr_mul(&ws.links[k].v.ang),
+                        crate::system::Anchor::Massless(_) => Vec3::zeros(),
+                    };
+                    let rate = -skew(&w) * p.rot;
+                    for &(quantity, reg) in reads {
+                        ws.registers[reg as usize] = match quantity {
+                            FrameQuantity::Position(i) => p.r[i],
+                            FrameQuantity::Rotation(i, j) => p.rot[(i, j)],
+                            FrameQuantity::Velocity(i) => p.v[i],
+                            FrameQuantity::RotationRate(i, j) => rate[(i, j)],
+                        };
+                    }
+                }
+                Gather::Flange { at, speed, register } => {
+                    let (s, v) = at.motion(q, u);
+                    ws.registers[*register as usize] = if *speed { v } else { s };
+                }
+                Gather::State { index, register } => {
+                    let nq = q.len();
+                    ws.registers[*register as usize] = if *index < nq { q[*index] } else { u[*index - nq] };
+                }
+            }
+        }
+    }
+
+    /// Runs equation block `b`: its loads, its solve, its stores.
+    pub(crate) fn run_equation_block(&self, ws: &mut Workspace, b: usize) -> Result<(), DynamicsError> {
+        let program: &EquationProgram = &self.equations;
+        let block = &program.blocks[b];
+        run(&program.ops[block.before.clone()], &mut ws.registers, &mut ws.signals);
+        if let Solve::Newton { unknowns, residuals, jacobian, residual_ops, jacobian_ops, linear } = &block.solve {
+            let n = unknowns.len();
+            let mut converged = false;
+            for iteration in 0..NEWTON_ITERATIONS {
+                run(&program.ops[residual_ops.clone()], &mut ws.registers, &mut ws.signals);
+                run(&program.ops[jacobian_ops.clone()], &mut ws.registers, &mut ws.signals);
+                let (matrix, rest) = ws.newton.split_at_mut(n * n);
+                let (step, work) = rest.split_at_mut(n);
+                for (m, &reg) in matrix.iter_mut().zip(jacobian) {
+                    *m = ws.registers[reg as usize];
+                }
+                for (s, &reg) in step.iter_mut().zip(residuals) {
+                    *s = -ws.registers[reg as usize];
+                }
+                if !lu(matrix, n, &mut ws.newton_pivots[..n]) {
+                    return Err(DynamicsError::EquationsSingular { block: b });
+                }
+                lu_solve(matrix, n, &ws.newton_pivots[..n], step, &mut work[..n]);
+                let mut largest = 0.0f64;
+                for (&reg, &dx) in unknowns.iter().zip(step.iter()) {
+                    let x = &mut ws.registers[reg as usize];
+                    *x += dx;
+                    largest = largest.max(dx.abs() / (1.0 + x.abs()));
+                }
+                if !largest.is_finite() {
+                    return Err(DynamicsError::NotFinite);
+                }
+                if *linear || largest <= NEWTON_TOLERANCE || (iteration > 0 && largest <= 1e3 * f64::EPSILON) {
+                    converged = true;
+                    break;
+                }
+            }
+            if !converged {
+                return Err(DynamicsError::EquationsDiverged { block: b });
+            }
+        }
+        run(&program.ops[block.after.clone()], &mut ws.registers, &mut ws.signals);
+        Ok(())
+    }
+
+    /// Copies the equations' states from `x` into their registers.
+    #[inline]
+    pub(crate) fn load_equation_states(&self, ws: &mut Workspace, x: &[f64]) {
+        let first = self.equations.first_state as usize;
+        ws.registers[first..first + x.len()].copy_from_slice(x);
+    }
+
+    /// The rates of the equations' states, after the blocks ran, into `dx`.
+    #[inline]
+    pub(crate) fn equation_rates(&self, ws: &Workspace, dx: &mut [f64]) {
+        for (d, &reg) in dx.iter_mut().zip(&self.equations.rates) {
+            *d = ws.registers[reg as usize];
+        }
+    }
+}

@@ -1,0 +1,133 @@
+//! The model's own equations, compiled: a register machine. Before the
+//! signal graph runs, the potentials the equations read (frame poses and
+//! velocities, 1-D positions and speeds, joint coordinates) are gathered
+//! into registers; then each block of equations runs at its place among
+//! the signal blocks, reading signal slots and writing the signals and
+//! flows it gives the mechanics; the rates of the equations' states are
+//! left in registers for the right-hand side.
+//!
+//! Registers: `[time | constants | gathered | states | unknowns | temporaries]`.
+
+use super::{Attachment, FlangeRef};
+use crate::math::expr::{Cmp, Func, Func2};
+use std::ops::Range;
+
+/// A register number.
+pub type Reg = u32;
+
+/// The register that holds the time.
+pub const TIME: Reg = 0;
+
+/// One instruction: `dst = f(operands)` on registers, or a move between a
+/// register and a signal slot.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Op {
+    Copy(Reg, Reg),
+    Neg(Reg, Reg),
+    Add(Reg, Reg, Reg),
+    Sub(Reg, Reg, Reg),
+    Mul(Reg, Reg, Reg),
+    Div(Reg, Reg, Reg),
+    Pow(Reg, Reg, Reg),
+    Call(Func, Reg, Reg),
+    Call2(Func2, Reg, Reg, Reg),
+    Compare(Cmp, Reg, Reg, Reg),
+    And(Reg, Reg, Reg),
+    Or(Reg, Reg, Reg),
+    Not(Reg, Reg),
+    /// `dst = if c != 0 { a } else { b }`.
+    Select(Reg, Reg, Reg, Reg),
+    /// `dst = signals[slot]`.
+    Load(Reg, usize),
+    /// `signals[slot] = src`.
+    Store(usize, Reg),
+}
+
+/// A potential of the mechanics the equations read.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FrameQuantity {
+    /// `r_0[i]`: the origin in the world.
+    Position(usize),
+    /// `R[i, j]`: world to frame.
+    Rotation(usize, usize),
+    /// `der(r_0[i])`.
+    Velocity(usize),
+    /// `der(R[i, j])`.
+    RotationRate(usize, usize),
+}
+
+/// What is read into registers before the blocks run.
+#[derive(Clone, Debug)]
+pub enum Gather {
+    /// Quantities of the frame at `at` (one motion computed for all).
+    Frame { at: Attachment, reads: Vec<(FrameQuantity, Reg)> },
+    /// The position (or, with `speed`, the speed) of a 1-D connector.
+    Flange { at: FlangeRef, speed: bool, register: Reg },
+    /// `y[index]`: a joint coordinate or rate of the mechanics.
+    State { index: usize, register: Reg },
+}
+
+/// How a block of equations is solved.
+#[derive(Clone, Debug)]
+pub enum Solve {
+    /// Each unknown in closed form: the ops assign them in order.
+    Explicit,
+    /// Newton's method on `unknowns` (registers): `residual_ops` fill
+    /// `residuals`, `jacobian_ops` fill `jacobian` (row-major, by
+    /// residual then unknown). A linear block converges in one step.
+    Newton {
+        unknowns: Vec<Reg>,
+        residuals: Vec<Reg>,
+        jacobian: Vec<Reg>,
+        residual_ops: Range<usize>,
+        jacobian_ops: Range<usize>,
+        linear: bool,
+    },
+}
+
+/// A block of equations that are solved together, with the ops that
+/// load its signal inputs first and store its signal outputs last.
+#[derive(Clone, Debug)]
+pub struct EquationBlock {
+    /// Ops run before the solve (loads and what they feed).
+    pub before: Range<usize>,
+    pub solve: Solve,
+    /// Ops run after the solve (what depends on the unknowns, and stores).
+    pub after: Range<usize>,
+    /// The equations of the block, for messages.
+    pub label: String,
+}
+
+/// Newton's limits for a block; beyond them the evaluation fails.
+pub const NEWTON_ITERATIONS: usize = 50;
+pub const NEWTON_TOLERANCE: f64 = 1e-12;
+
+/// The compiled equations.
+#[derive(Clone, Debug, Default)]
+pub struct EquationProgram {
+    pub registers: usize,
+    /// Registers that hold constants, with their values.
+    pub constants: Vec<(Reg, f64)>,
+    pub gathers: Vec<Gather>,
+    /// The state registers start here, one per state of the equations.
+    pub first_state: Reg,
+    /// The register of each state's rate, in state order.
+    pub rates: Vec<Reg>,
+    pub ops: Vec<Op>,
+    pub blocks: Vec<EquationBlock>,
+    /// Where each block runs: before the signal block with this position
+    /// in the evaluation order (the number of blocks runs it after them all).
+    pub positions: Vec<usize>,
+    /// The largest Newton block, for scratch space.
+    pub largest_block: usize,
+    /// Every variable of the equations with its register, for outputs.
+    pub outputs: Vec<(String, Reg)>,
+    /// Whether a gather reads frames (the kinematics then computes world poses).
+    pub reads_frames: bool,
+}
+
+impl EquationProgram {
+    pub fn is_empty(&self) -> bool {
+        self.blocks.is_empty() && self.rates.is_empty()
+    }
+}
