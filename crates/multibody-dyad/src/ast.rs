@@ -1,5 +1,5 @@
-//! The syntax tree of a `.dyad` file: the subset that composes models.
-//! Every node keeps its source span for diagnostics.
+//! The syntax tree of a `.dyad` file. Every node keeps its source span
+//! for diagnostics.
 
 use crate::source::Span;
 
@@ -34,7 +34,7 @@ pub struct File {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Item {
     Component(ComponentDef),
-    Analysis(AnalysisDef),
+    Analysis(Box<AnalysisDef>),
     /// `type Stiffness = Real(units = "N/m")`: a new name for a type.
     TypeAlias(TypeAlias),
 }
@@ -75,13 +75,20 @@ pub enum Declaration {
     /// `name = Kind(modifiers)`: a sub-component or a connector.
     Component(ComponentDecl),
     Parameter(ParameterDecl),
+    /// `variable x::Real`, `input u::Real`, `output y::Real`.
+    Variable(VariableDecl),
+    /// `extends Base(modifiers)`.
+    Extends(ExtendsDecl),
 }
 
 impl Declaration {
+    /// The declared name (`extends` has its base's).
     pub fn name(&self) -> &Ident {
         match self {
             Declaration::Component(c) => &c.name,
             Declaration::Parameter(p) => &p.name,
+            Declaration::Variable(v) => &v.name,
+            Declaration::Extends(e) => e.base.last(),
         }
     }
 }
@@ -92,6 +99,10 @@ pub struct ComponentDecl {
     pub name: Ident,
     pub kind: Path,
     pub modifiers: Vec<Modifier>,
+    /// `name = Kind() if condition`: present only when it holds.
+    pub condition: Option<Expr>,
+    /// `name = [Kind(...) for i in range]`: an array of components.
+    pub array: Option<(Ident, Expr)>,
     /// The whole declaration.
     pub span: Span,
 }
@@ -100,8 +111,36 @@ pub struct ComponentDecl {
 pub enum Variability {
     Parameter,
     Structural,
-    /// Cannot be changed by a modifier.
+    /// Cannot be changed by a modifier (`final parameter`, `constant`).
     Final,
+}
+
+/// Whether a variable is a signal connector of its component.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Causality {
+    Internal,
+    Input,
+    Output,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct VariableDecl {
+    pub doc: Option<String>,
+    pub causality: Causality,
+    pub name: Ident,
+    pub ty: TypeRef,
+    /// `= expr`: an equation that holds throughout.
+    pub binding: Option<Expr>,
+    /// `= initial expr` (or `= expr initial start`): the start value.
+    pub initial: Option<Expr>,
+    pub span: Span,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExtendsDecl {
+    pub base: Path,
+    pub modifiers: Vec<Modifier>,
+    pub span: Span,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -143,12 +182,23 @@ pub struct Modifier {
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Relation {
-    /// `connect(a.b, c.d, ...)`.
-    Connect { ends: Vec<Path>, span: Span },
-    /// `initial x.y = expr`: a start value.
-    Initial { target: Path, value: Expr, span: Span },
-    /// `x.y = expr`: an equation (today: a signal input's formula of time).
-    Equation { lhs: Path, rhs: Expr, span: Span },
+    /// `connect(a.b, c[i].d, ...)`: each end a reference (names, indices).
+    Connect { ends: Vec<Expr>, span: Span },
+    /// `initial lhs = rhs`: an equation at the start (a start value when
+    /// `lhs` is a variable and `rhs` a constant).
+    Initial { lhs: Expr, rhs: Expr, span: Span },
+    /// `guess x = value`: a start value the start may change.
+    Guess { lhs: Expr, rhs: Expr, span: Span },
+    /// `lhs = rhs`.
+    Equation { lhs: Expr, rhs: Expr, span: Span },
+    /// `if c1 ... elseif c2 ... else ... end`.
+    If { branches: Vec<(Expr, Vec<Relation>)>, otherwise: Option<Vec<Relation>>, span: Span },
+    /// `for i in range ... end`.
+    For { var: Ident, range: Expr, body: Vec<Relation>, span: Span },
+    /// `switch subject case A ... end ... end`.
+    Switch { subject: Expr, cases: Vec<(Path, Vec<Relation>)>, default: Option<Vec<Relation>>, span: Span },
+    /// `assert(condition, "message")`.
+    Assert { condition: Expr, message: String, span: Span },
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -210,6 +260,23 @@ pub enum ExprKind {
         first: Box<Expr>,
         rest: Vec<(BinaryOp, Expr)>,
     },
+    /// `base.name` after an index: `links[2].frame_a`.
+    Field {
+        base: Box<Expr>,
+        name: Ident,
+    },
+    /// `c ? a : b`, `if c then a else b`, `ifelse(c, a, b)`.
+    If {
+        condition: Box<Expr>,
+        then: Box<Expr>,
+        otherwise: Box<Expr>,
+    },
+    /// `start:stop` or `start:step:stop`.
+    Range {
+        start: Box<Expr>,
+        step: Option<Box<Expr>>,
+        stop: Box<Expr>,
+    },
     /// Parsed so that the message can point at it, but not evaluated yet
     /// (`if ... then ... else`, comparisons, `and`/`or`, ranges).
     Unsupported(&'static str),
@@ -219,6 +286,7 @@ pub enum ExprKind {
 pub enum UnaryOp {
     Neg,
     Plus,
+    Not,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -233,6 +301,14 @@ pub enum BinaryOp {
     ElemMul,
     ElemDiv,
     ElemPow,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+    Eq,
+    Ne,
+    And,
+    Or,
 }
 
 impl BinaryOp {
@@ -248,6 +324,24 @@ impl BinaryOp {
             BinaryOp::ElemMul => ".*",
             BinaryOp::ElemDiv => "./",
             BinaryOp::ElemPow => ".^",
+            BinaryOp::Lt => "<",
+            BinaryOp::Le => "<=",
+            BinaryOp::Gt => ">",
+            BinaryOp::Ge => ">=",
+            BinaryOp::Eq => "==",
+            BinaryOp::Ne => "!=",
+            BinaryOp::And => "and",
+            BinaryOp::Or => "or",
+        }
+    }
+}
+
+impl Expr {
+    /// The expression as a dotted name, if it is one.
+    pub fn as_path(&self) -> Option<&Path> {
+        match &self.kind {
+            ExprKind::Name(p) => Some(p),
+            _ => None,
         }
     }
 }

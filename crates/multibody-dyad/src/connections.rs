@@ -38,6 +38,24 @@ pub struct ConnectionGraph {
     statements: Vec<Statement>,
 }
 
+/// The connection sets: which set each connector is in, and the library
+/// connectors of each.
+pub struct Sets {
+    set_of: HashMap<String, usize>,
+    library: Vec<Vec<(String, Option<ConnectorType>)>>,
+}
+
+impl Sets {
+    pub fn set_of(&self, name: &str) -> Option<usize> {
+        self.set_of.get(name).copied()
+    }
+
+    /// The library connectors of set `set`, with their types.
+    pub fn library(&self, set: usize) -> &[(String, Option<ConnectorType>)] {
+        &self.library[set]
+    }
+}
+
 /// What a connect end names, resolved by the lowering.
 pub enum End {
     Leaf { name: String, ty: Option<ConnectorType> },
@@ -61,6 +79,61 @@ impl ConnectionGraph {
         self.nodes.push(Node { name: name.clone(), kind });
         self.by_name.insert(name, self.nodes.len() - 1);
         self.nodes.len() - 1
+    }
+
+    /// Where the first `connect` naming the connector `name` was written.
+    pub fn connect_of(&self, name: &str) -> Option<Span> {
+        let node = *self.by_name.get(name)?;
+        self.statements.iter().flat_map(|s| s.ends.iter()).find(|(n, _)| *n == node).map(|(_, span)| *span)
+    }
+
+    /// Where the connector `name` was declared, if a user component declares it.
+    pub fn declaration_of(&self, name: &str) -> Option<Span> {
+        match &self.nodes[*self.by_name.get(name)?].kind {
+            NodeKind::Declared { declaration, .. } => Some(*declaration),
+            NodeKind::Leaf(_) => None,
+        }
+    }
+
+    /// The classes of connected connectors.
+    fn classes(&self) -> Vec<usize> {
+        let n = self.nodes.len();
+        let mut parent: Vec<usize> = (0..n).collect();
+        fn find(parent: &mut [usize], mut i: usize) -> usize {
+            while parent[i] != i {
+                parent[i] = parent[parent[i]];
+                i = parent[i];
+            }
+            i
+        }
+        for s in &self.statements {
+            for w in s.ends.windows(2) {
+                let (a, b) = (find(&mut parent, w[0].0), find(&mut parent, w[1].0));
+                if a != b {
+                    parent[b.max(a)] = a.min(b);
+                }
+            }
+        }
+        (0..n).map(|i| find(&mut parent, i)).collect()
+    }
+
+    /// The connection sets, numbered by their first connector.
+    pub fn sets(&self) -> Sets {
+        let class = self.classes();
+        let mut number: HashMap<usize, usize> = HashMap::new();
+        let mut library: Vec<Vec<(String, Option<ConnectorType>)>> = Vec::new();
+        let mut set_of = HashMap::new();
+        for (i, node) in self.nodes.iter().enumerate() {
+            let k = *number.entry(class[i]).or_insert_with(|| {
+                library.push(Vec::new());
+                library.len() - 1
+            });
+            set_of.insert(node.name.clone(), k);
+            if let NodeKind::Leaf(ty) = node.kind {
+                library[k].push((node.name.clone(), ty));
+            }
+        }
+        Sets { set_of, library }
     }
 
     fn ty(&self, node: usize) -> Option<ConnectorType> {
@@ -98,8 +171,8 @@ impl ConnectionGraph {
 
     /// Adds the connections between engine connectors to `model`, records
     /// where their ends were written, and warns about declared connectors
-    /// that reach no component.
-    pub fn finish(self, model: &mut Model, map: &mut SourceMap) -> Vec<Diagnostic> {
+    /// that reach no component (unless equations use them: `used`).
+    pub fn finish(self, model: &mut Model, map: &mut SourceMap, used: &[String]) -> Vec<Diagnostic> {
         let n = self.nodes.len();
         let mut parent: Vec<usize> = (0..n).collect();
         fn find(parent: &mut [usize], mut i: usize) -> usize {
@@ -158,6 +231,9 @@ impl ConnectionGraph {
         let mut warned: Vec<Span> = Vec::new();
         for i in 0..n {
             if let NodeKind::Declared { declaration, owner, .. } = &self.nodes[i].kind {
+                if used.contains(&self.nodes[i].name) {
+                    continue;
+                }
                 let root = find(&mut parent, i);
                 let inside = match self.nodes[i].name.rsplit_once('.') {
                     Some((instance, _)) => format!("{instance}."),

@@ -16,6 +16,9 @@ pub fn engine_diagnostic(error: &Error, map: &SourceMap) -> Diagnostic {
     if let Some(d) = shadowed_world(error, map) {
         return d;
     }
+    if let Error::Equations { problem, equations, variables, fix } = error {
+        return equations_diagnostic(problem, equations, variables, fix, map);
+    }
     let text = error.to_string();
     let mut d = match error {
         // What is not supported is the message; what to do instead, the help.
@@ -199,4 +202,48 @@ fn secondary_label(error: &Error, name: &str) -> String {
         Error::AlgebraicLoop { .. } => "part of the algebraic loop".into(),
         _ => format!("`{name}` is declared here"),
     }
+}
+
+/// An error of the model's equations: the equations it concerns (from
+/// their origins `#k`), and the declarations of its variables.
+fn equations_diagnostic(
+    problem: &str,
+    equations: &[String],
+    variables: &[String],
+    fix: &str,
+    map: &SourceMap,
+) -> Diagnostic {
+    let mut d = Diagnostic::error(problem);
+    let mut used: Vec<Span> = Vec::new();
+    for (k, origin) in equations.iter().enumerate() {
+        let Some(span) = map.origin(origin) else { continue };
+        if used.contains(&span) || used.len() > MAX_SECONDARY {
+            continue;
+        }
+        used.push(span);
+        d = if k == 0 { d.primary(span, "this equation") } else { d.secondary(span, "and this one") };
+    }
+    // Variables are named by their flattened names; their declarations are
+    // origins too when the lowering gave them one.
+    for v in variables {
+        if let Some(span) = map.variable(v) {
+            if !used.contains(&span) && used.len() <= MAX_SECONDARY {
+                d = if used.is_empty() {
+                    d.primary(span, format!("`{v}`"))
+                } else {
+                    d.secondary(span, format!("`{v}`"))
+                };
+                used.push(span);
+            }
+        }
+    }
+    if used.is_empty() {
+        if let Some((_, header)) = &map.root {
+            d = d.primary(*header, "in this model");
+        }
+    }
+    if !fix.is_empty() {
+        d = d.help(fix);
+    }
+    d
 }

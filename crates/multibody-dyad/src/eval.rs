@@ -141,11 +141,30 @@ pub fn eval(expr: &Expr, scope: &mut dyn Scope) -> EResult {
             match op {
                 UnaryOp::Plus => numeric(v, operand.span, "`+`")?,
                 UnaryOp::Neg => map_numbers(&numeric(v, operand.span, "`-`")?, &|x| -x),
+                UnaryOp::Not => Val::Bool(!truth(&v, operand.span)?),
             }
+        }
+        ExprKind::Binary { op, lhs, rhs } if is_logical(*op) => {
+            let (a, b) = (eval(lhs, scope)?, eval(rhs, scope)?);
+            logical(*op, &a, &b, lhs.span, rhs.span)?
         }
         ExprKind::Binary { op, lhs, rhs } => {
             let (a, b) = (eval(lhs, scope)?, eval(rhs, scope)?);
             binary(*op, a, b, lhs.span, rhs.span, expr.span)?
+        }
+        ExprKind::If { condition, then, otherwise } => {
+            let c = eval(condition, scope)?;
+            eval(if truth(&c, condition.span)? { then } else { otherwise }, scope)?
+        }
+        ExprKind::Field { .. } => {
+            return Err(Diagnostic::error("a value of a sub-component cannot be read here")
+                .primary(expr.span, "not a parameter")
+                .help("only parameters can be used in parameter values; declare a parameter and pass it to both"))
+        }
+        ExprKind::Range { .. } => {
+            return Err(Diagnostic::error("a range is not a value here")
+                .primary(expr.span, "a range")
+                .help("ranges go in `for i in 1:N` and in arrays of components"))
         }
         ExprKind::Chain { first, rest } => {
             let (mut value, mut span) = (eval(first, scope)?, first.span);
@@ -166,70 +185,6 @@ pub fn eval(expr: &Expr, scope: &mut dyn Scope) -> EResult {
         }
     };
     finite(value, expr.span)
-}
-
-/// A formula of time for a signal input: numbers, parameters, `time`,
-/// `+ - * / ^` and functions of one argument (`sin`, `exp`, ...).
-pub fn formula(expr: &Expr, scope: &mut dyn Scope) -> Result<multibody::TimeExpr, Diagnostic> {
-    use multibody::TimeExpr as T;
-    if !mentions_time(expr) {
-        return match eval(expr, scope)? {
-            Val::Number(x) => Ok(T::Const(x)),
-            other => Err(Diagnostic::error(format!("a signal input takes one number, not {}", other.describe()))
-                .primary(expr.span, "not a number")),
-        };
-    }
-    let binary = |op: BinaryOp, a: T, b: T| {
-        let (a, b) = (Box::new(a), Box::new(b));
-        match op {
-            BinaryOp::Add | BinaryOp::ElemAdd => T::Add(a, b),
-            BinaryOp::Sub | BinaryOp::ElemSub => T::Sub(a, b),
-            BinaryOp::Mul | BinaryOp::ElemMul => T::Mul(a, b),
-            BinaryOp::Div | BinaryOp::ElemDiv => T::Div(a, b),
-            BinaryOp::Pow | BinaryOp::ElemPow => T::Pow(a, b),
-        }
-    };
-    Ok(match &expr.kind {
-        ExprKind::Name(_) => T::Time,
-        ExprKind::Unary { op: UnaryOp::Plus, operand } => formula(operand, scope)?,
-        ExprKind::Unary { op: UnaryOp::Neg, operand } => T::Neg(Box::new(formula(operand, scope)?)),
-        ExprKind::Binary { op, lhs, rhs } => binary(*op, formula(lhs, scope)?, formula(rhs, scope)?),
-        ExprKind::Chain { first, rest } => {
-            let mut value = formula(first, scope)?;
-            for (op, rhs) in rest {
-                value = binary(*op, value, formula(rhs, scope)?);
-            }
-            value
-        }
-        ExprKind::Call { callee, args } if args.len() == 1 && callee.parts.len() == 1 => {
-            let name = &callee.parts[0].name;
-            let f = multibody::Func::from_name(name).ok_or_else(|| {
-                Diagnostic::error(format!("`{name}` cannot be used in a formula of time"))
-                    .primary(callee.span, "not supported here")
-                    .help("formulas of time use + - * / ^ and sin, cos, tan, exp, log, sqrt, abs, asin, acos, atan, sinh, cosh, tanh")
-            })?;
-            T::Call(f, Box::new(formula(&args[0], scope)?))
-        }
-        _ => {
-            return Err(Diagnostic::error("this is not supported in a formula of time yet")
-                .primary(expr.span, "not supported here")
-                .help("formulas of time use numbers, parameters, `time`, + - * / ^ and functions of one argument"))
-        }
-    })
-}
-
-/// Whether `time` appears in `expr` (as a bare name).
-fn mentions_time(expr: &Expr) -> bool {
-    match &expr.kind {
-        ExprKind::Name(p) => p.parts.len() == 1 && p.parts[0].name == "time",
-        ExprKind::Call { args, .. } => args.iter().any(mentions_time),
-        ExprKind::Array(items) => items.iter().any(mentions_time),
-        ExprKind::Index { base, indices } => mentions_time(base) || indices.iter().any(mentions_time),
-        ExprKind::Unary { operand, .. } => mentions_time(operand),
-        ExprKind::Binary { lhs, rhs, .. } => mentions_time(lhs) || mentions_time(rhs),
-        ExprKind::Chain { first, rest } => mentions_time(first) || rest.iter().any(|(_, e)| mentions_time(e)),
-        _ => false,
-    }
 }
 
 /// An array literal, within the size limits.
@@ -321,7 +276,92 @@ fn enum_value(path: &Path) -> Val {
     Val::Enum(path.parts[n.saturating_sub(2)..].iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join("."))
 }
 
+/// The value of a World default by its helper's name
+/// (`world_default_joint_color`), from the World's defaults.
+pub fn world_default(helper: &str) -> Option<Val> {
+    let name = helper.strip_prefix("world_")?;
+    let world = multibody::components::world::WorldSettings::default();
+    match world.scaled(name, 1.0) {
+        multibody::Value::Number(x) if multibody::components::world::SPEC.param(name).is_some() => Some(Val::Number(x)),
+        multibody::Value::Array(v) => Some(Val::Array(v.into_iter().map(Val::Number).collect())),
+        multibody::Value::Bool(b) => Some(Val::Bool(b)),
+        _ => None,
+    }
+}
+
+/// Whether a value counts as true: a boolean, or a number other than 0.
+fn truth(v: &Val, span: Span) -> Result<bool, Diagnostic> {
+    match v {
+        Val::Bool(b) => Ok(*b),
+        Val::Number(x) => Ok(*x != 0.0),
+        other => Err(Diagnostic::error(format!("a condition must be true or false, but this is {}", other.describe()))
+            .primary(span, "not a condition")),
+    }
+}
+
+fn is_logical(op: BinaryOp) -> bool {
+    matches!(
+        op,
+        BinaryOp::Lt
+            | BinaryOp::Le
+            | BinaryOp::Gt
+            | BinaryOp::Ge
+            | BinaryOp::Eq
+            | BinaryOp::Ne
+            | BinaryOp::And
+            | BinaryOp::Or
+    )
+}
+
+/// Comparisons and `and`/`or`; enumeration values compare by their case.
+fn logical(op: BinaryOp, a: &Val, b: &Val, lspan: Span, rspan: Span) -> EResult {
+    let case = |v: &Val| match v {
+        Val::Enum(e) => Some(e.rsplit('.').next().unwrap_or(e).to_string()),
+        _ => None,
+    };
+    Ok(Val::Bool(match op {
+        BinaryOp::And => truth(a, lspan)? && truth(b, rspan)?,
+        BinaryOp::Or => truth(a, lspan)? || truth(b, rspan)?,
+        BinaryOp::Eq | BinaryOp::Ne if case(a).is_some() || case(b).is_some() => {
+            (case(a) == case(b)) == (op == BinaryOp::Eq)
+        }
+        BinaryOp::Eq | BinaryOp::Ne if matches!((a, b), (Val::Bool(_), Val::Bool(_))) => {
+            (a == b) == (op == BinaryOp::Eq)
+        }
+        _ => {
+            let number = |v: &Val, span: Span| match v {
+                Val::Number(x) => Ok(*x),
+                other => Err(Diagnostic::error(format!(
+                    "`{}` compares numbers, but this is {}",
+                    op.symbol(),
+                    other.describe()
+                ))
+                .primary(span, "not a number")),
+            };
+            let (x, y) = (number(a, lspan)?, number(b, rspan)?);
+            match op {
+                BinaryOp::Lt => x < y,
+                BinaryOp::Le => x <= y,
+                BinaryOp::Gt => x > y,
+                BinaryOp::Ge => x >= y,
+                BinaryOp::Eq => x == y,
+                _ => x != y,
+            }
+        }
+    }))
+}
+
 fn call(callee: &Path, args: &[Expr], span: Span, scope: &mut dyn Scope) -> EResult {
+    let fname = callee.last().name.as_str();
+    if fname.starts_with("world_default_") && args.is_empty() {
+        if let Some(v) = world_default(fname) {
+            return Ok(v);
+        }
+    }
+    if fname == "ifelse" && callee.parts.len() == 1 && args.len() == 3 {
+        let c = eval(&args[0], scope)?;
+        return eval(&args[if truth(&c, args[0].span)? { 1 } else { 2 }], scope);
+    }
     if callee.parts.len() > 1 {
         // An enumeration value: `OrientationState.Quaternion()`.
         if !args.is_empty() {
@@ -502,6 +542,7 @@ fn binary(op: BinaryOp, a: Val, b: Val, lspan: Span, rspan: Span, span: Span) ->
         BinaryOp::ElemMul => zip_numbers(&a, &b, true, &|x, y| x * y),
         BinaryOp::ElemDiv => zip_numbers(&a, &b, true, &|x, y| x / y),
         BinaryOp::ElemPow => zip_numbers(&a, &b, true, &|x, y| x.powf(y)),
+        // Comparisons and logic are evaluated by `logical`.
         _ => None,
     };
     result.ok_or_else(|| {
@@ -567,6 +608,15 @@ mod tests {
         assert!(value("1e300 * 1e300").unwrap_err().message.contains("finite"));
         assert!(value("[1, 2] + [1, 2, 3]").is_err());
         assert!(value("world.g").is_err());
-        assert!(value("if true then 1 else 2").unwrap_err().message.contains("not supported"));
+        assert!(value("1 < [1]").unwrap_err().message.contains("compares numbers"));
+    }
+
+    #[test]
+    fn conditions_and_logic_on_parameters() {
+        assert_eq!(value("if L > 1 then 1 else 2").unwrap(), Val::Number(1.0));
+        assert_eq!(value("L == 2 and !(L < 0) ? 3 : 4").unwrap(), Val::Number(3.0));
+        assert_eq!(value("ifelse(L != 2 || false, 5, 6)").unwrap(), Val::Number(6.0));
+        assert_eq!(value("OrientationState.Euler() == OrientationState.Euler").unwrap(), Val::Bool(true));
+        assert_eq!(value("world_default_joint_length()").unwrap(), Val::Number(0.1));
     }
 }

@@ -40,10 +40,12 @@ pub mod lexer;
 mod lower;
 mod modifiers;
 pub mod parser;
+mod relations;
 mod scope;
 pub mod source;
 pub mod source_map;
 pub mod study;
+pub mod symbolic;
 mod types;
 
 pub use diagnostics::{Diagnostic, Severity};

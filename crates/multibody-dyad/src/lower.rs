@@ -1,7 +1,10 @@
 //! Lowering: instantiates a model's top component into a
 //! [`multibody::Model`]. User components are flattened into dotted names
-//! (`pend.body`); their parameters are computed and passed down; library
-//! components become engine components whose parameters the engine checks.
+//! (`pend.body`, `links[2].body`); their parameters are computed and passed
+//! down; library components become engine components whose parameters the
+//! engine checks; variables and equations become the model's equations,
+//! and connections that reach connectors with equations become equations
+//! between their quantities (potentials equal, flows loading the mechanics).
 
 use crate::analysis::transient_options;
 use crate::ast::*;
@@ -9,6 +12,7 @@ use crate::connections::{ConnectionGraph, End};
 use crate::diagnostics::{did_you_mean, Diagnostic};
 use crate::eval::{eval, Val};
 use crate::modifiers::{apply_overrides, eval_modifiers, merge_outer, merge_same_level, Mod, Override};
+use crate::relations::{self, Flat, WithEnv};
 use crate::scope::ParamScope;
 use crate::source::Span;
 use crate::source_map::{ComponentSite, MemberSite, Shadowing, SourceMap};
@@ -74,14 +78,41 @@ enum Kind<'a> {
     Connector(ConnectorType),
 }
 
+/// What a flattened name is, for resolving names in equations.
+#[derive(Clone, Debug)]
+pub enum Entity {
+    User,
+    Library(&'static ComponentSpec),
+    /// An array of components of this length (elements `name[k]`).
+    Array(usize),
+    /// A variable of these sizes.
+    Variable(Vec<usize>),
+    /// A connector a user component declares.
+    Connector(ConnectorType),
+}
+
+/// One instance of a declaration: an element of an array has its index
+/// in `env`.
+struct Instance<'d, 'a> {
+    local: String,
+    decl: &'d ComponentDecl,
+    kind: Kind<'a>,
+    env: relations::Env,
+}
+
 pub struct Lowerer<'a, 'i> {
     index: &'i Index<'a>,
-    model: Model,
+    pub(crate) model: Model,
     map: SourceMap,
     warnings: Vec<Diagnostic>,
     graph: ConnectionGraph,
     /// The user components being instantiated, outermost first.
     stack: Vec<&'a str>,
+    /// Every flattened name met so far.
+    pub(crate) entities: HashMap<String, Entity>,
+    /// Declared connectors that equations read, with the quantities used
+    /// (`None` for a signal).
+    used: Vec<(String, ConnectorType, Vec<&'static str>)>,
 }
 
 fn flat(prefix: &str, name: &str) -> String {
@@ -103,20 +134,172 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             warnings: Vec::new(),
             graph: ConnectionGraph::default(),
             stack: Vec::new(),
+            entities: HashMap::new(),
+            used: Vec::new(),
         }
     }
 
-    fn finish(mut self, name: &str, options: SimulationOptions, from_analysis: bool) -> Lowered {
-        let warnings = self.graph.finish(&mut self.model, &mut self.map);
+    fn finish(mut self, name: &str, options: SimulationOptions, from_analysis: bool) -> Result<Lowered, Diagnostic> {
+        self.connector_equations()?;
+        let used: Vec<String> = self.used.iter().map(|(n, _, _)| n.clone()).collect();
+        let warnings = self.graph.finish(&mut self.model, &mut self.map, &used);
         self.warnings.extend(warnings);
-        Lowered {
+        Ok(Lowered {
             name: name.to_string(),
             model: self.model,
             options,
             from_analysis,
             warnings: self.warnings,
             source_map: self.map,
+        })
+    }
+
+    /// Declares a variable for a connector quantity (`pd.angle`,
+    /// `spring.frame_a.f[1]`), declared at `span`.
+    fn connector_variable(&mut self, name: String, origin: &str, span: Span) {
+        self.map.variables.insert(name.clone(), span);
+        self.model.variable(name).origin = origin.to_string();
+    }
+
+    /// Notes that equations read `connector` (a quantity `field` of it).
+    pub(crate) fn use_connector(&mut self, connector: &str, ty: ConnectorType, field: Option<&'static str>) {
+        let entry = match self.used.iter_mut().find(|(n, _, _)| n == connector) {
+            Some(e) => e,
+            None => {
+                self.used.push((connector.to_string(), ty, Vec::new()));
+                self.used.last_mut().expect("just pushed")
+            }
+        };
+        if let Some(f) = field {
+            if !entry.2.contains(&f) {
+                entry.2.push(f);
+            }
         }
+    }
+
+    /// The equations connections imply for connectors that equations read:
+    /// a signal equals its source; a frame's or flange's potentials equal
+    /// the library connector's it is joined to, and its flows load that
+    /// connector; connectors joined to none share potentials and their
+    /// flows sum to zero.
+    fn connector_equations(&mut self) -> Result<(), Diagnostic> {
+        let sets = self.graph.sets();
+        let used = self.used.clone();
+        let mut done: Vec<usize> = Vec::new();
+        for (name, _, _) in &used {
+            let Some(set) = sets.set_of(name) else { continue };
+            if done.contains(&set) {
+                continue;
+            }
+            done.push(set);
+            let members: Vec<&(String, ConnectorType, Vec<&'static str>)> =
+                used.iter().filter(|(n, _, _)| sets.set_of(n) == Some(set)).collect();
+            let library = sets.library(set);
+            let ty = members[0].1;
+            // Connection equations point at a `connect` of the first member.
+            let root = self.map.root.as_ref().map(|(_, s)| *s);
+            let declared = self.graph.declaration_of(&members[0].0);
+            let Some(span) = self.graph.connect_of(&members[0].0).or(declared).or(root) else { continue };
+            let origin = self.origin(span);
+            let eq = |model: &mut Model, a: &str, b: &str| {
+                model.equations.equations.push(multibody::Equation {
+                    lhs: multibody::Expr::var(a),
+                    rhs: multibody::Expr::var(b),
+                    origin: origin.clone(),
+                })
+            };
+            if ty.is_signal() {
+                for (m, _, _) in &members {
+                    self.connector_variable(m.clone(), &origin, span);
+                }
+                let output = library.iter().find(|(_, t)| *t == Some(ConnectorType::RealOutput));
+                if let Some((source, _)) = output {
+                    for (m, _, _) in &members {
+                        eq(&mut self.model, m, source);
+                    }
+                    continue;
+                }
+                let rep =
+                    members.iter().find(|(_, t, _)| *t == ConnectorType::RealOutput).unwrap_or(&members[0]).0.clone();
+                for (m, _, _) in members.iter().filter(|(m, _, _)| *m != rep) {
+                    eq(&mut self.model, m, &rep);
+                }
+                if let Some((input, _)) = library.iter().find(|(_, t)| *t == Some(ConnectorType::RealInput)) {
+                    eq(&mut self.model, input, &rep);
+                }
+                continue;
+            }
+            let fields = relations::connector_fields(ty);
+            let same: Vec<&(String, Option<ConnectorType>)> =
+                library.iter().filter(|(_, t)| t.is_none_or(|t| t.connects_to(&ty))).collect();
+            if let Some((anchor, _)) = same.first() {
+                // Joined to the mechanics: potentials are its, flows load it.
+                for (m, _, quantities) in &members {
+                    let flows = quantities.iter().any(|q| fields.iter().any(|f| f.0 == *q && f.2));
+                    for &(field, dims, flow) in fields {
+                        let names = relations::scalar_names(&format!("{m}.{field}"), dims);
+                        if flow && flows {
+                            for n in &names {
+                                self.connector_variable(n.clone(), &origin, span);
+                            }
+                        } else if !flow && quantities.contains(&field) {
+                            let theirs = relations::scalar_names(&format!("{anchor}.{field}"), dims);
+                            for (n, t) in names.iter().zip(&theirs) {
+                                self.connector_variable(n.clone(), &origin, span);
+                                eq(&mut self.model, n, t);
+                            }
+                        }
+                    }
+                    if flows {
+                        let flow_names = |field: &str| relations::scalar_names(&format!("{m}.{field}"), &[3]);
+                        let flow = match ty {
+                            ConnectorType::Frame => {
+                                let (f, t) = (flow_names("f"), flow_names("tau"));
+                                multibody::Flow::Frame {
+                                    connector: anchor.clone(),
+                                    force: [f[0].clone(), f[1].clone(), f[2].clone()],
+                                    torque: [t[0].clone(), t[1].clone(), t[2].clone()],
+                                }
+                            }
+                            _ => {
+                                let field = fields.iter().find(|f| f.2).expect("a 1-D connector has a flow").0;
+                                multibody::Flow::Flange { connector: anchor.clone(), value: format!("{m}.{field}") }
+                            }
+                        };
+                        self.model.equations.flows.push(flow);
+                    }
+                }
+                continue;
+            }
+            if ty == ConnectorType::Frame {
+                return Err(Diagnostic::error(format!(
+                    "the frame `{}` is joined to no body, joint or World: nothing moves it",
+                    members[0].0
+                ))
+                .primary(span, "its motion comes from nothing")
+                .help("connect it to a library component (a Body, a joint, the World's frame_b); equations give frames forces, not motion"));
+            }
+            // 1-D connectors of equations alone: shared potential, flows sum to zero.
+            let (potential, flow) = (fields[0].0, fields[1].0);
+            let first = format!("{}.{potential}", members[0].0);
+            let mut flows = Vec::new();
+            for (m, _, _) in &members {
+                let p = format!("{m}.{potential}");
+                self.connector_variable(p.clone(), &origin, span);
+                self.connector_variable(format!("{m}.{flow}"), &origin, span);
+                if p != first {
+                    eq(&mut self.model, &p, &first);
+                }
+                flows.push(multibody::Expr::var(format!("{m}.{flow}")));
+            }
+            let total = flows.into_iter().reduce(|a, b| a + b).expect("members");
+            self.model.equations.equations.push(multibody::Equation {
+                lhs: total,
+                rhs: multibody::Expr::Const(0.0),
+                origin: origin.clone(),
+            });
+        }
+        Ok(())
     }
 
     /// Lowers a component as the whole model, with default options.
@@ -129,7 +312,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         let mut modifiers = Vec::new();
         apply_overrides(&mut modifiers, overrides, def.header);
         lowerer.instantiate(def, "", modifiers, def.header, &[])?;
-        Ok(lowerer.finish(&def.name.name, SimulationOptions::default(), false))
+        lowerer.finish(&def.name.name, SimulationOptions::default(), false)
     }
 
     /// Lowers an analysis: its model and its options.
@@ -168,7 +351,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         let mut lowerer = Lowerer::new(index, def);
         let options = transient_options(analysis, base_modifiers, &mut lowerer.warnings)?;
         lowerer.instantiate(def, "", model_modifiers, model.span, &[])?;
-        Ok(lowerer.finish(&analysis.name.name, options, true))
+        lowerer.finish(&analysis.name.name, options, true)
     }
 
     /// Instantiates user component `def` under `prefix`, with modifiers
@@ -201,15 +384,21 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 .primary(site, "too deep"));
         }
         self.stack.push(name);
-        check_unique(def.declarations.iter().map(Declaration::name))?;
+        let effective = relations::effective(self.index, def, 0)?;
+        check_unique(effective.declarations.iter().map(Declaration::name))?;
 
-        let params: Vec<&'a ParameterDecl> = def
+        let params: Vec<&ParameterDecl> = effective
             .declarations
             .iter()
             .filter_map(|d| if let Declaration::Parameter(p) = d { Some(p) } else { None })
             .collect();
-        let mut subs: Vec<(&'a ComponentDecl, Kind<'a>)> = Vec::new();
-        for d in &def.declarations {
+        let variables: Vec<&VariableDecl> = effective
+            .declarations
+            .iter()
+            .filter_map(|d| if let Declaration::Variable(v) = d { Some(v) } else { None })
+            .collect();
+        let mut decls: Vec<(&ComponentDecl, Kind<'a>)> = Vec::new();
+        for d in &effective.declarations {
             if let Declaration::Component(c) = d {
                 let kind = resolve_kind(self.index, &c.kind)?;
                 if let (Kind::User(user), Some(spec)) = (kind, lookup(&c.kind.text())) {
@@ -219,20 +408,27 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                         defined: user.name.span,
                     });
                 }
-                subs.push((c, kind));
+                decls.push((c, kind));
             }
         }
-        let sub = |n: &str| subs.iter().find(|(c, _)| c.name.name == n).map(|(c, k)| (*c, *k));
+        let decl_of = |n: &str| decls.iter().find(|(c, _)| c.name.name == n).map(|(c, k)| (*c, *k));
+        let runtime_names: Vec<String> = decls
+            .iter()
+            .map(|(c, _)| c.name.name.clone())
+            .chain(variables.iter().map(|v| v.name.name.clone()))
+            .collect();
 
-        // Modifiers from outside: parameter values, and modifiers of sub-components.
+        // Modifiers from outside: parameter values, start values of
+        // variables, and modifiers of sub-components.
         let mut scope = ParamScope::new(
             name,
-            params.clone(),
-            subs.iter().map(|(c, _)| c.name.name.clone()).collect(),
+            params.iter().map(|p| &**p).collect(),
+            runtime_names.clone(),
             site,
             &self.index.aliases,
         );
         let mut forwarded: HashMap<String, Vec<Mod>> = HashMap::new();
+        let mut variable_mods: HashMap<String, Vec<Mod>> = HashMap::new();
         for m in modifiers {
             let key = m.name.name.as_str();
             if let Some(p) = params.iter().find(|p| p.name.name == key) {
@@ -253,7 +449,14 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                             .help(format!("write `{key} = ...`")))
                     }
                 }
-            } else if let Some((c, kind)) = sub(key) {
+            } else if variables.iter().any(|v| v.name.name == key) {
+                if m.value.is_some() || !m.has_nested {
+                    return Err(Diagnostic::error(format!("`{key}` is a variable of `{name}`; give it a start value"))
+                        .primary(m.span, "not a start value")
+                        .help(format!("write `{key}(initial = ...)` or `{key}(guess = ...)`")));
+                }
+                variable_mods.insert(key.to_string(), m.nested);
+            } else if let Some((c, kind)) = decl_of(key) {
                 if matches!(kind, Kind::Connector(_)) {
                     return Err(Diagnostic::error(format!(
                         "`{key}` is a connector of `{name}`; it takes no modifiers"
@@ -274,10 +477,12 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                     .iter()
                     .map(|p| p.name.name.as_str())
                     .chain(
-                        subs.iter()
+                        decls
+                            .iter()
                             .filter(|(_, k)| !matches!(k, Kind::Connector(_)))
                             .map(|(c, _)| c.name.name.as_str()),
                     )
+                    .chain(variables.iter().map(|v| v.name.name.as_str()))
                     .collect();
                 let mut d = Diagnostic::error(format!("`{name}` has no parameter `{key}`"))
                     .primary(m.name.span, "unknown parameter")
@@ -296,73 +501,110 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         }
         scope.resolve_all()?;
 
-        // `initial a.b = v` relations act as modifiers `a(b(initial = v))` of this level.
-        let mut initial: HashMap<String, Vec<Mod>> = HashMap::new();
-        for relation in &def.relations {
-            let Relation::Initial { target, value, span } = relation else { continue };
-            let first = &target.parts[0];
-            match sub(&first.name) {
-                Some((_, Kind::Library(_) | Kind::User(_))) if target.parts.len() >= 2 => {}
-                found => {
-                    let mut d =
-                        Diagnostic::error(format!("`initial {}` names no variable of a component", target.text()))
-                            .primary(target.span, "not a variable of a sub-component");
-                    d = match found {
-                        Some((_, Kind::Connector(_))) => d.help("connectors have no start values"),
-                        Some(_) => d.help(format!("name one of its variables: `initial {}.phi = ...`", first.name)),
-                        None if params.iter().any(|p| p.name.name == first.name) => {
-                            d.help(format!("`{}` is a parameter: give its value in its declaration", first.name))
-                        }
-                        None => {
-                            let names = subs.iter().map(|(c, _)| c.name.name.as_str());
-                            match did_you_mean(&first.name, names) {
-                                Some(s) => d.help(s),
-                                None => {
-                                    d.help("write `initial component.variable = value`, e.g. `initial joint.phi = 0`")
-                                }
-                            }
-                        }
-                    };
-                    return Err(d);
+        // The relations with their structure unrolled: `for` loops, and
+        // `if` and `switch` on parameters.
+        let flats = relations::expand(&effective.relations, &mut scope, &runtime_names, &mut Vec::new())?;
+
+        // The instances: arrays and conditional components resolved.
+        let mut subs: Vec<Instance<'_, 'a>> = Vec::new();
+        let mut absent: Vec<String> = Vec::new();
+        for &(decl, kind) in &decls {
+            if let Some(condition) = &decl.condition {
+                let v = eval(condition, &mut scope)?;
+                let present = match v {
+                    Val::Bool(b) => b,
+                    other => {
+                        return Err(Diagnostic::error(format!(
+                            "the condition of a component must be true or false, but this is {}",
+                            other.describe()
+                        ))
+                        .primary(condition.span, "not a condition"))
+                    }
+                };
+                if !present {
+                    absent.push(decl.name.name.clone());
+                    continue;
                 }
             }
-            let v = eval(value, &mut scope)?;
-            let m = Mod::initial_at(&target.parts[1..], v, value.span, *span);
-            let list = initial.remove(&first.name).unwrap_or_default();
-            initial.insert(first.name.clone(), merge_same_level(list, vec![m])?);
+            match &decl.array {
+                None => subs.push(Instance { local: decl.name.name.clone(), decl, kind, env: Vec::new() }),
+                Some((var, range)) => {
+                    let values = relations::range_values(range, &mut scope, &[])?;
+                    self.entities.insert(flat(prefix, &decl.name.name), Entity::Array(values.len()));
+                    for (k, value) in values.into_iter().enumerate() {
+                        subs.push(Instance {
+                            local: format!("{}[{}]", decl.name.name, k + 1),
+                            decl,
+                            kind,
+                            env: vec![(var.name.clone(), value)],
+                        });
+                    }
+                }
+            }
         }
 
-        // `sub.input = formula`: a signal input of a library component
-        // driven by a formula of time.
-        for relation in &def.relations {
-            let Relation::Equation { lhs, rhs, span } = relation else { continue };
-            let first = &lhs.parts[0];
-            let input = match (sub(&first.name), lhs.parts.get(1)) {
-                (Some((_, Kind::Library(spec))), Some(connector)) if lhs.parts.len() == 2 => spec
-                    .connectors
-                    .iter()
-                    .find(|c| c.name == connector.name && !c.internal)
-                    .filter(|c| c.ty == multibody::components::ConnectorType::RealInput)
-                    .map(|_| format!("{}.{}", flat(prefix, &first.name), connector.name)),
-                _ => None,
+        // `initial a.b = v` (and `guess`) with a constant value act as
+        // modifiers `a(b(initial = v))` of this level.
+        let mut initial: HashMap<String, Vec<Mod>> = HashMap::new();
+        let mut consumed = vec![false; flats.len()];
+        for (k, flat_relation) in flats.iter().enumerate() {
+            let (lhs, rhs, span, env, attribute) = match flat_relation {
+                Flat::Initial { lhs, rhs, span, env } => (*lhs, *rhs, *span, env, "initial"),
+                Flat::Guess { lhs, rhs, span, env } => (*lhs, *rhs, *span, env, "guess"),
+                _ => continue,
             };
-            let Some(input) = input else {
-                return Err(Diagnostic::error("equations are not supported here yet")
-                    .primary(*span, "not a signal input given a formula of time")
-                    .help("an equation may give a library component's signal input a formula of time, e.g. `prescribed.r_x = sin(time)`; for other behaviour use a library component"));
-            };
-            let f = crate::eval::formula(rhs, &mut scope)?;
-            self.model.set_input(input, f);
+            let Some(target) = relations::start_target(lhs, &mut scope, env)? else { continue };
+            let first = &target[0];
+            let is_sub = subs.iter().any(|i| i.local == first.name && !matches!(i.kind, Kind::Connector(_)));
+            let is_variable = target.len() == 1 && variables.iter().any(|v| v.name.name == first.name);
+            if !is_sub && !is_variable {
+                if target.len() >= 2 || decl_of(&first.name).is_some() || absent.contains(&first.name) {
+                    continue;
+                }
+                if params.iter().any(|p| p.name.name == first.name) {
+                    return Err(Diagnostic::error(format!(
+                        "`initial {}` names no variable of a component",
+                        first.name
+                    ))
+                    .primary(lhs.span, "not a variable of a sub-component")
+                    .help(format!("`{}` is a parameter: give its value in its declaration", first.name)));
+                }
+                continue;
+            }
+            let Ok(v) = eval(rhs, &mut WithEnv { scope: &mut scope, env }) else { continue };
+            if is_sub && target.len() < 2 {
+                return Err(Diagnostic::error(format!("`initial {}` names no variable of a component", first.name))
+                    .primary(lhs.span, "not a variable of a sub-component")
+                    .help(format!("name one of its variables: `initial {}.phi = ...`", first.name)));
+            }
+            let m = Mod::start_at(&target[if is_sub { 1 } else { 0 }..], attribute, v, rhs.span, span);
+            let key = if is_sub { first.name.clone() } else { String::new() };
+            if is_sub {
+                let list = initial.remove(&key).unwrap_or_default();
+                initial.insert(key, merge_same_level(list, vec![m])?);
+            } else {
+                let list = variable_mods.remove(&first.name).unwrap_or_default();
+                let inner = m.nested;
+                variable_mods.insert(first.name.clone(), merge_same_level(list, inner)?);
+            }
+            consumed[k] = true;
         }
 
-        for &(decl, kind) in &subs {
-            let child = flat(prefix, &decl.name.name);
-            let own = eval_modifiers(&decl.modifiers, &mut scope)?;
-            let own = merge_same_level(own, initial.remove(&decl.name.name).unwrap_or_default())?;
-            let merged = merge_outer(forwarded.remove(&decl.name.name).unwrap_or_default(), own)?;
-            match kind {
-                Kind::Library(spec) => self.library_component(spec, &child, decl, merged, within)?,
+        for instance in &subs {
+            let child = flat(prefix, &instance.local);
+            let decl = instance.decl;
+            let mut sub_scope = WithEnv { scope: &mut scope, env: &instance.env };
+            let own = eval_modifiers(&decl.modifiers, &mut sub_scope)?;
+            let own = merge_same_level(own, initial.remove(&instance.local).unwrap_or_default())?;
+            let outer = forwarded.get(&decl.name.name).cloned().unwrap_or_default();
+            let merged = merge_outer(outer, own)?;
+            match instance.kind {
+                Kind::Library(spec) => {
+                    self.entities.insert(child.clone(), Entity::Library(spec));
+                    self.library_component(spec, &child, decl, merged, within)?
+                }
                 Kind::User(sub_def) => {
+                    self.entities.insert(child.clone(), Entity::User);
                     let mut inner = vec![(child.clone(), decl.span)];
                     inner.extend(within.iter().cloned());
                     self.instantiate(sub_def, &child, merged, decl.span, &inner)?;
@@ -374,21 +616,133 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                                 .primary(m.span, "ignored"),
                         );
                     }
+                    self.entities.insert(child.clone(), Entity::Connector(ty));
                     self.graph.declare(child, ty, decl.span, name.to_string());
                 }
             }
         }
 
-        for relation in &def.relations {
-            let Relation::Connect { ends, .. } = relation else { continue };
+        // The component's own variables; `input` and `output` ones are
+        // signal connectors too.
+        for v in &variables {
+            self.variable(prefix, name, v, variable_mods.remove(&v.name.name).unwrap_or_default(), &mut scope)?;
+        }
+
+        for flat_relation in &flats {
+            let Flat::Connect { ends, env } = flat_relation else { continue };
             let mut resolved = Vec::with_capacity(ends.len());
-            for end in ends {
-                resolved.push((self.connect_end(end, prefix, def, &subs)?, end.span));
+            let mut skip = false;
+            for end in ends.iter() {
+                let path = relations::connect_path(end, &mut scope, env)?;
+                if absent.contains(&path.parts[0].name) {
+                    skip = true;
+                    break;
+                }
+                resolved.push((self.connect_end(&path, prefix, def, &subs)?, end.span));
             }
-            self.graph.connect(resolved)?;
+            if !skip {
+                self.graph.connect(resolved)?;
+            }
+        }
+
+        // Equations, initial equations, guesses and assertions.
+        let mut context = relations::Context { lowerer: self, prefix, scope: &mut scope, runtime: &runtime_names };
+        for (k, flat_relation) in flats.iter().enumerate() {
+            if !consumed[k] {
+                context.relation(flat_relation)?;
+            }
+        }
+        for v in &variables {
+            if let Some(binding) = &v.binding {
+                context.equation_of(
+                    &Expr {
+                        kind: ExprKind::Name(Path { parts: vec![v.name.clone()], span: v.name.span }),
+                        span: v.name.span,
+                    },
+                    binding,
+                    v.span,
+                    &Vec::new(),
+                )?;
+            }
         }
         self.stack.pop();
         Ok(())
+    }
+
+    /// A variable of a user component: its scalars become variables of the
+    /// model's equations, with their start values.
+    fn variable(
+        &mut self,
+        prefix: &str,
+        owner: &str,
+        v: &VariableDecl,
+        mods: Vec<Mod>,
+        scope: &mut ParamScope,
+    ) -> Result<(), Diagnostic> {
+        let full = flat(prefix, &v.name.name);
+        let dims = relations::dims(&v.ty, scope)?;
+        if let Causality::Input | Causality::Output = v.causality {
+            if !dims.is_empty() {
+                return Err(Diagnostic::error("signal connectors that are arrays are not supported yet")
+                    .primary(v.ty.span, "not supported yet")
+                    .help("declare one signal per element"));
+            }
+            let ty = if v.causality == Causality::Input { ConnectorType::RealInput } else { ConnectorType::RealOutput };
+            self.entities.insert(full.clone(), Entity::Connector(ty));
+            self.graph.declare(full.clone(), ty, v.span, owner.to_string());
+        } else {
+            self.entities.insert(full.clone(), Entity::Variable(dims.clone()));
+        }
+        let names = relations::scalar_names(&full, &dims);
+        // Start values: the declaration's `= initial v`, then modifiers.
+        let mut start: Option<(Val, bool)> = None;
+        if let Some(e) = &v.initial {
+            start = Some((eval(e, scope)?, true));
+        }
+        for m in &mods {
+            let fixed = match m.name.name.as_str() {
+                "initial" => true,
+                "guess" => false,
+                other => return Err(unknown_attribute(other, m, &v.name.name)),
+            };
+            match &m.value {
+                Some((Val::Missing, _)) => start = None,
+                Some((value, _)) => start = Some((value.clone(), fixed)),
+                None => {}
+            }
+        }
+        let values: Vec<Option<f64>> = match &start {
+            None => vec![None; names.len()],
+            Some((value, _)) => {
+                let mut flat_values = Vec::new();
+                relations::flatten_val(value, &mut flat_values);
+                if flat_values.len() != names.len() {
+                    return Err(Diagnostic::error(format!(
+                        "`{}` has {} values but its start value has {}",
+                        v.name.name,
+                        names.len(),
+                        flat_values.len()
+                    ))
+                    .primary(v.span, "sizes differ"));
+                }
+                flat_values.into_iter().map(Some).collect()
+            }
+        };
+        let origin = self.origin(v.span);
+        for (n, value) in names.into_iter().zip(values) {
+            self.map.variables.insert(n.clone(), v.span);
+            let var = self.model.variable(n);
+            var.start = value;
+            var.fixed = start.as_ref().is_some_and(|(_, f)| *f);
+            var.origin = origin.clone();
+        }
+        Ok(())
+    }
+
+    /// A name for `span` that engine messages carry back.
+    pub(crate) fn origin(&mut self, span: Span) -> String {
+        self.map.origins.push(span);
+        format!("#{}", self.map.origins.len() - 1)
     }
 
     /// What one end of a `connect` in `def` names.
@@ -397,11 +751,22 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         end: &Path,
         prefix: &str,
         def: &'a ComponentDef,
-        subs: &[(&'a ComponentDecl, Kind<'a>)],
+        subs: &[Instance],
     ) -> Result<End, Diagnostic> {
         let owner = def.name.name.as_str();
-        let sub = |n: &str| subs.iter().find(|(c, _)| c.name.name == n).map(|(c, k)| (*c, *k));
+        let sub = |n: &str| subs.iter().find(|i| i.local == n).map(|i| (i.decl, i.kind));
         let first = &end.parts[0];
+        let declared = |name: String, owner: String| -> Option<End> {
+            match self.entities.get(&name) {
+                Some(Entity::Connector(ty)) => Some(End::Declared {
+                    declaration: self.graph.declaration_of(&name).unwrap_or(end.span),
+                    name,
+                    ty: *ty,
+                    owner,
+                }),
+                _ => None,
+            }
+        };
         match (end.parts.len(), sub(&first.name)) {
             (1, Some((decl, Kind::Connector(ty)))) => Ok(End::Declared {
                 name: flat(prefix, &first.name),
@@ -409,6 +774,9 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 declaration: decl.span,
                 owner: owner.to_string(),
             }),
+            (1, None) if declared(flat(prefix, &first.name), owner.to_string()).is_some() => {
+                Ok(declared(flat(prefix, &first.name), owner.to_string()).expect("checked"))
+            }
             (1, Some((_, kind))) => {
                 let connectors = connector_names(kind);
                 let mut d = Diagnostic::error(format!("`{}` is a component, not a connector", first.name))
@@ -427,47 +795,40 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             }
             (2, Some((_, Kind::User(d)))) => {
                 let connector = &end.parts[1];
-                match d.declarations.iter().find_map(|decl| match decl {
-                    Declaration::Component(c) if c.name.name == connector.name => Some(c),
-                    _ => None,
-                }) {
-                    Some(c) => match resolve_kind(self.index, &c.kind) {
-                        Ok(Kind::Connector(ty)) => Ok(End::Declared {
-                            name: flat(prefix, &end.text()),
-                            ty,
-                            declaration: c.span,
-                            owner: d.name.name.clone(),
-                        }),
-                        _ => Err(Diagnostic::error(format!(
-                            "`{}` is a component inside `{}`, not one of its connectors",
-                            connector.name, d.name.name
-                        ))
-                        .primary(connector.span, "not a connector")
-                        .help(format!(
-                            "declare a connector in `{}` (`frame_a = Frame3D()`), connect it to `{}` inside, and connect to it here",
-                            d.name.name, connector.name
-                        ))),
-                    },
-                    None => {
-                        let connectors = connector_names(Kind::User(d));
-                        let mut diag =
-                            Diagnostic::error(format!("`{}` has no connector `{}`", d.name.name, connector.name))
-                                .primary(connector.span, "unknown connector")
-                                .secondary(d.header, format!("`{}` is defined here", d.name.name));
-                        if let Some(s) = did_you_mean(&connector.name, connectors.iter().map(String::as_str)) {
-                            diag = diag.help(s);
-                        }
-                        diag = if connectors.is_empty() {
-                            diag.note(format!(
-                                "`{}` declares no connectors; declare one with `frame_a = Frame3D()` and connect it inside",
-                                d.name.name
-                            ))
-                        } else {
-                            diag.note(format!("its connectors are: {}", connectors.join(", ")))
-                        };
-                        Err(diag)
-                    }
+                let child = flat(prefix, &first.name);
+                if let Some(e) = declared(format!("{child}.{}", connector.name), d.name.name.clone()) {
+                    return Ok(e);
                 }
+                let is_component = relations::effective(self.index, d, 0)
+                    .map(|e| e.declarations.iter().any(|x| x.name().name == connector.name))
+                    .unwrap_or(false);
+                if is_component {
+                    return Err(Diagnostic::error(format!(
+                        "`{}` is a component inside `{}`, not one of its connectors",
+                        connector.name, d.name.name
+                    ))
+                    .primary(connector.span, "not a connector")
+                    .help(format!(
+                        "declare a connector in `{}` (`frame_a = Frame3D()`), connect it to `{}` inside, and connect to it here",
+                        d.name.name, connector.name
+                    )));
+                }
+                let connectors = connector_names(Kind::User(d));
+                let mut diag = Diagnostic::error(format!("`{}` has no connector `{}`", d.name.name, connector.name))
+                    .primary(connector.span, "unknown connector")
+                    .secondary(d.header, format!("`{}` is defined here", d.name.name));
+                if let Some(s) = did_you_mean(&connector.name, connectors.iter().map(String::as_str)) {
+                    diag = diag.help(s);
+                }
+                diag = if connectors.is_empty() {
+                    diag.note(format!(
+                        "`{}` declares no connectors; declare one with `frame_a = Frame3D()` and connect it inside",
+                        d.name.name
+                    ))
+                } else {
+                    diag.note(format!("its connectors are: {}", connectors.join(", ")))
+                };
+                Err(diag)
             }
             (2, Some((_, Kind::Connector(_)))) => {
                 Err(Diagnostic::error(format!("`{}` is a connector; connect it as a whole", first.name))
@@ -481,7 +842,16 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                     first.name, first.name
                 ))),
             _ => {
-                let names: Vec<&str> = subs.iter().map(|(c, _)| c.name.name.as_str()).collect();
+                if let Some((base, index)) = first.name.strip_suffix(']').and_then(|n| n.split_once('[')) {
+                    if let Some(Entity::Array(n)) = self.entities.get(&flat(prefix, base)) {
+                        return Err(Diagnostic::error(format!(
+                            "index {index} is out of range for `{base}`, which has {n} elements"
+                        ))
+                        .primary(end.span, format!("must be from 1 to {n}"))
+                        .help("check the range of the loop that indexes it"));
+                    }
+                }
+                let names: Vec<&str> = subs.iter().map(|i| i.local.as_str()).collect();
                 let mut d = Diagnostic::error(format!("`{owner}` has no component or connector `{}`", first.name))
                     .primary(first.span, "unknown name");
                 if let Some(s) = did_you_mean(&first.name, names.iter().copied()) {
@@ -629,6 +999,7 @@ fn connector_names(kind: Kind) -> Vec<String> {
                 Declaration::Component(c) if CONNECTOR_TYPES.iter().any(|t| t.name() == c.kind.last().name) => {
                     Some(c.name.name.clone())
                 }
+                Declaration::Variable(v) if v.causality != Causality::Internal => Some(v.name.name.clone()),
                 _ => None,
             })
             .collect(),

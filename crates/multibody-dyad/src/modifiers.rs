@@ -22,11 +22,12 @@ pub struct Mod {
 }
 
 impl Mod {
-    /// A start value `target(initial = value)` for `initial a.b.target = value`:
-    /// `path` is the part after the sub-component (`b`, `target`).
-    pub fn initial_at(path: &[Ident], value: Val, value_span: Span, span: Span) -> Mod {
+    /// A start value `target(initial = value)` for `initial a.b.target = value`
+    /// (or `guess`, per `attribute`): `path` is the part after the
+    /// sub-component (`b`, `target`).
+    pub fn start_at(path: &[Ident], attribute: &str, value: Val, value_span: Span, span: Span) -> Mod {
         let initial = Mod {
-            name: Ident { name: "initial".into(), span: path.last().map_or(span, |p| p.span) },
+            name: Ident { name: attribute.into(), span: path.last().map_or(span, |p| p.span) },
             is_final: false,
             value: Some((value, value_span)),
             nested: vec![],

@@ -1,6 +1,8 @@
-//! A recursive-descent parser for the model-composing subset of Dyad.
-//! Constructs outside the subset are recognised where they start and
-//! reported as "not supported yet", pointing at them.
+//! A recursive-descent parser for Dyad model files: definitions,
+//! declarations, relations (equations, `if`, `for`, `switch`, ...) and
+//! expressions with Julia's precedence. Constructs we do not support are
+//! recognised where they start and reported as "not supported yet",
+//! pointing at them.
 
 use crate::ast::*;
 use crate::diagnostics::Diagnostic;
@@ -312,7 +314,7 @@ impl<'a> Parser<'a> {
             return self.component(prefix.unwrap_or(ComponentKind::Component), doc, start).map(Item::Component);
         }
         if self.at_word("analysis") {
-            return self.analysis(doc, start).map(Item::Analysis);
+            return self.analysis(doc, start).map(|a| Item::Analysis(Box::new(a)));
         }
         if prefix.is_some() {
             return Err(self.expected("`component` or `analysis`"));
@@ -374,20 +376,22 @@ impl<'a> Parser<'a> {
         let Some(word) = self.word().map(str::to_string) else {
             return Err(self.expected("a declaration (`name = Kind(...)` or `parameter ...`), `relations` or `end`"));
         };
+        let next_is_name = matches!(self.nth(1), TokenKind::Ident(_));
         match word.as_str() {
-            "parameter" | "structural" | "final" => return self.parameter(doc).map(Declaration::Parameter),
-            "extends" => {
-                return Err(unsupported("`extends` in a component is", start)
-                    .help("declare the base's sub-components and connections in this component instead"))
+            "final" if matches!(self.nth(1), TokenKind::Ident(w) if w == "variable") => {
+                self.bump();
+                return self.variable(doc, start).map(Declaration::Variable);
             }
-            "variable" | "constant" | "path" => {
-                return Err(unsupported(&format!("`{word}` declarations are"), start).help(
-                    "this front end composes library components; use a `parameter`, or a library component that has the variable",
-                ))
+            "parameter" | "structural" | "final" | "constant" if next_is_name => {
+                return self.parameter(doc).map(Declaration::Parameter)
             }
-            "potential" | "flow" | "stream" | "input" | "output" => {
-                return Err(unsupported(&format!("`{word}` variables are"), start)
-                    .help("declare connectors with the library's types: `frame_a = Frame3D()`, `axis = Spline()`"))
+            "extends" if next_is_name => return self.extends().map(Declaration::Extends),
+            "variable" | "input" | "output" if next_is_name => {
+                return self.variable(doc, start).map(Declaration::Variable)
+            }
+            "path" | "potential" | "flow" | "stream" if next_is_name => {
+                return Err(unsupported(&format!("`{word}` declarations in components are"), start)
+                    .help("declare variables with `variable x::Real`, and connectors with the library's types: `frame_a = Frame3D()`"))
             }
             _ => {}
         }
@@ -397,7 +401,8 @@ impl<'a> Parser<'a> {
         Err(self.expected("a declaration (`name = Kind(...)` or `parameter ...`), `relations` or `end`"))
     }
 
-    /// `name = Kind(modifiers) {metadata}`.
+    /// `name = Kind(modifiers) [if condition] {metadata}`, or an array
+    /// `name = [Kind(modifiers) for i in range]`.
     fn component_decl(&mut self, doc: Option<String>) -> PResult<ComponentDecl> {
         let name = self.ident("a name")?;
         if self.at(&TokenKind::ColonColon) {
@@ -405,22 +410,82 @@ impl<'a> Parser<'a> {
                 .help(format!("write `{} = Kind(...)`", name.name)));
         }
         self.expect(TokenKind::Eq, "`=`")?;
-        if self.at(&TokenKind::LBracket) {
-            return Err(unsupported("arrays of components are", self.span()).help("declare each component by name"));
-        }
+        let bracket = self.eat(&TokenKind::LBracket);
         let kind = self.path("a component kind, e.g. `MultibodyComponents.Body`")?;
         if !self.at(&TokenKind::LParen) {
             return Err(self.expected("`(`").help(format!("write `{} = {}()`", name.name, kind.text())));
         }
         let modifiers = self.modifiers()?;
+        let mut array = None;
+        if bracket {
+            if !self.eat_word("for") {
+                return Err(self.expected("`for`").help(format!(
+                    "an array of components is written `{} = [{}(...) for i in 1:N]`",
+                    name.name,
+                    kind.text()
+                )));
+            }
+            let var = self.ident("the index of the array")?;
+            self.expect_word("in")?;
+            let range = self.range_or_expr()?;
+            self.expect(TokenKind::RBracket, "`]`")?;
+            array = Some((var, range));
+        }
         let span = name.span.to(self.prev_span());
+        let condition = if self.eat_word("if") { Some(self.expr()?) } else { None };
+        self.optional_annotation()?;
+        self.skip_semicolons();
+        Ok(ComponentDecl { doc, name, kind, modifiers, condition, array, span })
+    }
+
+    /// `extends Base(modifiers)`.
+    fn extends(&mut self) -> PResult<ExtendsDecl> {
+        let start = self.expect_word("extends")?;
+        let base = self.path("the component to extend")?;
+        let modifiers = if self.at(&TokenKind::LParen) { self.modifiers()? } else { Vec::new() };
+        let span = start.to(self.prev_span());
+        self.optional_annotation()?;
+        self.skip_semicolons();
+        Ok(ExtendsDecl { base, modifiers, span })
+    }
+
+    /// `variable x::Type[dims] [= expr] [initial expr]`, `input u::Real`,
+    /// `output y::Real[3]`.
+    fn variable(&mut self, doc: Option<String>, start: Span) -> PResult<VariableDecl> {
+        let causality = match self.word() {
+            Some("input") => Causality::Input,
+            Some("output") => Causality::Output,
+            _ => Causality::Internal,
+        };
+        self.bump();
+        let name = self.ident("the variable's name")?;
+        if !self.at(&TokenKind::ColonColon) {
+            return Err(self.expected("`::` and a type").help(format!(
+                "variables have a type: `variable {}::Real` or `variable {}::Real[3]`",
+                name.name, name.name
+            )));
+        }
+        self.bump();
+        let ty = self.type_ref()?;
+        let (mut binding, mut initial) = (None, None);
+        if self.eat(&TokenKind::Eq) {
+            if self.eat_word("initial") {
+                initial = Some(self.expr()?);
+            } else {
+                binding = Some(self.expr()?);
+                if self.eat_word("initial") {
+                    initial = Some(self.expr()?);
+                }
+            }
+        }
+        let span = start.to(self.prev_span());
         if self.at_word("if") {
-            return Err(unsupported("conditional declarations (`... if condition`) are", self.span())
-                .help("declare the component unconditionally, or leave it out"));
+            return Err(unsupported("conditional variables (`... if condition`) are", self.span())
+                .help("declare the variable unconditionally"));
         }
         self.optional_annotation()?;
         self.skip_semicolons();
-        Ok(ComponentDecl { doc, name, kind, modifiers, span })
+        Ok(VariableDecl { doc, causality, name, ty, binding, initial, span })
     }
 
     /// `(a = 1, b(initial = 2), final c = 3)`.
@@ -476,15 +541,19 @@ impl<'a> Parser<'a> {
     /// `[final | structural] parameter name::Type[dims] = default`.
     fn parameter(&mut self, doc: Option<String>) -> PResult<ParameterDecl> {
         let start = self.span();
-        let variability = if self.eat_word("final") {
+        let variability = if self.eat_word("constant") {
+            Variability::Final
+        } else if self.eat_word("final") {
             self.eat_word("structural");
+            self.expect_word("parameter")?;
             Variability::Final
         } else if self.eat_word("structural") {
+            self.expect_word("parameter")?;
             Variability::Structural
         } else {
+            self.expect_word("parameter")?;
             Variability::Parameter
         };
-        self.expect_word("parameter")?;
         let name = self.ident("the parameter's name")?;
         if !self.at(&TokenKind::ColonColon) {
             return Err(self.expected("`::` and a type").help(format!(
@@ -527,12 +596,18 @@ impl<'a> Parser<'a> {
     }
 
     fn relations(&mut self) -> PResult<Vec<Relation>> {
+        self.block(&["metadata", "end"])
+    }
+
+    /// Relations up to (not including) one of the words `stops`, or the
+    /// end of the file.
+    fn block(&mut self, stops: &[&str]) -> PResult<Vec<Relation>> {
         let mut relations = Vec::new();
         loop {
             self.skip_semicolons();
             let doc_span = self.span();
             let doc = self.doc();
-            if self.at_word("metadata") || self.at_word("end") || self.at(&TokenKind::Eof) {
+            if self.word().is_some_and(|w| stops.contains(&w)) || self.at(&TokenKind::Eof) {
                 if doc.is_some() {
                     return Err(Diagnostic::error("a doc string must be followed by what it documents")
                         .primary(doc_span, "documents nothing"));
@@ -540,45 +615,66 @@ impl<'a> Parser<'a> {
                 return Ok(relations);
             }
             relations.push(self.relation()?);
+            self.optional_annotation()?;
+            self.skip_semicolons();
         }
     }
 
     fn relation(&mut self) -> PResult<Relation> {
         let start = self.span();
         let word = self.word().unwrap_or_default().to_string();
+        let call = self.nth(1) == &TokenKind::LParen;
         match word.as_str() {
-            "connect" if self.nth(1) == &TokenKind::LParen => return self.connect(),
-            "initial" => return self.initial(),
-            "if" | "for" | "switch" | "when" => {
-                return Err(unsupported(&format!("`{word}` in relations is"), start)
-                    .help("write the relations for one case without the condition"))
+            "connect" if call => return self.connect(),
+            "assert" if call => return self.assert(),
+            "initial" if self.nth(1) != &TokenKind::Eq => {
+                self.bump();
+                let (lhs, rhs, span) = self.equation(start)?;
+                return Ok(Relation::Initial { lhs, rhs, span });
             }
-            "assert" | "transition" | "continuity" | "analysis_point" | "state" => {
+            "guess" if self.nth(1) != &TokenKind::Eq => {
+                self.bump();
+                let (lhs, rhs, span) = self.equation(start)?;
+                return Ok(Relation::Guess { lhs, rhs, span });
+            }
+            "if" => return self.if_relation(),
+            "for" => return self.for_relation(),
+            "switch" => return self.switch_relation(),
+            "when" | "transition" | "continuity" | "analysis_point" | "state" => {
                 return Err(unsupported(&format!("`{word}` is"), start))
             }
             _ => {}
         }
-        if word.is_empty() && !matches!(self.peek().kind, TokenKind::Number(_) | TokenKind::LParen | TokenKind::Minus) {
-            return Err(self.expected("a relation (`connect(...)` or `initial x.y = value`), `metadata` or `end`"));
+        if word.is_empty()
+            && !matches!(
+                self.peek().kind,
+                TokenKind::Number(_) | TokenKind::LParen | TokenKind::Minus | TokenKind::LBracket
+            )
+        {
+            return Err(self.expected("a relation (an equation, `connect(...)`, `initial ...`), `metadata` or `end`"));
         }
         if !word.is_empty() && self.nth(1) == &TokenKind::Colon {
             return Err(unsupported("named relations (`name: ...`) are", start));
         }
-        // Anything else is an equation: parse it to point at all of it.
+        let (lhs, rhs, span) = self.equation(start)?;
+        Ok(Relation::Equation { lhs, rhs, span })
+    }
+
+    /// `lhs = rhs`.
+    fn equation(&mut self, start: Span) -> PResult<(Expr, Expr, Span)> {
         let lhs = self.expr()?;
-        if self.at(&TokenKind::Eq) {
-            self.bump();
-            let rhs = self.expr()?;
-            if let ExprKind::Name(path) = &lhs.kind {
-                let span = lhs.span.to(rhs.span);
-                return Ok(Relation::Equation { lhs: path.clone(), rhs, span });
+        if !self.at(&TokenKind::Eq) {
+            if self.at(&TokenKind::EqEq) {
+                return Err(self.expected("`=`").help("an equation is written with one `=`; `==` compares"));
             }
-            return Err(unsupported("equations such as this one are", lhs.span.to(rhs.span)).help(
-                "relations here connect components, `connect(a.frame_b, b.frame_a)`, and give start values, `initial joint.phi = 0.5`; use a library component for the behaviour you want",
-            ));
+            return Err(Diagnostic::error("expected `=`: a relation here is an equation `lhs = rhs`")
+                .primary(lhs.span, "this is not an equation")
+                .secondary(self.span(), format!("found {}", self.peek().kind.describe())));
         }
-        Err(Diagnostic::error("expected a relation (`connect(...)` or `initial x.y = value`)")
-            .primary(lhs.span, "this is not a relation"))
+        self.bump();
+        let rhs = self.expr()?;
+        let span = start.to(rhs.span);
+        Ok((lhs, rhs, span))
     }
 
     fn connect(&mut self) -> PResult<Relation> {
@@ -586,10 +682,10 @@ impl<'a> Parser<'a> {
         self.expect(TokenKind::LParen, "`(`")?;
         let mut ends = Vec::new();
         loop {
-            ends.push(self.path("a connector, e.g. `joint.frame_a`")?);
-            if self.at(&TokenKind::LBracket) {
-                return Err(unsupported("connecting elements of arrays is", self.span()));
+            if !matches!(self.peek().kind, TokenKind::Ident(_)) {
+                return Err(self.expected("a connector, e.g. `joint.frame_a`"));
             }
+            ends.push(self.postfix()?);
             if !self.eat(&TokenKind::Comma) {
                 break;
             }
@@ -604,33 +700,107 @@ impl<'a> Parser<'a> {
                 .primary(span, "only one connector")
                 .help("connect two or more connectors: `connect(a.frame_b, b.frame_a)`"));
         }
-        self.optional_annotation()?;
-        self.skip_semicolons();
         Ok(Relation::Connect { ends, span })
     }
 
-    /// `initial joint.phi = value`.
-    fn initial(&mut self) -> PResult<Relation> {
-        let start = self.expect_word("initial")?;
-        if !matches!(self.peek().kind, TokenKind::Ident(_)) {
-            return Err(self.expected("a variable, e.g. `initial joint.phi = 0`"));
+    /// `assert(condition, "message")`.
+    fn assert(&mut self) -> PResult<Relation> {
+        let start = self.expect_word("assert")?;
+        self.expect(TokenKind::LParen, "`(`")?;
+        let condition = self.expr()?;
+        self.expect(TokenKind::Comma, "`,` and a message")?;
+        let message = match self.peek().kind.clone() {
+            TokenKind::Str(s) | TokenKind::TripleStr(s) => {
+                self.bump();
+                s
+            }
+            _ => return Err(self.expected("a message in quotes")),
+        };
+        self.expect(TokenKind::RParen, "`)`")?;
+        Ok(Relation::Assert { condition, message, span: start.to(self.prev_span()) })
+    }
+
+    /// `if c ... elseif c ... else ... end`.
+    fn if_relation(&mut self) -> PResult<Relation> {
+        let start = self.expect_word("if")?;
+        self.enter()?;
+        let mut branches = Vec::new();
+        let condition = self.expr()?;
+        let body = self.block(&["elseif", "else", "end"])?;
+        branches.push((condition, body));
+        let mut otherwise = None;
+        loop {
+            if self.eat_word("elseif") {
+                let condition = self.expr()?;
+                let body = self.block(&["elseif", "else", "end"])?;
+                branches.push((condition, body));
+            } else if self.eat_word("else") {
+                otherwise = Some(self.block(&["end"])?);
+            } else {
+                break;
+            }
         }
-        if self.nth(1) == &TokenKind::LParen {
-            let name = self.word().unwrap_or_default().to_string();
-            return Err(unsupported(&format!("`initial {name}(...)` is"), self.span())
-                .help("give the start value of a state variable: `initial joint.w = 0`"));
+        self.close_block(start, "if")?;
+        self.leave(1);
+        Ok(Relation::If { branches, otherwise, span: start.to(self.prev_span()) })
+    }
+
+    /// `for i in range ... end`.
+    fn for_relation(&mut self) -> PResult<Relation> {
+        let start = self.expect_word("for")?;
+        self.enter()?;
+        let var = self.ident("the loop variable")?;
+        self.expect_word("in")?;
+        let range = self.range_or_expr()?;
+        let body = self.block(&["end"])?;
+        self.close_block(start, "for")?;
+        self.leave(1);
+        Ok(Relation::For { var, range, body, span: start.to(self.prev_span()) })
+    }
+
+    /// `switch subject case A ... end ... [default ... end] end`.
+    fn switch_relation(&mut self) -> PResult<Relation> {
+        let start = self.expect_word("switch")?;
+        self.enter()?;
+        let subject = self.expr()?;
+        let mut cases = Vec::new();
+        let mut default = None;
+        loop {
+            self.skip_semicolons();
+            if self.eat_word("case") {
+                let case = self.path("an enumeration case")?;
+                if self.at(&TokenKind::LParen) && self.nth(1) == &TokenKind::RParen {
+                    self.bump();
+                    self.bump();
+                }
+                let body = self.block(&["end"])?;
+                self.close_block(start, "case")?;
+                cases.push((case, body));
+            } else if self.eat_word("default") {
+                let body = self.block(&["end"])?;
+                self.close_block(start, "default")?;
+                default = Some(body);
+            } else {
+                break;
+            }
         }
-        let target = self.path("a variable")?;
-        if self.at(&TokenKind::LBracket) {
-            return Err(unsupported("start values of single array elements are", self.span())
-                .help(format!("give the whole array: `initial {} = [..., ..., ...]`", target.text())));
+        self.close_block(start, "switch")?;
+        self.leave(1);
+        Ok(Relation::Switch { subject, cases, default, span: start.to(self.prev_span()) })
+    }
+
+    /// The `end` of a block that `start` opened.
+    fn close_block(&mut self, start: Span, what: &str) -> PResult<()> {
+        if self.eat_word("end") {
+            return Ok(());
         }
-        self.expect(TokenKind::Eq, "`=`")?;
-        let value = self.expr()?;
-        let span = start.to(value.span);
-        self.optional_annotation()?;
-        self.skip_semicolons();
-        Ok(Relation::Initial { target, value, span })
+        let mut d = self.expected("`end`");
+        if self.at(&TokenKind::Eof) {
+            d = d
+                .secondary(start, format!("this `{what}` is not closed"))
+                .help(format!("close the `{what}` with `end`"));
+        }
+        Err(d)
     }
 
     fn analysis(&mut self, doc: Option<String>, start: Span) -> PResult<AnalysisDef> {
@@ -725,24 +895,61 @@ impl<'a> Parser<'a> {
 
     pub fn expr(&mut self) -> PResult<Expr> {
         self.enter()?;
-        let e = if self.at_word("if") { self.if_expr()? } else { self.or_expr()? };
+        let e = if self.at_word("if") { self.if_expr()? } else { self.ternary()? };
         self.leave(1);
         Ok(e)
     }
 
+    /// An expression, or a range `start:stop`, `start:step:stop`.
+    fn range_or_expr(&mut self) -> PResult<Expr> {
+        let start = self.expr()?;
+        if !self.eat(&TokenKind::Colon) {
+            return Ok(start);
+        }
+        let second = self.expr()?;
+        let (step, stop) = if self.eat(&TokenKind::Colon) { (Some(second), self.expr()?) } else { (None, second) };
+        let span = start.span.to(stop.span);
+        Ok(Expr {
+            kind: ExprKind::Range { start: Box::new(start), step: step.map(Box::new), stop: Box::new(stop) },
+            span,
+        })
+    }
+
+    /// `c ? a : b`.
+    fn ternary(&mut self) -> PResult<Expr> {
+        let condition = self.or_expr()?;
+        if !self.eat(&TokenKind::Question) {
+            return Ok(condition);
+        }
+        let then = self.or_expr()?;
+        self.expect(TokenKind::Colon, "`:`")?;
+        let otherwise = self.expr()?;
+        let span = condition.span.to(otherwise.span);
+        Ok(Expr {
+            kind: ExprKind::If { condition: Box::new(condition), then: Box::new(then), otherwise: Box::new(otherwise) },
+            span,
+        })
+    }
+
+    /// `if c then a elseif d then b else e`.
     fn if_expr(&mut self) -> PResult<Expr> {
         let start = self.expect_word("if")?;
-        self.or_expr()?;
+        let condition = self.or_expr()?;
         self.expect_word("then")?;
-        self.expr()?;
-        while self.eat_word("elseif") {
-            self.or_expr()?;
-            self.expect_word("then")?;
-            self.expr()?;
-        }
-        self.expect_word("else")?;
-        let last = self.expr()?;
-        Ok(Expr { kind: ExprKind::Unsupported("`if` expressions are"), span: start.to(last.span) })
+        let then = self.expr()?;
+        let otherwise = if self.at_word("elseif") {
+            // `elseif` reads as a nested `if`.
+            self.tokens[self.pos].kind = TokenKind::Ident("if".into());
+            self.if_expr()?
+        } else {
+            self.expect_word("else")?;
+            self.expr()?
+        };
+        let span = start.to(otherwise.span);
+        Ok(Expr {
+            kind: ExprKind::If { condition: Box::new(condition), then: Box::new(then), otherwise: Box::new(otherwise) },
+            span,
+        })
     }
 
     /// A chain `a op b op c ...` of one precedence level: one level of
@@ -778,21 +985,45 @@ impl<'a> Parser<'a> {
     }
 
     fn or_expr(&mut self) -> PResult<Expr> {
-        self.chain(Self::and_expr, |k| matches!(k, TokenKind::Ident(w) if w == "or").then_some(Err("`or` is")))
+        self.chain(Self::and_expr, |k| match k {
+            TokenKind::Ident(w) if w == "or" => Some(Ok(BinaryOp::Or)),
+            TokenKind::OrOr => Some(Ok(BinaryOp::Or)),
+            _ => None,
+        })
     }
 
     fn and_expr(&mut self) -> PResult<Expr> {
-        self.chain(Self::comparison, |k| matches!(k, TokenKind::Ident(w) if w == "and").then_some(Err("`and` is")))
+        self.chain(Self::comparison, |k| match k {
+            TokenKind::Ident(w) if w == "and" => Some(Ok(BinaryOp::And)),
+            TokenKind::AndAnd => Some(Ok(BinaryOp::And)),
+            _ => None,
+        })
     }
 
+    /// `a < b`: one comparison (they do not chain).
     fn comparison(&mut self) -> PResult<Expr> {
-        self.chain(Self::additive, |k| {
-            matches!(
-                k,
-                TokenKind::EqEq | TokenKind::NotEq | TokenKind::Lt | TokenKind::Le | TokenKind::Gt | TokenKind::Ge
-            )
-            .then_some(Err("comparisons are"))
-        })
+        let lhs = self.additive()?;
+        let op = match self.peek().kind {
+            TokenKind::EqEq => BinaryOp::Eq,
+            TokenKind::NotEq => BinaryOp::Ne,
+            TokenKind::Lt => BinaryOp::Lt,
+            TokenKind::Le => BinaryOp::Le,
+            TokenKind::Gt => BinaryOp::Gt,
+            TokenKind::Ge => BinaryOp::Ge,
+            _ => return Ok(lhs),
+        };
+        self.bump();
+        let rhs = self.additive()?;
+        if matches!(
+            self.peek().kind,
+            TokenKind::EqEq | TokenKind::NotEq | TokenKind::Lt | TokenKind::Le | TokenKind::Gt | TokenKind::Ge
+        ) {
+            return Err(
+                unsupported("chained comparisons (`a < b < c`) are", self.span()).help("write `a < b and b < c`")
+            );
+        }
+        let span = lhs.span.to(rhs.span);
+        Ok(Expr { kind: ExprKind::Binary { op, lhs: Box::new(lhs), rhs: Box::new(rhs) }, span })
     }
 
     fn additive(&mut self) -> PResult<Expr> {
@@ -821,7 +1052,7 @@ impl<'a> Parser<'a> {
         let op = match self.peek().kind {
             TokenKind::Minus => Some(Ok(UnaryOp::Neg)),
             TokenKind::Plus => Some(Ok(UnaryOp::Plus)),
-            TokenKind::Bang => Some(Err("`!` is")),
+            TokenKind::Bang => Some(Ok(UnaryOp::Not)),
             _ => None,
         };
         let Some(op) = op else { return self.power() };
@@ -855,24 +1086,40 @@ impl<'a> Parser<'a> {
     fn postfix(&mut self) -> PResult<Expr> {
         let mut e = self.primary()?;
         let mut levels = 0;
-        // Indexing follows a name or a call; `[{` after a value starts metadata.
-        while self.at(&TokenKind::LBracket)
-            && self.nth(1) != &TokenKind::LBrace
-            && matches!(e.kind, ExprKind::Name(_) | ExprKind::Call { .. } | ExprKind::Index { .. })
-        {
-            self.enter()?;
-            levels += 1;
-            self.bump();
-            let mut indices = Vec::new();
-            loop {
-                indices.push(self.expr()?);
-                if !self.eat(&TokenKind::Comma) {
-                    break;
+        // Indexing follows a name or a call; `[{` after a value starts
+        // metadata. A field follows an index: `links[2].frame_a`.
+        loop {
+            if self.at(&TokenKind::LBracket)
+                && self.nth(1) != &TokenKind::LBrace
+                && matches!(
+                    e.kind,
+                    ExprKind::Name(_) | ExprKind::Call { .. } | ExprKind::Index { .. } | ExprKind::Field { .. }
+                )
+            {
+                self.enter()?;
+                levels += 1;
+                self.bump();
+                let mut indices = Vec::new();
+                loop {
+                    indices.push(self.range_or_expr()?);
+                    if !self.eat(&TokenKind::Comma) {
+                        break;
+                    }
                 }
+                self.expect(TokenKind::RBracket, "`,` or `]`")?;
+                let span = e.span.to(self.prev_span());
+                e = Expr { kind: ExprKind::Index { base: Box::new(e), indices }, span };
+            } else if self.at(&TokenKind::Dot)
+                && matches!(e.kind, ExprKind::Index { .. } | ExprKind::Field { .. })
+                && matches!(self.nth(1), TokenKind::Ident(_))
+            {
+                self.bump();
+                let name = self.ident("a name")?;
+                let span = e.span.to(name.span);
+                e = Expr { kind: ExprKind::Field { base: Box::new(e), name }, span };
+            } else {
+                break;
             }
-            self.expect(TokenKind::RBracket, "`,` or `]`")?;
-            let span = e.span.to(self.prev_span());
-            e = Expr { kind: ExprKind::Index { base: Box::new(e), indices }, span };
         }
         self.leave(levels);
         Ok(e)

@@ -44,6 +44,11 @@ pub struct SourceMap {
     connections: Vec<Vec<(String, Span)>>,
     /// Uses of user components named like library components.
     pub shadowing: Vec<Shadowing>,
+    /// Where the model's equations and variables were written: the origin
+    /// `#k` of an equation or variable is `origins[k]`.
+    pub origins: Vec<Span>,
+    /// The declaration of each variable of the equations, by its name.
+    pub variables: HashMap<String, Span>,
 }
 
 impl SourceMap {
@@ -72,6 +77,16 @@ impl SourceMap {
             let find = |name: &str| ends.iter().find(|(n, _)| n == name).map(|(_, s)| *s);
             Some((find(a)?, find(b)?))
         })
+    }
+
+    /// Where the variable `name` of the equations was declared.
+    pub fn variable(&self, name: &str) -> Option<Span> {
+        self.variables.get(name).copied()
+    }
+
+    /// The span of an origin `#k` the lowering gave an equation or variable.
+    pub fn origin(&self, origin: &str) -> Option<Span> {
+        origin.strip_prefix('#')?.parse::<usize>().ok().and_then(|k| self.origins.get(k).copied())
     }
 
     pub fn component(&self, name: &str) -> Option<&ComponentSite> {
