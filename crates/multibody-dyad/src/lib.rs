@@ -44,6 +44,7 @@ mod relations;
 mod scope;
 pub mod source;
 pub mod source_map;
+pub mod stdlib;
 pub mod study;
 pub mod symbolic;
 mod types;
@@ -58,11 +59,22 @@ pub use study::{BadOption, OptionOverrides, RunError, Samples, Target};
 use ast::{ComponentKind, Item};
 use multibody::{Mechanism, Model, SimulationOptions};
 
-/// Model files read as one package: a file may use what another defines.
-#[derive(Debug, Default, Clone)]
+/// Model files read as one package: a file may use what another defines,
+/// and every file may use the standard library ([`stdlib`]).
+#[derive(Debug, Clone)]
 pub struct Package {
     sources: Sources,
     files: Vec<ast::File>,
+}
+
+impl Default for Package {
+    fn default() -> Self {
+        let mut sources = Sources::new();
+        for (name, text) in stdlib::sources() {
+            sources.add(name, text);
+        }
+        Self { sources, files: Vec::new() }
+    }
 }
 
 /// A model ready to assemble: the engine model, the simulation options,
@@ -208,7 +220,7 @@ impl Package {
     /// Lowers the analysis `name` with parameters or start values of its
     /// model given from outside the files (they win over the files').
     pub fn lower_analysis_with(&self, name: &str, overrides: &[Override]) -> Result<Lowered, Diagnostic> {
-        let index = lower::Index::new(&self.files)?;
+        let index = lower::Index::new(stdlib::files(), &self.files)?;
         let analysis = index.analyses.get(name).copied().ok_or_else(|| self.not_found(name, "analysis"))?;
         lower::Lowerer::analysis(&index, analysis, overrides)
     }
@@ -221,7 +233,7 @@ impl Package {
     /// Lowers the component `name` with parameters or start values given
     /// from outside the files.
     pub fn lower_component_with(&self, name: &str, overrides: &[Override]) -> Result<Lowered, Diagnostic> {
-        let index = lower::Index::new(&self.files)?;
+        let index = lower::Index::new(stdlib::files(), &self.files)?;
         let def = index.components.get(name).copied().ok_or_else(|| self.not_found(name, "component"))?;
         lower::Lowerer::component(&index, def, overrides)
     }

@@ -34,17 +34,29 @@ const CONNECTOR_TYPES: [ConnectorType; 5] = [
     ConnectorType::RealOutput,
 ];
 
-/// Every definition of the package, by name.
+/// Every definition of the package, by name (the standard library's with
+/// their library's name first: `BlockComponents.Integrator`).
 pub struct Index<'a> {
-    pub components: HashMap<&'a str, &'a ComponentDef>,
+    pub components: HashMap<String, &'a ComponentDef>,
     pub analyses: HashMap<&'a str, &'a AnalysisDef>,
     pub aliases: HashMap<&'a str, &'a TypeAlias>,
 }
 
 impl<'a> Index<'a> {
-    /// Indexes the definitions; a name defined twice is an error.
-    pub fn new(files: impl IntoIterator<Item = &'a File>) -> Result<Self, Diagnostic> {
+    /// Indexes the standard library and the package's files; a name
+    /// defined twice in the files is an error.
+    pub fn new(
+        libraries: &'a [(&'static str, File)],
+        files: impl IntoIterator<Item = &'a File>,
+    ) -> Result<Self, Diagnostic> {
         let mut index = Index { components: HashMap::new(), analyses: HashMap::new(), aliases: HashMap::new() };
+        for (library, file) in libraries {
+            for item in &file.items {
+                if let Item::Component(c) = item {
+                    index.components.insert(format!("{library}.{}", c.name.name), c);
+                }
+            }
+        }
         let mut seen: HashMap<&'a str, Span> = HashMap::new();
         for file in files {
             for item in &file.items {
@@ -60,13 +72,28 @@ impl<'a> Index<'a> {
                         .help("rename one of the definitions"));
                 }
                 match item {
-                    Item::Component(c) => index.components.insert(&c.name.name, c).map(|_| ()),
+                    Item::Component(c) => index.components.insert(c.name.name.clone(), c).map(|_| ()),
                     Item::Analysis(a) => index.analyses.insert(&a.name.name, a).map(|_| ()),
                     Item::TypeAlias(t) => index.aliases.insert(&t.name.name, t).map(|_| ()),
                 };
             }
         }
         Ok(index)
+    }
+
+    /// The component `name`, also by the library's longer names
+    /// (`BlockComponents.Continuous.Integrator`).
+    pub fn component(&self, name: &str) -> Option<&'a ComponentDef> {
+        if let Some(c) = self.components.get(name) {
+            return Some(c);
+        }
+        let parts: Vec<&str> = name.split('.').collect();
+        match parts.as_slice() {
+            [library, "Continuous" | "Sources" | "Math" | "Nonlinear" | "Interfaces" | "Components" | "Sensors", rest] => {
+                self.components.get(&format!("{library}.{rest}")).copied()
+            }
+            _ => None,
+        }
     }
 }
 
@@ -219,8 +246,23 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                     }
                     continue;
                 }
-                let rep =
-                    members.iter().find(|(_, t, _)| *t == ConnectorType::RealOutput).unwrap_or(&members[0]).0.clone();
+                let Some(rep) = members.iter().find(|(_, t, _)| *t == ConnectorType::RealOutput).map(|m| m.0.clone())
+                else {
+                    // Inputs that nothing drives read 0, as library inputs do.
+                    for (m, _, _) in &members {
+                        self.warnings.push(
+                            Diagnostic::warning(format!("the input `{m}` is not connected to a source; it reads 0"))
+                                .primary(span, "reads 0")
+                                .help("connect it to an output, or give the value with a BlockComponents.Constant"),
+                        );
+                        self.model.equations.equations.push(multibody::Equation {
+                            lhs: multibody::Expr::var(m.as_str()),
+                            rhs: multibody::Expr::Const(0.0),
+                            origin: origin.clone(),
+                        });
+                    }
+                    continue;
+                };
                 for (m, _, _) in members.iter().filter(|(m, _, _)| *m != rep) {
                     eq(&mut self.model, m, &rep);
                 }
@@ -960,7 +1002,11 @@ fn check_unique<'b>(names: impl Iterator<Item = &'b Ident>) -> Result<(), Diagno
 /// or a library component from the engine's registry.
 fn resolve_kind<'a>(index: &Index<'a>, kind: &Path) -> Result<Kind<'a>, Diagnostic> {
     let text = kind.text();
+    // The files' and the library's components, then the engine's.
     if let Some(def) = index.components.get(text.as_str()) {
+        return Ok(Kind::User(def));
+    }
+    if let (Some(def), None) = (index.component(&text), lookup(&text)) {
         return Ok(Kind::User(def));
     }
     if let Some(ty) = CONNECTOR_TYPES.iter().find(|t| t.name() == kind.last().name) {
@@ -978,7 +1024,7 @@ fn resolve_kind<'a>(index: &Index<'a>, kind: &Path) -> Result<Kind<'a>, Diagnost
     let candidates: Vec<&str> = registry()
         .iter()
         .map(|s| s.kind)
-        .chain(index.components.keys().copied())
+        .chain(index.components.keys().map(String::as_str))
         .chain(CONNECTOR_TYPES.iter().map(|t| t.name()))
         .collect();
     let mut d = Diagnostic::error(format!("unknown component kind `{text}`"))

@@ -63,17 +63,17 @@ pub fn effective(index: &Index, def: &ComponentDef, depth: usize) -> Result<Effe
                 .primary(e.span, "too deep")
                 .help("check for components that extend each other"));
         }
-        let Some(base) = index.components.get(e.base.text().as_str()) else {
+        let Some(base) = index.component(&e.base.text()) else {
             let mut d = Diagnostic::error(format!("`{}` is not a component of these files", e.base.text()))
                 .primary(e.base.span, "cannot extend it");
-            if let Some(s) = did_you_mean(&e.base.text(), index.components.keys().copied()) {
+            if let Some(s) = did_you_mean(&e.base.text(), index.components.keys().map(String::as_str)) {
                 d = d.help(s);
             } else {
                 d = d.help("a component extends a component of these files (`partial component Base ... end`); use a library component as a sub-component instead");
             }
             return Err(d);
         };
-        if std::ptr::eq(*base, def) {
+        if std::ptr::eq(base, def) {
             return Err(Diagnostic::error(format!("`{}` extends itself", def.name.name)).primary(e.span, "here"));
         }
         let mut inherited = effective(index, base, depth + 1)?;

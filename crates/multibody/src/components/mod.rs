@@ -130,6 +130,8 @@ static REGISTRY: &[&ComponentSpec] = &[
     &one_d::rotational::DRIVEN_BY_SIGNAL,
     &one_d::rotational::POSITION_SENSOR,
     &one_d::rotational::SPEED_SENSOR,
+    &one_d::rotational::RELATIVE_POSITION_SENSOR,
+    &one_d::rotational::RELATIVE_SPEED_SENSOR,
     &one_d::rotational::FIXED,
     &inertia_1d::INERTIA,
     &motion_sources::ROTATIONAL_POSITION,
@@ -142,6 +144,8 @@ static REGISTRY: &[&ComponentSpec] = &[
     &one_d::translational::DRIVEN_BY_SIGNAL,
     &one_d::translational::POSITION_SENSOR,
     &one_d::translational::SPEED_SENSOR,
+    &one_d::translational::RELATIVE_POSITION_SENSOR,
+    &one_d::translational::RELATIVE_SPEED_SENSOR,
     &one_d::translational::FIXED,
     &inertia_1d::MASS,
     &motion_sources::TRANSLATIONAL_POSITION,
@@ -155,6 +159,9 @@ static REGISTRY: &[&ComponentSpec] = &[
     &blocks::math::GAIN,
     &blocks::math::ADD,
     &blocks::math::FEEDBACK,
+    &blocks::math::ADD3,
+    &blocks::math::PRODUCT,
+    &blocks::math::DIVISION,
     &ideal_gear::SPEC,
     &ideal_gear::R2T,
     &rotor_1d::SPEC,
@@ -197,9 +204,11 @@ static REGISTRY: &[&ComponentSpec] = &[
 ];
 
 /// The kind named `kind`. Accepts the library prefix
-/// (`MultibodyComponents.Body`) and the `Components.`, `Sources.` or
-/// `Sensors.` level of the 1-D libraries
-/// (`RotationalComponents.Components.Damper`).
+/// (`MultibodyComponents.Body`), the sub-package level of the libraries
+/// (`RotationalComponents.Components.Damper`,
+/// `BlockComponents.Math.Gain`), and the other names the 1-D libraries
+/// give the same component (`TorqueSource` for `Torque`, MSL's
+/// `RelAngleSensor`).
 pub fn lookup(kind: &str) -> Option<&'static ComponentSpec> {
     let bare = canonical_kind(kind);
     registry().iter().copied().find(|s| s.kind == bare)
@@ -208,12 +217,27 @@ pub fn lookup(kind: &str) -> Option<&'static ComponentSpec> {
 /// A kind name without the optional prefixes [`lookup`] accepts.
 pub fn canonical_kind(kind: &str) -> String {
     let bare = kind.strip_prefix("MultibodyComponents.").unwrap_or(kind);
-    let bare = bare.replace(".Components.", ".").replace(".Sources.", ".").replace(".Sensors.", ".");
-    // The translational library re-exports the rack and pinion.
-    if bare == "TranslationalComponents.IdealGearR2T" {
-        return "RotationalComponents.IdealGearR2T".into();
+    let mut bare = bare.to_string();
+    for level in [".Components.", ".Sources.", ".Sensors.", ".Math.", ".Continuous.", ".Nonlinear."] {
+        bare = bare.replace(level, ".");
     }
-    bare
+    let other_names = [
+        // The translational library re-exports the rack and pinion.
+        ("TranslationalComponents.IdealGearR2T", "RotationalComponents.IdealGearR2T"),
+        ("RotationalComponents.TorqueSource", "RotationalComponents.Torque"),
+        ("RotationalComponents.SpeedSource", "RotationalComponents.Speed"),
+        ("RotationalComponents.AccelerationSource", "RotationalComponents.Accelerate"),
+        ("RotationalComponents.VelocitySensor", "RotationalComponents.SpeedSensor"),
+        ("RotationalComponents.RelAngleSensor", "RotationalComponents.RelativeAngleSensor"),
+        ("RotationalComponents.RelSpeedSensor", "RotationalComponents.RelativeVelocitySensor"),
+        ("TranslationalComponents.VelocitySensor", "TranslationalComponents.SpeedSensor"),
+        ("TranslationalComponents.RelPositionSensor", "TranslationalComponents.RelativePositionSensor"),
+        ("TranslationalComponents.RelSpeedSensor", "TranslationalComponents.RelativeVelocitySensor"),
+    ];
+    match other_names.iter().find(|(other, _)| *other == bare) {
+        Some((_, kind)) => kind.to_string(),
+        None => bare,
+    }
 }
 
 /// A component built from its parameters.

@@ -119,7 +119,7 @@ macro_rules! one_d_library {
         position: $pos:literal, speed: $speed:literal, effort: $effort:literal, effort_word: $effort_word:literal,
         units: [$u_pos:literal, $u_speed:literal, $u_acc:literal, $u_effort:literal, $u_c:literal, $u_d:literal],
         rest_param: $rest:literal, rest_doc: $rest_doc:literal, damping_doc: $damping_doc:literal, constant_param: $constant:literal,
-        source: $source:literal, angle_sensor: $angle_sensor:literal,
+        source: $source:literal, angle_sensor: $angle_sensor:literal, rel_position_sensor: $rel_position_sensor:literal,
     ) => {
         pub mod $module {
             use $crate::components::one_d::{Element1D, Fixed1D, Sensor1D};
@@ -308,6 +308,45 @@ macro_rules! one_d_library {
                 shapes: $crate::components::shapes::none,
             };
 
+            const RELATIVE: [ConnectorSpec; 2] = [
+                ConnectorSpec::flange($a, $connector, concat!("The ", $conn, " measured from")),
+                ConnectorSpec::flange($b, $connector, concat!("The ", $conn, " measured")),
+            ];
+
+            pub static RELATIVE_POSITION_SENSOR: ComponentSpec = ComponentSpec {
+                kind: concat!($lib, ".", $rel_position_sensor),
+                doc: concat!("Measures the position of ", $b, " relative to ", $a, ", `", $pos, "_rel`, as a signal."),
+                params: &[],
+                connectors: &[
+                    RELATIVE[0],
+                    RELATIVE[1],
+                    ConnectorSpec::output(concat!($pos, "_rel"), "The relative position"),
+                ],
+                variables: &[VarSpec::scalar(concat!($pos, "_rel"), $u_pos, "The relative position")],
+                build: |_: &ParamSet| -> Result<Box<dyn Component>, Error> {
+                    let variables = RELATIVE_POSITION_SENSOR.variables;
+                    Ok(Box::new(Sensor1D { law: SignalLaw::FlangePosition, output: 2, a: Some(0), b: 1, variables }))
+                },
+                shapes: $crate::components::shapes::none,
+            };
+
+            pub static RELATIVE_SPEED_SENSOR: ComponentSpec = ComponentSpec {
+                kind: concat!($lib, ".RelativeVelocitySensor"),
+                doc: concat!("Measures the speed of ", $b, " relative to ", $a, ", `", $speed, "_rel`, as a signal."),
+                params: &[],
+                connectors: &[
+                    RELATIVE[0],
+                    RELATIVE[1],
+                    ConnectorSpec::output(concat!($speed, "_rel"), "The relative speed"),
+                ],
+                variables: &[VarSpec::scalar(concat!($speed, "_rel"), $u_speed, "The relative speed")],
+                build: |_: &ParamSet| -> Result<Box<dyn Component>, Error> {
+                    let variables = RELATIVE_SPEED_SENSOR.variables;
+                    Ok(Box::new(Sensor1D { law: SignalLaw::FlangeSpeed, output: 2, a: Some(0), b: 1, variables }))
+                },
+                shapes: $crate::components::shapes::none,
+            };
+
             pub static SPEED_SENSOR: ComponentSpec = ComponentSpec {
                 kind: concat!($lib, ".SpeedSensor"),
                 doc: concat!("Measures the absolute speed `", $speed, "` of its ", $conn, " as a signal."),
@@ -329,7 +368,7 @@ one_d_library!(
     units: ["rad", "rad/s", "rad/s2", "N.m", "N.m/rad", "N.m.s/rad"],
     rest_param: "phi_rel0", rest_doc: "Unstretched spring angle",
     damping_doc: "Damping coefficient, relating torque to relative angular velocity", constant_param: "tau_constant",
-    source: "Torque", angle_sensor: "AngleSensor",
+    source: "Torque", angle_sensor: "AngleSensor", rel_position_sensor: "RelativeAngleSensor",
 );
 
 one_d_library!(
@@ -340,5 +379,5 @@ one_d_library!(
     units: ["m", "m/s", "m/s2", "N", "N/m", "N.s/m"],
     rest_param: "s_rel0", rest_doc: "Unstretched spring length",
     damping_doc: "Damping coefficient, relating force to relative velocity", constant_param: "f_constant",
-    source: "Force", angle_sensor: "PositionSensor",
+    source: "Force", angle_sensor: "PositionSensor", rel_position_sensor: "RelativePositionSensor",
 );

@@ -485,9 +485,10 @@ fn place(
             .collect();
         return Err(problem(
             format!(
-                "the equations and the blocks {} depend on each other at the same instant (an algebraic loop through \
-                 library blocks)",
-                names.join(", ")
+                "these equations and the block{} `{}` depend on each other at the same instant (an algebraic loop \
+                 through library blocks)",
+                if names.len() == 1 { "" } else { "s" },
+                names.join("`, `")
             ),
             equations,
             vec![],

@@ -244,12 +244,14 @@ fn no_unknown(pending: &Pending, reads: &[Option<Source>], r: &Sym, origin: &str
     if !own_states.is_empty() {
         return problem(
             format!(
-                "this equation fixes `{}`, a state whose derivative another equation decides",
+                "`{}` is given by this equation, and its derivative is used too: that would need the equations \
+                 differentiated (index reduction), which is not supported",
                 own_states.join("`, `")
             ),
             vec![origin.to_string()],
             own_states,
-            "make it an initial equation (`initial ...`), or remove the equation that uses `der` of it",
+            "take `der` of a variable that only `der` decides (a state), or use BlockComponents.Derivative for the \
+             rate of a signal; if this equation holds at the start only, make it `initial`",
         );
     }
     problem(

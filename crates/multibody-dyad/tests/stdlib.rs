@@ -1,0 +1,190 @@
+//! The standard library written in Dyad (and the blocks the engine has
+//! built in beside it), each against its closed form: responses of the
+//! linear blocks to steps and ramps, the limited PID's anti-windup, and
+//! the memoryless blocks point by point.
+//!
+//! Tolerances: responses in time carry the integration error, which runs
+//! at abstol = reltol = 1e-10 keep below 1e-8 (we allow 1e-7); pointwise
+//! blocks agree to rounding (1e-12).
+
+use multibody::{SimulationOptions, Solution};
+use multibody_dyad::Package;
+
+fn run(blocks: &str, connections: &str, stop: f64) -> Solution {
+    let text = format!("example component Test\n{blocks}\nrelations\n{connections}\nend\n");
+    let mut package = Package::new();
+    if let Err(d) = package.add_source("test.dyad", text) {
+        panic!("{}", d.render(package.sources(), false));
+    }
+    let lowered = package.lower_component("Test").unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false)));
+    let options = SimulationOptions { stop, saveat: 0.01, abstol: 1e-10, reltol: 1e-10, ..Default::default() };
+    lowered.assemble().unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false))).simulate(&options).unwrap()
+}
+
+/// Worst |signal - exact(t)|, printed with the tolerance it is held to.
+fn check(s: &Solution, name: &str, tolerance: f64, exact: impl Fn(f64) -> f64) {
+    let column = s.get(name).unwrap_or_else(|| panic!("no column {name}"));
+    let worst = column.iter().zip(s.time()).map(|(y, &t)| (y - exact(t)).abs()).fold(0.0, f64::max);
+    if tolerance > 0.0 {
+        println!("{name}: worst error {worst:.2e} ({:.3} of {tolerance:e})", worst / tolerance);
+    } else {
+        println!("{name}: worst error {worst:.2e} (exact required)");
+    }
+    assert!(worst <= tolerance, "{name}: {worst:e} > {tolerance:e}");
+}
+
+#[test]
+fn integrator_derivative_and_lags_follow_their_responses() {
+    let s = run(
+        "  one = BlockComponents.Constant(k = 1)
+  ramp = BlockComponents.Ramp(height = 5, duration = 5)
+  integrator = BlockComponents.Integrator(k = 2, x0 = 1)
+  derivative = BlockComponents.Derivative(k = 3, T = 0.2)
+  lag = BlockComponents.FirstOrder(k = 2, T = 0.5)
+  second = BlockComponents.SecondOrder(k = 1.5, w = 4, d = 1)
+  pi = BlockComponents.PI(k = 2, T = 0.25)",
+        "  connect(one.y, integrator.u, lag.u, second.u, pi.u)
+  connect(ramp.y, derivative.u)",
+        3.0,
+    );
+    check(&s, "integrator.y", 1e-7, |t| 1.0 + 2.0 * t);
+    // u = t: x = t - T (1 - e^(-t/T)), y = k/T (u - x) = k (1 - e^(-t/T)).
+    check(&s, "derivative.y", 1e-7, |t| 3.0 * (1.0 - (-t / 0.2).exp()));
+    check(&s, "lag.y", 1e-7, |t| 2.0 * (1.0 - (-t / 0.5).exp()));
+    check(&s, "second.y", 1e-7, |t| 1.5 * (1.0 - (1.0 + 4.0 * t) * (-4.0 * t).exp()));
+    check(&s, "pi.y", 1e-7, |t| 2.0 * (1.0 + t / 0.25));
+}
+
+#[test]
+fn the_pid_weights_its_parts() {
+    // Set point 1, measurement 0: P = wp, I = t / Ti, and with wd = 1 the
+    // filtered derivative of the step, D = Nd e^(-t Nd / Td).
+    let s = run(
+        "  one = BlockComponents.Constant(k = 1)
+  zero = BlockComponents.Constant(k = 0)
+  pid = BlockComponents.PID(k = 2, Ti = 0.5, Td = 0.1, Nd = 10, wp = 0.8, wd = 1)
+  pi_only = BlockComponents.PID(k = 2, Ti = 0.5, with_D = false)",
+        "  connect(one.y, pid.u_s, pi_only.u_s)
+  connect(zero.y, pid.u_m, pi_only.u_m)",
+        1.0,
+    );
+    check(&s, "pid.y", 1e-7, |t| 2.0 * (0.8 + t / 0.5 + 10.0 * (-t * 100.0).exp()));
+    check(&s, "pi_only.y", 1e-7, |t| 2.0 * (1.0 + t / 0.5));
+}
+
+#[test]
+fn the_limited_pid_holds_its_limit_and_winds_back() {
+    // A PI (with_D = false) on a constant error e = 1: v = k (e + xi)
+    // reaches y_max at t1; from there xi' = (e + (y_max - v)/(k Ni)) / Ti
+    // is linear: xi settles at y_max / k - e + Ni e (anti-windup).
+    let (k, ti, ni, y_max, e) = (2.0, 0.5, 0.3, 5.0, 1.0);
+    let s = run(
+        "  one = BlockComponents.Constant(k = 1)
+  zero = BlockComponents.Constant(k = 0)
+  pid = BlockComponents.LimPID(k = 2, Ti = 0.5, Ni = 0.3, y_max = 5, with_D = false)",
+        "  connect(one.y, pid.u_s)
+  connect(zero.y, pid.u_m)",
+        4.0,
+    );
+    let t1 = (y_max / k - e) * ti / e;
+    let b = 1.0 / (ni * ti);
+    let a = (e + (y_max - k * e) / (k * ni)) / ti;
+    let xi = |t: f64| if t <= t1 { e * t / ti } else { a / b + (e * t1 / ti - a / b) * (-b * (t - t1)).exp() };
+    // The kink at t1 costs the adaptive steps a little accuracy there.
+    check(&s, "pid.xi", 1e-6, xi);
+    check(&s, "pid.y", 1e-6, |t| (k * (e + xi(t))).min(y_max));
+    assert!((xi(4.0) - (y_max / k - e + ni * e)).abs() < 1e-6);
+}
+
+#[test]
+fn memoryless_blocks_agree_point_by_point() {
+    let s = run(
+        "  wave = BlockComponents.Sine(amplitude = 3, frequency = 0.7)
+  other = BlockComponents.Constant(k = 4)
+  limiter = BlockComponents.Limiter(y_max = 1.5, y_min = -0.5)
+  dead = BlockComponents.DeadZone(uMax = 1, uMin = -2)
+  absolute = BlockComponents.Math.Abs()
+  sign = BlockComponents.Sign()
+  root = BlockComponents.Sqrt()
+  product = BlockComponents.Product()
+  quotient = BlockComponents.Division()
+  sum = BlockComponents.Add3(k1 = 1, k2 = -2, k3 = 0.5)",
+        "  connect(wave.y, limiter.u, dead.u, absolute.u, sign.u, product.u1, quotient.u1, sum.u1, sum.u3)
+  connect(other.y, root.u, product.u2, quotient.u2, sum.u2)",
+        2.0,
+    );
+    let u = |t: f64| 3.0 * (2.0 * std::f64::consts::PI * 0.7 * t).sin();
+    check(&s, "limiter.y", 1e-12, |t| u(t).clamp(-0.5, 1.5));
+    check(&s, "dead.y", 1e-12, |t| {
+        if u(t) > 1.0 {
+            u(t) - 1.0
+        } else if u(t) < -2.0 {
+            u(t) + 2.0
+        } else {
+            0.0
+        }
+    });
+    check(&s, "absolute.y", 1e-12, |t| u(t).abs());
+    check(&s, "sign.y", 0.0, |t| {
+        if u(t) > 0.0 {
+            1.0
+        } else if u(t) < 0.0 {
+            -1.0
+        } else {
+            0.0
+        }
+    });
+    check(&s, "root.y", 1e-12, |_| 2.0);
+    check(&s, "product.y", 1e-12, |t| 4.0 * u(t));
+    check(&s, "quotient.y", 1e-12, |t| u(t) / 4.0);
+    check(&s, "sum.y", 1e-12, |t| 1.5 * u(t) - 8.0);
+}
+
+#[test]
+fn sources_of_time_follow_their_formulas() {
+    let s = run(
+        "  cosine = BlockComponents.Cosine(amplitude = 2, frequency = 0.5, phase = 0.3, offset = 1, start_time = 0.2)
+  decaying = BlockComponents.ExpSine(amplitude = 1.5, damping = 0.8, frequency = 1, phase = 0.1)
+  pulse = BlockComponents.Pulse(amplitude = 3, duty_cycle = 0.25, period = 2, offset = -1, start_time = 0.5)
+  square = BlockComponents.Square(amplitude = 2, frequency = 1.5, offset = 0.5)",
+        "",
+        2.0,
+    );
+    let tau = std::f64::consts::TAU;
+    check(&s, "cosine.y", 1e-12, |t| {
+        1.0 + 2.0 * if t >= 0.2 { (tau * 0.5 * (t - 0.2) + 0.3).cos() } else { 0.3f64.cos() }
+    });
+    check(&s, "decaying.y", 1e-12, |t| 1.5 * (-0.8 * t).exp() * (tau * t + 0.1).sin());
+    check(&s, "pulse.y", 0.0, |t| if t > 0.5 && t <= 1.0 { 3.0 } else { -1.0 });
+    // High for the first half of each period, low for the second.
+    check(&s, "square.y", 0.0, |t| {
+        if t <= 0.0 {
+            0.5
+        } else if (1.5 * t).fract() < 0.5 {
+            2.5
+        } else {
+            -1.5
+        }
+    });
+}
+
+#[test]
+fn relative_sensors_read_the_difference_of_two_flanges() {
+    // Two inertias driven apart by opposite constant torques of 1 N.m:
+    // phi_b - phi_a = t^2 (J = 1 each), w_b - w_a = 2 t.
+    let s = run(
+        "  a = RotationalComponents.Inertia(J = 1)
+  b = RotationalComponents.Inertia(J = 1)
+  push_a = RotationalComponents.ConstantTorque(tau_constant = -1)
+  push_b = RotationalComponents.ConstantTorque(tau_constant = 1)
+  angle = RotationalComponents.RelAngleSensor()
+  speed = RotationalComponents.RelativeVelocitySensor()",
+        "  connect(push_a.spline, a.spline_a)
+  connect(push_b.spline, b.spline_a)
+  connect(a.spline_b, angle.spline_a, speed.spline_a)
+  connect(b.spline_b, angle.spline_b, speed.spline_b)",
+        1.0,
+    );
+    check(&s, "angle.phi_rel", 1e-7, |t| t * t);
+    check(&s, "speed.w_rel", 1e-7, |t| 2.0 * t);
+}
