@@ -215,9 +215,13 @@ fn print_final_states(mechanism: &Mechanism, kept: &output::Kept) {
     let mut groups: Vec<(String, Vec<f64>)> = Vec::new();
     for name in &mechanism.states().names {
         let Some(value) = last(name) else { continue };
-        let base = name.split_once('[').map_or(name.as_str(), |(b, _)| b);
+        // Only a trailing index groups: `links[2].joint.phi` is a name of its own.
+        let base = match name.strip_suffix(']').and_then(|n| n.rsplit_once('[')) {
+            Some((b, _)) => b,
+            None => name.as_str(),
+        };
         match groups.last_mut() {
-            Some((b, values)) if b == base && name.contains('[') => values.push(value),
+            Some((b, values)) if b == base && base != name => values.push(value),
             _ => groups.push((base.to_string(), vec![value])),
         }
     }

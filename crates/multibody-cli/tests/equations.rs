@@ -1,0 +1,126 @@
+//! Models with components of their own (examples/equations), run through
+//! the `multibody run` command, against closed forms, conservation laws
+//! and equivalent models built from library components.
+//!
+//! Tolerances: closed forms in time carry the integration error of runs
+//! at abstol = reltol = 1e-10 (near 1e-9 here; we allow 1e-7); two models
+//! of the same mechanism integrate the same equations, so they agree to
+//! 1e-10; an algebraic loop is solved to rounding at each instant.
+
+mod common;
+
+use common::{crate_path, multibody, scratch, Table};
+
+/// Runs `examples/equations/FILE` (its analysis `analysis`, if given) and
+/// reads the CSV.
+fn run(file: &str, analysis: Option<&str>) -> Table {
+    let stem = file.trim_end_matches(".dyad");
+    let dir = scratch(&format!("equations-{stem}-{}", analysis.unwrap_or("default")));
+    let out = dir.join("out.csv");
+    let path = crate_path(&format!("../../examples/equations/{file}"));
+    let mut args = vec!["run", path.as_str(), "--out", out.to_str().unwrap()];
+    if let Some(a) = analysis {
+        args.extend(["--analysis", a]);
+    }
+    let output = multibody(&dir, &args);
+    assert!(output.status.success(), "multibody run {file} failed:\n{}", String::from_utf8_lossy(&output.stderr));
+    Table::load(&out)
+}
+
+/// The worst `|column - exact(t)|` over the run, printed against its tolerance.
+fn check(table: &Table, name: &str, tolerance: f64, exact: impl Fn(f64) -> f64) {
+    let time = &table.time;
+    let worst = table.column(name).iter().zip(time).map(|(y, &t)| (y - exact(t)).abs()).fold(0.0, f64::max);
+    println!("{name}: worst error {worst:.2e} ({:.3} of the tolerance {tolerance:e})", worst / tolerance);
+    assert!(worst <= tolerance, "{name}: {worst:e} > {tolerance:e}");
+}
+
+#[test]
+fn a_pd_controller_component_gives_the_damped_oscillator() {
+    let table = run("pd_controller.dyad", None);
+    // The table: a solid cylinder of diameter 0.8 m, length 0.05 m and
+    // density 500 kg/m3 about its axis: J = m r^2 / 2.
+    let (r, length, density) = (0.4, 0.05, 500.0);
+    let m = density * std::f64::consts::PI * r * r * length;
+    let j = m * r * r / 2.0;
+    let (kp, kd, reference) = (20.0, 3.0, 1.0);
+    let w0 = (kp / j).sqrt();
+    let zeta = kd / (2.0 * (kp * j).sqrt());
+    assert!(zeta < 1.0, "the test assumes an underdamped loop");
+    let wd = w0 * (1.0 - zeta * zeta).sqrt();
+    let phi =
+        |t: f64| reference * (1.0 - (-zeta * w0 * t).exp() * ((wd * t).cos() + zeta * w0 / wd * (wd * t).sin()));
+    check(&table, "bearing.phi", 1e-7, phi);
+    check(&table, "controller.error", 1e-7, |t| reference - phi(t));
+}
+
+#[test]
+fn a_first_order_filter_follows_its_analytic_response() {
+    let table = run("first_order_filter.dyad", None);
+    // T x' = sin(w t) - x, x(0) = 0.
+    let (tau, w) = (0.3, std::f64::consts::PI);
+    let wt = w * tau;
+    check(&table, "smoother.x", 1e-7, |t| {
+        ((w * t).sin() - wt * (w * t).cos() + wt * (-t / tau).exp()) / (1.0 + wt * wt)
+    });
+}
+
+#[test]
+fn a_spring_in_equations_moves_like_the_library_spring() {
+    let table = run("user_spring.dyad", None);
+    let mut worst = 0.0f64;
+    for pair in ["left_rail.s", "left_rail.v", "right_rail.s", "right_rail.v"] {
+        let (a, b) = (table.column(&format!("library.{pair}")), table.column(&format!("written.{pair}")));
+        worst = a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(worst, f64::max);
+    }
+    println!("spring in equations vs Spring: worst difference {worst:.2e} (tolerance 1e-10: {:.3})", worst / 1e-10);
+    assert!(worst <= 1e-10);
+    // They did move: the spring starts stretched by 0.3 m.
+    assert!(table.column("library.left_rail.s").iter().any(|s| (s + 0.5).abs() > 0.05));
+}
+
+#[test]
+fn a_nonlinear_spring_in_equations_conserves_energy() {
+    let table = run("nonlinear_spring.dyad", None);
+    let (vl, vr, spring) =
+        (table.column("left_rail.v"), table.column("right_rail.v"), table.column("spring.energy"));
+    let energy: Vec<f64> = (0..vl.len()).map(|k| 0.5 * vl[k] * vl[k] + 0.5 * 2.0 * vr[k] * vr[k] + spring[k]).collect();
+    let drift = energy.iter().map(|e| (e - energy[0]).abs()).fold(0.0, f64::max) / energy[0];
+    println!("hardening spring: relative energy drift {drift:.2e} (tolerance 1e-8: {:.3})", drift / 1e-8);
+    assert!(energy[0] > 1e-3 && drift <= 1e-8);
+}
+
+#[test]
+fn an_algebraic_loop_across_two_components_gives_u_over_one_plus_k() {
+    let table = run("algebraic_loop.dyad", None);
+    let (u, y) = (table.column("input.y"), table.column("subtract.y"));
+    let worst = u.iter().zip(y).map(|(u, y)| (y - u / 4.0).abs()).fold(0.0, f64::max);
+    println!("algebraic loop: worst |y - u/(1 + k)| = {worst:.2e}");
+    assert!(worst <= 1e-12 && u.last().copied() == Some(2.0));
+}
+
+#[test]
+fn a_chain_made_in_a_loop_equals_the_chain_written_out() {
+    let array = run("chain.dyad", Some("ChainOfLinksRun"));
+    let by_hand = run("chain.dyad", Some("ChainByHandRun"));
+    assert_eq!(array.time, by_hand.time);
+    for k in 1..=4 {
+        for state in ["phi", "w"] {
+            let (a, b) = (format!("links[{k}].joint.{state}"), format!("link{k}.joint.{state}"));
+            assert_eq!(array.column(&a), by_hand.column(&b), "{a} and {b} differ");
+        }
+        for i in 1..=3 {
+            let (a, b) = (format!("links[{k}].rod.frame_b.r_0[{i}]"), format!("link{k}.rod.frame_b.r_0[{i}]"));
+            assert_eq!(array.column(&a), by_hand.column(&b), "{a} and {b} differ");
+        }
+    }
+}
+
+#[test]
+fn every_model_with_equations_is_checked() {
+    let source = std::fs::read_to_string(crate_path("tests/equations.rs")).unwrap();
+    for entry in std::fs::read_dir(crate_path("../../examples/equations")).unwrap() {
+        let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+        assert!(source.contains(&format!("run(\"{name}\"")), "examples/equations/{name} has no test here");
+    }
+}
