@@ -54,5 +54,117 @@ fn stiff(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, compile, simulate, stiff);
+/// A pendulum held by a PD law on its angle: the law as a component
+/// written in Dyad, or built from library blocks (Feedback, Add).
+fn pd_pendulum(in_dyad: bool) -> String {
+    let controller = if in_dyad {
+        "  controller = PD(kp = 40, kd = 6, reference = 0.5)
+relations
+  connect(angle.phi, controller.angle)
+  connect(speed.w, controller.speed)
+  connect(controller.torque, motor.tau)"
+    } else {
+        "  reference = BlockComponents.Constant(k = 0.5)
+  error = BlockComponents.Feedback()
+  law = BlockComponents.Add(k1 = 40, k2 = -6)
+relations
+  connect(reference.y, error.u1)
+  connect(angle.phi, error.u2)
+  connect(error.y, law.u1)
+  connect(speed.w, law.u2)
+  connect(law.y, motor.tau)"
+    };
+    format!(
+        "component PD
+  parameter kp::Real = 1
+  parameter kd::Real = 0
+  parameter reference::Real = 0
+  angle = RealInput()
+  speed = RealInput()
+  torque = RealOutput()
+relations
+  torque = kp * (reference - angle) - kd * speed
+end
+
+example component Held
+  world = MultibodyComponents.World()
+  rev = MultibodyComponents.Revolute(n = [0, 0, 1], phi(initial = 0), w(initial = 0))
+  body = MultibodyComponents.Body(m = 1, r_cm = [0.5, 0, 0])
+  motor = RotationalComponents.Torque()
+  angle = RotationalComponents.AngleSensor()
+  speed = RotationalComponents.SpeedSensor()
+{controller}
+  connect(world.frame_b, rev.frame_a)
+  connect(rev.frame_b, body.frame_a)
+  connect(motor.spline, angle.spline, speed.spline, rev.axis)
+  connect(motor.support, rev.support)
+end
+"
+    )
+}
+
+/// A chain of `n` first-order lags written in Dyad (two equations each,
+/// and one for each connection): about 3 n equations.
+fn lag_chain(n: usize) -> String {
+    format!(
+        "component Lag
+  parameter T::Real = 0.1
+  u = RealInput()
+  y = RealOutput()
+  variable x::Real
+relations
+  der(x) = (u - x) / T
+  y = x
+end
+
+example component Lags
+  structural parameter N::Integer = {n}
+  source = BlockComponents.Sine(amplitude = 1, frequency = 1)
+  lags = [Lag(T = 0.1 + 0.001 * i) for i in 1:N]
+relations
+  connect(source.y, lags[1].u)
+  for i in 1:N - 1
+    connect(lags[i].y, lags[i + 1].u)
+  end
+end
+"
+    )
+}
+
+/// The cost of equations: one right-hand side of the PD pendulum with
+/// the law in Dyad against the law from library blocks, and compiling a
+/// model of about 1000 equations from its text.
+fn equations(c: &mut Criterion) {
+    let mut group = c.benchmark_group("equations");
+    for (name, in_dyad) in [("rhs_pd_dyad", true), ("rhs_pd_blocks", false)] {
+        let mut package = Package::new();
+        package.add_source("held.dyad", pd_pendulum(in_dyad)).unwrap();
+        let mechanism = package.lower_component("Held").unwrap().assemble().unwrap();
+        let mut ws = mechanism.workspace();
+        let mut y = mechanism.states().start.clone();
+        y[0] = 0.3;
+        y[1] = -0.7;
+        let mut dy = vec![0.0; y.len()];
+        group.bench_function(name, |b| {
+            b.iter(|| mechanism.rhs(&mut ws, std::hint::black_box(0.1), std::hint::black_box(&y), &mut dy).unwrap())
+        });
+    }
+    let text = lag_chain(334);
+    let equations = {
+        let mut package = Package::new();
+        package.add_source("lags.dyad", text.as_str()).unwrap();
+        package.lower_component("Lags").unwrap().model.equations.equations.len()
+    };
+    assert!(equations >= 1000, "the chain has {equations} equations");
+    group.bench_function("compile_1000_equations", |b| {
+        b.iter(|| {
+            let mut package = Package::new();
+            package.add_source("lags.dyad", text.as_str()).unwrap();
+            package.lower_component("Lags").unwrap().assemble().unwrap()
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, compile, simulate, stiff, equations);
 criterion_main!(benches);

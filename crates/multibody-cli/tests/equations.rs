@@ -48,8 +48,7 @@ fn a_pd_controller_component_gives_the_damped_oscillator() {
     let zeta = kd / (2.0 * (kp * j).sqrt());
     assert!(zeta < 1.0, "the test assumes an underdamped loop");
     let wd = w0 * (1.0 - zeta * zeta).sqrt();
-    let phi =
-        |t: f64| reference * (1.0 - (-zeta * w0 * t).exp() * ((wd * t).cos() + zeta * w0 / wd * (wd * t).sin()));
+    let phi = |t: f64| reference * (1.0 - (-zeta * w0 * t).exp() * ((wd * t).cos() + zeta * w0 / wd * (wd * t).sin()));
     check(&table, "bearing.phi", 1e-7, phi);
     check(&table, "controller.error", 1e-7, |t| reference - phi(t));
 }
@@ -82,8 +81,7 @@ fn a_spring_in_equations_moves_like_the_library_spring() {
 #[test]
 fn a_nonlinear_spring_in_equations_conserves_energy() {
     let table = run("nonlinear_spring.dyad", None);
-    let (vl, vr, spring) =
-        (table.column("left_rail.v"), table.column("right_rail.v"), table.column("spring.energy"));
+    let (vl, vr, spring) = (table.column("left_rail.v"), table.column("right_rail.v"), table.column("spring.energy"));
     let energy: Vec<f64> = (0..vl.len()).map(|k| 0.5 * vl[k] * vl[k] + 0.5 * 2.0 * vr[k] * vr[k] + spring[k]).collect();
     let drift = energy.iter().map(|e| (e - energy[0]).abs()).fold(0.0, f64::max) / energy[0];
     println!("hardening spring: relative energy drift {drift:.2e} (tolerance 1e-8: {:.3})", drift / 1e-8);

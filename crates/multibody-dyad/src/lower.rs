@@ -138,8 +138,11 @@ pub struct Lowerer<'a, 'i> {
     /// Every flattened name met so far.
     pub(crate) entities: HashMap<String, Entity>,
     /// Declared connectors that equations read, with the quantities used
-    /// (`None` for a signal).
+    /// (none for a signal), and where each is in that list.
     used: Vec<(String, ConnectorType, Vec<&'static str>)>,
+    used_index: HashMap<String, usize>,
+    /// Each definition with what it extends merged in, made once.
+    effective: HashMap<*const ComponentDef, std::rc::Rc<relations::Effective>>,
 }
 
 fn flat(prefix: &str, name: &str) -> String {
@@ -163,6 +166,8 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             stack: Vec::new(),
             entities: HashMap::new(),
             used: Vec::new(),
+            used_index: HashMap::new(),
+            effective: HashMap::new(),
         }
     }
 
@@ -190,13 +195,15 @@ impl<'a, 'i> Lowerer<'a, 'i> {
 
     /// Notes that equations read `connector` (a quantity `field` of it).
     pub(crate) fn use_connector(&mut self, connector: &str, ty: ConnectorType, field: Option<&'static str>) {
-        let entry = match self.used.iter_mut().find(|(n, _, _)| n == connector) {
-            Some(e) => e,
+        let k = match self.used_index.get(connector) {
+            Some(&k) => k,
             None => {
                 self.used.push((connector.to_string(), ty, Vec::new()));
-                self.used.last_mut().expect("just pushed")
+                self.used_index.insert(connector.to_string(), self.used.len() - 1);
+                self.used.len() - 1
             }
         };
+        let entry = &mut self.used[k];
         if let Some(f) = field {
             if !entry.2.contains(&f) {
                 entry.2.push(f);
@@ -212,15 +219,19 @@ impl<'a, 'i> Lowerer<'a, 'i> {
     fn connector_equations(&mut self) -> Result<(), Diagnostic> {
         let sets = self.graph.sets();
         let used = self.used.clone();
-        let mut done: Vec<usize> = Vec::new();
-        for (name, _, _) in &used {
-            let Some(set) = sets.set_of(name) else { continue };
-            if done.contains(&set) {
-                continue;
-            }
-            done.push(set);
-            let members: Vec<&(String, ConnectorType, Vec<&'static str>)> =
-                used.iter().filter(|(n, _, _)| sets.set_of(n) == Some(set)).collect();
+        // The used connectors of each set, sets in the order first used.
+        let mut order: Vec<usize> = Vec::new();
+        let mut by_set: HashMap<usize, Vec<&(String, ConnectorType, Vec<&'static str>)>> = HashMap::new();
+        for u in &used {
+            let Some(set) = sets.set_of(&u.0) else { continue };
+            let list = by_set.entry(set).or_insert_with(|| {
+                order.push(set);
+                Vec::new()
+            });
+            list.push(u);
+        }
+        for set in order {
+            let members = by_set.remove(&set).expect("each set once");
             let library = sets.library(set);
             let ty = members[0].1;
             // Connection equations point at a `connect` of the first member.
@@ -426,7 +437,14 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 .primary(site, "too deep"));
         }
         self.stack.push(name);
-        let effective = relations::effective(self.index, def, 0)?;
+        let effective = match self.effective.get(&(def as *const ComponentDef)) {
+            Some(e) => e.clone(),
+            None => {
+                let e = std::rc::Rc::new(relations::effective(self.index, def, 0)?);
+                self.effective.insert(def as *const ComponentDef, e.clone());
+                e
+            }
+        };
         check_unique(effective.declarations.iter().map(Declaration::name))?;
 
         let params: Vec<&ParameterDecl> = effective
@@ -670,6 +688,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             self.variable(prefix, name, v, variable_mods.remove(&v.name.name).unwrap_or_default(), &mut scope)?;
         }
 
+        let by_local: HashMap<&str, usize> = subs.iter().enumerate().map(|(k, i)| (i.local.as_str(), k)).collect();
         for flat_relation in &flats {
             let Flat::Connect { ends, env } = flat_relation else { continue };
             let mut resolved = Vec::with_capacity(ends.len());
@@ -680,7 +699,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                     skip = true;
                     break;
                 }
-                resolved.push((self.connect_end(&path, prefix, def, &subs)?, end.span));
+                resolved.push((self.connect_end(&path, prefix, def, &subs, &by_local)?, end.span));
             }
             if !skip {
                 self.graph.connect(resolved)?;
@@ -794,9 +813,10 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         prefix: &str,
         def: &'a ComponentDef,
         subs: &[Instance],
+        by_local: &HashMap<&str, usize>,
     ) -> Result<End, Diagnostic> {
         let owner = def.name.name.as_str();
-        let sub = |n: &str| subs.iter().find(|i| i.local == n).map(|i| (i.decl, i.kind));
+        let sub = |n: &str| by_local.get(n).map(|&k| (subs[k].decl, subs[k].kind));
         let first = &end.parts[0];
         let declared = |name: String, owner: String| -> Option<End> {
             match self.entities.get(&name) {

@@ -210,8 +210,17 @@ static REGISTRY: &[&ComponentSpec] = &[
 /// give the same component (`TorqueSource` for `Torque`, MSL's
 /// `RelAngleSensor`).
 pub fn lookup(kind: &str) -> Option<&'static ComponentSpec> {
-    let bare = canonical_kind(kind);
-    registry().iter().copied().find(|s| s.kind == bare)
+    static BY_NAME: std::sync::OnceLock<std::collections::HashMap<&'static str, &'static ComponentSpec>> =
+        std::sync::OnceLock::new();
+    let by_name = BY_NAME.get_or_init(|| registry().iter().map(|s| (s.kind, *s)).collect());
+    if let Some(spec) = by_name.get(kind) {
+        return Some(spec);
+    }
+    // Only library names with a prefix or a sub-package need the longer way.
+    if !kind.contains('.') {
+        return None;
+    }
+    by_name.get(canonical_kind(kind).as_str()).copied()
 }
 
 /// A kind name without the optional prefixes [`lookup`] accepts.

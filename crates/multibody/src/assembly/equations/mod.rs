@@ -114,6 +114,8 @@ struct Connectivity<'m> {
     specs: HashMap<&'m str, &'static ComponentSpec>,
     sets: UnionFind,
     index: HashMap<String, usize>,
+    /// The sets a library output or a formula drives, found on first use.
+    driven_sets: Option<std::collections::HashSet<usize>>,
 }
 
 impl<'m> Connectivity<'m> {
@@ -132,7 +134,7 @@ impl<'m> Connectivity<'m> {
                 sets.union(index[&w[0]], index[&w[1]]);
             }
         }
-        Self { specs, sets, index }
+        Self { specs, sets, index, driven_sets: None }
     }
 
     /// The component and the rest of a name (`link1.body` + `frame_a.r_0[1]`):
@@ -160,14 +162,23 @@ impl<'m> Connectivity<'m> {
         Some(self.sets.find(i))
     }
 
-    /// Whether a library output is in the connection set of `connector`.
+    /// Whether a library output (or a formula, `sources`) drives the
+    /// connection set of `connector`.
     fn driven(&mut self, connector: &str, sources: &[String]) -> bool {
         let Some(set) = self.set_of(connector) else { return sources.iter().any(|s| s == connector) };
-        let members: Vec<String> = self.index.iter().filter(|(_, &i)| i < usize::MAX).map(|(n, _)| n.clone()).collect();
-        members.iter().any(|m| {
-            let output = self.connector_type(m) == Some(ConnectorType::RealOutput);
-            (output || sources.contains(m)) && self.set_of(m) == Some(set)
-        })
+        if self.driven_sets.is_none() {
+            let names: Vec<String> = self.index.keys().cloned().collect();
+            let mut driven = std::collections::HashSet::new();
+            for m in names {
+                if self.connector_type(&m) == Some(ConnectorType::RealOutput) || sources.contains(&m) {
+                    if let Some(s) = self.set_of(&m) {
+                        driven.insert(s);
+                    }
+                }
+            }
+            self.driven_sets = Some(driven);
+        }
+        self.driven_sets.as_ref().is_some_and(|d| d.contains(&set))
     }
 }
 
