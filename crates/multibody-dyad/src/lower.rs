@@ -118,6 +118,9 @@ pub enum Entity {
     Connector(ConnectorType),
 }
 
+/// A connector that equations read: its name, type and the quantities used.
+type UsedConnector = (String, ConnectorType, Vec<&'static str>);
+
 /// One instance of a declaration: an element of an array has its index
 /// in `env`.
 struct Instance<'d, 'a> {
@@ -139,7 +142,7 @@ pub struct Lowerer<'a, 'i> {
     pub(crate) entities: HashMap<String, Entity>,
     /// Declared connectors that equations read, with the quantities used
     /// (none for a signal), and where each is in that list.
-    used: Vec<(String, ConnectorType, Vec<&'static str>)>,
+    used: Vec<UsedConnector>,
     used_index: HashMap<String, usize>,
     /// Each definition with what it extends merged in, made once.
     effective: HashMap<*const ComponentDef, std::rc::Rc<relations::Effective>>,
@@ -221,7 +224,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         let used = self.used.clone();
         // The used connectors of each set, sets in the order first used.
         let mut order: Vec<usize> = Vec::new();
-        let mut by_set: HashMap<usize, Vec<&(String, ConnectorType, Vec<&'static str>)>> = HashMap::new();
+        let mut by_set: HashMap<usize, Vec<&UsedConnector>> = HashMap::new();
         for u in &used {
             let Some(set) = sets.set_of(&u.0) else { continue };
             let list = by_set.entry(set).or_insert_with(|| {
