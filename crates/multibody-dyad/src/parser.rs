@@ -192,7 +192,14 @@ impl<'a> Parser<'a> {
 
     /// `{ json }` or the older `[{ json }]` after a declaration or relation.
     fn optional_annotation(&mut self) -> PResult<()> {
-        if self.at(&TokenKind::LBrace) {
+        if self.at(&TokenKind::LBrace) && self.nth(1) == &TokenKind::Caret {
+            // `{^name}`: a link into the definition's `_links` metadata.
+            self.bump();
+            self.bump();
+            self.ident("the name of a metadata link")?;
+            self.expect(TokenKind::RBrace, "`}` after the link")?;
+            Ok(())
+        } else if self.at(&TokenKind::LBrace) {
             self.json_object()
         } else if self.at(&TokenKind::LBracket) && self.nth(1) == &TokenKind::LBrace {
             self.bump();

@@ -148,15 +148,22 @@ fn stiff_spring() {
     assert_same("stiff_spring.dyad", m, SimulationOptions { method: Method::Rodas4, ..options(2.0, 0.001) });
 }
 
+/// A file with an editor's layout metadata (inline JSON, `{^name}` links,
+/// a metadata section): the metadata changes nothing.
 #[test]
-fn documentation_pend() {
-    let mut m = Model::new("Pend");
+fn annotated_swing() {
+    let mut m = Model::new("Swing");
     m.add("world", "World");
-    m.add("body", "Body").set("r_cm", [1.0, 0.0, 0.0]);
-    m.add("joint", "Revolute").initial("phi", std::f64::consts::PI / 3.0).initial("w", 0.0);
-    m.connect(["world.frame_b", "joint.frame_a"]);
-    m.connect(["joint.frame_b", "body.frame_a"]);
-    assert_same("docs/pend.dyad", m, options(5.0, 0.01));
+    m.add("beam", "FixedTranslation").set("r", [0.0, 2.0, 0.0]);
+    m.add("pivot", "Revolute").set("n", [0.0, 0.0, 1.0]).initial("phi", -1.2).initial("w", 0.0);
+    m.add("friction", "RotationalComponents.Damper").set("d", 0.4);
+    m.add("seat", "BodyShape").set("r", [0.0, -1.8, 0.0]).set("r_cm", [0.0, -1.8, 0.0]).set("m", 20.0);
+    m.connect(["world.frame_b", "beam.frame_a"]);
+    m.connect(["beam.frame_b", "pivot.frame_a"]);
+    m.connect(["pivot.frame_b", "seat.frame_a"]);
+    m.connect(["friction.spline_a", "pivot.support"]);
+    m.connect(["friction.spline_b", "pivot.axis"]);
+    assert_same("docs/annotated_swing.dyad", m, options(8.0, 0.01));
 }
 
 #[test]
@@ -352,7 +359,7 @@ fn every_example_is_checked() {
         "prescribed_motion.dyad",
         "sensors.dyad",
         "urdf_arm.dyad",
-        "docs/pend.dyad",
+        "docs/annotated_swing.dyad",
     ];
     let mut found = Vec::new();
     let mut dirs = vec![examples_dir()];
