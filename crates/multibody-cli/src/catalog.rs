@@ -5,17 +5,30 @@ use crate::exit::Failure;
 use multibody::components::{lookup, registry, ComponentSpec, Shape};
 
 pub fn list() -> Result<(), Failure> {
-    let width = registry().iter().map(|s| s.kind.len()).max().unwrap_or(0);
+    let written = multibody_dyad::catalog::components();
+    let width = registry().iter().map(|s| s.kind.len()).chain(written.iter().map(|(n, _)| n.len())).max().unwrap_or(0);
     for spec in registry() {
         println!("{:width$}  {}", spec.kind, first_sentence(spec.doc));
+    }
+    for (name, doc) in &written {
+        let doc = doc.split_whitespace().collect::<Vec<_>>().join(" ");
+        println!("{name:width$}  {} (written in Dyad)", first_sentence(&doc));
     }
     Ok(())
 }
 
 pub fn describe(kind: &str) -> Result<(), Failure> {
+    if lookup(kind).is_none() {
+        if let Some(d) = multibody_dyad::catalog::describe(kind) {
+            print!("{}", written_description(&d));
+            return Ok(());
+        }
+    }
     let Some(spec) = lookup(kind) else {
         let canonical = multibody::components::canonical_kind(kind);
-        let close = multibody::closest(&canonical, registry().iter().map(|s| s.kind));
+        let written: Vec<String> = multibody_dyad::catalog::components().into_iter().map(|(n, _)| n).collect();
+        let close =
+            multibody::closest(&canonical, registry().iter().map(|s| s.kind).chain(written.iter().map(String::as_str)));
         let hint = if close.is_empty() {
             "`multibody list` shows every kind".to_string()
         } else {
@@ -53,6 +66,27 @@ fn description(spec: &ComponentSpec) -> String {
         })
         .collect();
     table(&mut out, "Variables (name, unit, description)", variables);
+    out
+}
+
+/// A component written in Dyad: its parameters with their defaults as
+/// written, its connectors and its variables.
+fn written_description(d: &multibody_dyad::catalog::Description) -> String {
+    let doc = d.doc.split_whitespace().collect::<Vec<_>>().join(" ");
+    let mut out = format!("{} (written in Dyad)\n\n{}", d.name, wrap(&doc, 100, ""));
+    let params = d
+        .parameters
+        .iter()
+        .map(|[name, default, ty, doc]| {
+            let default = if default.is_empty() { "(required)".to_string() } else { default.clone() };
+            vec![name.clone(), format!("= {default}"), ty.clone(), doc.clone()]
+        })
+        .collect();
+    table(&mut out, "Parameters (name, default, type, description)", params);
+    let connectors = d.connectors.iter().map(|[n, t]| vec![n.clone(), t.clone()]).collect();
+    table(&mut out, "Connectors (name, type)", connectors);
+    let variables = d.variables.iter().map(|[n, t]| vec![n.clone(), t.clone()]).collect();
+    table(&mut out, "Variables (name, type)", variables);
     out
 }
 

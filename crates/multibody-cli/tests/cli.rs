@@ -310,6 +310,15 @@ fn describe_shows_parameters_connectors_and_variables() {
     let o = multibody(&dir, &["describe", "RotationalComponents.Components.Damper"]);
     assert_eq!(code(&o), 0);
     assert!(stdout(&o).contains("(required)"), "{}", stdout(&o));
+    // A component of the library written in Dyad, by its longer name:
+    // inherited connectors and its variables are shown.
+    let o = multibody(&dir, &["describe", "BlockComponents.Continuous.Derivative"]);
+    assert_eq!(code(&o), 0);
+    let out = stdout(&o);
+    assert!(out.starts_with("BlockComponents.Derivative (written in Dyad)"), "{out}");
+    for line in ["T ", "(required)", "x0", "= 0", "u ", "RealInput", "y ", "RealOutput", "Variables", "x "] {
+        assert!(out.contains(line), "describe Derivative lacks `{line}`:\n{out}");
+    }
 }
 
 #[test]
@@ -319,9 +328,10 @@ fn list_shows_every_kind_once() {
     assert_eq!(code(&o), 0);
     let out = stdout(&o);
     let kinds = multibody::components::registry();
-    assert_eq!(out.lines().count(), kinds.len());
-    for spec in kinds {
-        assert!(out.lines().any(|l| l.split_whitespace().next() == Some(spec.kind)), "{} missing", spec.kind);
+    let written = multibody_dyad::catalog::components();
+    assert_eq!(out.lines().count(), kinds.len() + written.len());
+    for name in kinds.iter().map(|s| s.kind).chain(written.iter().map(|(n, _)| n.as_str())) {
+        assert!(out.lines().any(|l| l.split_whitespace().next() == Some(name)), "{name} missing");
     }
 }
 

@@ -32,6 +32,7 @@
 
 mod analysis;
 pub mod ast;
+pub mod catalog;
 mod connections;
 pub mod diagnostics;
 mod engine_errors;
