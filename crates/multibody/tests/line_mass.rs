@@ -217,3 +217,40 @@ fn spring_with_mass_at_a_massless_node_is_refused() {
     let err = model.assemble().expect_err("a spring with mass at a massless node is refused").to_string();
     assert!(err.contains("spring1") && err.contains("with mass"), "{err}");
 }
+
+/// A ball on a SphericalSpherical rod with mass (m at the rod's middle)
+/// from the world's origin, swinging in gravity: the rod's mass moves at
+/// half the ball's velocity and height, so
+/// `E = (m_b + m/4) v^2 / 2 + (m_b + m/2) g y + I |w|^2 / 2` is constant.
+#[test]
+fn a_rod_with_mass_keeps_the_energy_of_a_mass_at_its_middle() {
+    let (m_rod, m_b, inertia) = (0.8, 1.5, 0.01);
+    let mut model = Model::new("RodPendulum");
+    model.add("world", "World");
+    model.add("rod", "SphericalSpherical").set("r_0", [0.6, -0.8, 0.0]).set("has_mass", true).set("m", m_rod);
+    model
+        .add("ball", "Body")
+        .set("m", m_b)
+        .set("r_cm", [0.0, 0.0, 0.0])
+        .set("I_11", inertia)
+        .set("I_22", inertia)
+        .set("I_33", inertia)
+        .set("orientation_state", OrientationState::Quaternion)
+        .initial("r_0", [0.6, -0.8, 0.0])
+        .initial("v_0", [0.0, 0.0, 1.2])
+        .initial("w_a", [0.3, 0.0, 0.0]);
+    model.connect(["world.frame_b", "rod.frame_a"]);
+    model.connect(["rod.frame_b", "ball.frame_a"]);
+    let eps = 1e-10;
+    let sol = run(&model, &options(4.0, 0.01, eps, eps));
+    let energy = |k: usize| {
+        let (r, v, w) = (v3(&sol, "ball.frame_a.r_0", k), v3(&sol, "ball.v_0", k), v3(&sol, "ball.w_a", k));
+        0.5 * (m_b + m_rod / 4.0) * dot(v, v) + (m_b + m_rod / 2.0) * G * r[1] + 0.5 * inertia * dot(w, w)
+    };
+    let scale = (m_b + m_rod) * G;
+    worst_over(&sol, |k| (energy(k) - energy(0)).abs()).check("rod with mass: energy drift", "J", 100.0 * eps * scale);
+    // The rod keeps its length.
+    worst_over(&sol, |k| (norm(v3(&sol, "ball.frame_a.r_0", k)) - 1.0).abs()).check("rod length", "m", 1e-8);
+    // It swung: the ball left its start.
+    assert!((0..sol.time().len()).any(|k| v3(&sol, "ball.frame_a.r_0", k)[2].abs() > 0.1));
+}

@@ -3,18 +3,19 @@
 use super::constraint_joint::ConstraintJoint;
 use super::rod::{rod_length, rod_shapes};
 use super::spec::{ComponentSpec, ConnectorSpec, ParamSpec};
-use super::{Component, ConstraintKind, ParamSet};
+use super::{Component, ConstraintKind, ParamSet, Part};
 use crate::Error;
 
 pub static SPEC: ComponentSpec = ComponentSpec {
     kind: "SphericalSpherical",
-    doc: "Joint assembly: a spherical joint at each end of a massless rod of fixed length |r_0| between the \
-          origins of frame_a and frame_b (one constraint equation). No torques are transmitted.",
+    doc: "Joint assembly: a spherical joint at each end of a rod of fixed length |r_0| between the origins of \
+          frame_a and frame_b (one constraint equation). No torques are transmitted. The rod is massless, or with \
+          has_mass a point mass m at its midpoint (no degree of freedom: its inertia and weight load the ends).",
     params: &[
-        ParamSpec::boolean("has_mass", false, "Put a point mass m at the rod midpoint (not supported yet)"),
+        ParamSpec::boolean("has_mass", false, "Put a point mass m at the rod midpoint"),
         ParamSpec::boolean("kinematic_constraint", true, "Kept for compatibility"),
         ParamSpec::boolean("constraint_residue_external", false, "Kept for compatibility"),
-        ParamSpec::boolean("point_gravity", false, "Kept for compatibility (the rod is massless)"),
+        ParamSpec::boolean("point_gravity", false, "The rod's point mass feels point gravity"),
         ParamSpec::boolean("render", true, "Render the rod in animations"),
         ParamSpec::vector("color", &[1.0, 1.0, 0.0, 1.0], "", "Colour (RGBA)"),
         ParamSpec::real("specular_coefficient", 1.5, "", "Reflection of light in animations"),
@@ -34,12 +35,29 @@ pub static SPEC: ComponentSpec = ComponentSpec {
 };
 
 fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
-    if p.boolean("has_mass") {
-        return Err(Error::Unsupported {
-            component: p.component.into(),
-            what: "a rod with mass (has_mass = true)".into(),
-            fix: "put a PointMass between two SphericalSpherical rods instead".into(),
-        });
+    let rod = ConstraintJoint { kind: ConstraintKind::Distance { length: rod_length(p, "r_0")? } };
+    if !p.boolean("has_mass") {
+        return Ok(Box::new(rod));
     }
-    Ok(Box::new(ConstraintJoint { kind: ConstraintKind::Distance { length: rod_length(p, "r_0")? } }))
+    let m = p.non_negative("m", true)?;
+    let point_gravity = p.boolean("point_gravity") || p.world.point_gravity;
+    Ok(Box::new(RodWithMass { rod, m, point_gravity }))
+}
+
+/// The rod with a point mass at its midpoint.
+#[derive(Debug)]
+struct RodWithMass {
+    rod: ConstraintJoint,
+    m: f64,
+    point_gravity: bool,
+}
+
+impl Component for RodWithMass {
+    fn parts(&self) -> Vec<Part> {
+        let mut parts = self.rod.parts();
+        if self.m > 0.0 {
+            parts.push(Part::LineMass { a: 0, b: 1, m: self.m, h: 0.5, point_gravity: self.point_gravity });
+        }
+        parts
+    }
 }
