@@ -19,7 +19,15 @@ pub fn list() -> Result<(), Failure> {
 
 pub fn describe(kind: &str) -> Result<(), Failure> {
     if lookup(kind).is_none() {
-        if let Some(d) = multibody_dyad::catalog::describe(kind) {
+        // A kind written in Dyad may be named without its library when only one library has it.
+        let suffix = format!(".{kind}");
+        let mut in_libraries: Vec<String> = multibody_dyad::catalog::components()
+            .into_iter()
+            .map(|(n, _)| n)
+            .filter(|n| n.ends_with(&suffix))
+            .collect();
+        let full = if in_libraries.len() == 1 { in_libraries.pop().unwrap() } else { kind.to_string() };
+        if let Some(d) = multibody_dyad::catalog::describe(&full) {
             print!("{}", written_description(&d));
             return Ok(());
         }
@@ -70,7 +78,7 @@ fn description(spec: &ComponentSpec) -> String {
 }
 
 /// A component written in Dyad: its parameters with their defaults as
-/// written, its connectors and its variables.
+/// written, its connectors, the parts it is made of, and its variables.
 fn written_description(d: &multibody_dyad::catalog::Description) -> String {
     let doc = d.doc.split_whitespace().collect::<Vec<_>>().join(" ");
     let mut out = format!("{} (written in Dyad)\n\n{}", d.name, wrap(&doc, 100, ""));
@@ -85,6 +93,10 @@ fn written_description(d: &multibody_dyad::catalog::Description) -> String {
     table(&mut out, "Parameters (name, default, type, description)", params);
     let connectors = d.connectors.iter().map(|[n, t]| vec![n.clone(), t.clone()]).collect();
     table(&mut out, "Connectors (name, type)", connectors);
+    if !d.parts.is_empty() {
+        let parts = d.parts.iter().map(|[n, k]| vec![n.clone(), k.clone()]).collect();
+        table(&mut out, "Made of (name, component)", parts);
+    }
     let variables = d.variables.iter().map(|[n, t]| vec![n.clone(), t.clone()]).collect();
     table(&mut out, "Variables (name, type)", variables);
     out

@@ -4,7 +4,7 @@
 //! included).
 
 use crate::ast::{Causality, ComponentKind, Declaration, Item};
-use crate::lower::Index;
+use crate::lower::{Index, CONNECTOR_TYPES};
 use crate::relations::effective;
 use crate::stdlib;
 
@@ -16,6 +16,8 @@ pub struct Description {
     pub parameters: Vec<[String; 4]>,
     /// Name, connector type.
     pub connectors: Vec<[String; 2]>,
+    /// Name, component kind: the parts it is made of.
+    pub parts: Vec<[String; 2]>,
     /// Name, type (with sizes).
     pub variables: Vec<[String; 2]>,
 }
@@ -49,6 +51,7 @@ pub fn describe(name: &str) -> Option<Description> {
     let merged = effective(&index, def, 0).ok()?;
     let mut parameters = Vec::new();
     let mut connectors = Vec::new();
+    let mut parts = Vec::new();
     let mut variables = Vec::new();
     for d in &merged.declarations {
         match d {
@@ -58,7 +61,10 @@ pub fn describe(name: &str) -> Option<Description> {
                 source(p.ty.span),
                 p.doc.clone().unwrap_or_default(),
             ]),
-            Declaration::Component(c) => connectors.push([c.name.name.clone(), c.kind.text()]),
+            Declaration::Component(c) if CONNECTOR_TYPES.iter().any(|t| t.name() == c.kind.last().name) => {
+                connectors.push([c.name.name.clone(), c.kind.text()])
+            }
+            Declaration::Component(c) => parts.push([c.name.name.clone(), c.kind.text()]),
             Declaration::Variable(v) => match v.causality {
                 Causality::Input => connectors.push([v.name.name.clone(), "RealInput".into()]),
                 Causality::Output => connectors.push([v.name.name.clone(), "RealOutput".into()]),
@@ -68,5 +74,5 @@ pub fn describe(name: &str) -> Option<Description> {
         }
     }
     let full = index.components.iter().find(|(_, c)| std::ptr::eq(**c, def)).map(|(n, _)| n.clone())?;
-    Some(Description { name: full, doc: def.doc.clone().unwrap_or_default(), parameters, connectors, variables })
+    Some(Description { name: full, doc: def.doc.clone().unwrap_or_default(), parameters, connectors, parts, variables })
 }

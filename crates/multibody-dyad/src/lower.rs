@@ -26,7 +26,7 @@ const MAX_NESTING: usize = 32;
 /// How many library components one model may have.
 const MAX_COMPONENTS: usize = 20_000;
 /// The connector types users can declare, by the names the library gives them.
-const CONNECTOR_TYPES: [ConnectorType; 5] = [
+pub(crate) const CONNECTOR_TYPES: [ConnectorType; 5] = [
     ConnectorType::Frame,
     ConnectorType::Spline,
     ConnectorType::Flange,

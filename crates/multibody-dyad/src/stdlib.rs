@@ -8,8 +8,10 @@ use crate::parser::parse;
 use std::sync::OnceLock;
 
 /// Each library: its name, the file's name in messages, and its text.
-const LIBRARIES: &[(&str, &str, &str)] =
-    &[("BlockComponents", "<stdlib>/BlockComponents.dyad", include_str!("../stdlib/BlockComponents.dyad"))];
+const LIBRARIES: &[(&str, &str, &str)] = &[
+    ("BlockComponents", "<stdlib>/BlockComponents.dyad", include_str!("../stdlib/BlockComponents.dyad")),
+    ("MultibodyComponents", "<stdlib>/MultibodyComponents.dyad", include_str!("../stdlib/MultibodyComponents.dyad")),
+];
 
 /// The libraries' names, file names and texts, in file order.
 pub fn sources() -> impl Iterator<Item = (&'static str, &'static str)> {

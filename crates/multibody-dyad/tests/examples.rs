@@ -345,6 +345,38 @@ fn urdf_arm() {
     assert_same("urdf_arm.dyad", m, options(4.0, 0.01));
 }
 
+/// The cable written in Dyad against its parts added one by one: five
+/// segments on ball joints and the rod that closes the loop at the post.
+#[test]
+fn cable_bridge() {
+    let (n, l, mass) = (6, 2.4, 6.0);
+    let segment = [l / n as f64, 0.0, 0.0];
+    let mut m = Model::new("CableBridge");
+    m.add("world", "World");
+    m.add("post", "Fixed").set("r", [2.0, 0.0, 0.0]);
+    for i in 1..n {
+        m.add(format!("cable.links[{i}]"), "BodyShape")
+            .set("r", segment)
+            .set("r_cm", segment.map(|x| x / 2.0))
+            .set("m", mass / n as f64)
+            .set("radius", 0.03);
+    }
+    for i in 1..n {
+        m.add(format!("cable.joints[{i}]"), "Spherical").set("orientation_state", OrientationState::Quaternion);
+    }
+    m.add("cable.rod", "SphericalSpherical").set("r_0", segment).set("has_mass", true).set("m", mass / n as f64);
+    m.connect(["world.frame_b", "cable.joints[1].frame_a"]);
+    for i in 1..n {
+        m.connect([format!("cable.joints[{i}].frame_b"), format!("cable.links[{i}].frame_a")]);
+    }
+    for i in 1..n - 1 {
+        m.connect([format!("cable.links[{i}].frame_b"), format!("cable.joints[{}].frame_a", i + 1)]);
+    }
+    m.connect([format!("cable.links[{}].frame_b", n - 1), "cable.rod.frame_a".into()]);
+    m.connect(["cable.rod.frame_b", "post.frame_b"]);
+    assert_same("cable_bridge.dyad", m, options(3.0, 0.01));
+}
+
 #[test]
 fn every_example_is_checked() {
     let checked = [
@@ -359,6 +391,7 @@ fn every_example_is_checked() {
         "prescribed_motion.dyad",
         "sensors.dyad",
         "urdf_arm.dyad",
+        "cable_bridge.dyad",
         "docs/annotated_swing.dyad",
     ];
     let mut found = Vec::new();

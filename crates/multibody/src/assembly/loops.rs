@@ -12,6 +12,11 @@ use crate::{Error, Mechanism};
 /// Start residuals below this (m or rad) count as closed.
 const CLOSED: f64 = 1e-10;
 const NEWTON_ITERATIONS: usize = 60;
+/// Newton steps that hardly shrink the residual before the start is bent.
+const STALLED: usize = 4;
+/// How often, and by how much (rad per free coordinate, growing), it is bent.
+const BENDS: usize = 3;
+const BEND: f64 = 0.05;
 
 /// The constraints, in the order of `tree.cuts`, and each cut joint's place
 /// in its component's joint list.
@@ -127,12 +132,27 @@ pub fn close(mechanism: &mut Mechanism) -> Result<(), Error> {
         fix: String::new(),
     };
     let mut best = f64::INFINITY;
+    let (mut previous, mut stalled, mut bends) = (f64::INFINITY, 0, 0);
     for _ in 0..NEWTON_ITERATIONS {
         mechanism.system.constraint_state(&mut ws, &y).map_err(as_error)?;
         let size = ws.residual.iter().fold(0.0f64, |a, r| a.max(r.abs()));
         best = best.min(size);
         if size <= CLOSED * 1e-2 {
             break;
+        }
+        stalled = if size > 0.99 * previous { stalled + 1 } else { 0 };
+        previous = size;
+        if stalled >= STALLED && bends < BENDS {
+            // A stretched-out start (a straight cable between two mounts closer
+            // than its length) is a singular point: no first-order motion
+            // shortens it. Bend every free joint a little and start again.
+            bends += 1;
+            for (du, &is_free) in ws.du.iter_mut().zip(&free[..nv]) {
+                *du = if is_free { BEND * bends as f64 } else { 0.0 };
+            }
+            mechanism.system.retract(&mut y, &mut ws);
+            (previous, stalled) = (f64::INFINITY, 0);
+            continue;
         }
         mechanism.system.least_norm_step(&mut ws, Some(&free[..nv]), true);
         mechanism.system.retract(&mut y, &mut ws);

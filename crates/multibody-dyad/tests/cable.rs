@@ -1,0 +1,156 @@
+//! MultibodyComponents.Cable, written in Dyad from the library's own parts,
+//! against an equivalent chain written out joint by joint, and (closing a
+//! loop between two mounts) against conservation of energy.
+//!
+//! Tolerances: the two chains integrate the same equations in the same
+//! order, so they agree to rounding amplified by the integrator (1e-9 is
+//! far above what we see, far below any modelling difference). Energy
+//! drifts with the integration error, which at abstol = reltol = 1e-10 is
+//! held to 1e-8 of m g l.
+
+use multibody::{SimulationOptions, Solution};
+use multibody_dyad::Package;
+
+const G: f64 = 9.80665;
+
+fn simulate(text: &str, model: &str, stop: f64) -> Solution {
+    let mut package = Package::new();
+    if let Err(d) = package.add_source("cable.dyad", text.to_string()) {
+        panic!("{}", d.render(package.sources(), false));
+    }
+    let lowered = package.lower_component(model).unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false)));
+    let options = SimulationOptions { stop, saveat: 0.01, abstol: 1e-10, reltol: 1e-10, ..Default::default() };
+    lowered.assemble().unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false))).simulate(&options).unwrap()
+}
+
+fn column<'a>(s: &'a Solution, name: &str) -> &'a [f64] {
+    s.get(name).unwrap_or_else(|| panic!("no column {name}"))
+}
+
+fn vector(s: &Solution, name: &str, k: usize) -> [f64; 3] {
+    [1, 2, 3].map(|i| column(s, &format!("{name}[{i}]"))[k])
+}
+
+/// The world-resolved velocity of a point `at` fixed on a body.
+fn point_velocity(s: &Solution, body: &str, at: [f64; 3], k: usize) -> [f64; 3] {
+    let w_a = vector(s, &format!("{body}.w_a"), k);
+    // R maps world to frame_a coordinates, so w_0 = R^T w_a.
+    let r = |i: usize, j: usize| column(s, &format!("{body}.frame_a.R[{i},{j}]"))[k];
+    let w = [1, 2, 3].map(|j| (1..=3).map(|i| r(i, j) * w_a[i - 1]).sum::<f64>());
+    let origin = vector(s, &format!("{body}.frame_a.r_0"), k);
+    let lever = [0, 1, 2].map(|i| at[i] - origin[i]);
+    let v = vector(s, &format!("{body}.v_0"), k);
+    [
+        v[0] + w[1] * lever[2] - w[2] * lever[1],
+        v[1] + w[2] * lever[0] - w[0] * lever[2],
+        v[2] + w[0] * lever[1] - w[1] * lever[0],
+    ]
+}
+
+/// A load hanging from the world on a three-segment cable, started
+/// horizontal: the Cable and the same chain of Spherical joints and
+/// BodyShapes move the same.
+#[test]
+fn a_cable_moves_as_the_chain_it_is_made_of() {
+    let text = "
+example component WithCable
+  world = MultibodyComponents.World()
+  cable = MultibodyComponents.Cable(n = 3, l = 1.2, m = 0.6, dir = [1, 0, 0])
+  load = MultibodyComponents.Body(m = 0.5, r_cm = [0, 0, 0])
+relations
+  connect(world.frame_b, cable.frame_a)
+  connect(cable.frame_b, load.frame_a)
+end
+example component ByHand
+  world = MultibodyComponents.World()
+  link1 = MultibodyComponents.BodyShape(r = [0.4, 0, 0], r_cm = [0.2, 0, 0], m = 0.2, radius = 0.05)
+  link2 = MultibodyComponents.BodyShape(r = [0.4, 0, 0], r_cm = [0.2, 0, 0], m = 0.2, radius = 0.05)
+  link3 = MultibodyComponents.BodyShape(r = [0.4, 0, 0], r_cm = [0.2, 0, 0], m = 0.2, radius = 0.05)
+  ball1 = MultibodyComponents.Spherical(orientation_state = OrientationState.Quaternion())
+  ball2 = MultibodyComponents.Spherical(orientation_state = OrientationState.Quaternion())
+  ball3 = MultibodyComponents.Spherical(orientation_state = OrientationState.Quaternion())
+  ball4 = MultibodyComponents.Spherical(orientation_state = OrientationState.Quaternion())
+  load = MultibodyComponents.Body(m = 0.5, r_cm = [0, 0, 0])
+relations
+  connect(world.frame_b, ball1.frame_a)
+  connect(ball1.frame_b, link1.frame_a)
+  connect(link1.frame_b, ball2.frame_a)
+  connect(ball2.frame_b, link2.frame_a)
+  connect(link2.frame_b, ball3.frame_a)
+  connect(ball3.frame_b, link3.frame_a)
+  connect(link3.frame_b, ball4.frame_a)
+  connect(ball4.frame_b, load.frame_a)
+end
+";
+    let cable = simulate(text, "WithCable", 2.0);
+    let by_hand = simulate(text, "ByHand", 2.0);
+    assert_eq!(cable.time().len(), by_hand.time().len());
+    let mut worst = 0.0f64;
+    for i in 1..=3 {
+        for c in 1..=3 {
+            let a = column(&cable, &format!("cable.links[{i}].frame_b.r_0[{c}]"));
+            let b = column(&by_hand, &format!("link{i}.frame_b.r_0[{c}]"));
+            worst = a.iter().zip(b).map(|(a, b)| (a - b).abs()).fold(worst, f64::max);
+        }
+    }
+    let load = column(&cable, "load.r_0[2]");
+    let fallen = load[0] - load.iter().copied().fold(f64::INFINITY, f64::min);
+    println!(
+        "cable vs chain: worst position difference {worst:.2e} m ({:.3} of 1e-9); load fell {fallen:.2} m",
+        worst / 1e-9
+    );
+    assert!(fallen > 0.5, "the load hardly moves ({fallen} m)");
+    assert!(worst <= 1e-9, "the cable and the chain differ by {worst} m");
+}
+
+/// A cable 2 m long between the world's origin and a mount 1.5 m away,
+/// closed by the cut rod: assembly bends it from its straight start until
+/// the rod spans the rest; it then swings with the rod's length held and
+/// its energy (the
+/// segments' KE + PE, the rod's point mass) constant.
+#[test]
+fn a_cable_between_two_mounts_closes_and_keeps_its_energy() {
+    let text = "
+example component Bridge
+  world = MultibodyComponents.World()
+  mount = MultibodyComponents.Fixed(r = [1.5, 0, 0])
+  cable = MultibodyComponents.Cable(n = 4, iscut = true, l = 2, m = 4, dir = [1, 0, 0], radius = 0.02)
+relations
+  connect(world.frame_b, cable.frame_a)
+  connect(cable.frame_b, mount.frame_b)
+end
+";
+    let (n, l, m) = (4, 2.0, 4.0);
+    let s = simulate(text, "Bridge", 2.0);
+    let m_rod = m / n as f64;
+    let energy = |k: usize| {
+        let segments: f64 = (1..n)
+            .map(|i| column(&s, &format!("cable.links[{i}].KE"))[k] + column(&s, &format!("cable.links[{i}].PE"))[k])
+            .sum();
+        // The rod's mass is at its middle, between the last segment's end and the mount (still).
+        let end = vector(&s, "cable.rod.frame_a.r_0", k);
+        let v_end = point_velocity(&s, &format!("cable.links[{}]", n - 1), end, k);
+        let v_mid = v_end.map(|v| v / 2.0);
+        let y_mid = (end[1] + vector(&s, "cable.rod.frame_b.r_0", k)[1]) / 2.0;
+        segments + 0.5 * m_rod * v_mid.iter().map(|v| v * v).sum::<f64>() + m_rod * G * y_mid
+    };
+    let e0 = energy(0);
+    let scale = m * G * l;
+    let mut drift = 0.0f64;
+    let mut rod_length = 0.0f64;
+    let mut sag = 0.0f64;
+    for k in 0..s.time().len() {
+        drift = drift.max((energy(k) - e0).abs() / scale);
+        let (a, b) = (vector(&s, "cable.rod.frame_a.r_0", k), vector(&s, "cable.rod.frame_b.r_0", k));
+        let length = ((0..3).map(|i| (b[i] - a[i]).powi(2)).sum::<f64>()).sqrt();
+        rod_length = rod_length.max((length - l / n as f64).abs());
+        sag = sag.max(-a[1]);
+    }
+    println!(
+        "bridge: |E - E0| / (m g l) {drift:.2e} ({:.3} of 1e-8); rod length error {rod_length:.1e} m; sag {sag:.2} m",
+        drift / 1e-8
+    );
+    assert!(sag > 0.2, "the cable does not swing down ({sag} m)");
+    assert!(rod_length <= 1e-7, "the rod's length changes by {rod_length} m");
+    assert!(drift <= 1e-8, "energy drifts by {drift} of m g l");
+}
