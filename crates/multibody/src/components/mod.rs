@@ -48,6 +48,9 @@ mod revolute;
 mod revolute_constraint;
 mod revolute_planar_loop_constraint;
 mod rod;
+mod rolling_constraint_vertical_wheel;
+mod rolling_wheel;
+mod rolling_wheel_set;
 mod rotor_1d;
 mod sensors;
 mod spherical;
@@ -62,11 +65,14 @@ mod universal_spherical;
 mod urdf_body;
 mod urdf_joint;
 mod visualizers;
+mod wheel_common;
 pub mod world;
 mod world_force;
 mod world_torque;
 
-pub use crate::system::laws::{resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, RotationLock, SignalSource};
+pub use crate::system::laws::{
+    resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, RotationLock, SignalSource, WheelContact,
+};
 pub use crate::system::{DriveLevel, DriveMap, SignalLaw};
 pub use params::ParamSet;
 pub use spec::{ComponentSpec, ConnectorSpec, ConnectorType, Default, ParamSpec, ParamType, Shape, VarSpec};
@@ -116,6 +122,11 @@ static REGISTRY: &[&ComponentSpec] = &[
     &loop_assemblies::USP,
     &loop_assemblies::SSR,
     &loop_assemblies::SSP,
+    &rolling_constraint_vertical_wheel::SPEC,
+    &rolling_wheel::JOINT,
+    &rolling_wheel::WHEEL,
+    &rolling_wheel_set::JOINT,
+    &rolling_wheel_set::SET,
     &spring::SPEC,
     &damper::SPEC,
     &spring_damper_parallel::SPEC,

@@ -12,9 +12,10 @@
 
 use super::{DynamicsError, Workspace};
 use crate::math::dense::{cholesky, cholesky_solve, ldlt_pivoted, ldlt_solve, lu, lu_solve};
+use crate::math::wheel::contact_frame;
 use crate::math::{rotation_vector, Force, Mat3, Motion, RigidInertia, Vec3};
 use crate::system::{Anchor, Attachment, Constraint, LineMass, System, GROUND};
-use crate::system::{ConstraintKind, RotationLock};
+use crate::system::{ConstraintKind, RotationLock, WheelContact};
 
 /// Rows whose pivot is below this fraction of the largest are redundant.
 const RANK_TOLERANCE: f64 = 1e-10;
@@ -42,6 +43,15 @@ enum Row {
     Rotation(Vec3),
     Translation(Vec3),
     Distance,
+    /// A wheel's contact: `e . (v_B + w_B x delta)`, the velocity along the
+    /// world direction `e` of B's material point at `delta` from B's origin
+    /// (relative to the ground), with the rates `e_dot` and `delta_dot`.
+    Contact {
+        e: Vec3,
+        e_dot: Vec3,
+        delta: Vec3,
+        delta_dot: Vec3,
+    },
 }
 
 /// The rows of a constraint at the current state, and their residuals.
@@ -87,6 +97,21 @@ fn rows(kind: &ConstraintKind, a: &EndState, b: &EndState, out: &mut [(Row, f64)
             }
         }
         ConstraintKind::Distance { length } => push(Row::Distance, r_ab.norm() - length),
+        ConstraintKind::Wheel { radius, contact } => {
+            // The ground plane y = 0 (frame A is the ground).
+            let e_n = Vec3::y();
+            let upright = matches!(contact, WheelContact::Vertical { .. });
+            let c = contact_frame(&b.rot, &b.w, radius, &e_n, upright);
+            let (delta, delta_dot) = (c.delta, c.delta_dot);
+            if contact == WheelContact::Rolling {
+                // The contact point's height: on the plane.
+                push(Row::Contact { e: e_n, e_dot: Vec3::zeros(), delta, delta_dot }, e_n.dot(&(b.r + delta)));
+            }
+            push(Row::Contact { e: c.e_long, e_dot: c.e_long_dot, delta, delta_dot }, 0.0);
+            if contact != (WheelContact::Vertical { lateral: false }) {
+                push(Row::Contact { e: c.e_lat, e_dot: c.e_lat_dot, delta, delta_dot }, 0.0);
+            }
+        }
     }
     n
 }
@@ -153,12 +178,18 @@ impl System {
                         let e = r_ab / length;
                         e.dot(&(b.a - a.a)) + (dv.norm_squared() - e.dot(&dv).powi(2)) / length
                     }
+                    // d/dt [e . (v_B + w_B x delta)] at zero joint accelerations (A is the ground).
+                    Row::Contact { e, e_dot, delta, delta_dot } => {
+                        e_dot.dot(&(b.v + b.w.cross(&delta)))
+                            + e.dot(&(b.a + b.alpha.cross(&delta) + b.w.cross(&delta_dot)))
+                    }
                 };
                 let row_start = (c.row + i) * nv;
                 for (end, sign) in [(&b, 1.0), (&a, -1.0)] {
                     // Translations are of B's origin relative to A's frame: for A, at B's origin too.
                     let point = match row {
                         Row::Distance => end.r,
+                        Row::Contact { delta, .. } => b.r + delta,
                         _ => b.r,
                     };
                     let mut k = end.link;
@@ -173,6 +204,7 @@ impl System {
                                 Row::Rotation(d) => d.dot(&(a.rot * dw)),
                                 Row::Translation(d) => d.dot(&(a.rot * dv_point)),
                                 Row::Distance => (r_ab / r_ab.norm().max(f64::MIN_POSITIVE)).dot(&dv_point),
+                                Row::Contact { e, .. } => e.dot(&dv_point),
                             };
                             ws.jac[row_start + link.v_offset + dof] += sign * value;
                         }
@@ -583,6 +615,13 @@ impl System {
         }
         if positions {
             ws.lambda.copy_from_slice(&ws.residual);
+            // Rows on velocities only say nothing about positions.
+            for c in &self.constraints {
+                for i in (0..c.rows).filter(|&i| c.kind.is_velocity_row(i)) {
+                    ws.jac[(c.row + i) * nv..(c.row + i + 1) * nv].fill(0.0);
+                    ws.lambda[c.row + i] = 0.0;
+                }
+            }
         }
         for r in 0..m {
             for s in 0..=r {
@@ -652,6 +691,11 @@ impl System {
                 Row::Rotation(d) => torque += a.rot.tr_mul(&d) * l,
                 Row::Translation(d) => force += a.rot.tr_mul(&d) * l,
                 Row::Distance => force += (b.r - a.r) / (b.r - a.r).norm().max(f64::MIN_POSITIVE) * l,
+                // A force at the contact point: its moment about B's origin.
+                Row::Contact { e, delta, .. } => {
+                    force += e * l;
+                    torque += delta.cross(&(e * l));
+                }
             }
         }
         let r_ab = b.r - a.r;

@@ -7,6 +7,7 @@ pub mod rotation;
 pub mod spatial;
 pub mod trajectory;
 pub mod union_find;
+pub mod wheel;
 
 pub use rotation::*;
 pub use spatial::{ArticulatedInertia, Force, Motion, RigidInertia, Transform};

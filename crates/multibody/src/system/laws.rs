@@ -108,6 +108,26 @@ pub enum ConstraintKind {
     Locks { rotation: RotationLock, directions: [Vec3; 3], count: usize },
     /// The origins keep the distance `length` (a rod with spherical ends).
     Distance { length: f64 },
+    /// A wheel of `radius` rolling on the ground plane y = 0: frame_b is
+    /// the wheel's centre and turns with it, its z axis is the spin axis;
+    /// frame_a is the ground. The contact point's material velocity has no
+    /// component along the ground (rows on velocities only: nonholonomic),
+    /// and with `Contact::Rolling` the wheel touches the plane (a row on
+    /// positions).
+    Wheel { radius: f64, contact: WheelContact },
+}
+
+/// Which rows a wheel's rolling contact keeps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WheelContact {
+    /// An upright wheel (RollingConstraintVerticalWheel): the contact point
+    /// is `radius` straight below the centre; no slip along the wheel, and
+    /// with `lateral` none across it. Two velocity rows, or one.
+    Vertical { lateral: bool },
+    /// A wheel that may lean (RollingWheelJoint): the lowest point of its
+    /// rim stays on the plane (a position row) and does not slip in either
+    /// direction (two velocity rows).
+    Rolling,
 }
 
 impl ConstraintKind {
@@ -139,6 +159,20 @@ impl ConstraintKind {
                     }
             }
             ConstraintKind::Distance { .. } => 1,
+            ConstraintKind::Wheel { contact: WheelContact::Vertical { lateral }, .. } => 1 + lateral as usize,
+            ConstraintKind::Wheel { contact: WheelContact::Rolling, .. } => 3,
+        }
+    }
+
+    /// Whether row `i` of this constraint is on velocities only
+    /// (nonholonomic): it has no position residual, and moving positions
+    /// onto the constraints leaves it alone.
+    pub fn is_velocity_row(&self, i: usize) -> bool {
+        match *self {
+            ConstraintKind::Wheel { contact: WheelContact::Vertical { .. }, .. } => true,
+            // Row 0 keeps the wheel on the plane; rows 1 and 2 are the rolling.
+            ConstraintKind::Wheel { contact: WheelContact::Rolling, .. } => i > 0,
+            _ => false,
         }
     }
 }

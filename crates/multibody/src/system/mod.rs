@@ -14,7 +14,7 @@ pub mod signals;
 
 pub use drive::{Drive, DriveLevel, DriveMap};
 pub use joint::{JointModel, JointMotion, RotationCoordinates};
-pub use laws::{resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, RotationLock, SignalSource};
+pub use laws::{resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, RotationLock, SignalSource, WheelContact};
 pub(crate) use signals::SignalBlock;
 pub use signals::SignalLaw;
 
