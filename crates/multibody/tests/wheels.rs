@@ -148,3 +148,68 @@ fn a_leaning_wheel_traces_the_circle_of_the_steady_rolling_disk() {
     assert!(worst < 1e-9);
     assert!(rate_error < 1e-9);
 }
+
+/// A wheel of `kind` standing upright, spinning at `spin` about +z with its
+/// centre at rest.
+fn spinning_wheel(kind: &str, spin: f64, elastic: bool) -> Model {
+    let mut model = Model::new("spin_up");
+    model.add("world", "World");
+    let wheel = model
+        .add("wheel", kind)
+        .set("radius", R)
+        .set("m", M)
+        .set("I_axis", I_AXIS)
+        .set("I_long", I_LONG)
+        .initial("x", 0.0)
+        .initial("z", 0.0)
+        .initial("angles", vec![0.0; 3])
+        .initial("v_0", vec![0.0; 3])
+        .initial("der_angles", vec![0.0, 0.0, spin]);
+    if elastic {
+        // Start resting on the spring: the weight's compression.
+        wheel.set("elastic_contact", true).initial("y", R - M * G / 250000.0);
+    }
+    model
+}
+
+/// Started spinning with its centre at rest, a slipping wheel is pushed
+/// forward by friction until its contact point stops slipping; then it
+/// rolls. Friction and the normal force act at the contact point, and the
+/// normal force balances the weight, so the angular momentum about the
+/// ground line the wheel runs on is conserved: `I_axis w0 = I_axis w + m R^2 w`,
+/// and rolling means `v = -R w` (a spin about +z runs towards -x).
+#[test]
+fn a_slipping_wheel_spins_up_until_it_rolls() {
+    let spin = 25.0;
+    let w_final = I_AXIS * spin / (I_AXIS + M * R * R);
+    let v_final = -R * w_final;
+    for (kind, elastic) in [("SlippingWheel", false), ("SlippingWheel", true), ("PacejkaSlippingWheel", false)] {
+        let mechanism = spinning_wheel(kind, spin, elastic).assemble().unwrap();
+        let s = mechanism.simulate(&SimulationOptions { stop: 3.0, saveat: 0.01, ..tight(3.0, 0.01) }).unwrap();
+        let slip = column(&s, "wheel.v_slip_long");
+        assert!(slip[1].abs() > 1.0, "{kind}: the wheel slips at first ({})", slip[1]);
+        let last = s.time().len() - 1;
+        let v = column(&s, "wheel.v_0[1]")[last];
+        let w = column(&s, "wheel.w_roll")[last];
+        let (dv, dw) = ((v - v_final).abs(), (w - w_final).abs());
+        // The slip decays with a time constant of a few ms (the slip law's
+        // slope near zero slip): after 3 s it is gone to rounding. 1e-6
+        // relative on the final speeds: the angular momentum balance holds
+        // to the integrator's 1e-11 per step (the elastic contact's settling
+        // at the start moves the wheel by micrometres, below that).
+        println!(
+            "{kind} (elastic {elastic}): final slip {:.1e} m/s; speed {v:.9} vs {v_final:.9} m/s ({:.1e} of 1e-6 relative), spin {w:.9} vs {w_final:.9} rad/s ({:.1e} of 1e-6); f_n {:.6} N vs m g {:.6} N",
+            slip[last],
+            dv / v_final.abs() / 1e-6,
+            dw / w_final.abs() / 1e-6,
+            column(&s, "wheel.f_n")[last],
+            M * G
+        );
+        // The normal force carries the weight (rigid: exactly; elastic: once settled).
+        assert!((column(&s, "wheel.f_n")[last] - M * G).abs() < 1e-6 * M * G);
+        assert!(slip[last].abs() < 1e-9, "{kind}: still slipping at {}", slip[last]);
+        assert!(dv < 1e-6 * v_final.abs() && dw < 1e-6 * w_final.abs());
+        // And it goes straight on.
+        assert!(column(&s, "wheel.z").iter().all(|z| z.abs() < 1e-9));
+    }
+}

@@ -295,6 +295,12 @@ impl Mechanism {
                 name(link)
             ),
             DynamicsError::NotFinite => "a value became infinite or NaN (the motion blew up)".into(),
+            DynamicsError::ContactIndeterminate { link } => format!(
+                "the normal forces of the slipping wheels and the other constraint forces near `{}` have no unique \
+                 solution (rigid contacts with friction on constraints that repeat each other); give the wheels \
+                 elastic_contact = true, or remove the repeated constraint",
+                name(link)
+            ),
             DynamicsError::MasslessWithoutBalance { group } => format!(
                 "no position of the frames without mass between {} balances the forces on them (springs that cannot hold them, or pulled apart without limit); give them mass or change the springs",
                 self.system.massless[group].components.iter().map(|c| format!("`{c}`")).collect::<Vec<_>>().join(", ")

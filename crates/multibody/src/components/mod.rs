@@ -53,6 +53,7 @@ mod rolling_wheel;
 mod rolling_wheel_set;
 mod rotor_1d;
 mod sensors;
+mod slipping_wheel;
 mod spherical;
 mod spherical_constraint;
 mod spherical_spherical;
@@ -71,7 +72,7 @@ mod world_force;
 mod world_torque;
 
 pub use crate::system::laws::{
-    resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, RotationLock, SignalSource, WheelContact,
+    resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, RotationLock, SignalSource, SlipLaw, WheelContact,
 };
 pub use crate::system::{DriveLevel, DriveMap, SignalLaw};
 pub use params::ParamSet;
@@ -127,6 +128,10 @@ static REGISTRY: &[&ComponentSpec] = &[
     &rolling_wheel::WHEEL,
     &rolling_wheel_set::JOINT,
     &rolling_wheel_set::SET,
+    &slipping_wheel::SLIP_JOINT,
+    &slipping_wheel::SLIPPING_WHEEL,
+    &slipping_wheel::PACEJKA_JOINT,
+    &slipping_wheel::PACEJKA_WHEEL,
     &spring::SPEC,
     &damper::SPEC,
     &spring_damper_parallel::SPEC,

@@ -134,8 +134,20 @@ impl Component for Wheel {
         out.extend_from_slice(f.r_0.as_slice());
         out.extend_from_slice(&j.q[3..6]);
         out.extend_from_slice(&j.u[3..6]);
-        let f_wheel_0 = -f.rot.tr_mul(&f.f);
+        let f_wheel_0 = contact_force(ctx, f, &self.mass);
         evaluate_contact(f, self.radius, &Vec3::y(), 1.0, f_wheel_0, out);
+    }
+}
+
+/// The force of the ground on the wheel (world) at frame `f`. frame_a's
+/// cut force is what the rest of the model applies through it; with the
+/// wheel's own body in the component, the contact force is what moves that
+/// body (centre of mass at frame_a) less what comes through frame_a.
+pub(crate) fn contact_force(ctx: &EvalContext, f: &super::FrameState, mass: &Option<RigidInertia>) -> Vec3 {
+    let through_frame = -f.rot.tr_mul(&f.f);
+    match mass {
+        Some(body) => (f.a_0 - ctx.world.gravity(&f.r_0, false)) * body.mass + through_frame,
+        None => through_frame,
     }
 }
 

@@ -103,6 +103,11 @@ fn rows(kind: &ConstraintKind, a: &EndState, b: &EndState, out: &mut [(Row, f64)
             let upright = matches!(contact, WheelContact::Vertical { .. });
             let c = contact_frame(&b.rot, &b.w, radius, &e_n, upright);
             let (delta, delta_dot) = (c.delta, c.delta_dot);
+            if let WheelContact::Slipping { .. } = contact {
+                // Only the contact with the plane; friction follows its force.
+                push(Row::Contact { e: e_n, e_dot: Vec3::zeros(), delta, delta_dot }, e_n.dot(&(b.r + delta)));
+                return n;
+            }
             if contact == WheelContact::Rolling {
                 // The contact point's height: on the plane.
                 push(Row::Contact { e: e_n, e_dot: Vec3::zeros(), delta, delta_dot }, e_n.dot(&(b.r + delta)));
@@ -116,7 +121,26 @@ fn rows(kind: &ConstraintKind, a: &EndState, b: &EndState, out: &mut [(Row, f64)
     n
 }
 
+/// A slipping wheel's friction per unit normal force (world), which acts
+/// at the contact point; `None` for other constraints.
+pub(crate) fn friction_per_normal_force(kind: &ConstraintKind, b: &EndState) -> Option<Vec3> {
+    let (ConstraintKind::Wheel { radius, .. }, Some(law)) = (*kind, kind.slip_law()) else { return None };
+    let c = contact_frame(&b.rot, &b.w, radius, &Vec3::y(), false);
+    // The slipping wheels' lateral direction is the rolling ones' turned round.
+    let e_lat = -c.e_lat;
+    let v_contact = b.v + b.w.cross(&c.delta);
+    let (v_long, v_lat) = (v_contact.dot(&c.e_long), v_contact.dot(&e_lat));
+    let v_roll = radius * b.w.dot(&c.e_axis);
+    let (mu_long, mu_lat) = law.coefficients(v_long, v_lat, v_roll);
+    Some(-(c.e_long * mu_long + e_lat * mu_lat))
+}
+
 impl System {
+    /// Whether a slipping wheel's friction follows a constraint force.
+    pub(crate) fn has_friction(&self) -> bool {
+        self.constraints.iter().any(|c| c.kind.slip_law().is_some())
+    }
+
     /// World kinematics of a constraint end from the workspace's links.
     pub(crate) fn end_state(&self, ws: &Workspace, att: &Attachment) -> EndState {
         let Anchor::Link(k) = att.anchor else { return EndState::default() };
@@ -145,10 +169,12 @@ impl System {
         let mut buffer = [(Row::Distance, 0.0); 6];
         if with_jacobian {
             ws.jac.fill(0.0);
+            ws.jac_force.fill(0.0);
         }
         for c in &self.constraints {
             let (a, b) = (self.end_state(ws, &c.a), self.end_state(ws, &c.b));
             let count = rows(&c.kind, &a, &b, &mut buffer);
+            let friction = if with_jacobian { friction_per_normal_force(&c.kind, &b) } else { None };
             let r_ab = b.r - a.r;
             let w_rel = b.w - a.w;
             let dv = b.v - a.v;
@@ -207,6 +233,10 @@ impl System {
                                 Row::Contact { e, .. } => e.dot(&dv_point),
                             };
                             ws.jac[row_start + link.v_offset + dof] += sign * value;
+                            if let Some(fr) = &friction {
+                                // The generalised force of the friction per unit normal force.
+                                ws.jac_force[row_start + link.v_offset + dof] += sign * fr.dot(&dv_point);
+                            }
                         }
                         k = link.parent;
                     }
@@ -387,9 +417,24 @@ impl System {
             ud[i] = 0.0;
             for r in 0..m {
                 ws.jac[r * nv + i] = 0.0;
+                ws.jac_force[r * nv + i] = 0.0;
             }
         }
         let w = self.augmented_mass_matrix(ws);
+        // A slipping wheel's friction is its normal force times a
+        // coefficient: generalised forces `G' lambda` beside `J' lambda`.
+        // Then `M_a ud = f - w G' gamma + (J + G)' lambda'`, and the
+        // multipliers solve an unsymmetric system.
+        let friction = self.has_friction();
+        if friction {
+            for r in 0..m {
+                // gamma = -Jdot u = -bias.
+                let wg = w * ws.bias[r];
+                for (udi, g) in ud.iter_mut().zip(&ws.jac_force[r * nv..(r + 1) * nv]) {
+                    *udi += wg * g;
+                }
+            }
+        }
         // A rotor's spin coupled to a light carrier (Modelica's Rotor1D) can
         // make M indefinite, though regular: LU solves it when Cholesky cannot.
         let definite = cholesky(&mut ws.mass, nv);
@@ -406,25 +451,40 @@ impl System {
                 lu_solve(&ws.mass, nv, &ws.pivots, b, &mut ws.work)
             }
         };
-        // ud0 = M_a^-1 f, Y' = (M_a^-1 J')'.
+        // ud0 = M_a^-1 f, Y' = (M_a^-1 (J + G)')'.
         solve(ws, ud);
         let mut y_rows = std::mem::take(&mut ws.y_rows);
         y_rows.copy_from_slice(&ws.jac);
+        if friction {
+            for (y, g) in y_rows.iter_mut().zip(&ws.jac_force) {
+                *y += g;
+            }
+        }
         for r in 0..m {
             solve(ws, &mut y_rows[r * nv..(r + 1) * nv]);
         }
         ws.y_rows = y_rows;
         for r in 0..m {
-            for s in 0..=r {
+            let columns = if friction { m } else { r + 1 };
+            for s in 0..columns {
                 let v: f64 = (0..nv).map(|i| ws.jac[r * nv + i] * ws.y_rows[s * nv + i]).sum();
                 ws.schur[r * m + s] = v;
-                ws.schur[s * m + r] = v;
+                if !friction {
+                    ws.schur[s * m + r] = v;
+                }
             }
             let j_ud: f64 = (0..nv).map(|i| ws.jac[r * nv + i] * ud[i]).sum();
             ws.lambda[r] = -ws.bias[r] - j_ud;
         }
-        let rank = ldlt_pivoted(&mut ws.schur, m, &mut ws.perm, RANK_TOLERANCE);
-        ldlt_solve(&ws.schur, m, &ws.perm, rank, &mut ws.lambda, &mut ws.work);
+        if friction {
+            if !lu(&mut ws.schur, m, &mut ws.perm) {
+                return Err(DynamicsError::ContactIndeterminate { link: self.massless_link(ws) });
+            }
+            lu_solve(&ws.schur, m, &ws.perm, &mut ws.lambda, &mut ws.work);
+        } else {
+            let rank = ldlt_pivoted(&mut ws.schur, m, &mut ws.perm, RANK_TOLERANCE);
+            ldlt_solve(&ws.schur, m, &ws.perm, rank, &mut ws.lambda, &mut ws.work);
+        }
         for r in 0..m {
             let l = ws.lambda[r];
             for (udi, yi) in ud.iter_mut().zip(&ws.y_rows[r * nv..(r + 1) * nv]) {
@@ -693,8 +753,12 @@ impl System {
                 Row::Distance => force += (b.r - a.r) / (b.r - a.r).norm().max(f64::MIN_POSITIVE) * l,
                 // A force at the contact point: its moment about B's origin.
                 Row::Contact { e, delta, .. } => {
-                    force += e * l;
-                    torque += delta.cross(&(e * l));
+                    let mut f = e * l;
+                    if let Some(fr) = friction_per_normal_force(&c.kind, &b) {
+                        f += fr * l;
+                    }
+                    force += f;
+                    torque += delta.cross(&f);
                 }
             }
         }

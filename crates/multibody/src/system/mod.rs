@@ -14,7 +14,9 @@ pub mod signals;
 
 pub use drive::{Drive, DriveLevel, DriveMap};
 pub use joint::{JointModel, JointMotion, RotationCoordinates};
-pub use laws::{resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, RotationLock, SignalSource, WheelContact};
+pub use laws::{
+    resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, RotationLock, SignalSource, SlipLaw, WheelContact,
+};
 pub(crate) use signals::SignalBlock;
 pub use signals::SignalLaw;
 
@@ -169,6 +171,7 @@ pub(crate) enum Load {
     Line { c: f64, d: f64, s_unstretched: f64, s_small: f64 },
     Force { signals: [usize; 3], resolve: Resolve },
     Torque { signals: [usize; 3], resolve: Resolve },
+    Tyre { radius: f64, law: SlipLaw, c_z: f64, d_z: f64 },
 }
 
 /// Frames without mass held by force elements only; their orientation is
