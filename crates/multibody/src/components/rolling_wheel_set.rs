@@ -139,6 +139,9 @@ impl Component for WheelSet {
             let free = JointModel::Free(RotationCoordinates::Euler { sequence: [2, 1, 3] });
             let states = StateNames { q: &[("r_rel", 3), ("angles_rel", 3)], u: &[("v_rel", 3), ("w_rel", 3)] };
             parts.push(joint(6, 0, free, states, None, true));
+            // The sliders' frames are unused: keep them with the ground.
+            parts.push(Part::Rigid { a: 6, b: 7, pose: Transform::IDENTITY });
+            parts.push(Part::Rigid { a: 6, b: 8, pose: Transform::IDENTITY });
         } else {
             let prismatic = |axis| JointModel::Prismatic { axis };
             parts.extend([
