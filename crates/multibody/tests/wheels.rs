@@ -213,3 +213,44 @@ fn a_slipping_wheel_spins_up_until_it_rolls() {
         assert!(column(&s, "wheel.z").iter().all(|z| z.abs() < 1e-9));
     }
 }
+
+/// Bad wheel parameters are refused with a message that names the
+/// component and the parameter and says what is wrong, never a panic.
+#[test]
+fn bad_wheel_parameters_are_named() {
+    let cases: [(&str, &str, f64, &str); 6] = [
+        ("RollingWheel", "radius", 0.0, "positive"),
+        ("RollingWheelSet", "track", -1.0, "positive"),
+        ("RollingConstraintVerticalWheel", "radius", -0.3, "positive"),
+        ("SlippingWheel", "m", -2.0, "zero or more"),
+        ("SlipWheelJoint", "vSlide_min", 0.01, "sliding must start beyond the adhesion peak"),
+        ("PacejkaSlippingWheel", "radius", f64::NAN, "finite"),
+    ];
+    for (kind, param, value, words) in cases {
+        let mut model = Model::new("bad");
+        model.add("world", "World");
+        model.add("w", kind).set(param, value);
+        let message = match model.assemble() {
+            Ok(_) => panic!("{kind} with {param} = {value} should be refused"),
+            Err(e) => e.to_string(),
+        };
+        println!("{kind}.{param} = {value}: {message}");
+        for w in ["w", param, words] {
+            assert!(message.contains(w), "{kind}: the message should mention {w:?}: {message}");
+        }
+    }
+}
+
+/// Start velocities that contradict rolling are refused at the start, with
+/// the fixed values named (not silently changed).
+#[test]
+fn start_velocities_that_slip_are_refused() {
+    let mut model = rolling_wheel([0.0; 3], [0.0, 0.0, 10.0]);
+    model.component_mut("wheel").unwrap().initial("v_0", vec![0.0; 3]);
+    let message = match model.assemble() {
+        Ok(_) => panic!("a spinning wheel whose centre is held still cannot roll"),
+        Err(e) => e.to_string(),
+    };
+    println!("{message}");
+    assert!(message.contains("wheel.v_0[1] = 0") && message.contains("wheel.der_angles[3] = 10"), "{message}");
+}
