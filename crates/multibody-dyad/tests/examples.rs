@@ -354,6 +354,38 @@ fn wheeled_cart() {
     assert!(*x.last().unwrap() > 5.0, "the cart drives forwards");
 }
 
+/// Two wheels dropped spinning: the library's slip law on a rigid contact,
+/// Pacejka's magic formula on an elastic one. Both end rolling at the speed
+/// that their angular momentum about the ground line gives.
+#[test]
+fn slipping_wheels() {
+    let mut m = Model::new("SlippingWheels");
+    m.add("world", "World");
+    for (name, kind, z) in [("slip", "SlippingWheel", 0.0), ("pacejka", "PacejkaSlippingWheel", 1.0)] {
+        m.add(name, kind)
+            .set("radius", 0.3)
+            .set("m", 1.0)
+            .set("I_axis", 0.06)
+            .set("I_long", 0.12)
+            .initial("x", 0.0)
+            .initial("z", z)
+            .initial("angles", vec![0.0; 3])
+            .initial("v_0", vec![0.0; 3])
+            .initial("der_angles", vec![0.0, 0.0, 25.0]);
+    }
+    m.component_mut("pacejka").unwrap().set("elastic_contact", true).set("color", [0.0, 0.0, 1.0, 1.0]);
+    assert_same("slipping_wheels.dyad", m, SimulationOptions { method: Method::Rodas4, ..options(2.0, 0.01) });
+    let (_, _, s) = run_file("slipping_wheels.dyad");
+    // I_axis w0 / (I_axis + m R^2) = 0.06 * 25 / 0.15 = 10 rad/s. The run's
+    // tolerance is 1e-6 (Dyad's default); it ends within 5e-8 of that here.
+    for wheel in ["slip", "pacejka"] {
+        let w = s.last(&format!("{wheel}.w_roll")).unwrap();
+        let v = s.last(&format!("{wheel}.v_0[1]")).unwrap();
+        println!("{wheel}: w_roll {w:.9} rad/s (closed form 10), v {v:.9} m/s (closed form -3)");
+        assert!((w - 10.0).abs() < 1e-6 && (v + 3.0).abs() < 1e-6, "{wheel}: w {w}, v {v}");
+    }
+}
+
 /// The two-link arm of URDF parts, with visual-only components.
 #[test]
 fn urdf_arm() {
@@ -418,6 +450,7 @@ fn every_example_is_checked() {
         "sensors.dyad",
         "urdf_arm.dyad",
         "wheeled_cart.dyad",
+        "slipping_wheels.dyad",
         "docs/pend.dyad",
     ];
     let mut found = Vec::new();

@@ -247,6 +247,13 @@ pub trait Component: Send + Sync + std::fmt::Debug {
 
     /// Pushes the values of [`Component::variables`], in that order.
     fn evaluate(&self, _ctx: &EvalContext, _out: &mut Vec<f64>) {}
+
+    /// Start values of some of its states where the model gives none (a
+    /// wheel's centre starts at the height of its radius), by state name.
+    /// They are not fixed: closing loops may move them.
+    fn default_starts(&self) -> Vec<(&'static str, Vec<f64>)> {
+        Vec::new()
+    }
 }
 
 /// Names of a joint's position and velocity coordinates, with their sizes.

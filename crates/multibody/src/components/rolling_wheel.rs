@@ -124,6 +124,11 @@ impl Component for Wheel {
         parts
     }
 
+    /// The library's start: the centre at the height of the radius.
+    fn default_starts(&self) -> Vec<(&'static str, Vec<f64>)> {
+        vec![("y", vec![self.radius])]
+    }
+
     fn variables(&self) -> Vec<VarSpec> {
         VARIABLES.to_vec()
     }

@@ -361,6 +361,11 @@ impl Component for SlippingWheel {
         parts
     }
 
+    /// The library's start: the centre at the height of the radius.
+    fn default_starts(&self) -> Vec<(&'static str, Vec<f64>)> {
+        vec![("y", vec![self.radius])]
+    }
+
     fn variables(&self) -> Vec<VarSpec> {
         let all: &[VarSpec] = match self.law {
             SlipLaw::Triple { .. } => &SLIP_VARIABLES,
