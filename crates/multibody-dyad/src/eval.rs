@@ -218,6 +218,79 @@ pub fn formula(expr: &Expr, scope: &mut dyn Scope) -> Result<multibody::TimeExpr
     })
 }
 
+/// A road's height for `wheel.surface = ...`: a formula of the world's
+/// `x` and `z` with numbers, parameters, `+ - * / ^` and functions of one
+/// argument.
+pub fn surface_formula(expr: &Expr, scope: &mut dyn Scope) -> Result<multibody::SurfaceExpr, Diagnostic> {
+    use multibody::SurfaceExpr as S;
+    let coordinate = |e: &Expr| match &e.kind {
+        ExprKind::Name(p) if p.parts.len() == 1 && (p.parts[0].name == "x" || p.parts[0].name == "z") => {
+            Some(p.parts[0].name == "x")
+        }
+        _ => None,
+    };
+    fn mentions(expr: &Expr, is_coordinate: &dyn Fn(&Expr) -> Option<bool>) -> bool {
+        if is_coordinate(expr).is_some() {
+            return true;
+        }
+        match &expr.kind {
+            ExprKind::Call { args, .. } => args.iter().any(|a| mentions(a, is_coordinate)),
+            ExprKind::Unary { operand, .. } => mentions(operand, is_coordinate),
+            ExprKind::Binary { lhs, rhs, .. } => mentions(lhs, is_coordinate) || mentions(rhs, is_coordinate),
+            ExprKind::Chain { first, rest } => {
+                mentions(first, is_coordinate) || rest.iter().any(|(_, e)| mentions(e, is_coordinate))
+            }
+            _ => false,
+        }
+    }
+    if !mentions(expr, &coordinate) {
+        return match eval(expr, scope)? {
+            Val::Number(x) => Ok(S::Const(x)),
+            other => Err(Diagnostic::error(format!("a road's height is one number, not {}", other.describe()))
+                .primary(expr.span, "not a number")),
+        };
+    }
+    if let Some(is_x) = coordinate(expr) {
+        return Ok(if is_x { S::X } else { S::Z });
+    }
+    let binary = |op: BinaryOp, a: S, b: S| {
+        let (a, b) = (Box::new(a), Box::new(b));
+        match op {
+            BinaryOp::Add | BinaryOp::ElemAdd => S::Add(a, b),
+            BinaryOp::Sub | BinaryOp::ElemSub => S::Sub(a, b),
+            BinaryOp::Mul | BinaryOp::ElemMul => S::Mul(a, b),
+            BinaryOp::Div | BinaryOp::ElemDiv => S::Div(a, b),
+            BinaryOp::Pow | BinaryOp::ElemPow => S::Pow(a, b),
+        }
+    };
+    Ok(match &expr.kind {
+        ExprKind::Unary { op: UnaryOp::Plus, operand } => surface_formula(operand, scope)?,
+        ExprKind::Unary { op: UnaryOp::Neg, operand } => S::Neg(Box::new(surface_formula(operand, scope)?)),
+        ExprKind::Binary { op, lhs, rhs } => binary(*op, surface_formula(lhs, scope)?, surface_formula(rhs, scope)?),
+        ExprKind::Chain { first, rest } => {
+            let mut value = surface_formula(first, scope)?;
+            for (op, rhs) in rest {
+                value = binary(*op, value, surface_formula(rhs, scope)?);
+            }
+            value
+        }
+        ExprKind::Call { callee, args } if args.len() == 1 && callee.parts.len() == 1 => {
+            let name = &callee.parts[0].name;
+            let f = multibody::Func::from_name(name).ok_or_else(|| {
+                Diagnostic::error(format!("`{name}` cannot be used in a road's formula"))
+                    .primary(callee.span, "not supported here")
+                    .help("a road's height uses + - * / ^ and sin, cos, tan, exp, log, sqrt, abs, asin, acos, atan, sinh, cosh, tanh")
+            })?;
+            S::Call(f, Box::new(surface_formula(&args[0], scope)?))
+        }
+        _ => return Err(Diagnostic::error("this is not supported in a road's formula")
+            .primary(expr.span, "not supported here")
+            .help(
+                "a road's height is a formula of x and z: numbers, parameters, + - * / ^ and functions of one argument",
+            )),
+    })
+}
+
 /// Whether `time` appears in `expr` (as a bare name).
 fn mentions_time(expr: &Expr) -> bool {
     match &expr.kind {

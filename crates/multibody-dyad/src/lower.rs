@@ -333,10 +333,19 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         }
 
         // `sub.input = formula`: a signal input of a library component
-        // driven by a formula of time.
+        // driven by a formula of time; `sub.surface = formula`: the road of
+        // a wheel, a formula of x and z.
+        let mut surfaces = Vec::new();
         for relation in &def.relations {
             let Relation::Equation { lhs, rhs, span } = relation else { continue };
             let first = &lhs.parts[0];
+            if let (Some((_, Kind::Library(spec))), Some(part)) = (sub(&first.name), lhs.parts.get(1)) {
+                if lhs.parts.len() == 2 && part.name == "surface" && spec.param("surface").is_some() {
+                    let road = crate::eval::surface_formula(rhs, &mut scope)?;
+                    surfaces.push((flat(prefix, &first.name), road));
+                    continue;
+                }
+            }
             let input = match (sub(&first.name), lhs.parts.get(1)) {
                 (Some((_, Kind::Library(spec))), Some(connector)) if lhs.parts.len() == 2 => spec
                     .connectors
@@ -376,6 +385,11 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                     }
                     self.graph.declare(child, ty, decl.span, name.to_string());
                 }
+            }
+        }
+        for (component, road) in surfaces {
+            if let Some(c) = self.model.component_mut(&component) {
+                c.surface(road);
             }
         }
 

@@ -41,6 +41,7 @@ pub use assembly::{LoopInfo, Mechanism};
 pub use dynamics::{DynamicsError, Workspace};
 pub use error::{closest, Error};
 pub use math::expr::{Func, TimeExpr};
+pub use math::surface::SurfaceExpr;
 pub use model::{ComponentInstance, Connection, InputEquation, Model, OrientationState, Value};
 pub use simulate::{Method, OptionError, RunReport, SampleSink, SimulationError, SimulationOptions, Solution, Stopped};
 pub use system::{StateLayout, System};

@@ -148,6 +148,10 @@ pub struct ComponentInstance {
     pub initial: Vec<(String, Value)>,
     /// Start values that are only guesses for a solver (`s(guess = -0.2)`).
     pub guess: Vec<(String, Value)>,
+    /// The road a wheel rolls on, `y = surface(x, z)` (a model's
+    /// `wheel.surface = ...`); only components with a `surface` parameter
+    /// take one.
+    pub surface: Option<crate::math::surface::SurfaceExpr>,
 }
 
 impl ComponentInstance {
@@ -166,6 +170,12 @@ impl ComponentInstance {
     /// Gives a guess for a variable, used where start values are solved for.
     pub fn guess(&mut self, variable: &str, value: impl Into<Value>) -> &mut Self {
         upsert(&mut self.guess, variable, value.into());
+        self
+    }
+
+    /// Sets the road surface `y = surface(x, z)` of a wheel.
+    pub fn surface(&mut self, surface: crate::math::surface::SurfaceExpr) -> &mut Self {
+        self.surface = Some(surface);
         self
     }
 
@@ -221,6 +231,7 @@ impl Model {
             params: Vec::new(),
             initial: Vec::new(),
             guess: Vec::new(),
+            surface: None,
         });
         self.components.last_mut().expect("just pushed")
     }

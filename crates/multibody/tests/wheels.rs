@@ -254,3 +254,110 @@ fn start_velocities_that_slip_are_refused() {
     println!("{message}");
     assert!(message.contains("wheel.v_0[1] = 0") && message.contains("wheel.der_angles[3] = 10"), "{message}");
 }
+
+/// A Pacejka wheel (grip along its path only: friction_ellipse = false) on
+/// `road`, starting at rest at x = `x0`, its spin axis along z.
+fn wheel_on_road(road: multibody::SurfaceExpr, x0: f64) -> Model {
+    let mut model = Model::new("road");
+    model.add("world", "World");
+    model
+        .add("wheel", "PacejkaSlippingWheel")
+        .set("radius", R)
+        .set("m", M)
+        .set("I_axis", I_AXIS)
+        .set("I_long", I_LONG)
+        .set("friction_ellipse", false)
+        .initial("x", x0)
+        .initial("z", 0.0)
+        .initial("angles", vec![0.0; 3])
+        .initial("v_0", vec![0.0; 3])
+        .initial("der_angles", vec![0.0; 3])
+        .surface(road);
+    model
+}
+
+/// Down the road `y = -0.1 x`: the wheel creeps at the constant slip the
+/// magic formula needs for the grip that rolling takes, so its centre
+/// accelerates as a rolling wheel's, `g sin(a) / (1 + I_axis / (m R^2))`
+/// along the slope, at the height `R / cos(a)` above the road, and the road
+/// carries `m g cos(a)`: on the rigid contact and on the elastic one.
+#[test]
+fn a_wheel_rolls_down_a_sloping_road() {
+    use multibody::SurfaceExpr as S;
+    let slope = 0.1f64;
+    let angle = slope.atan();
+    let expected = G * angle.sin() / (1.0 + I_AXIS / (M * R * R));
+    for elastic in [false, true] {
+        let road = S::Mul(Box::new(S::Const(-slope)), Box::new(S::X));
+        let mut model = wheel_on_road(road, 0.0);
+        if elastic {
+            model.component_mut("wheel").unwrap().set("elastic_contact", true);
+        }
+        let mechanism = model.assemble().unwrap();
+        let s = mechanism.simulate(&tight(3.0, 0.5)).unwrap();
+        let (x, y, vx) = (column(&s, "wheel.x"), column(&s, "wheel.y"), column(&s, "wheel.v_0[1]"));
+        let n = x.len() - 1;
+        // Speed along the slope from its x component.
+        let accel = (vx[n] - vx[n - 1]) / angle.cos() / (s.time()[n] - s.time()[n - 1]);
+        let height = (y[n] - (-slope * x[n] + R / angle.cos())).abs();
+        let load = (column(&s, "wheel.f_n")[n] - M * G * angle.cos()).abs();
+        // The creep (and the elastic contact's bounce) settle in
+        // milliseconds, so the last half second is pure rolling: 1e-6
+        // relative is far above the integrator's 1e-11. The rigid contact
+        // keeps the height and carries the load exactly (to 1e-9, the
+        // projection's reach); the elastic one sits lower by its compression,
+        // m g cos(a) / c_z = 3.9e-5 m along the normal (1e-4 allows for it).
+        let height_tolerance = if elastic { 1e-4 } else { 1e-9 };
+        println!(
+            "sloping road (elastic {elastic}): acceleration {accel:.9} vs {expected:.9} m/s2 ({:.1e} of 1e-6 relative); height error {height:.1e} m (of {height_tolerance:.0e}), load error {load:.1e} N (of 1e-6 m g)",
+            (accel - expected).abs() / expected / 1e-6
+        );
+        assert!((accel - expected).abs() < 1e-6 * expected);
+        assert!(height < height_tolerance && load < 1e-6 * M * G);
+    }
+}
+
+/// In the bowl `y = x^2 / (2 rho)`, a wheel rolling about the bottom swings
+/// like one on a circular track of radius rho: its centre on a circle of
+/// radius rho - R, period `2 pi sqrt((rho - R) (1 + I_axis / (m R^2)) / g)`
+/// for small swings.
+#[test]
+fn a_wheel_swings_in_a_bowl_with_the_period_of_rolling() {
+    use multibody::SurfaceExpr as S;
+    let rho = 3.0;
+    let b = Box::new;
+    let road = S::Div(b(S::Mul(b(S::X), b(S::X))), b(S::Const(2.0 * rho)));
+    let amplitude = 0.01;
+    let mechanism = wheel_on_road(road, amplitude).assemble().unwrap();
+    let expected = 2.0 * std::f64::consts::PI * ((rho - R) * (1.0 + I_AXIS / (M * R * R)) / G).sqrt();
+    let s = mechanism.simulate(&tight(3.0 * expected, 0.001)).unwrap();
+    let (t, x) = (s.time(), column(&s, "wheel.x"));
+    // Upward zero crossings of x, interpolated.
+    let crossings: Vec<f64> = (1..x.len())
+        .filter(|&k| x[k - 1] < 0.0 && x[k] >= 0.0)
+        .map(|k| t[k - 1] + (t[k] - t[k - 1]) * (-x[k - 1]) / (x[k] - x[k - 1]))
+        .collect();
+    assert!(crossings.len() >= 2, "the wheel swings: {crossings:?}");
+    let period = crossings[1] - crossings[0];
+    // The small-swing formula's own error is of order (amplitude / rho)^2 ~
+    // 1e-5 (the bowl is a parabola, not a circle, and the swing is not
+    // infinitely small); the creep's damping shifts the period by less.
+    // 1e-4 relative covers both.
+    let error = (period - expected).abs() / expected;
+    println!("bowl: period {period:.6} s vs {expected:.6} s, {error:.1e} relative = {:.3} of 1e-4", error / 1e-4);
+    assert!(error < 1e-4);
+}
+
+/// A road is only for wheels that roll on one.
+#[test]
+fn a_road_for_a_body_is_refused() {
+    let mut model = Model::new("no_road");
+    model.add("world", "World");
+    model.add("body", "Body").surface(multibody::SurfaceExpr::X);
+    let message = match model.assemble() {
+        Ok(_) => panic!("a Body takes no road"),
+        Err(e) => e.to_string(),
+    };
+    println!("{message}");
+    assert!(message.contains("body") && message.contains("surface"), "{message}");
+}

@@ -27,7 +27,9 @@ pub fn elements(
                 ForceLaw::Line { c, d, s_unstretched, s_small } => Load::Line { c, d, s_unstretched, s_small },
                 ForceLaw::Force { inputs, resolve } => Load::Force { signals: slots(inputs), resolve },
                 ForceLaw::Torque { inputs, resolve } => Load::Torque { signals: slots(inputs), resolve },
-                ForceLaw::Tyre { radius, law, c_z, d_z } => Load::Tyre { radius, law, c_z, d_z },
+                ForceLaw::Tyre { radius, law, c_z, d_z, road } => {
+                    Load::Tyre { radius, law, c_z, d_z, road: road.map(|r| super::road_base(components, ci) + r) }
+                }
             };
             let id = |local: usize| Connectors::id(components, ci, local);
             let element = ForceElement { load, a: a.map(attach), b: attach(b), connectors: (a.map(id), id(b)) };

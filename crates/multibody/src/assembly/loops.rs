@@ -39,7 +39,7 @@ pub fn constraints(components: &mut [CompiledComponent], tree: &Tree) -> (Vec<Co
             a: attach(cut.a),
             b: attach(cut.b),
             connectors,
-            kind: cut.kind,
+            kind: cut.kind.with_road_base(super::road_base(components, cut.component)),
             row,
             rows,
             joint,

@@ -340,6 +340,9 @@ pub enum Part {
     /// (`fixed_rotation_at_frame_a/b`): it owns the orientation of a
     /// group that nothing else orients.
     FixedRotationEnd { frame: usize },
+    /// A road the component's wheels roll on, `y = surface(x, z)`: its
+    /// wheel laws refer to it by its number among the component's roads.
+    Road { surface: Box<crate::math::surface::Surface> },
     /// The joint (or owner) that is this component's part number `part`
     /// moves as the signals at the input connectors `inputs` impose, at
     /// `level` (see [`DriveMap`] for which coordinates they set). `start`
@@ -462,6 +465,7 @@ mod tests {
                 params: required.map(|p| (p.name.to_string(), one(p))).collect(),
                 initial: vec![],
                 guess: vec![],
+                surface: None,
             };
             let params = ParamSet::resolve(&instance, spec, &world).unwrap();
             for p in spec.params.iter().filter(|p| !matches!(p.default, Default::Derived(_) | Default::Required)) {

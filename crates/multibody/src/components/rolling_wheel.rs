@@ -16,7 +16,7 @@ use super::wheel_common::{
     positive, wheel_inertia, wheel_shapes, COLOR, ISCUT, I_AXIS, I_LONG, M, RADIUS, RENDER, SEQUENCE, SPECULAR, WIDTH,
 };
 use super::{Component, ConstraintKind, EvalContext, ParamSet, Part, StateNames, WheelContact};
-use crate::math::wheel::contact_frame;
+use crate::math::wheel::{road_contact, RoadContact};
 use crate::math::{RigidInertia, Transform, Vec3};
 use crate::system::joint::{JointModel, RotationCoordinates};
 use crate::Error;
@@ -140,7 +140,9 @@ impl Component for Wheel {
         out.extend_from_slice(&j.q[3..6]);
         out.extend_from_slice(&j.u[3..6]);
         let f_wheel_0 = contact_force(ctx, f, &self.mass);
-        evaluate_contact(f, self.radius, &Vec3::y(), 1.0, f_wheel_0, out);
+        let w_0 = f.rot.tr_mul(&f.w);
+        let road = road_contact(&f.rot, &w_0, &f.r_0, &f.v_0, self.radius, None);
+        evaluate_contact(f, &road, 1.0, f_wheel_0, out);
     }
 }
 
@@ -157,20 +159,19 @@ pub(crate) fn contact_force(ctx: &EvalContext, f: &super::FrameState, mass: &Opt
 }
 
 /// The contact variables from `r_road_0` on (see VARIABLES) of a wheel at
-/// frame `f` on a plane of normal `e_n`; `lat_sign` turns the lateral
+/// frame `f` touching the road at `road`; `lat_sign` turns the lateral
 /// direction round (the slipping wheels' convention).
 pub(crate) fn evaluate_contact(
     f: &super::FrameState,
-    radius: f64,
-    e_n: &Vec3,
+    road: &RoadContact,
     lat_sign: f64,
     f_wheel_0: Vec3,
     out: &mut Vec<f64>,
 ) {
     let w_0 = f.rot.tr_mul(&f.w);
-    let c = contact_frame(&f.rot, &w_0, radius, e_n, false);
+    let (c, e_n) = (&road.frame, &road.e_n);
     let e_lat = c.e_lat * lat_sign;
-    out.extend_from_slice((f.r_0 + c.delta).as_slice());
+    out.extend_from_slice(road.r_road.as_slice());
     out.extend_from_slice(f_wheel_0.as_slice());
     out.extend_from_slice(&[f_wheel_0.dot(e_n), f_wheel_0.dot(&e_lat), f_wheel_0.dot(&c.e_long)]);
     for v in [c.e_axis, c.delta, *e_n, e_lat, c.e_long, f.v_0, w_0, f.v_0 + w_0.cross(&c.delta)] {

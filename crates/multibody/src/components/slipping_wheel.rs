@@ -16,8 +16,9 @@ use super::wheel_common::{
     non_negative, positive, wheel_inertia, COLOR, ISCUT, I_AXIS, I_LONG, M, RADIUS, RENDER, SEQUENCE, SPECULAR, WIDTH,
 };
 use super::{Component, ConstraintKind, EvalContext, ForceLaw, ParamSet, Part, SlipLaw, WheelContact};
-use crate::math::wheel::contact_frame;
-use crate::math::{RigidInertia, Transform, Vec3};
+use crate::math::surface::Surface;
+use crate::math::wheel::road_contact;
+use crate::math::{RigidInertia, Transform};
 use crate::Error;
 
 const CONNECTORS: &[ConnectorSpec] = &[
@@ -35,6 +36,12 @@ const ELASTIC: ParamSpec = ParamSpec::boolean(
     "elastic_contact",
     false,
     "A compliant normal contact, f_n = max(0, c_z pen + d_z der(pen)) for a penetration pen, instead of the rigid one",
+);
+const SURFACE: ParamSpec = ParamSpec::boolean(
+    "surface",
+    false,
+    "Roll on the road y = surface(x, z) that the model's relations give (`wheel.surface = 0.1 * sin(x)`, a formula \
+     of the world's x and z), instead of the ground y = 0. Setting the formula sets this",
 );
 const C_Z: ParamSpec = ParamSpec::real("c_z", 250000.0, "N/m", "Vertical contact stiffness (elastic_contact)");
 const D_Z: ParamSpec = ParamSpec::real("d_z", 500.0, "N.s/m", "Vertical contact damping (elastic_contact)");
@@ -92,6 +99,7 @@ pub static SLIP_JOINT: ComponentSpec = ComponentSpec {
     params: &[
         SEQUENCE,
         ISCUT,
+        SURFACE,
         ELASTIC,
         ANGULAR_STATE,
         RENDER,
@@ -122,6 +130,7 @@ pub static SLIPPING_WHEEL: ComponentSpec = ComponentSpec {
     params: &[
         SEQUENCE,
         ISCUT,
+        SURFACE,
         ELASTIC,
         ANGULAR_STATE,
         RENDER,
@@ -157,6 +166,7 @@ pub static PACEJKA_JOINT: ComponentSpec = ComponentSpec {
     params: &[
         SEQUENCE,
         ISCUT,
+        SURFACE,
         ELASTIC,
         ANGULAR_STATE,
         ELLIPSE,
@@ -190,6 +200,7 @@ pub static PACEJKA_WHEEL: ComponentSpec = ComponentSpec {
     params: &[
         SEQUENCE,
         ISCUT,
+        SURFACE,
         ELASTIC,
         ANGULAR_STATE,
         ELLIPSE,
@@ -281,6 +292,8 @@ struct SlippingWheel {
     angular_state: bool,
     /// `(c_z, d_z)` of an elastic contact.
     elastic: Option<(f64, f64)>,
+    /// The road, if not the plane y = 0.
+    surface: Option<Surface>,
     mass: Option<RigidInertia>,
 }
 
@@ -328,7 +341,17 @@ fn build(p: &ParamSet, law: Law, with_mass: bool) -> Result<Box<dyn Component>, 
         None
     };
     let mass = if with_mass { Some(wheel_inertia(p, "m", "I_axis", "I_long")?) } else { None };
+    let surface =
+        match p.surface {
+            Some(expr) => Some(Surface::new(expr).map_err(|reason| p.invalid("surface", reason))?),
+            None if p.boolean("surface") => return Err(p.invalid(
+                "surface",
+                "give the road as a formula of x and z in the model's relations, e.g. `wheel.surface = 0.1 * sin(x)`",
+            )),
+            None => None,
+        };
     Ok(Box::new(SlippingWheel {
+        surface,
         radius,
         law,
         sequence: p.sequence("sequence")?,
@@ -346,17 +369,25 @@ impl Component for SlippingWheel {
             parts.push(free_joint(self.sequence, self.iscut));
         }
         parts.push(match self.elastic {
-            Some((c_z, d_z)) => {
-                Part::Force { a: None, b: 0, law: ForceLaw::Tyre { radius: self.radius, law: self.law, c_z, d_z } }
-            }
+            Some((c_z, d_z)) => Part::Force {
+                a: None,
+                b: 0,
+                law: ForceLaw::Tyre { radius: self.radius, law: self.law, c_z, d_z, road: self.surface.map(|_| 0) },
+            },
             None => Part::Constraint {
                 a: 1,
                 b: 0,
-                kind: ConstraintKind::Wheel { radius: self.radius, contact: WheelContact::Slipping { law: self.law } },
+                kind: ConstraintKind::Wheel {
+                    radius: self.radius,
+                    contact: WheelContact::Slipping { law: self.law, road: self.surface.map(|_| 0) },
+                },
             },
         });
         if let Some(inertia) = self.mass {
             parts.push(Part::Mass { frame: 0, inertia, point_gravity: false });
+        }
+        if let Some(surface) = self.surface {
+            parts.push(Part::Road { surface: Box::new(surface) });
         }
         parts
     }
@@ -384,14 +415,14 @@ impl Component for SlippingWheel {
             out.extend_from_slice(&j.u[3..6]);
         }
         let f_wheel_0 = contact_force(ctx, f, &self.mass);
-        let e_n = Vec3::y();
         let start = out.len();
-        evaluate_contact(f, self.radius, &e_n, -1.0, f_wheel_0, out);
+        let w_0 = f.rot.tr_mul(&f.w);
+        let road = road_contact(&f.rot, &w_0, &f.r_0, &f.v_0, self.radius, self.surface.as_ref());
+        evaluate_contact(f, &road, -1.0, f_wheel_0, out);
         // The library's f_lat and f_long of a slipping wheel push against the slip.
         out[start + 7] = -out[start + 7];
         out[start + 8] = -out[start + 8];
-        let w_0 = f.rot.tr_mul(&f.w);
-        let c = contact_frame(&f.rot, &w_0, self.radius, &e_n, false);
+        let (c, e_n) = (road.frame, road.e_n);
         let e_lat = -c.e_lat;
         let v_contact = f.v_0 + w_0.cross(&c.delta);
         let (v_long, v_lat) = (v_contact.dot(&c.e_long), v_contact.dot(&e_lat));

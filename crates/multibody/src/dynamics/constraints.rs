@@ -12,7 +12,8 @@
 
 use super::{DynamicsError, Workspace};
 use crate::math::dense::{cholesky, cholesky_solve, ldlt_pivoted, ldlt_solve, lu, lu_solve};
-use crate::math::wheel::contact_frame;
+use crate::math::surface::Surface;
+use crate::math::wheel::{contact_frame, road_contact};
 use crate::math::{rotation_vector, Force, Mat3, Motion, RigidInertia, Vec3};
 use crate::system::{Anchor, Attachment, Constraint, LineMass, System, GROUND};
 use crate::system::{ConstraintKind, RotationLock, WheelContact};
@@ -55,7 +56,7 @@ enum Row {
 }
 
 /// The rows of a constraint at the current state, and their residuals.
-fn rows(kind: &ConstraintKind, a: &EndState, b: &EndState, out: &mut [(Row, f64)]) -> usize {
+fn rows(kind: &ConstraintKind, a: &EndState, b: &EndState, roads: &[Surface], out: &mut [(Row, f64)]) -> usize {
     let r_ab = b.r - a.r;
     let p = a.rot * r_ab;
     let r_rel = b.rot * a.rot.transpose();
@@ -103,9 +104,11 @@ fn rows(kind: &ConstraintKind, a: &EndState, b: &EndState, out: &mut [(Row, f64)
             let upright = matches!(contact, WheelContact::Vertical { .. });
             let c = contact_frame(&b.rot, &b.w, radius, &e_n, upright);
             let (delta, delta_dot) = (c.delta, c.delta_dot);
-            if let WheelContact::Slipping { .. } = contact {
-                // Only the contact with the plane; friction follows its force.
-                push(Row::Contact { e: e_n, e_dot: Vec3::zeros(), delta, delta_dot }, e_n.dot(&(b.r + delta)));
+            if let WheelContact::Slipping { road, .. } = contact {
+                // Only the contact with the road; friction follows its force.
+                let rc = road_contact(&b.rot, &b.w, &b.r, &b.v, radius, road.map(|r| &roads[r]));
+                let (delta, delta_dot) = (rc.frame.delta, rc.frame.delta_dot);
+                push(Row::Contact { e: rc.e_n, e_dot: rc.e_n_dot, delta, delta_dot }, rc.gap);
                 return n;
             }
             if contact == WheelContact::Rolling {
@@ -123,9 +126,11 @@ fn rows(kind: &ConstraintKind, a: &EndState, b: &EndState, out: &mut [(Row, f64)
 
 /// A slipping wheel's friction per unit normal force (world), which acts
 /// at the contact point; `None` for other constraints.
-pub(crate) fn friction_per_normal_force(kind: &ConstraintKind, b: &EndState) -> Option<Vec3> {
-    let (ConstraintKind::Wheel { radius, .. }, Some(law)) = (*kind, kind.slip_law()) else { return None };
-    let c = contact_frame(&b.rot, &b.w, radius, &Vec3::y(), false);
+pub(crate) fn friction_per_normal_force(kind: &ConstraintKind, b: &EndState, roads: &[Surface]) -> Option<Vec3> {
+    let ConstraintKind::Wheel { radius, contact: WheelContact::Slipping { law, road } } = *kind else {
+        return None;
+    };
+    let c = road_contact(&b.rot, &b.w, &b.r, &b.v, radius, road.map(|r| &roads[r])).frame;
     // The slipping wheels' lateral direction is the rolling ones' turned round.
     let e_lat = -c.e_lat;
     let v_contact = b.v + b.w.cross(&c.delta);
@@ -173,8 +178,8 @@ impl System {
         }
         for c in &self.constraints {
             let (a, b) = (self.end_state(ws, &c.a), self.end_state(ws, &c.b));
-            let count = rows(&c.kind, &a, &b, &mut buffer);
-            let friction = if with_jacobian { friction_per_normal_force(&c.kind, &b) } else { None };
+            let count = rows(&c.kind, &a, &b, &self.roads, &mut buffer);
+            let friction = if with_jacobian { friction_per_normal_force(&c.kind, &b, &self.roads) } else { None };
             let r_ab = b.r - a.r;
             let w_rel = b.w - a.w;
             let dv = b.v - a.v;
@@ -743,7 +748,7 @@ impl System {
     pub(crate) fn constraint_wrenches(&self, ws: &Workspace, c: &Constraint) -> ((Vec3, Vec3), (Vec3, Vec3)) {
         let (a, b) = (self.end_state(ws, &c.a), self.end_state(ws, &c.b));
         let mut buffer = [(Row::Distance, 0.0); 6];
-        let count = rows(&c.kind, &a, &b, &mut buffer);
+        let count = rows(&c.kind, &a, &b, &self.roads, &mut buffer);
         let (mut force, mut torque) = (Vec3::zeros(), Vec3::zeros());
         for (i, &(row, _)) in buffer[..count].iter().enumerate() {
             let l = ws.lambda[c.row + i];
@@ -754,7 +759,7 @@ impl System {
                 // A force at the contact point: its moment about B's origin.
                 Row::Contact { e, delta, .. } => {
                     let mut f = e * l;
-                    if let Some(fr) = friction_per_normal_force(&c.kind, &b) {
+                    if let Some(fr) = friction_per_normal_force(&c.kind, &b, &self.roads) {
                         f += fr * l;
                     }
                     force += f;

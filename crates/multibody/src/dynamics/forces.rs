@@ -2,7 +2,8 @@
 //! and the position of massless groups that only they hold.
 
 use super::{DynamicsError, Workspace};
-use crate::math::wheel::contact_frame;
+use crate::math::surface::Surface;
+use crate::math::wheel::road_contact;
 use crate::math::{Force, Mat3, Vec3};
 use crate::system::{resolve_input, Resolve, SlipLaw};
 use crate::system::{Anchor, Attachment, ForceElement, Load, System, GROUND};
@@ -76,8 +77,8 @@ impl System {
                 let t = resolved(input(signals), resolve);
                 ((zero, -t), (zero, t))
             }
-            Load::Tyre { radius, law, c_z, d_z } => {
-                let (f, delta) = tyre_force(radius, &law, c_z, d_z, &kb);
+            Load::Tyre { radius, law, c_z, d_z, road } => {
+                let (f, delta) = tyre_force(radius, &law, c_z, d_z, road.map(|r| &self.roads[r]), &kb);
                 ((-f, zero), (f, delta.cross(&f)))
             }
         }
@@ -164,11 +165,18 @@ impl System {
 /// The force (world) of an elastic tyre contact on the wheel at `b`, and
 /// where it acts: at `delta` from the wheel's centre (see [`Load::Tyre`]).
 #[inline]
-pub(crate) fn tyre_force(radius: f64, law: &SlipLaw, c_z: f64, d_z: f64, b: &PointState) -> (Vec3, Vec3) {
-    let e_n = Vec3::y();
-    let c = contact_frame(&b.rot, &b.w, radius, &e_n, false);
+pub(crate) fn tyre_force(
+    radius: f64,
+    law: &SlipLaw,
+    c_z: f64,
+    d_z: f64,
+    surface: Option<&Surface>,
+    b: &PointState,
+) -> (Vec3, Vec3) {
+    let rc = road_contact(&b.rot, &b.w, &b.r, &b.v, radius, surface);
+    let (c, e_n) = (rc.frame, rc.e_n);
     let v_contact = b.v + b.w.cross(&c.delta);
-    let penetration = -e_n.dot(&(b.r + c.delta));
+    let penetration = -rc.gap;
     // The rim's lowest point moves vertically as the wheel's point there does.
     let f_n = (c_z * penetration - d_z * e_n.dot(&v_contact)).max(0.0);
     // The slipping wheels' lateral direction is the rolling ones' turned round.

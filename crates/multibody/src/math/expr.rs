@@ -59,7 +59,7 @@ impl Func {
     }
 
     /// `f(x), f'(x), f''(x)`.
-    fn derivatives(self, x: f64) -> [f64; 3] {
+    pub(crate) fn derivatives(self, x: f64) -> [f64; 3] {
         match self {
             Func::Sin => [x.sin(), x.cos(), -x.sin()],
             Func::Cos => [x.cos(), -x.sin(), -x.cos()],

@@ -5,6 +5,7 @@ pub mod dense;
 pub mod expr;
 pub mod rotation;
 pub mod spatial;
+pub mod surface;
 pub mod trajectory;
 pub mod union_find;
 pub mod wheel;

@@ -7,6 +7,7 @@
 //! (the lowest point of the rim) is `delta = radius (e_long x e_axis)` from
 //! the centre, or `-radius e_n` for a wheel held upright.
 
+use super::surface::{Height, Surface};
 use super::{Mat3, Vec3};
 
 /// The contact frame of a wheel and its rate of change.
@@ -31,16 +32,28 @@ pub struct ContactFrame {
 /// on a plane of unit normal `e_n` (fixed). `upright`: the contact point is
 /// straight below the centre (RollingConstraintVerticalWheel).
 pub fn contact_frame(rot: &Mat3, w: &Vec3, radius: f64, e_n: &Vec3, upright: bool) -> ContactFrame {
+    contact_frame_turning(rot, w, radius, e_n, &Vec3::zeros(), upright)
+}
+
+/// [`contact_frame`] on a plane whose normal turns at `e_n_dot`.
+pub fn contact_frame_turning(
+    rot: &Mat3,
+    w: &Vec3,
+    radius: f64,
+    e_n: &Vec3,
+    e_n_dot: &Vec3,
+    upright: bool,
+) -> ContactFrame {
     let e_axis = rot.tr_mul(&Vec3::z());
     let e_axis_dot = w.cross(&e_axis);
     let aux = e_n.cross(&e_axis);
     // A wheel lying flat has no direction of travel; keep the numbers finite.
     let n = aux.norm().max(f64::MIN_POSITIVE);
     let e_long = aux / n;
-    let aux_dot = e_n.cross(&e_axis_dot);
+    let aux_dot = e_n.cross(&e_axis_dot) + e_n_dot.cross(&e_axis);
     let e_long_dot = (aux_dot - e_long * e_long.dot(&aux_dot)) / n;
     let e_lat = e_long.cross(e_n);
-    let e_lat_dot = e_long_dot.cross(e_n);
+    let e_lat_dot = e_long_dot.cross(e_n) + e_long.cross(e_n_dot);
     let (delta, delta_dot) = if upright {
         (-e_n * radius, Vec3::zeros())
     } else {
@@ -48,6 +61,73 @@ pub fn contact_frame(rot: &Mat3, w: &Vec3, radius: f64, e_n: &Vec3, upright: boo
     };
     ContactFrame { e_axis, e_long, e_lat, delta, e_long_dot, e_lat_dot, delta_dot }
 }
+
+/// Where a wheel touches the road, and how far it is from touching.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RoadContact {
+    /// The wheel's contact frame on the road's tangent plane there.
+    pub frame: ContactFrame,
+    /// The road's unit normal at the contact point, and its rate.
+    pub e_n: Vec3,
+    pub e_n_dot: Vec3,
+    /// The road's point under the wheel's lowest point.
+    pub r_road: Vec3,
+    /// The wheel's lowest point above the road, along the normal
+    /// (negative: in the road).
+    pub gap: f64,
+}
+
+/// A wheel of `radius` (centre `r` moving at `v`, rotation `rot`, angular
+/// velocity `w`, all world) on the ground y = 0, or on the road
+/// `y = surface(x, z)`: the rim's lowest point relative to the road's
+/// tangent plane under it, found by fixed-point steps (they converge where
+/// the road is less curved than the wheel).
+pub fn road_contact(rot: &Mat3, w: &Vec3, r: &Vec3, v: &Vec3, radius: f64, surface: Option<&Surface>) -> RoadContact {
+    let Some(surface) = surface else {
+        let frame = contact_frame(rot, w, radius, &Vec3::y(), false);
+        let p = r + frame.delta;
+        return RoadContact {
+            frame,
+            e_n: Vec3::y(),
+            e_n_dot: Vec3::zeros(),
+            r_road: Vec3::new(p.x, 0.0, p.z),
+            gap: p.y,
+        };
+    };
+    let normal = |h: &Height| Vec3::new(-h.grad[0], 1.0, -h.grad[1]);
+    let mut frame = contact_frame(rot, w, radius, &Vec3::y(), false);
+    let mut p = r + frame.delta;
+    let mut h = surface.height(p.x, p.z);
+    for _ in 0..ROAD_ITERATIONS {
+        frame = contact_frame(rot, w, radius, &normal(&h).normalize(), false);
+        let next = r + frame.delta;
+        let moved = (next - p).norm();
+        p = next;
+        h = surface.height(p.x, p.z);
+        if moved <= 1e-14 * (radius + r.norm()) {
+            break;
+        }
+    }
+    let n = normal(&h);
+    let e_n = n / n.norm();
+    // The normal turns as the contact point moves over the road: twice, so
+    // that the point's motion includes the turning.
+    let mut e_n_dot = Vec3::zeros();
+    for _ in 0..2 {
+        frame = contact_frame_turning(rot, w, radius, &e_n, &e_n_dot, false);
+        let p_dot = v + frame.delta_dot;
+        let [hxx, hxz, hzz] = h.hess;
+        let n_dot = Vec3::new(-(hxx * p_dot.x + hxz * p_dot.z), 0.0, -(hxz * p_dot.x + hzz * p_dot.z));
+        e_n_dot = (n_dot - e_n * e_n.dot(&n_dot)) / n.norm();
+    }
+    frame = contact_frame_turning(rot, w, radius, &e_n, &e_n_dot, false);
+    let p = r + frame.delta;
+    let r_road = Vec3::new(p.x, h.value, p.z);
+    RoadContact { frame, e_n, e_n_dot, r_road, gap: e_n.dot(&(p - r_road)) }
+}
+
+/// Fixed-point steps of the contact point on a road.
+const ROAD_ITERATIONS: usize = 30;
 
 /// An S-shaped step from `(x_min, y_min)` to `(x_max, y_max)`: the cubic
 /// `-x^3/2 + 3x/2` on the scaled interval, constant outside it; continuous

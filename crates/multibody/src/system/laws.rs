@@ -84,8 +84,9 @@ pub enum ForceLaw {
     /// (frame_b at the wheel's centre, spin axis z; the reaction on the
     /// world): where the rim's lowest point is `pen` below the plane, the
     /// normal force is `f_n = max(0, c_z pen + d_z der(pen))`, and friction
-    /// `f_n` times the coefficients of `law`, at the contact point.
-    Tyre { radius: f64, law: SlipLaw, c_z: f64, d_z: f64 },
+    /// `f_n` times the coefficients of `law`, at the contact point. On the
+    /// component's road number `road` (its `Part::Road`s) if given.
+    Tyre { radius: f64, law: SlipLaw, c_z: f64, d_z: f64, road: Option<usize> },
 }
 
 /// Which relative rotations of frame_b a constraint locks.
@@ -138,8 +139,10 @@ pub enum WheelContact {
     /// the lowest point of its rim stays on the plane (a position row, whose
     /// multiplier is the normal force `f_n`), and the ground pushes the
     /// contact point against its slip with `f_n` times the friction
-    /// coefficients of `law`.
-    Slipping { law: SlipLaw },
+    /// coefficients of `law`. On the component's road number `road` (its
+    /// `Part::Road`s; assembly numbers them among all roads), else on the
+    /// plane y = 0.
+    Slipping { law: SlipLaw, road: Option<usize> },
 }
 
 /// How a slipping wheel's friction depends on the slip velocity `v_slip`
@@ -224,11 +227,20 @@ impl ConstraintKind {
         }
     }
 
+    /// The same relation with the component's road numbers moved by
+    /// `base` (assembly numbers all the mechanism's roads).
+    pub fn with_road_base(mut self, base: usize) -> Self {
+        if let ConstraintKind::Wheel { contact: WheelContact::Slipping { road: Some(r), .. }, .. } = &mut self {
+            *r += base;
+        }
+        self
+    }
+
     /// The friction law of a slipping wheel (its one row's multiplier is
     /// the normal force, and friction forces follow it).
     pub fn slip_law(&self) -> Option<SlipLaw> {
         match *self {
-            ConstraintKind::Wheel { contact: WheelContact::Slipping { law }, .. } => Some(law),
+            ConstraintKind::Wheel { contact: WheelContact::Slipping { law, .. }, .. } => Some(law),
             _ => None,
         }
     }
