@@ -374,6 +374,22 @@ fn slipping_wheels() {
             .initial("der_angles", vec![0.0, 0.0, 25.0]);
     }
     m.component_mut("pacejka").unwrap().set("elastic_contact", true).set("color", [0.0, 0.0, 1.0, 1.0]);
+    {
+        use multibody::{Func, SurfaceExpr as S};
+        let b = Box::new;
+        m.add("wavy", "SlippingWheel")
+            .set("radius", 0.3)
+            .set("m", 1.0)
+            .set("I_axis", 0.06)
+            .set("I_long", 0.12)
+            .set("color", [0.0, 0.6, 0.0, 1.0])
+            .initial("x", 0.0)
+            .initial("z", 2.0)
+            .initial("angles", vec![0.0; 3])
+            .initial("v_0", vec![0.0; 3])
+            .initial("der_angles", vec![0.0, 0.0, 25.0])
+            .surface(S::Mul(b(S::Const(0.05)), b(S::Call(Func::Sin, b(S::Mul(b(S::Const(2.0)), b(S::X)))))));
+    }
     assert_same("slipping_wheels.dyad", m, SimulationOptions { method: Method::Rodas4, ..options(2.0, 0.01) });
     let (_, _, s) = run_file("slipping_wheels.dyad");
     // I_axis w0 / (I_axis + m R^2) = 0.06 * 25 / 0.15 = 10 rad/s. The run's
@@ -384,6 +400,20 @@ fn slipping_wheels() {
         println!("{wheel}: w_roll {w:.9} rad/s (closed form 10), v {v:.9} m/s (closed form -3)");
         assert!((w - 10.0).abs() < 1e-6 && (v + 3.0).abs() < 1e-6, "{wheel}: w {w}, v {v}");
     }
+    // The wavy road's wheel stays on it: its centre is always the radius
+    // away from the road, along the road's normal at the contact.
+    let (x, y) = (s.get("wavy.x").unwrap(), s.get("wavy.y").unwrap());
+    let road = |k: usize| {
+        let (cx, cy) = (s.get("wavy.r_road_0[1]").unwrap()[k], s.get("wavy.r_road_0[2]").unwrap()[k]);
+        ((x[k] - cx).powi(2) + (y[k] - cy).powi(2)).sqrt()
+    };
+    let worst = (0..x.len()).fold(0.0f64, |a, k| a.max((road(k) - 0.3).abs()));
+    // The steps end on the road (projected to 1e-12), but the output grid is
+    // interpolated between them at the run's tolerance, 1e-6 (Dyad's
+    // default): 1e-5 m (it is 2.5e-6 m here).
+    println!("wavy road: the wheel's centre is within {worst:.1e} m of the radius from the road (tolerance 1e-5)");
+    assert!(worst < 1e-5, "the wavy road's wheel is {worst:e} m off its radius");
+    assert!(s.get("wavy.r_road_0[2]").unwrap().iter().any(|y| y.abs() > 0.04), "the road is wavy where it ran");
 }
 
 /// The two-link arm of URDF parts, with visual-only components.
