@@ -69,8 +69,9 @@ impl<'a> ParamSet<'a> {
                 name: "surface".into(),
                 value: "a road".into(),
                 reason: format!(
-                    "a {} rolls on no road surface; the slipping wheels (SlippingWheel, SlipWheelJoint, \
-                     PacejkaSlippingWheel, PacejkaWheelJoint) take one",
+                    "a {} rolls on no road surface; the wheels that may lean (RollingWheel, \
+                     RollingWheelJoint, SlippingWheel, SlipWheelJoint, PacejkaSlippingWheel, PacejkaWheelJoint) \
+                     take one",
                     spec.kind
                 ),
             });

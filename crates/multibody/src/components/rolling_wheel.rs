@@ -13,9 +13,11 @@
 use super::shapes::LocalShape;
 use super::spec::{ComponentSpec, ConnectorSpec, ConnectorType, VarSpec};
 use super::wheel_common::{
-    positive, wheel_inertia, wheel_shapes, COLOR, ISCUT, I_AXIS, I_LONG, M, RADIUS, RENDER, SEQUENCE, SPECULAR, WIDTH,
+    positive, road, wheel_inertia, wheel_shapes, COLOR, ISCUT, I_AXIS, I_LONG, M, RADIUS, RENDER, SEQUENCE, SPECULAR,
+    SURFACE, WIDTH,
 };
 use super::{Component, ConstraintKind, EvalContext, ParamSet, Part, StateNames, WheelContact};
+use crate::math::surface::Surface;
 use crate::math::wheel::{road_contact, RoadContact};
 use crate::math::{RigidInertia, Transform, Vec3};
 use crate::system::joint::{JointModel, RotationCoordinates};
@@ -32,7 +34,7 @@ pub static JOINT: ComponentSpec = ComponentSpec {
           slip, and it cannot lift off (one constraint on positions, two on velocities). frame_a is at the \
           wheel's centre and turns with it; its z axis is the spin axis. Connect a body with the wheel's mass \
           to frame_a (see RollingWheel). States: x, y, z, angles (Cardan angles of sequence), v_0, der_angles.",
-    params: &[SEQUENCE, ISCUT, RENDER, COLOR, SPECULAR, RADIUS, WIDTH],
+    params: &[SEQUENCE, ISCUT, SURFACE, RENDER, COLOR, SPECULAR, RADIUS, WIDTH],
     connectors: CONNECTORS,
     variables: VARIABLES,
     build: |p| build(p, false),
@@ -45,7 +47,7 @@ pub static WHEEL: ComponentSpec = ComponentSpec {
           freedom): RollingWheelJoint with a body of mass m and a diagonal inertia (I_axis about the spin axis, \
           z of frame_a; I_long across it) at the centre. To mount it on an axle, connect frame_a to a Revolute \
           about the axle.",
-    params: &[SEQUENCE, ISCUT, RENDER, COLOR, SPECULAR, RADIUS, M, I_AXIS, I_LONG, WIDTH],
+    params: &[SEQUENCE, ISCUT, SURFACE, RENDER, COLOR, SPECULAR, RADIUS, M, I_AXIS, I_LONG, WIDTH],
     connectors: CONNECTORS,
     variables: VARIABLES,
     build: |p| build(p, true),
@@ -79,12 +81,15 @@ struct Wheel {
     sequence: [usize; 3],
     iscut: bool,
     mass: Option<RigidInertia>,
+    /// The road, if not the plane y = 0.
+    surface: Option<Surface>,
 }
 
 fn build(p: &ParamSet, with_mass: bool) -> Result<Box<dyn Component>, Error> {
     let radius = positive(p, "radius", "the wheel's radius")?;
     let mass = if with_mass { Some(wheel_inertia(p, "m", "I_axis", "I_long")?) } else { None };
-    Ok(Box::new(Wheel { radius, sequence: p.sequence("sequence")?, iscut: p.boolean("iscut"), mass }))
+    let surface = road(p)?;
+    Ok(Box::new(Wheel { radius, sequence: p.sequence("sequence")?, iscut: p.boolean("iscut"), mass, surface }))
 }
 
 pub(crate) fn shapes(p: &ParamSet) -> Vec<LocalShape> {
@@ -115,11 +120,17 @@ impl Component for Wheel {
             Part::Constraint {
                 a: 1,
                 b: 0,
-                kind: ConstraintKind::Wheel { radius: self.radius, contact: WheelContact::Rolling },
+                kind: ConstraintKind::Wheel {
+                    radius: self.radius,
+                    contact: WheelContact::Rolling { road: self.surface.map(|_| 0) },
+                },
             },
         ];
         if let Some(inertia) = self.mass {
             parts.push(Part::Mass { frame: 0, inertia, point_gravity: false });
+        }
+        if let Some(surface) = self.surface {
+            parts.push(Part::Road { surface: Box::new(surface) });
         }
         parts
     }
@@ -141,7 +152,7 @@ impl Component for Wheel {
         out.extend_from_slice(&j.u[3..6]);
         let f_wheel_0 = contact_force(ctx, f, &self.mass);
         let w_0 = f.rot.tr_mul(&f.w);
-        let road = road_contact(&f.rot, &w_0, &f.r_0, &f.v_0, self.radius, None);
+        let road = road_contact(&f.rot, &w_0, &f.r_0, &f.v_0, self.radius, self.surface.as_ref());
         evaluate_contact(f, &road, 1.0, f_wheel_0, out);
     }
 }

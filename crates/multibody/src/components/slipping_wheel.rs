@@ -13,7 +13,8 @@
 use super::rolling_wheel::{contact_force, evaluate_contact, free_joint, shapes, VARIABLES as CONTACT_VARIABLES};
 use super::spec::{ComponentSpec, ConnectorSpec, ConnectorType, ParamSpec, VarSpec};
 use super::wheel_common::{
-    non_negative, positive, wheel_inertia, COLOR, ISCUT, I_AXIS, I_LONG, M, RADIUS, RENDER, SEQUENCE, SPECULAR, WIDTH,
+    non_negative, positive, road, wheel_inertia, COLOR, ISCUT, I_AXIS, I_LONG, M, RADIUS, RENDER, SEQUENCE, SPECULAR,
+    SURFACE, WIDTH,
 };
 use super::{Component, ConstraintKind, EvalContext, ForceLaw, ParamSet, Part, SlipLaw, WheelContact};
 use crate::math::surface::Surface;
@@ -36,12 +37,6 @@ const ELASTIC: ParamSpec = ParamSpec::boolean(
     "elastic_contact",
     false,
     "A compliant normal contact, f_n = max(0, c_z pen + d_z der(pen)) for a penetration pen, instead of the rigid one",
-);
-const SURFACE: ParamSpec = ParamSpec::boolean(
-    "surface",
-    false,
-    "Roll on the road y = surface(x, z) that the model's relations give (`wheel.surface = 0.1 * sin(x)`, a formula \
-     of the world's x and z), instead of the ground y = 0. Setting the formula sets this",
 );
 const C_Z: ParamSpec = ParamSpec::real("c_z", 250000.0, "N/m", "Vertical contact stiffness (elastic_contact)");
 const D_Z: ParamSpec = ParamSpec::real("d_z", 500.0, "N.s/m", "Vertical contact damping (elastic_contact)");
@@ -341,15 +336,7 @@ fn build(p: &ParamSet, law: Law, with_mass: bool) -> Result<Box<dyn Component>, 
         None
     };
     let mass = if with_mass { Some(wheel_inertia(p, "m", "I_axis", "I_long")?) } else { None };
-    let surface =
-        match p.surface {
-            Some(expr) => Some(Surface::new(expr).map_err(|reason| p.invalid("surface", reason))?),
-            None if p.boolean("surface") => return Err(p.invalid(
-                "surface",
-                "give the road as a formula of x and z in the model's relations, e.g. `wheel.surface = 0.1 * sin(x)`",
-            )),
-            None => None,
-        };
+    let surface = road(p)?;
     Ok(Box::new(SlippingWheel {
         surface,
         radius,

@@ -8,6 +8,7 @@
 use super::shapes::{LocalShape, ShapeKind};
 use super::spec::{ParamSpec, ParamType};
 use super::ParamSet;
+use crate::math::surface::Surface;
 use crate::math::Vec3;
 use crate::Error;
 
@@ -29,6 +30,12 @@ pub const SEQUENCE: ParamSpec = ParamSpec {
     doc: "Axes of the Cardan angles that rotate the world into frame_a: heading about y, lean about x, spin \
           about z (singular only when the wheel lies flat)",
 };
+pub const SURFACE: ParamSpec = ParamSpec::boolean(
+    "surface",
+    false,
+    "Roll on the road y = surface(x, z) that the model's relations give (`wheel.surface = 0.1 * sin(x)`, a formula \
+     of the world's x and z), instead of the ground y = 0. Setting the formula sets this",
+);
 pub const M: ParamSpec = ParamSpec::real("m", 1.0, "kg", "Mass of the wheel");
 pub const I_AXIS: ParamSpec =
     ParamSpec::real("I_axis", 0.06, "kg.m2", "Moment of inertia of the wheel about its spin axis");
@@ -52,6 +59,18 @@ pub fn non_negative(p: &ParamSet, name: &str, what: &str) -> Result<f64, Error> 
         Ok(x)
     } else {
         Err(p.invalid(name, format!("{what} must be zero or more (it is {x})")))
+    }
+}
+
+/// The road the model gives the wheel, compiled; `None` for the ground.
+pub fn road(p: &ParamSet) -> Result<Option<Surface>, Error> {
+    match p.surface {
+        Some(expr) => Ok(Some(Surface::new(expr).map_err(|reason| p.invalid("surface", reason))?)),
+        None if p.boolean("surface") => Err(p.invalid(
+            "surface",
+            "give the road as a formula of x and z in the model's relations, e.g. `wheel.surface = 0.1 * sin(x)`",
+        )),
+        None => Ok(None),
     }
 }
 

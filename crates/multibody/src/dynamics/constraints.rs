@@ -99,21 +99,22 @@ fn rows(kind: &ConstraintKind, a: &EndState, b: &EndState, roads: &[Surface], ou
         }
         ConstraintKind::Distance { length } => push(Row::Distance, r_ab.norm() - length),
         ConstraintKind::Wheel { radius, contact } => {
-            // The ground plane y = 0 (frame A is the ground).
-            let e_n = Vec3::y();
-            let upright = matches!(contact, WheelContact::Vertical { .. });
-            let c = contact_frame(&b.rot, &b.w, radius, &e_n, upright);
+            // Frame A is the ground; the road is the plane y = 0 or a surface.
+            let (c, contact_row) = match contact {
+                WheelContact::Vertical { .. } => (contact_frame(&b.rot, &b.w, radius, &Vec3::y(), true), None),
+                WheelContact::Rolling { road } | WheelContact::Slipping { road, .. } => {
+                    let rc = road_contact(&b.rot, &b.w, &b.r, &b.v, radius, road.map(|r| &roads[r]));
+                    (rc.frame, Some((rc.e_n, rc.e_n_dot, rc.gap)))
+                }
+            };
             let (delta, delta_dot) = (c.delta, c.delta_dot);
-            if let WheelContact::Slipping { road, .. } = contact {
-                // Only the contact with the road; friction follows its force.
-                let rc = road_contact(&b.rot, &b.w, &b.r, &b.v, radius, road.map(|r| &roads[r]));
-                let (delta, delta_dot) = (rc.frame.delta, rc.frame.delta_dot);
-                push(Row::Contact { e: rc.e_n, e_dot: rc.e_n_dot, delta, delta_dot }, rc.gap);
-                return n;
+            if let Some((e_n, e_n_dot, gap)) = contact_row {
+                // The rim's lowest point on the road.
+                push(Row::Contact { e: e_n, e_dot: e_n_dot, delta, delta_dot }, gap);
             }
-            if contact == WheelContact::Rolling {
-                // The contact point's height: on the plane.
-                push(Row::Contact { e: e_n, e_dot: Vec3::zeros(), delta, delta_dot }, e_n.dot(&(b.r + delta)));
+            if let WheelContact::Slipping { .. } = contact {
+                // No rolling rows: friction follows the contact's force.
+                return n;
             }
             push(Row::Contact { e: c.e_long, e_dot: c.e_long_dot, delta, delta_dot }, 0.0);
             if contact != (WheelContact::Vertical { lateral: false }) {

@@ -133,8 +133,10 @@ pub enum WheelContact {
     Vertical { lateral: bool },
     /// A wheel that may lean (RollingWheelJoint): the lowest point of its
     /// rim stays on the plane (a position row) and does not slip in either
-    /// direction (two velocity rows).
-    Rolling,
+    /// direction (two velocity rows). On the component's road number `road`
+    /// (its `Part::Road`s; assembly numbers them among all roads), else on
+    /// the plane y = 0.
+    Rolling { road: Option<usize> },
     /// A wheel that may lean and slip (SlipWheelJoint, PacejkaWheelJoint):
     /// the lowest point of its rim stays on the plane (a position row, whose
     /// multiplier is the normal force `f_n`), and the ground pushes the
@@ -222,7 +224,7 @@ impl ConstraintKind {
             }
             ConstraintKind::Distance { .. } => 1,
             ConstraintKind::Wheel { contact: WheelContact::Vertical { lateral }, .. } => 1 + lateral as usize,
-            ConstraintKind::Wheel { contact: WheelContact::Rolling, .. } => 3,
+            ConstraintKind::Wheel { contact: WheelContact::Rolling { .. }, .. } => 3,
             ConstraintKind::Wheel { contact: WheelContact::Slipping { .. }, .. } => 1,
         }
     }
@@ -230,7 +232,11 @@ impl ConstraintKind {
     /// The same relation with the component's road numbers moved by
     /// `base` (assembly numbers all the mechanism's roads).
     pub fn with_road_base(mut self, base: usize) -> Self {
-        if let ConstraintKind::Wheel { contact: WheelContact::Slipping { road: Some(r), .. }, .. } = &mut self {
+        if let ConstraintKind::Wheel {
+            contact: WheelContact::Slipping { road: Some(r), .. } | WheelContact::Rolling { road: Some(r) },
+            ..
+        } = &mut self
+        {
             *r += base;
         }
         self
@@ -252,7 +258,7 @@ impl ConstraintKind {
         match *self {
             ConstraintKind::Wheel { contact: WheelContact::Vertical { .. }, .. } => true,
             // Row 0 keeps the wheel on the plane; rows 1 and 2 are the rolling.
-            ConstraintKind::Wheel { contact: WheelContact::Rolling, .. } => i > 0,
+            ConstraintKind::Wheel { contact: WheelContact::Rolling { .. }, .. } => i > 0,
             _ => false,
         }
     }
