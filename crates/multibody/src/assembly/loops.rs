@@ -101,7 +101,9 @@ pub fn loop_reports(mechanism: &Mechanism, ws: &mut Workspace) -> Vec<LoopInfo> 
         }
         let mut perm = vec![0; c.rows];
         let rank = crate::math::dense::ldlt_pivoted(&mut gram, c.rows, &mut perm, 1e-10);
-        reports.push(LoopInfo { cut, joints, equations: c.rows, redundant: c.rows - rank });
+        let wheel_contact = matches!(c.kind, crate::system::ConstraintKind::Wheel { .. })
+            .then(|| (0..c.rows).filter(|&i| c.kind.is_velocity_row(i)).count());
+        reports.push(LoopInfo { cut, joints, equations: c.rows, redundant: c.rows - rank, wheel_contact });
     }
     reports
 }

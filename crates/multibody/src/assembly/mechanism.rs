@@ -125,6 +125,9 @@ pub struct LoopInfo {
     pub equations: usize,
     /// How many of them repeat what the others already say.
     pub redundant: usize,
+    /// A wheel's contact with the ground (not a loop of joints), and how many
+    /// of its equations are on velocities only (rolling without slipping).
+    pub wheel_contact: Option<usize>,
 }
 
 /// A set of connected frames, fixed in a link (or in a massless group).
