@@ -33,14 +33,27 @@ pub fn check(selection: &Selection) -> Result<(), Failure> {
     }
     let loops = mechanism.loops();
     if !loops.is_empty() {
-        println!("  kinematic loops: {}", loops.len());
-        for l in loops {
+        let contacts = loops.iter().filter(|l| l.wheel_contact.is_some()).count();
+        if contacts < loops.len() {
+            println!("  kinematic loops: {}", loops.len() - contacts);
+        }
+        for l in loops.iter().filter(|l| l.wheel_contact.is_none()) {
             println!(
                 "    through {}: cut at {}, {} constraint equations, {} of them redundant",
                 l.joints.join(", "),
                 l.cut,
                 l.equations,
                 l.redundant
+            );
+        }
+        if contacts > 0 {
+            println!("  wheel contacts: {contacts}");
+        }
+        for l in loops.iter().filter(|l| l.wheel_contact.is_some()) {
+            let on_velocities = l.wheel_contact.unwrap_or(0);
+            println!(
+                "    {} on the ground: {} constraint equations ({} of them on velocities), {} of them redundant",
+                l.cut, l.equations, on_velocities, l.redundant
             );
         }
     }

@@ -653,6 +653,23 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             consumed[k] = true;
         }
 
+        // `wheel.surface = formula`: the road a wheel rolls on, a formula
+        // of x and z rather than an equation of the model.
+        let mut surfaces = Vec::new();
+        for (k, flat_relation) in flats.iter().enumerate() {
+            let Flat::Equation { lhs, rhs, env, .. } = flat_relation else { continue };
+            let Some(target) = relations::start_target(lhs, &mut scope, env)? else { continue };
+            let [first, part] = &target[..] else { continue };
+            let is_road = |i: &Instance| {
+                i.local == first.name && matches!(i.kind, Kind::Library(spec) if spec.param("surface").is_some())
+            };
+            if part.name == "surface" && subs.iter().any(is_road) {
+                let road = crate::symbolic::road(rhs, &mut WithEnv { scope: &mut scope, env })?;
+                surfaces.push((flat(prefix, &first.name), road));
+                consumed[k] = true;
+            }
+        }
+
         for instance in &subs {
             let child = flat(prefix, &instance.local);
             let decl = instance.decl;
@@ -682,6 +699,11 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                     self.entities.insert(child.clone(), Entity::Connector(ty));
                     self.graph.declare(child, ty, decl.span, name.to_string());
                 }
+            }
+        }
+        for (component, road) in surfaces {
+            if let Some(c) = self.model.component_mut(&component) {
+                c.surface(road);
             }
         }
 

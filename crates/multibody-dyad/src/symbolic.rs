@@ -757,3 +757,42 @@ fn fill(
     }
     Ok(out)
 }
+
+/// A road's height for `wheel.surface = ...`: an expression in the
+/// world's `x` and `z`, with the component's parameters as numbers.
+pub fn road(expr: &Expr, scope: &mut dyn crate::eval::Scope) -> Result<E, Diagnostic> {
+    struct Road<'s> {
+        scope: &'s mut dyn crate::eval::Scope,
+    }
+    impl Names for Road<'_> {
+        fn reference(&mut self, expr: &Expr) -> Result<Option<Sym>, Diagnostic> {
+            if let ExprKind::Name(path) = &expr.kind {
+                if let [only] = &path.parts[..] {
+                    if only.name == "x" || only.name == "z" {
+                        return Ok(Some(Sym::Scalar(E::Var(only.name.clone()))));
+                    }
+                    if let Some(v) = self.scope.parameter(only)? {
+                        return Ok(from_val(&v));
+                    }
+                }
+            }
+            Ok(None)
+        }
+        fn candidates(&self) -> Vec<String> {
+            let mut names = self.scope.parameter_names();
+            names.extend(["x".to_string(), "z".to_string()]);
+            names
+        }
+    }
+    let value = eval(expr, &mut Road { scope })?;
+    let height = value.as_scalar().cloned().ok_or_else(|| {
+        Diagnostic::error(format!("a road's height is one number at each (x, z), not {}", value.describe()))
+            .primary(expr.span, "not a scalar")
+    })?;
+    multibody::math::surface::Surface::new(&height).map_err(|why| {
+        Diagnostic::error("this formula cannot be a road's height")
+            .primary(expr.span, why)
+            .help("write the height as a formula of x and z, e.g. `wheel.surface = 0.1 * sin(x)`")
+    })?;
+    Ok(height)
+}

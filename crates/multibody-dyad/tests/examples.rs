@@ -296,6 +296,136 @@ fn prescribed_motion() {
     assert!(worst < 1e-9, "the carried body is {worst:e} m off its formula");
 }
 
+/// The small vehicle: a box on two rolling wheel sets, the rear one driven,
+/// the front one steered by a formula of time.
+#[test]
+fn wheeled_cart() {
+    use multibody::{Func, TimeExpr as T};
+    let b = Box::new;
+    let mut m = Model::new("WheeledCart");
+    m.add("world", "World");
+    let wheels = |m: &mut Model, name: &str| {
+        m.add(name, "RollingWheelSet")
+            .set("radius", 0.25)
+            .set("m_wheel", 2.0)
+            .set("I_axis", 0.0625)
+            .set("I_long", 0.035)
+            .set("track", 1.2)
+            .set("width_wheel", 0.12);
+    };
+    wheels(&mut m, "rear");
+    for state in ["x", "z", "phi", "theta1", "theta2", "der_theta1", "der_theta2"] {
+        m.component_mut("rear").unwrap().initial(state, 0.0);
+    }
+    m.add("chassis", "BodyBox").set("r", [2.0, 0.0, 0.0]).set("width", 0.9).set("height", 0.25).set("density", 300.0);
+    m.add("steering", "Revolute").set("n", [0.0, 1.0, 0.0]);
+    m.add("steer", "RotationalComponents.Position").set("exact", true);
+    wheels(&mut m, "front");
+    m.component_mut("front").unwrap().set("iscut", true);
+    m.add("throttle", "BlockComponents.Constant").set("k", -6.0);
+    m.add("drive1", "RotationalComponents.Torque");
+    m.add("drive2", "RotationalComponents.Torque");
+    let angle = T::Mul(b(T::Const(0.5)), b(T::Time));
+    m.set_input("steer.phi_ref", T::Mul(b(T::Const(0.35)), b(T::Call(Func::Sin, b(angle)))));
+    for pair in [
+        ["rear.frame_middle", "chassis.frame_a"],
+        ["chassis.frame_b", "steering.frame_a"],
+        ["steering.frame_b", "front.frame_middle"],
+        ["steer.spline", "steering.axis"],
+        ["steer.support", "steering.support"],
+        ["drive1.spline", "rear.axis1"],
+        ["drive1.support", "rear.support"],
+        ["drive2.spline", "rear.axis2"],
+        ["drive2.support", "rear.support"],
+    ] {
+        m.connect(pair);
+    }
+    m.connect(["throttle.y", "drive1.tau", "drive2.tau"]);
+    assert_same("wheeled_cart.dyad", m, options(10.0, 0.02));
+
+    // The rear axle does not slide sideways: its middle moves along its
+    // heading (1, 0, -tan phi). Central differences over the 0.02 s samples
+    // err by about (h^2 / 6) times the third derivative: 1e-4 of the speed here.
+    let (_, _, s) = run_file("wheeled_cart.dyad");
+    let (x, z, phi) = (s.get("rear.x").unwrap(), s.get("rear.z").unwrap(), s.get("rear.phi").unwrap());
+    let mut worst = 0.0f64;
+    for k in 1..x.len() - 1 {
+        let (dx, dz) = (x[k + 1] - x[k - 1], z[k + 1] - z[k - 1]);
+        let speed = (dx * dx + dz * dz).sqrt();
+        if speed > 1e-6 {
+            worst = worst.max((dx * phi[k].sin() + dz * phi[k].cos()).abs() / speed);
+        }
+    }
+    println!("wheeled cart: sideways motion of the rear axle {worst:.1e} of its speed (tolerance 1e-3)");
+    assert!(worst < 1e-3);
+    assert!(*x.last().unwrap() > 5.0, "the cart drives forwards");
+}
+
+/// Two wheels dropped spinning: the library's slip law on a rigid contact,
+/// Pacejka's magic formula on an elastic one. Both end rolling at the speed
+/// that their angular momentum about the ground line gives.
+#[test]
+fn slipping_wheels() {
+    let mut m = Model::new("SlippingWheels");
+    m.add("world", "World");
+    for (name, kind, z) in [("slip", "SlippingWheel", 0.0), ("pacejka", "PacejkaSlippingWheel", 1.0)] {
+        m.add(name, kind)
+            .set("radius", 0.3)
+            .set("m", 1.0)
+            .set("I_axis", 0.06)
+            .set("I_long", 0.12)
+            .initial("x", 0.0)
+            .initial("z", z)
+            .initial("angles", vec![0.0; 3])
+            .initial("v_0", vec![0.0; 3])
+            .initial("der_angles", vec![0.0, 0.0, 25.0]);
+    }
+    m.component_mut("pacejka").unwrap().set("elastic_contact", true).set("color", [0.0, 0.0, 1.0, 1.0]);
+    {
+        use multibody::{Expr as S, Func};
+        let b = Box::new;
+        m.add("wavy", "SlippingWheel")
+            .set("radius", 0.3)
+            .set("m", 1.0)
+            .set("I_axis", 0.06)
+            .set("I_long", 0.12)
+            .set("color", [0.0, 0.6, 0.0, 1.0])
+            .initial("x", 0.0)
+            .initial("z", 2.0)
+            .initial("angles", vec![0.0; 3])
+            .initial("v_0", vec![0.0; 3])
+            .initial("der_angles", vec![0.0, 0.0, 25.0])
+            .surface(S::Mul(
+                b(S::Const(0.05)),
+                b(S::Call(Func::Sin, b(S::Mul(b(S::Const(2.0)), b(S::Var("x".into())))))),
+            ));
+    }
+    assert_same("slipping_wheels.dyad", m, SimulationOptions { method: Method::Rodas4, ..options(2.0, 0.01) });
+    let (_, _, s) = run_file("slipping_wheels.dyad");
+    // I_axis w0 / (I_axis + m R^2) = 0.06 * 25 / 0.15 = 10 rad/s. The run's
+    // tolerance is 1e-6 (Dyad's default); it ends within 5e-8 of that here.
+    for wheel in ["slip", "pacejka"] {
+        let w = s.last(&format!("{wheel}.w_roll")).unwrap();
+        let v = s.last(&format!("{wheel}.v_0[1]")).unwrap();
+        println!("{wheel}: w_roll {w:.9} rad/s (closed form 10), v {v:.9} m/s (closed form -3)");
+        assert!((w - 10.0).abs() < 1e-6 && (v + 3.0).abs() < 1e-6, "{wheel}: w {w}, v {v}");
+    }
+    // The wavy road's wheel stays on it: its centre is always the radius
+    // away from the road, along the road's normal at the contact.
+    let (x, y) = (s.get("wavy.x").unwrap(), s.get("wavy.y").unwrap());
+    let road = |k: usize| {
+        let (cx, cy) = (s.get("wavy.r_road_0[1]").unwrap()[k], s.get("wavy.r_road_0[2]").unwrap()[k]);
+        ((x[k] - cx).powi(2) + (y[k] - cy).powi(2)).sqrt()
+    };
+    let worst = (0..x.len()).fold(0.0f64, |a, k| a.max((road(k) - 0.3).abs()));
+    // The steps end on the road (projected to 1e-12), but the output grid is
+    // interpolated between them at the run's tolerance, 1e-6 (Dyad's
+    // default): 1e-5 m (it is 2.5e-6 m here).
+    println!("wavy road: the wheel's centre is within {worst:.1e} m of the radius from the road (tolerance 1e-5)");
+    assert!(worst < 1e-5, "the wavy road's wheel is {worst:e} m off its radius");
+    assert!(s.get("wavy.r_road_0[2]").unwrap().iter().any(|y| y.abs() > 0.04), "the road is wavy where it ran");
+}
+
 /// The two-link arm of URDF parts, with visual-only components.
 #[test]
 fn urdf_arm() {
@@ -392,6 +522,8 @@ fn every_example_is_checked() {
         "sensors.dyad",
         "urdf_arm.dyad",
         "cable_bridge.dyad",
+        "wheeled_cart.dyad",
+        "slipping_wheels.dyad",
         "docs/annotated_swing.dyad",
     ];
     let mut found = Vec::new();

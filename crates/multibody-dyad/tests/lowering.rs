@@ -319,3 +319,32 @@ fn a_long_flat_sum_is_computed_from_the_left() {
     assert_eq!(param("m"), Value::Number(500.0));
     assert_eq!(param("r_cm"), Value::Array(vec![100.0 - 1.0 - 2.0 - 3.0 * 2.0 / 4.0 - 1.5, 0.0, 0.0]));
 }
+
+/// `wheel.surface = formula`: a slipping wheel's road, a formula of the
+/// world's x and z (parameters fold into constants).
+#[test]
+fn a_road_is_a_formula_of_x_and_z() {
+    use multibody::Expr as S;
+    let text = "component Road\n  parameter k::Real = 0.5\n  world = MultibodyComponents.World()\n  wheel = MultibodyComponents.SlippingWheel()\nrelations\n  wheel.surface = 0.1 * sin(k * x) - z / 4\nend\n";
+    let lowered = component(text, "Road");
+    let wheel = lowered.model.components.iter().find(|c| c.name == "wheel").unwrap();
+    let b = Box::new;
+    let expected = S::Sub(
+        b(S::Mul(
+            b(S::Const(0.1)),
+            b(S::Call(multibody::Func::Sin, b(S::Mul(b(S::Const(0.5)), b(S::Var("x".into())))))),
+        )),
+        b(S::Div(b(S::Var("z".into())), b(S::Const(4.0)))),
+    );
+    assert_eq!(wheel.surface.as_ref(), Some(&expected));
+    // The road's functions are those of formulas of time.
+    let bad = text.replace("sin(k * x)", "max(k, x)");
+    let message = error(&bad, "Road");
+    println!("{message}");
+    assert!(message.contains("max") && message.contains("road"), "{message}");
+    // A wheel told to roll on a road it was not given.
+    let missing = "component Missing\n  world = MultibodyComponents.World()\n  wheel = MultibodyComponents.SlippingWheel(surface = true)\nend\n";
+    let message = error(missing, "Missing");
+    println!("{message}");
+    assert!(message.contains("wheel.surface = "), "{message}");
+}

@@ -149,6 +149,10 @@ pub struct ComponentInstance {
     pub initial: Vec<(String, Value)>,
     /// Start values that are only guesses for a solver (`s(guess = -0.2)`).
     pub guess: Vec<(String, Value)>,
+    /// The road a wheel rolls on, `y = surface(x, z)` (a model's
+    /// `wheel.surface = ...`); only components with a `surface` parameter
+    /// take one.
+    pub surface: Option<crate::math::expr::Expr>,
 }
 
 impl ComponentInstance {
@@ -167,6 +171,13 @@ impl ComponentInstance {
     /// Gives a guess for a variable, used where start values are solved for.
     pub fn guess(&mut self, variable: &str, value: impl Into<Value>) -> &mut Self {
         upsert(&mut self.guess, variable, value.into());
+        self
+    }
+
+    /// Sets the road surface `y = surface(x, z)` of a wheel: an expression
+    /// in the variables `Expr::Var("x")` and `Expr::Var("z")` (the world's).
+    pub fn surface(&mut self, surface: crate::math::expr::Expr) -> &mut Self {
+        self.surface = Some(surface);
         self
     }
 
@@ -281,6 +292,7 @@ impl Model {
             params: Vec::new(),
             initial: Vec::new(),
             guess: Vec::new(),
+            surface: None,
         });
         self.components.last_mut().expect("just pushed")
     }

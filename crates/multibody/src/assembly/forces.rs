@@ -30,6 +30,9 @@ pub fn elements(
                 ForceLaw::Flow { inputs } => {
                     Load::Flow { signals: inputs.map(|i| signal_of_connector[Connectors::id(components, ci, i)]) }
                 }
+                ForceLaw::Tyre { radius, law, c_z, d_z, road } => {
+                    Load::Tyre { radius, law, c_z, d_z, road: road.map(|r| super::road_base(components, ci) + r) }
+                }
             };
             let id = |local: usize| Connectors::id(components, ci, local);
             let element = ForceElement { load, a: a.map(attach), b: attach(b), connectors: (a.map(id), id(b)) };

@@ -44,7 +44,7 @@ pub fn constraints(components: &mut [CompiledComponent], tree: &Tree) -> (Vec<Co
             a: attach(cut.a),
             b: attach(cut.b),
             connectors,
-            kind: cut.kind,
+            kind: cut.kind.with_road_base(super::road_base(components, cut.component)),
             row,
             rows,
             joint,
@@ -106,7 +106,9 @@ pub fn loop_reports(mechanism: &Mechanism, ws: &mut Workspace) -> Vec<LoopInfo> 
         }
         let mut perm = vec![0; c.rows];
         let rank = crate::math::dense::ldlt_pivoted(&mut gram, c.rows, &mut perm, 1e-10);
-        reports.push(LoopInfo { cut, joints, equations: c.rows, redundant: c.rows - rank });
+        let wheel_contact = matches!(c.kind, crate::system::ConstraintKind::Wheel { .. })
+            .then(|| (0..c.rows).filter(|&i| c.kind.is_velocity_row(i)).count());
+        reports.push(LoopInfo { cut, joints, equations: c.rows, redundant: c.rows - rank, wheel_contact });
     }
     reports
 }

@@ -127,6 +127,9 @@ pub struct LoopInfo {
     pub equations: usize,
     /// How many of them repeat what the others already say.
     pub redundant: usize,
+    /// A wheel's contact with the ground (not a loop of joints), and how many
+    /// of its equations are on velocities only (rolling without slipping).
+    pub wheel_contact: Option<usize>,
 }
 
 /// A set of connected frames, fixed in a link (or in a massless group).
@@ -297,6 +300,12 @@ impl Mechanism {
                 name(link)
             ),
             DynamicsError::NotFinite => "a value became infinite or NaN (the motion blew up)".into(),
+            DynamicsError::ContactIndeterminate { link } => format!(
+                "the normal forces of the slipping wheels and the other constraint forces near `{}` have no unique \
+                 solution (rigid contacts with friction on constraints that repeat each other); give the wheels \
+                 elastic_contact = true, or remove the repeated constraint",
+                name(link)
+            ),
             DynamicsError::MasslessWithoutBalance { group } => format!(
                 "no position of the frames without mass between {} balances the forces on them (springs that cannot hold them, or pulled apart without limit); give them mass or change the springs",
                 self.system.massless[group].components.iter().map(|c| format!("`{c}`")).collect::<Vec<_>>().join(", ")

@@ -168,6 +168,14 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         force_elements,
         massless: tree.massless,
         constraints,
+        roads: components
+            .iter()
+            .flat_map(|c| c.parts.iter())
+            .filter_map(|p| match p {
+                Part::Road { surface } => Some(**surface),
+                _ => None,
+            })
+            .collect(),
         constraint_rows,
         line_masses,
         equations: program,
@@ -201,6 +209,12 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         equations::initialize(&mut mechanism, &init)?;
     }
     Ok(mechanism)
+}
+
+/// How many roads the components before `ci` give: where its own are
+/// numbered among the mechanism's.
+pub(crate) fn road_base(components: &[CompiledComponent], ci: usize) -> usize {
+    components[..ci].iter().flat_map(|c| c.parts.iter()).filter(|p| matches!(p, Part::Road { .. })).count()
 }
 
 /// World pose (world-to-link rotation, origin) of every link at `q`.

@@ -40,6 +40,14 @@ pub fn layout(
         link.joint.neutral(&mut start[link.q_offset..link.q_offset + link.joint.nq()]);
     }
 
+    // The components' own defaults, where they have the states.
+    for c in components {
+        for (variable, values) in c.component.default_starts() {
+            if let Some((index, size)) = locate(c, tree, nq, variable) {
+                start[index..index + size.min(values.len())].copy_from_slice(&values[..size.min(values.len())]);
+            }
+        }
+    }
     for (ci, instance) in model.components.iter().enumerate() {
         let c = &components[ci];
         // Initial values hold; guesses fill in where no initial value is given.

@@ -84,7 +84,12 @@ impl Component for LineForce {
     }
 
     fn evaluate(&self, ctx: &EvalContext, out: &mut Vec<f64>) {
-        let point = |k: usize| PointState { r: ctx.frames[k].r_0, rot: ctx.frames[k].rot, v: ctx.frames[k].v_0 };
+        let point = |k: usize| PointState {
+            r: ctx.frames[k].r_0,
+            rot: ctx.frames[k].rot,
+            v: ctx.frames[k].v_0,
+            w: ctx.frames[k].rot.tr_mul(&ctx.frames[k].w),
+        };
         let (a, b) = (point(0), point(1));
         let (e, on_a) = line_force(self.c, self.d, self.s_unstretched, self.s_small, &a, &b);
         let r_rel = b.r - a.r;

@@ -48,8 +48,12 @@ mod revolute;
 mod revolute_constraint;
 mod revolute_planar_loop_constraint;
 mod rod;
+mod rolling_constraint_vertical_wheel;
+mod rolling_wheel;
+mod rolling_wheel_set;
 mod rotor_1d;
 mod sensors;
+mod slipping_wheel;
 mod spherical;
 mod spherical_constraint;
 mod spherical_spherical;
@@ -62,11 +66,14 @@ mod universal_spherical;
 mod urdf_body;
 mod urdf_joint;
 mod visualizers;
+mod wheel_common;
 pub mod world;
 mod world_force;
 mod world_torque;
 
-pub use crate::system::laws::{resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, RotationLock, SignalSource};
+pub use crate::system::laws::{
+    resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, RotationLock, SignalSource, SlipLaw, WheelContact,
+};
 pub use crate::system::{DriveLevel, DriveMap, SignalLaw};
 pub use params::ParamSet;
 pub use spec::{ComponentSpec, ConnectorSpec, ConnectorType, Default, ParamSpec, ParamType, Shape, VarSpec};
@@ -116,6 +123,15 @@ static REGISTRY: &[&ComponentSpec] = &[
     &loop_assemblies::USP,
     &loop_assemblies::SSR,
     &loop_assemblies::SSP,
+    &rolling_constraint_vertical_wheel::SPEC,
+    &rolling_wheel::JOINT,
+    &rolling_wheel::WHEEL,
+    &rolling_wheel_set::JOINT,
+    &rolling_wheel_set::SET,
+    &slipping_wheel::SLIP_JOINT,
+    &slipping_wheel::SLIPPING_WHEEL,
+    &slipping_wheel::PACEJKA_JOINT,
+    &slipping_wheel::PACEJKA_WHEEL,
     &spring::SPEC,
     &damper::SPEC,
     &spring_damper_parallel::SPEC,
@@ -264,6 +280,13 @@ pub trait Component: Send + Sync + std::fmt::Debug {
 
     /// Pushes the values of [`Component::variables`], in that order.
     fn evaluate(&self, _ctx: &EvalContext, _out: &mut Vec<f64>) {}
+
+    /// Start values of some of its states where the model gives none (a
+    /// wheel's centre starts at the height of its radius), by state name.
+    /// They are not fixed: closing loops may move them.
+    fn default_starts(&self) -> Vec<(&'static str, Vec<f64>)> {
+        Vec::new()
+    }
 }
 
 /// Names of a joint's position and velocity coordinates, with their sizes.
@@ -350,6 +373,9 @@ pub enum Part {
     /// (`fixed_rotation_at_frame_a/b`): it owns the orientation of a
     /// group that nothing else orients.
     FixedRotationEnd { frame: usize },
+    /// A road the component's wheels roll on, `y = surface(x, z)`: its
+    /// wheel laws refer to it by its number among the component's roads.
+    Road { surface: Box<crate::math::surface::Surface> },
     /// The joint (or owner) that is this component's part number `part`
     /// moves as the signals at the input connectors `inputs` impose, at
     /// `level` (see [`DriveMap`] for which coordinates they set). `start`
@@ -472,6 +498,7 @@ mod tests {
                 params: required.map(|p| (p.name.to_string(), one(p))).collect(),
                 initial: vec![],
                 guess: vec![],
+                surface: None,
             };
             let params = ParamSet::resolve(&instance, spec, &world).unwrap();
             for p in spec.params.iter().filter(|p| !matches!(p.default, Default::Derived(_) | Default::Required)) {

@@ -17,6 +17,8 @@ pub struct ParamSet<'a> {
     values: Vec<Option<Value>>,
     given: Vec<bool>,
     pub world: &'a WorldSettings,
+    /// The road the model gives the component (`wheel.surface = ...`).
+    pub surface: Option<&'a crate::math::expr::Expr>,
 }
 
 impl<'a> ParamSet<'a> {
@@ -61,7 +63,20 @@ impl<'a> ParamSet<'a> {
                 };
             }
         }
-        Ok(Self { component: &instance.name, spec, values, given, world })
+        if instance.surface.is_some() && spec.param("surface").is_none() {
+            return Err(Error::InvalidValue {
+                component: instance.name.clone(),
+                name: "surface".into(),
+                value: "a road".into(),
+                reason: format!(
+                    "a {} rolls on no road surface; the wheels that may lean (RollingWheel, \
+                     RollingWheelJoint, SlippingWheel, SlipWheelJoint, PacejkaSlippingWheel, PacejkaWheelJoint) \
+                     take one",
+                    spec.kind
+                ),
+            });
+        }
+        Ok(Self { component: &instance.name, spec, values, given, world, surface: instance.surface.as_ref() })
     }
 
     fn value(&self, name: &str) -> Option<&Value> {

@@ -118,6 +118,7 @@ impl std::default::Default for WorldSettings {
             params: vec![],
             initial: vec![],
             guess: vec![],
+            surface: None,
         };
         Self::from_instance(&instance).expect("the World defaults are valid")
     }
@@ -228,6 +229,7 @@ mod tests {
             params: vec![("n".into(), Value::Array(vec![0.0, 0.0, -2.0])), ("mu".into(), Value::Number(2.0))],
             initial: vec![],
             guess: vec![],
+            surface: None,
         };
         let w = WorldSettings::from_instance(&instance).unwrap();
         assert_eq!(w.uniform_gravity(), Vec3::new(0.0, 0.0, -9.80665));

@@ -12,9 +12,11 @@
 
 use super::{DynamicsError, Workspace};
 use crate::math::dense::{cholesky, cholesky_solve, ldlt_pivoted, ldlt_solve, lu, lu_solve};
+use crate::math::surface::Surface;
+use crate::math::wheel::{contact_frame, road_contact};
 use crate::math::{rotation_vector, Force, Mat3, Motion, RigidInertia, Vec3};
 use crate::system::{Anchor, Attachment, Constraint, LineMass, System, GROUND};
-use crate::system::{ConstraintKind, RotationLock};
+use crate::system::{ConstraintKind, RotationLock, WheelContact};
 
 /// Rows whose pivot is below this fraction of the largest are redundant.
 const RANK_TOLERANCE: f64 = 1e-10;
@@ -42,10 +44,19 @@ enum Row {
     Rotation(Vec3),
     Translation(Vec3),
     Distance,
+    /// A wheel's contact: `e . (v_B + w_B x delta)`, the velocity along the
+    /// world direction `e` of B's material point at `delta` from B's origin
+    /// (relative to the ground), with the rates `e_dot` and `delta_dot`.
+    Contact {
+        e: Vec3,
+        e_dot: Vec3,
+        delta: Vec3,
+        delta_dot: Vec3,
+    },
 }
 
 /// The rows of a constraint at the current state, and their residuals.
-fn rows(kind: &ConstraintKind, a: &EndState, b: &EndState, out: &mut [(Row, f64)]) -> usize {
+fn rows(kind: &ConstraintKind, a: &EndState, b: &EndState, roads: &[Surface], out: &mut [(Row, f64)]) -> usize {
     let r_ab = b.r - a.r;
     let p = a.rot * r_ab;
     let r_rel = b.rot * a.rot.transpose();
@@ -87,11 +98,55 @@ fn rows(kind: &ConstraintKind, a: &EndState, b: &EndState, out: &mut [(Row, f64)
             }
         }
         ConstraintKind::Distance { length } => push(Row::Distance, r_ab.norm() - length),
+        ConstraintKind::Wheel { radius, contact } => {
+            // Frame A is the ground; the road is the plane y = 0 or a surface.
+            let (c, contact_row) = match contact {
+                WheelContact::Vertical { .. } => (contact_frame(&b.rot, &b.w, radius, &Vec3::y(), true), None),
+                WheelContact::Rolling { road } | WheelContact::Slipping { road, .. } => {
+                    let rc = road_contact(&b.rot, &b.w, &b.r, &b.v, radius, road.map(|r| &roads[r]));
+                    (rc.frame, Some((rc.e_n, rc.e_n_dot, rc.gap)))
+                }
+            };
+            let (delta, delta_dot) = (c.delta, c.delta_dot);
+            if let Some((e_n, e_n_dot, gap)) = contact_row {
+                // The rim's lowest point on the road.
+                push(Row::Contact { e: e_n, e_dot: e_n_dot, delta, delta_dot }, gap);
+            }
+            if let WheelContact::Slipping { .. } = contact {
+                // No rolling rows: friction follows the contact's force.
+                return n;
+            }
+            push(Row::Contact { e: c.e_long, e_dot: c.e_long_dot, delta, delta_dot }, 0.0);
+            if contact != (WheelContact::Vertical { lateral: false }) {
+                push(Row::Contact { e: c.e_lat, e_dot: c.e_lat_dot, delta, delta_dot }, 0.0);
+            }
+        }
     }
     n
 }
 
+/// A slipping wheel's friction per unit normal force (world), which acts
+/// at the contact point; `None` for other constraints.
+pub(crate) fn friction_per_normal_force(kind: &ConstraintKind, b: &EndState, roads: &[Surface]) -> Option<Vec3> {
+    let ConstraintKind::Wheel { radius, contact: WheelContact::Slipping { law, road } } = *kind else {
+        return None;
+    };
+    let c = road_contact(&b.rot, &b.w, &b.r, &b.v, radius, road.map(|r| &roads[r])).frame;
+    // The slipping wheels' lateral direction is the rolling ones' turned round.
+    let e_lat = -c.e_lat;
+    let v_contact = b.v + b.w.cross(&c.delta);
+    let (v_long, v_lat) = (v_contact.dot(&c.e_long), v_contact.dot(&e_lat));
+    let v_roll = radius * b.w.dot(&c.e_axis);
+    let (mu_long, mu_lat) = law.coefficients(v_long, v_lat, v_roll);
+    Some(-(c.e_long * mu_long + e_lat * mu_lat))
+}
+
 impl System {
+    /// Whether a slipping wheel's friction follows a constraint force.
+    pub(crate) fn has_friction(&self) -> bool {
+        self.constraints.iter().any(|c| c.kind.slip_law().is_some())
+    }
+
     /// World kinematics of a constraint end from the workspace's links.
     pub(crate) fn end_state(&self, ws: &Workspace, att: &Attachment) -> EndState {
         let Anchor::Link(k) = att.anchor else { return EndState::default() };
@@ -120,10 +175,12 @@ impl System {
         let mut buffer = [(Row::Distance, 0.0); 6];
         if with_jacobian {
             ws.jac.fill(0.0);
+            ws.jac_force.fill(0.0);
         }
         for c in &self.constraints {
             let (a, b) = (self.end_state(ws, &c.a), self.end_state(ws, &c.b));
-            let count = rows(&c.kind, &a, &b, &mut buffer);
+            let count = rows(&c.kind, &a, &b, &self.roads, &mut buffer);
+            let friction = if with_jacobian { friction_per_normal_force(&c.kind, &b, &self.roads) } else { None };
             let r_ab = b.r - a.r;
             let w_rel = b.w - a.w;
             let dv = b.v - a.v;
@@ -153,12 +210,18 @@ impl System {
                         let e = r_ab / length;
                         e.dot(&(b.a - a.a)) + (dv.norm_squared() - e.dot(&dv).powi(2)) / length
                     }
+                    // d/dt [e . (v_B + w_B x delta)] at zero joint accelerations (A is the ground).
+                    Row::Contact { e, e_dot, delta, delta_dot } => {
+                        e_dot.dot(&(b.v + b.w.cross(&delta)))
+                            + e.dot(&(b.a + b.alpha.cross(&delta) + b.w.cross(&delta_dot)))
+                    }
                 };
                 let row_start = (c.row + i) * nv;
                 for (end, sign) in [(&b, 1.0), (&a, -1.0)] {
                     // Translations are of B's origin relative to A's frame: for A, at B's origin too.
                     let point = match row {
                         Row::Distance => end.r,
+                        Row::Contact { delta, .. } => b.r + delta,
                         _ => b.r,
                     };
                     let mut k = end.link;
@@ -173,8 +236,13 @@ impl System {
                                 Row::Rotation(d) => d.dot(&(a.rot * dw)),
                                 Row::Translation(d) => d.dot(&(a.rot * dv_point)),
                                 Row::Distance => (r_ab / r_ab.norm().max(f64::MIN_POSITIVE)).dot(&dv_point),
+                                Row::Contact { e, .. } => e.dot(&dv_point),
                             };
                             ws.jac[row_start + link.v_offset + dof] += sign * value;
+                            if let Some(fr) = &friction {
+                                // The generalised force of the friction per unit normal force.
+                                ws.jac_force[row_start + link.v_offset + dof] += sign * fr.dot(&dv_point);
+                            }
                         }
                         k = link.parent;
                     }
@@ -355,9 +423,24 @@ impl System {
             ud[i] = 0.0;
             for r in 0..m {
                 ws.jac[r * nv + i] = 0.0;
+                ws.jac_force[r * nv + i] = 0.0;
             }
         }
         let w = self.augmented_mass_matrix(ws);
+        // A slipping wheel's friction is its normal force times a
+        // coefficient: generalised forces `G' lambda` beside `J' lambda`.
+        // Then `M_a ud = f - w G' gamma + (J + G)' lambda'`, and the
+        // multipliers solve an unsymmetric system.
+        let friction = self.has_friction();
+        if friction {
+            for r in 0..m {
+                // gamma = -Jdot u = -bias.
+                let wg = w * ws.bias[r];
+                for (udi, g) in ud.iter_mut().zip(&ws.jac_force[r * nv..(r + 1) * nv]) {
+                    *udi += wg * g;
+                }
+            }
+        }
         // A rotor's spin coupled to a light carrier (Modelica's Rotor1D) can
         // make M indefinite, though regular: LU solves it when Cholesky cannot.
         let definite = cholesky(&mut ws.mass, nv);
@@ -374,25 +457,40 @@ impl System {
                 lu_solve(&ws.mass, nv, &ws.pivots, b, &mut ws.work)
             }
         };
-        // ud0 = M_a^-1 f, Y' = (M_a^-1 J')'.
+        // ud0 = M_a^-1 f, Y' = (M_a^-1 (J + G)')'.
         solve(ws, ud);
         let mut y_rows = std::mem::take(&mut ws.y_rows);
         y_rows.copy_from_slice(&ws.jac);
+        if friction {
+            for (y, g) in y_rows.iter_mut().zip(&ws.jac_force) {
+                *y += g;
+            }
+        }
         for r in 0..m {
             solve(ws, &mut y_rows[r * nv..(r + 1) * nv]);
         }
         ws.y_rows = y_rows;
         for r in 0..m {
-            for s in 0..=r {
+            let columns = if friction { m } else { r + 1 };
+            for s in 0..columns {
                 let v: f64 = (0..nv).map(|i| ws.jac[r * nv + i] * ws.y_rows[s * nv + i]).sum();
                 ws.schur[r * m + s] = v;
-                ws.schur[s * m + r] = v;
+                if !friction {
+                    ws.schur[s * m + r] = v;
+                }
             }
             let j_ud: f64 = (0..nv).map(|i| ws.jac[r * nv + i] * ud[i]).sum();
             ws.lambda[r] = -ws.bias[r] - j_ud;
         }
-        let rank = ldlt_pivoted(&mut ws.schur, m, &mut ws.perm, RANK_TOLERANCE);
-        ldlt_solve(&ws.schur, m, &ws.perm, rank, &mut ws.lambda, &mut ws.work);
+        if friction {
+            if !lu(&mut ws.schur, m, &mut ws.perm) {
+                return Err(DynamicsError::ContactIndeterminate { link: self.massless_link(ws) });
+            }
+            lu_solve(&ws.schur, m, &ws.perm, &mut ws.lambda, &mut ws.work);
+        } else {
+            let rank = ldlt_pivoted(&mut ws.schur, m, &mut ws.perm, RANK_TOLERANCE);
+            ldlt_solve(&ws.schur, m, &ws.perm, rank, &mut ws.lambda, &mut ws.work);
+        }
         for r in 0..m {
             let l = ws.lambda[r];
             for (udi, yi) in ud.iter_mut().zip(&ws.y_rows[r * nv..(r + 1) * nv]) {
@@ -583,6 +681,13 @@ impl System {
         }
         if positions {
             ws.lambda.copy_from_slice(&ws.residual);
+            // Rows on velocities only say nothing about positions.
+            for c in &self.constraints {
+                for i in (0..c.rows).filter(|&i| c.kind.is_velocity_row(i)) {
+                    ws.jac[(c.row + i) * nv..(c.row + i + 1) * nv].fill(0.0);
+                    ws.lambda[c.row + i] = 0.0;
+                }
+            }
         }
         for r in 0..m {
             for s in 0..=r {
@@ -644,7 +749,7 @@ impl System {
     pub(crate) fn constraint_wrenches(&self, ws: &Workspace, c: &Constraint) -> ((Vec3, Vec3), (Vec3, Vec3)) {
         let (a, b) = (self.end_state(ws, &c.a), self.end_state(ws, &c.b));
         let mut buffer = [(Row::Distance, 0.0); 6];
-        let count = rows(&c.kind, &a, &b, &mut buffer);
+        let count = rows(&c.kind, &a, &b, &self.roads, &mut buffer);
         let (mut force, mut torque) = (Vec3::zeros(), Vec3::zeros());
         for (i, &(row, _)) in buffer[..count].iter().enumerate() {
             let l = ws.lambda[c.row + i];
@@ -652,6 +757,15 @@ impl System {
                 Row::Rotation(d) => torque += a.rot.tr_mul(&d) * l,
                 Row::Translation(d) => force += a.rot.tr_mul(&d) * l,
                 Row::Distance => force += (b.r - a.r) / (b.r - a.r).norm().max(f64::MIN_POSITIVE) * l,
+                // A force at the contact point: its moment about B's origin.
+                Row::Contact { e, delta, .. } => {
+                    let mut f = e * l;
+                    if let Some(fr) = friction_per_normal_force(&c.kind, &b, &self.roads) {
+                        f += fr * l;
+                    }
+                    force += f;
+                    torque += delta.cross(&f);
+                }
             }
         }
         let r_ab = b.r - a.r;

@@ -2,8 +2,10 @@
 //! and the position of massless groups that only they hold.
 
 use super::{DynamicsError, Workspace};
+use crate::math::surface::Surface;
+use crate::math::wheel::road_contact;
 use crate::math::{Force, Mat3, Vec3};
-use crate::system::{resolve_input, Resolve};
+use crate::system::{resolve_input, Resolve, SlipLaw};
 use crate::system::{Anchor, Attachment, ForceElement, Load, System, GROUND};
 
 /// The motion of a frame a force element acts on.
@@ -15,6 +17,8 @@ pub(crate) struct PointState {
     pub rot: Mat3,
     /// Velocity of the origin, world coordinates.
     pub v: Vec3,
+    /// Angular velocity, world coordinates.
+    pub w: Vec3,
 }
 
 /// A force (world coordinates) at a frame's origin and a moment (world
@@ -38,11 +42,15 @@ impl System {
                     r: lw.pos + lw.rot.tr_mul(&p),
                     rot: att.pose.rot * lw.rot,
                     v: lw.rot.tr_mul(&(lw.v.lin + lw.v.ang.cross(&p))),
+                    w: lw.rot.tr_mul(&lw.v.ang),
                 }
             }
-            Anchor::Massless(m) => {
-                PointState { r: ws.massless_pos[m] + att.pose.trans, rot: att.pose.rot, v: ws.massless_vel[m] }
-            }
+            Anchor::Massless(m) => PointState {
+                r: ws.massless_pos[m] + att.pose.trans,
+                rot: att.pose.rot,
+                v: ws.massless_vel[m],
+                w: Vec3::zeros(),
+            },
         }
     }
 
@@ -74,6 +82,10 @@ impl System {
                     Vec3::new(ws.signals[signals[k]], ws.signals[signals[k + 1]], ws.signals[signals[k + 2]])
                 };
                 ((zero, zero), (-kb.rot.tr_mul(&at(0)), -kb.rot.tr_mul(&at(3))))
+            }
+            Load::Tyre { radius, law, c_z, d_z, road } => {
+                let (f, delta) = tyre_force(radius, &law, c_z, d_z, road.map(|r| &self.roads[r]), &kb);
+                ((-f, zero), (f, delta.cross(&f)))
             }
         }
     }
@@ -156,6 +168,30 @@ impl System {
 
 /// The line force's geometry and the force it applies on frame_a:
 /// `(unit vector a to b, force on a)`; the force on b is the opposite.
+/// The force (world) of an elastic tyre contact on the wheel at `b`, and
+/// where it acts: at `delta` from the wheel's centre (see [`Load::Tyre`]).
+#[inline]
+pub(crate) fn tyre_force(
+    radius: f64,
+    law: &SlipLaw,
+    c_z: f64,
+    d_z: f64,
+    surface: Option<&Surface>,
+    b: &PointState,
+) -> (Vec3, Vec3) {
+    let rc = road_contact(&b.rot, &b.w, &b.r, &b.v, radius, surface);
+    let (c, e_n) = (rc.frame, rc.e_n);
+    let v_contact = b.v + b.w.cross(&c.delta);
+    let penetration = -rc.gap;
+    // The rim's lowest point moves vertically as the wheel's point there does.
+    let f_n = (c_z * penetration - d_z * e_n.dot(&v_contact)).max(0.0);
+    // The slipping wheels' lateral direction is the rolling ones' turned round.
+    let e_lat = -c.e_lat;
+    let v_roll = radius * b.w.dot(&c.e_axis);
+    let (mu_long, mu_lat) = law.coefficients(v_contact.dot(&c.e_long), v_contact.dot(&e_lat), v_roll);
+    ((e_n - c.e_long * mu_long - e_lat * mu_lat) * f_n, c.delta)
+}
+
 #[inline]
 pub(crate) fn line_force(c: f64, d: f64, s0: f64, s_small: f64, a: &PointState, b: &PointState) -> (Vec3, Vec3) {
     let r_ab = b.r - a.r;

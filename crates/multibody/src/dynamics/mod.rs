@@ -29,6 +29,9 @@ pub enum DynamicsError {
     EquationsSingular { block: usize },
     /// Newton's method did not converge on a block of the model's equations.
     EquationsDiverged { block: usize },
+    /// The normal forces of slipping wheels (whose friction follows them)
+    /// and the other constraint forces have no unique solution.
+    ContactIndeterminate { link: usize },
 }
 
 /// Scratch memory of the dynamics for one mechanism: everything the
@@ -56,6 +59,9 @@ pub struct Workspace {
     // Constraint buffers: rows x nv Jacobian, nv x nv mass matrix (and its
     // factor), rows x nv rows of M^-1 J', rows x rows Schur complement.
     pub(crate) jac: Vec<f64>,
+    /// Rows x nv: the generalised friction forces of slipping wheels per
+    /// unit multiplier of their contact rows (zero for other rows).
+    pub(crate) jac_force: Vec<f64>,
     pub(crate) mass: Vec<f64>,
     pub(crate) y_rows: Vec<f64>,
     pub(crate) schur: Vec<f64>,
@@ -137,6 +143,7 @@ impl Workspace {
             massless_pos: system.massless.iter().map(|g| g.guess).collect(),
             massless_vel: vec![Vec3::zeros(); system.massless.len()],
             jac: vec![0.0; m * nv],
+            jac_force: vec![0.0; m * nv],
             mass: vec![0.0; if full { nv * nv } else { 0 }],
             y_rows: vec![0.0; m * nv],
             schur: vec![0.0; m * m],

@@ -6,9 +6,11 @@ pub mod expr;
 pub mod graph;
 pub mod rotation;
 pub mod spatial;
+pub mod surface;
 pub mod symbolic;
 pub mod trajectory;
 pub mod union_find;
+pub mod wheel;
 
 pub use rotation::*;
 pub use spatial::{ArticulatedInertia, Force, Motion, RigidInertia, Transform};

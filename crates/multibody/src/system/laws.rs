@@ -88,6 +88,13 @@ pub enum ForceLaw {
     /// equations give a component at frame_b, from `inputs`: frame_b
     /// receives their opposite. No frame_a.
     Flow { inputs: [usize; 6] },
+    /// A slipping wheel's elastic contact with the ground plane y = 0
+    /// (frame_b at the wheel's centre, spin axis z; the reaction on the
+    /// world): where the rim's lowest point is `pen` below the plane, the
+    /// normal force is `f_n = max(0, c_z pen + d_z der(pen))`, and friction
+    /// `f_n` times the coefficients of `law`, at the contact point. On the
+    /// component's road number `road` (its `Part::Road`s) if given.
+    Tyre { radius: f64, law: SlipLaw, c_z: f64, d_z: f64, road: Option<usize> },
 }
 
 /// Which relative rotations of frame_b a constraint locks.
@@ -116,6 +123,83 @@ pub enum ConstraintKind {
     Locks { rotation: RotationLock, directions: [Vec3; 3], count: usize },
     /// The origins keep the distance `length` (a rod with spherical ends).
     Distance { length: f64 },
+    /// A wheel of `radius` rolling on the ground plane y = 0: frame_b is
+    /// the wheel's centre and turns with it, its z axis is the spin axis;
+    /// frame_a is the ground. The contact point's material velocity has no
+    /// component along the ground (rows on velocities only: nonholonomic),
+    /// and with `Contact::Rolling` the wheel touches the plane (a row on
+    /// positions).
+    Wheel { radius: f64, contact: WheelContact },
+}
+
+/// Which rows a wheel's rolling contact keeps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum WheelContact {
+    /// An upright wheel (RollingConstraintVerticalWheel): the contact point
+    /// is `radius` straight below the centre; no slip along the wheel, and
+    /// with `lateral` none across it. Two velocity rows, or one.
+    Vertical { lateral: bool },
+    /// A wheel that may lean (RollingWheelJoint): the lowest point of its
+    /// rim stays on the plane (a position row) and does not slip in either
+    /// direction (two velocity rows). On the component's road number `road`
+    /// (its `Part::Road`s; assembly numbers them among all roads), else on
+    /// the plane y = 0.
+    Rolling { road: Option<usize> },
+    /// A wheel that may lean and slip (SlipWheelJoint, PacejkaWheelJoint):
+    /// the lowest point of its rim stays on the plane (a position row, whose
+    /// multiplier is the normal force `f_n`), and the ground pushes the
+    /// contact point against its slip with `f_n` times the friction
+    /// coefficients of `law`. On the component's road number `road` (its
+    /// `Part::Road`s; assembly numbers them among all roads), else on the
+    /// plane y = 0.
+    Slipping { law: SlipLaw, road: Option<usize> },
+}
+
+/// How a slipping wheel's friction depends on the slip velocity `v_slip`
+/// of its contact point (the velocity of the wheel's material point there,
+/// along the road: `v_slip_long` along the wheel's path, `v_slip_lat`
+/// across it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SlipLaw {
+    /// The library's slip law: `mu = limit_S_triple(vAdhesion, vSlide, mu_A,
+    /// mu_S, |v_slip| + v_small)` along the slip, with `vAdhesion =
+    /// max(vAdhesion_min, sAdhesion |radius w_roll|)` and `vSlide =
+    /// max(vSlide_min, sSlide |radius w_roll|)` (`w_roll`: the spin rate).
+    Triple { v_adhesion_min: f64, v_slide_min: f64, s_adhesion: f64, s_slide: f64, mu_a: f64, mu_s: f64, v_small: f64 },
+    /// Pacejka's magic formula with the factors `[B, C, D, E]` along the
+    /// path (`x`) and across it (`y`). With `ellipse`, both curves are taken
+    /// at the slip speed `|v_slip| + v_small` and shared along the slip's
+    /// direction (grip is shared); otherwise each is taken at its own slip
+    /// component.
+    Pacejka { x: [f64; 4], y: [f64; 4], v_small: f64, ellipse: bool },
+}
+
+impl SlipLaw {
+    /// The friction coefficients `(mu_long, mu_lat)` at the slip velocity
+    /// components and the rolling speed `v_roll = radius w_roll`: the ground
+    /// pushes the wheel by `-f_n (mu_long e_long + mu_lat e_lat)`.
+    #[inline]
+    pub fn coefficients(&self, v_long: f64, v_lat: f64, v_roll: f64) -> (f64, f64) {
+        use crate::math::wheel::{limit_s_triple, pacejka_magic};
+        match *self {
+            SlipLaw::Triple { v_adhesion_min, v_slide_min, s_adhesion, s_slide, mu_a, mu_s, v_small } => {
+                let v_slip = (v_long * v_long + v_lat * v_lat).sqrt() + v_small;
+                let v_adhesion = v_adhesion_min.max(s_adhesion * v_roll.abs());
+                let v_slide = v_slide_min.max(s_slide * v_roll.abs());
+                let mu = limit_s_triple(v_adhesion, v_slide, mu_a, mu_s, v_slip);
+                (mu * v_long / v_slip, mu * v_lat / v_slip)
+            }
+            SlipLaw::Pacejka { x, y, v_small, ellipse } => {
+                let magic = |v: f64, [b, c, d, e]: [f64; 4]| pacejka_magic(v, b, c, d, e);
+                if ellipse {
+                    let v_slip = (v_long * v_long + v_lat * v_lat).sqrt() + v_small;
+                    (magic(v_slip, x) * v_long / v_slip, magic(v_slip, y) * v_lat / v_slip)
+                } else {
+                    (magic(v_long, x), magic(v_lat, y))
+                }
+            }
+        }
+    }
 }
 
 impl ConstraintKind {
@@ -147,6 +231,43 @@ impl ConstraintKind {
                     }
             }
             ConstraintKind::Distance { .. } => 1,
+            ConstraintKind::Wheel { contact: WheelContact::Vertical { lateral }, .. } => 1 + lateral as usize,
+            ConstraintKind::Wheel { contact: WheelContact::Rolling { .. }, .. } => 3,
+            ConstraintKind::Wheel { contact: WheelContact::Slipping { .. }, .. } => 1,
+        }
+    }
+
+    /// The same relation with the component's road numbers moved by
+    /// `base` (assembly numbers all the mechanism's roads).
+    pub fn with_road_base(mut self, base: usize) -> Self {
+        if let ConstraintKind::Wheel {
+            contact: WheelContact::Slipping { road: Some(r), .. } | WheelContact::Rolling { road: Some(r) },
+            ..
+        } = &mut self
+        {
+            *r += base;
+        }
+        self
+    }
+
+    /// The friction law of a slipping wheel (its one row's multiplier is
+    /// the normal force, and friction forces follow it).
+    pub fn slip_law(&self) -> Option<SlipLaw> {
+        match *self {
+            ConstraintKind::Wheel { contact: WheelContact::Slipping { law, .. }, .. } => Some(law),
+            _ => None,
+        }
+    }
+
+    /// Whether row `i` of this constraint is on velocities only
+    /// (nonholonomic): it has no position residual, and moving positions
+    /// onto the constraints leaves it alone.
+    pub fn is_velocity_row(&self, i: usize) -> bool {
+        match *self {
+            ConstraintKind::Wheel { contact: WheelContact::Vertical { .. }, .. } => true,
+            // Row 0 keeps the wheel on the plane; rows 1 and 2 are the rolling.
+            ConstraintKind::Wheel { contact: WheelContact::Rolling { .. }, .. } => i > 0,
+            _ => false,
         }
     }
 }

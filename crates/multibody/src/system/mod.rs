@@ -15,7 +15,9 @@ pub mod signals;
 
 pub use drive::{Drive, DriveLevel, DriveMap};
 pub use joint::{JointModel, JointMotion, RotationCoordinates};
-pub use laws::{resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, RotationLock, SignalSource};
+pub use laws::{
+    resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, RotationLock, SignalSource, SlipLaw, WheelContact,
+};
 pub(crate) use signals::SignalBlock;
 pub use signals::SignalLaw;
 
@@ -58,6 +60,8 @@ pub struct System {
     pub(crate) massless: Vec<MasslessGroup>,
     /// Constraints: cut joints of loops and constraint components.
     pub(crate) constraints: Vec<Constraint>,
+    /// The roads wheels roll on (other than the plane y = 0).
+    pub(crate) roads: Vec<crate::math::surface::Surface>,
     /// Total number of constraint rows, couplings included.
     pub(crate) constraint_rows: usize,
     /// Point masses on the lines between two frames (line forces with mass).
@@ -171,10 +175,31 @@ pub(crate) struct ForceElement {
 /// A force law with its inputs resolved to signal slots.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum Load {
-    Line { c: f64, d: f64, s_unstretched: f64, s_small: f64 },
-    Force { signals: [usize; 3], resolve: Resolve },
-    Torque { signals: [usize; 3], resolve: Resolve },
-    Flow { signals: [usize; 6] },
+    Line {
+        c: f64,
+        d: f64,
+        s_unstretched: f64,
+        s_small: f64,
+    },
+    Force {
+        signals: [usize; 3],
+        resolve: Resolve,
+    },
+    Torque {
+        signals: [usize; 3],
+        resolve: Resolve,
+    },
+    Flow {
+        signals: [usize; 6],
+    },
+    /// `road`: an index into `System::roads`.
+    Tyre {
+        radius: f64,
+        law: SlipLaw,
+        c_z: f64,
+        d_z: f64,
+        road: Option<usize>,
+    },
 }
 
 /// Frames without mass held by force elements only; their orientation is
