@@ -14,7 +14,7 @@ use super::mechanism::{CompiledComponent, JointRef};
 use crate::components::{Law1D, Part, StateNames};
 use crate::math::union_find::UnionFind;
 use crate::math::{RigidInertia, Transform, Vec3};
-use crate::system::{Anchor, AxisElement, Coupling, FlangeRef, JointModel, Link, GROUND};
+use crate::system::{Anchor, AxisElement, Coupling, FlangeRef, JointModel, Link, Mover, GROUND};
 use crate::Error;
 
 /// For every 1-D node, where it sits and the connector that placed it
@@ -49,6 +49,7 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
 
     // Fixed places: joint axes and supports, Fixed parts, lone housings.
     let mut housings = vec![false; conn.infos.len()];
+    let mut lines = 0;
     for (ci, c) in components.iter().enumerate() {
         let mut joint_index = 0;
         for part in &c.parts {
@@ -64,6 +65,10 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
                     continue;
                 }
                 Part::Fixed1D { flange, at } => vec![(flange, FlangeRef::fixed(at))],
+                Part::LineFlanges { flange_a, flange_b, .. } => {
+                    lines += 1;
+                    vec![(flange_a, FlangeRef::FIXED), (flange_b, FlangeRef::line(lines - 1))]
+                }
                 Part::Housing { flange } => {
                     housings[Connectors::id(components, ci, flange)] = true;
                     continue;
@@ -111,6 +116,9 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
     loop {
         let mut progress = false;
         for &(ci, _, a, b, length) in &rigid {
+            if [place[a], place[b]].iter().flatten().any(|(r, _)| r.on_line()) {
+                return Err(on_a_line(components, ci, "a 1-D mass or inertia"));
+            }
             match (place[a], place[b]) {
                 (Some((pa, id)), None) => place[b] = Some((pa.affine(1.0, length), id)),
                 (None, Some((pb, id))) => place[a] = Some((pb.affine(1.0, -length), id)),
@@ -161,7 +169,7 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
         if !tree.links.iter().any(|l| l.source == (ci, pi)) {
             geared.push((ci, r.affine(1.0, length / 2.0), states));
         }
-        let Some((_, v)) = r.coordinate else { continue };
+        let Some((_, v)) = r.coordinate() else { continue };
         let link = tree.links.iter_mut().find(|l| l.v_offset == v && l.joint.nv() == 1);
         let link = link.expect("1-D coordinates are those of 1-DOF links");
         link.armature += inertia * r.scale * r.scale;
@@ -362,7 +370,7 @@ fn set(
 
 fn same_place(a: FlangeRef, b: FlangeRef) -> bool {
     let close = |x: f64, y: f64| (x - y).abs() <= 1e-12 * (1.0 + x.abs().max(y.abs()));
-    a.coordinate == b.coordinate && close(a.offset, b.offset) && (a.coordinate.is_none() || close(a.scale, b.scale))
+    a.mover == b.mover && close(a.offset, b.offset) && (a.mover.is_none() || close(a.scale, b.scale))
 }
 
 /// For a gear `sum c_k x_k = 0` with one node unplaced and the others on one
@@ -379,8 +387,10 @@ fn solve_for_the_unplaced(terms: &[(usize, f64, usize)], place: &Places) -> Opti
                     c_unplaced += c;
                 }
             },
+            // A line's length is no coordinate a gear could follow rigidly.
+            Some((r, _)) if r.on_line() => return None,
             Some((r, _)) => {
-                if let Some(rc) = r.coordinate {
+                if let Some(rc) = r.coordinate() {
                     if coordinate.is_some_and(|x| x != rc) {
                         return None;
                     }
@@ -397,7 +407,12 @@ fn solve_for_the_unplaced(terms: &[(usize, f64, usize)], place: &Places) -> Opti
     }
     Some((
         node,
-        FlangeRef { coordinate, scale: -scale / c_unplaced, offset: -offset / c_unplaced }.affine(1.0, 0.0),
+        FlangeRef {
+            mover: coordinate.map(|(q, v)| Mover::State { q, v }),
+            scale: -scale / c_unplaced,
+            offset: -offset / c_unplaced,
+        }
+        .affine(1.0, 0.0),
         id,
     ))
 }
@@ -467,12 +482,24 @@ pub fn couplings(
             Coupling { terms: Vec::new(), constant: 0.0, row: first_row + couplings.len(), component: *ci };
         for &(_, c, id) in terms {
             let r = flange(components, conn, &drive.places, id)?;
+            if r.on_line() {
+                return Err(on_a_line(components, *ci, "a gear"));
+            }
             coupling.constant += c * r.offset;
-            if let Some((q, v)) = r.coordinate {
+            if let Some((q, v)) = r.coordinate() {
                 coupling.terms.push((q, v, c * r.scale));
             }
         }
         couplings.push(coupling);
     }
     Ok(couplings)
+}
+
+/// The refusal of `what` on a LineForceWithMass's flange.
+fn on_a_line(components: &[CompiledComponent], ci: usize, what: &str) -> Error {
+    Error::Unsupported {
+        component: components[ci].name.clone(),
+        what: format!("{what} on the flange of a line force with mass (the line's length places that flange)"),
+        fix: "connect springs, dampers, forces and sensors between its flanges; give the line its mass with `m`".into(),
+    }
 }

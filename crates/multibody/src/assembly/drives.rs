@@ -52,13 +52,19 @@ pub fn attach(
                 Part::AxisDrive { flange, support, input, level } => {
                     let on = axis::flange(components, conn, places, id(flange))?;
                     let base = axis::flange(components, conn, places, id(support))?;
-                    if base.coordinate.is_some() {
+                    if base.mover.is_some() {
                         return Err(fail(
                             "a motion source whose support moves".into(),
                             "mount the source's support on something fixed (or leave use_support off)",
                         ));
                     }
-                    let Some((_, v)) = on.coordinate else {
+                    if on.on_line() {
+                        return Err(fail(
+                            "imposing motion on the flange of a line force (the line's length places it)".into(),
+                            "move the frames the line joins instead",
+                        ));
+                    }
+                    let Some((_, v)) = on.coordinate() else {
                         return Err(fail(
                             format!("imposing motion on `{}`, which is fixed", conn.name(components, id(flange))),
                             "connect the flange to a joint's axis or to an inertia",

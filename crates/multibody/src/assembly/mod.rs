@@ -31,7 +31,7 @@ mod states;
 use crate::components::Part;
 use crate::math::{Mat3, Transform, Vec3};
 use crate::system::joint::JointMotion;
-use crate::system::{Anchor, Attachment, LineMass, Link, PointGravityMass, System, GROUND};
+use crate::system::{Anchor, Attachment, LineMass, LineSpan, Link, PointGravityMass, System, GROUND};
 
 use crate::{Error, Model};
 
@@ -113,7 +113,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     for link in &mut tree.links {
         link.articulated = (&link.inertia).into();
     }
-    let line_masses = line_masses(&components, &conn, &tree)?;
+    let (line_masses, lines) = lines(&components, &conn, &tree)?;
 
     let mut signals = signals::resolve(&components, &conn, &tree, &drive.places)?;
     warnings.extend(std::mem::take(&mut signals.warnings));
@@ -178,6 +178,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
             .collect(),
         constraint_rows,
         line_masses,
+        lines,
         equations: program,
         cut_nq,
         cut_nv,
@@ -239,31 +240,42 @@ fn position(poses: &[(Mat3, Vec3)], end: &Attachment) -> Vec3 {
     }
 }
 
-/// The point masses of line forces, between the frames their ends are on.
-fn line_masses(
+/// The point masses of line forces, and the lines whose lengths place
+/// 1-D flanges, between the frames their ends are on.
+fn lines(
     components: &[CompiledComponent],
     conn: &connections::Connectors,
     tree: &links::Tree,
-) -> Result<Vec<LineMass>, Error> {
-    let mut out = Vec::new();
+) -> Result<(Vec<LineMass>, Vec<LineSpan>), Error> {
+    let (mut masses, mut spans) = (Vec::new(), Vec::new());
     for c in components {
         for part in &c.parts {
-            let Part::LineMass { a, b, m, h, point_gravity } = *part else { continue };
+            let (a, b, what) = match *part {
+                Part::LineMass { a, b, .. } => (a, b, "a line force with mass (hasmass = true)"),
+                Part::LineFlanges { a, b, .. } => (a, b, "a line force with 1-D flanges"),
+                _ => continue,
+            };
             let connectors = (c.first_connector + a, c.first_connector + b);
             let attach = |id: usize| {
                 let node = &tree.nodes[conn.node(id)];
                 match node.anchor {
                     Anchor::Massless(_) => Err(Error::Unsupported {
                         component: c.name.clone(),
-                        what: "a line force with mass (hasmass = true) ending at frames without mass".into(),
+                        what: format!("{what} ending at frames without mass"),
                         fix: "give those frames mass, or put a PointMass between two massless springs".into(),
                     }),
                     anchor => Ok(Attachment { anchor, pose: node.pose }),
                 }
             };
             let (a, b) = (attach(connectors.0)?, attach(connectors.1)?);
-            out.push(LineMass { a, b, connectors, m, h, point_gravity });
+            match *part {
+                Part::LineMass { m, h, point_gravity, .. } => {
+                    masses.push(LineMass { a, b, connectors, m, h, point_gravity })
+                }
+                Part::LineFlanges { s_small, .. } => spans.push(LineSpan { a, b, connectors, s_small }),
+                _ => unreachable!("only line parts get here"),
+            }
         }
     }
-    Ok(out)
+    Ok((masses, spans))
 }

@@ -98,7 +98,7 @@ fn through_gear(
     variable: &str,
 ) -> Option<(usize, f64, f64)> {
     let (_, centre, names) = geared.iter().find(|g| g.0 == c)?;
-    let (q, v) = centre.coordinate?;
+    let (q, v) = centre.coordinate()?;
     if names.q.iter().any(|n| n.0 == variable) {
         Some((q, centre.scale, centre.offset))
     } else if names.u.iter().any(|n| n.0 == variable) {

@@ -136,12 +136,17 @@ impl Component for WithMass {
 
     fn evaluate(&self, ctx: &EvalContext, out: &mut Vec<f64>) {
         self.line.evaluate(ctx, out);
-        let h = self.mass.h;
-        let (a, b) = (&ctx.frames[0], &ctx.frames[1]);
-        out.extend_from_slice((a.r_0 * (1.0 - h) + b.r_0 * h).as_slice());
-        out.extend_from_slice((a.v_0 * (1.0 - h) + b.v_0 * h).as_slice());
-        out.extend_from_slice((a.a_0 * (1.0 - h) + b.a_0 * h).as_slice());
+        mass_outputs(self.mass.h, ctx, out);
     }
+}
+
+/// The values of [`MASS_VARIABLES`] for a point mass at the fraction `h`
+/// of the way from frame_a (the first frame) to frame_b.
+pub fn mass_outputs(h: f64, ctx: &EvalContext, out: &mut Vec<f64>) {
+    let (a, b) = (&ctx.frames[0], &ctx.frames[1]);
+    out.extend_from_slice((a.r_0 * (1.0 - h) + b.r_0 * h).as_slice());
+    out.extend_from_slice((a.v_0 * (1.0 - h) + b.v_0 * h).as_slice());
+    out.extend_from_slice((a.a_0 * (1.0 - h) + b.a_0 * h).as_slice());
 }
 
 /// The point mass's motion, as outputs.

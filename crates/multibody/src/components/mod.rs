@@ -34,6 +34,7 @@ mod gear_constraint;
 mod ideal_gear;
 mod inertia_1d;
 mod line_force;
+mod line_force_with_mass;
 mod loop_assemblies;
 mod motion_sources;
 mod mounting_1d;
@@ -135,6 +136,7 @@ static REGISTRY: &[&ComponentSpec] = &[
     &spring::SPEC,
     &damper::SPEC,
     &spring_damper_parallel::SPEC,
+    &line_force_with_mass::SPEC,
     &force::SPEC,
     &torque::SPEC,
     &world_force::SPEC,
@@ -369,6 +371,12 @@ pub enum Part {
     /// at the fraction `h` of the way; no degree of freedom (its ends move
     /// it). It feels point gravity with `point_gravity`.
     LineMass { a: usize, b: usize, m: f64, h: f64, point_gravity: bool },
+    /// The 1-D connectors of a line between frames `a` and `b`:
+    /// `flange_a` sits at 0 and `flange_b` at the distance between the
+    /// frames' origins (at least `s_small`); what the 1-D elements push
+    /// `flange_b` with acts along the line on frame `b`, and oppositely on
+    /// frame `a` (a LineForceWithMass).
+    LineFlanges { a: usize, b: usize, flange_a: usize, flange_b: usize, s_small: f64 },
     /// A line-force end that fixes its frame's orientation to the world's
     /// (`fixed_rotation_at_frame_a/b`): it owns the orientation of a
     /// group that nothing else orients.

@@ -44,6 +44,9 @@ impl System {
         u: &[f64],
     ) -> Result<(), DynamicsError> {
         self.kinematics_and_bias(ws, q, u)?;
+        if !self.lines.is_empty() {
+            self.line_motion(ws);
+        }
         if !self.drives.is_empty() {
             self.evaluate_time_jets(ws, t);
         }
@@ -101,6 +104,7 @@ impl System {
             && self.massless.is_empty()
             && self.constraints.is_empty()
             && self.line_masses.is_empty()
+            && self.lines.is_empty()
             && !self.signals_read_frames
             && !self.equations.reads_frames)
     }
@@ -124,12 +128,15 @@ impl System {
     /// (point gravity), subtracted from the bias forces.
     fn apply_forces(&self, ws: &mut Workspace, q: &[f64], u: &[f64]) {
         ws.tau.fill(0.0);
+        for line in ws.lines.iter_mut() {
+            line.force = 0.0;
+        }
         for e in &self.axis_elements {
-            let (s_a, v_a) = e.a.motion(q, u);
-            let (s_b, v_b) = e.b.motion(q, u);
+            let (s_a, v_a) = e.a.motion(q, u, &ws.lines);
+            let (s_b, v_b) = e.b.motion(q, u, &ws.lines);
             let force = e.law.force(s_b - s_a, v_b - v_a, &ws.signals);
-            e.b.push(&mut ws.tau, -force);
-            e.a.push(&mut ws.tau, force);
+            e.b.push(&mut ws.tau, &mut ws.lines, -force);
+            e.a.push(&mut ws.tau, &mut ws.lines, force);
         }
         for &(v, force) in &self.axis_forces {
             ws.tau[v] += force;

@@ -84,7 +84,7 @@ impl System {
                     }
                 }
                 Gather::Flange { at, speed, register } => {
-                    let (s, v) = at.motion(q, u);
+                    let (s, v) = at.motion(q, u, &ws.lines);
                     ws.registers[*register as usize] = if *speed { v } else { s };
                 }
                 Gather::State { index, register } => {

@@ -90,7 +90,8 @@ impl System {
         }
     }
 
-    /// Adds the force elements' wrenches to the links' bias forces.
+    /// Adds the force elements' wrenches to the links' bias forces, and
+    /// the lines' forces (from the 1-D elements on their flanges).
     pub(crate) fn apply_force_elements(&self, ws: &mut Workspace) {
         for el in &self.force_elements {
             let (on_a, on_b) = self.applied(ws, el);
@@ -98,6 +99,21 @@ impl System {
             if let Some(a) = &el.a {
                 apply(ws, a, on_a);
             }
+        }
+        for (line, k) in self.lines.iter().zip(0..) {
+            let f = ws.lines[k].e * ws.lines[k].force;
+            apply(ws, &line.b, (f, Vec3::zeros()));
+            apply(ws, &line.a, (-f, Vec3::zeros()));
+        }
+    }
+
+    /// Each line's length, rate and direction (world poses known).
+    pub(crate) fn line_motion(&self, ws: &mut Workspace) {
+        for (line, k) in self.lines.iter().zip(0..) {
+            let (a, b) = (self.point_state(ws, &line.a), self.point_state(ws, &line.b));
+            let (e, s, v) = line_geometry(line.s_small, &a, &b);
+            let state = &mut ws.lines[k];
+            (state.s, state.v, state.e) = (s, v, e);
         }
     }
 
@@ -194,12 +210,18 @@ pub(crate) fn tyre_force(
 
 #[inline]
 pub(crate) fn line_force(c: f64, d: f64, s0: f64, s_small: f64, a: &PointState, b: &PointState) -> (Vec3, Vec3) {
+    let (e, s, s_dot) = line_geometry(s_small, a, b);
+    let f = c * (s - s0) + d * s_dot;
+    (e, e * f)
+}
+
+/// The unit vector from a to b, their (guarded) distance and its rate.
+#[inline]
+pub(crate) fn line_geometry(s_small: f64, a: &PointState, b: &PointState) -> (Vec3, f64, f64) {
     let r_ab = b.r - a.r;
     let s = r_ab.norm().max(s_small);
     let e = r_ab / s;
-    let s_dot = e.dot(&(b.v - a.v));
-    let f = c * (s - s0) + d * s_dot;
-    (e, e * f)
+    (e, s, e.dot(&(b.v - a.v)))
 }
 
 /// `-dF/dr` of a spring's force on one end with respect to that end's

@@ -45,6 +45,8 @@ pub struct Workspace {
     pub(crate) multi_index: Vec<usize>,
     /// Generalised forces of the 1-D elements, one per velocity coordinate.
     pub(crate) tau: Vec<f64>,
+    /// The lines whose lengths place 1-D connectors, and their tensions.
+    pub(crate) lines: Vec<crate::system::LineState>,
     /// Signal values at the current time; the last slot is always zero.
     pub(crate) signals: Vec<f64>,
     /// First and second time derivatives of the signals of time only.
@@ -133,6 +135,7 @@ impl Workspace {
             multi,
             multi_index,
             tau: vec![0.0; system.states.nv],
+            lines: vec![Default::default(); system.lines.len()],
             signals: vec![0.0; system.signal_slots],
             signal_rates: vec![[0.0; 2]; system.signal_slots],
             driven_state: vec![

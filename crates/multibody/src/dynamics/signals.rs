@@ -35,8 +35,12 @@ impl System {
                 }
                 SignalLaw::Product => input(0) * input(1),
                 SignalLaw::Division => input(0) / input(1),
-                SignalLaw::FlangePosition => block.flanges[1].motion(q, u).0 - block.flanges[0].motion(q, u).0,
-                SignalLaw::FlangeSpeed => block.flanges[1].motion(q, u).1 - block.flanges[0].motion(q, u).1,
+                SignalLaw::FlangePosition => {
+                    block.flanges[1].motion(q, u, &ws.lines).0 - block.flanges[0].motion(q, u, &ws.lines).0
+                }
+                SignalLaw::FlangeSpeed => {
+                    block.flanges[1].motion(q, u, &ws.lines).1 - block.flanges[0].motion(q, u, &ws.lines).1
+                }
                 &SignalLaw::FramePosition { index, resolve } => {
                     let (a, b) = self.frame_pair(ws, &block.frames);
                     resolved(b.r - a.r, resolve, &a.rot, &b.rot)[index]

@@ -35,6 +35,8 @@ pub(crate) struct OutputScratch {
     cut_u: Vec<f64>,
     cut_udot: Vec<f64>,
     cut_tau: Vec<f64>,
+    /// Accelerations of the lines' lengths.
+    line_a: Vec<f64>,
     /// One component's output values.
     values: Vec<f64>,
 }
@@ -136,10 +138,17 @@ impl Mechanism {
         scratch.signals.extend(self.signal_of_connector.iter().map(|&slot| ws.signals[slot]));
         let (q, u) = y.split_at(nq);
         let (qd, ud) = scratch.dy.split_at(nq);
+        // A line's length accelerates as s'' = e . a_rel + (|v_rel|^2 - s'^2) / s.
+        scratch.line_a.clear();
+        for (line, state) in self.system.lines.iter().zip(&ws.lines) {
+            let (a, b) = (&scratch.frames[line.connectors.0], &scratch.frames[line.connectors.1]);
+            let v_rel = b.v_0 - a.v_0;
+            scratch.line_a.push(state.e.dot(&(b.a_0 - a.a_0)) + (v_rel.norm_squared() - state.v * state.v) / state.s);
+        }
         scratch.flanges.clear();
         scratch.flanges.extend(self.flange_of_connector.iter().map(|f| {
-            let (s, v) = f.motion(q, u);
-            FlangeState { s, v, a: f.acceleration(ud) }
+            let (s, v) = f.motion(q, u, &ws.lines);
+            FlangeState { s, v, a: f.acceleration(ud, &scratch.line_a) }
         }));
 
         row.resize(self.signal_table().names().len(), 0.0);
@@ -184,8 +193,8 @@ impl Mechanism {
             for &e in &c.elements {
                 let el = &self.system.axis_elements[e];
                 let at = |f: FlangeRef| {
-                    let (s, v) = f.motion(q, u);
-                    (s, v, f.acceleration(ud))
+                    let (s, v) = f.motion(q, u, &ws.lines);
+                    (s, v, f.acceleration(ud, &scratch.line_a))
                 };
                 let (a, b) = (at(el.a), at(el.b));
                 let s_rel = b.0 - a.0;
@@ -378,7 +387,11 @@ impl Mechanism {
                     .line_masses
                     .iter()
                     .map(|lm| (Some(lm.connectors.0), lm.connectors.1, self.system.line_mass_wrenches(ws, lm))),
-            );
+            )
+            .chain(self.system.lines.iter().zip(&ws.lines).map(|(line, state)| {
+                let f = state.e * state.force;
+                (Some(line.connectors.0), line.connectors.1, ((-f, Vec3::zeros()), (f, Vec3::zeros())))
+            }));
         for (a, b, (on_a, on_b)) in applied {
             let ends = [(a, on_a), (Some(b), on_b)];
             for (connector, (force, moment)) in ends {

@@ -66,6 +66,8 @@ pub struct System {
     pub(crate) constraint_rows: usize,
     /// Point masses on the lines between two frames (line forces with mass).
     pub(crate) line_masses: Vec<LineMass>,
+    /// Lines whose lengths place 1-D connectors (LineForceWithMass).
+    pub(crate) lines: Vec<LineSpan>,
     /// The model's own equations, compiled.
     pub(crate) equations: equations::EquationProgram,
     /// Sizes of the coordinate arrays of cut joints (outputs only).
@@ -290,59 +292,120 @@ impl Link {
     }
 }
 
-/// Where a 1-D connector sits: at `offset + scale * q[i]` when it moves
-/// with the 1-DOF coordinate `(i, v)` (a joint's axis, a free inertia's
-/// own coordinate, or anything rigidly geared to one), or fixed at `offset`.
+/// What moves a 1-D connector.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Mover {
+    /// A 1-DOF coordinate: its position and velocity index.
+    State { q: usize, v: usize },
+    /// The distance between the frames of line `k` (`System::lines`): a
+    /// LineForceWithMass's flange_b.
+    Line(usize),
+}
+
+/// Where a 1-D connector sits: at `offset + scale * x`, where `x` is what
+/// moves it (a joint's axis, a free inertia's own coordinate, anything
+/// rigidly geared to one, or a line's length), or fixed at `offset`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct FlangeRef {
-    /// Position and velocity index of the coordinate, if it moves.
-    pub coordinate: Option<(usize, usize)>,
+    pub mover: Option<Mover>,
     pub scale: f64,
     pub offset: f64,
 }
 
 impl FlangeRef {
     /// Fixed at 0.
-    pub const FIXED: FlangeRef = FlangeRef { coordinate: None, scale: 0.0, offset: 0.0 };
+    pub const FIXED: FlangeRef = FlangeRef { mover: None, scale: 0.0, offset: 0.0 };
 
     /// Fixed at `at`.
     pub fn fixed(at: f64) -> Self {
-        FlangeRef { coordinate: None, scale: 0.0, offset: at }
+        FlangeRef { mover: None, scale: 0.0, offset: at }
     }
 
     /// The coordinate itself.
     pub fn on(q: usize, v: usize) -> Self {
-        FlangeRef { coordinate: Some((q, v)), scale: 1.0, offset: 0.0 }
+        FlangeRef { mover: Some(Mover::State { q, v }), scale: 1.0, offset: 0.0 }
+    }
+
+    /// The length of line `k`.
+    pub fn line(k: usize) -> Self {
+        FlangeRef { mover: Some(Mover::Line(k)), scale: 1.0, offset: 0.0 }
+    }
+
+    /// The coordinate `(q, v)` that moves it, if a coordinate does.
+    pub fn coordinate(&self) -> Option<(usize, usize)> {
+        match self.mover {
+            Some(Mover::State { q, v }) => Some((q, v)),
+            _ => None,
+        }
+    }
+
+    /// Whether a line's length moves it.
+    pub fn on_line(&self) -> bool {
+        matches!(self.mover, Some(Mover::Line(_)))
     }
 
     /// The place `offset + scale * x`, where `x` is this place.
     pub fn affine(self, scale: f64, offset: f64) -> Self {
-        let coordinate = if scale == 0.0 { None } else { self.coordinate };
-        FlangeRef { coordinate, scale: self.scale * scale, offset: self.offset * scale + offset }
+        let mover = if scale == 0.0 { None } else { self.mover };
+        FlangeRef { mover, scale: self.scale * scale, offset: self.offset * scale + offset }
     }
 
-    /// Position and speed of the flange at `(q, u)`.
+    /// Position and speed of the flange at `(q, u)`, with the lines' lengths.
     #[inline]
-    pub fn motion(&self, q: &[f64], u: &[f64]) -> (f64, f64) {
-        match self.coordinate {
+    pub fn motion(&self, q: &[f64], u: &[f64], lines: &[LineState]) -> (f64, f64) {
+        match self.mover {
             None => (self.offset, 0.0),
-            Some((i, v)) => (self.offset + self.scale * q[i], self.scale * u[v]),
+            Some(Mover::State { q: i, v }) => (self.offset + self.scale * q[i], self.scale * u[v]),
+            Some(Mover::Line(k)) => (self.offset + self.scale * lines[k].s, self.scale * lines[k].v),
         }
     }
 
-    /// Acceleration of the flange for the velocity rates `ud`.
+    /// Acceleration of the flange for the velocity rates `ud` and the
+    /// lines' accelerations `line_a`.
     #[inline]
-    pub fn acceleration(&self, ud: &[f64]) -> f64 {
-        self.coordinate.map_or(0.0, |(_, v)| self.scale * ud[v])
-    }
-
-    /// Adds the generalised force of `force` pushing this flange forward.
-    #[inline]
-    pub fn push(&self, tau: &mut [f64], force: f64) {
-        if let Some((_, v)) = self.coordinate {
-            tau[v] += self.scale * force;
+    pub fn acceleration(&self, ud: &[f64], line_a: &[f64]) -> f64 {
+        match self.mover {
+            None => 0.0,
+            Some(Mover::State { v, .. }) => self.scale * ud[v],
+            Some(Mover::Line(k)) => self.scale * line_a[k],
         }
     }
+
+    /// Adds the generalised force of `force` pushing this flange forward:
+    /// to its coordinate's, or to its line's tension.
+    #[inline]
+    pub fn push(&self, tau: &mut [f64], lines: &mut [LineState], force: f64) {
+        match self.mover {
+            None => {}
+            Some(Mover::State { v, .. }) => tau[v] += self.scale * force,
+            Some(Mover::Line(k)) => lines[k].force += self.scale * force,
+        }
+    }
+}
+
+/// The line between two frames' origins whose length places a
+/// LineForceWithMass's flange_b (its flange_a sits at 0): what the 1-D
+/// elements push on that flange acts along the line, on frame_b, and
+/// oppositely on frame_a.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct LineSpan {
+    pub a: Attachment,
+    pub b: Attachment,
+    /// The component's connectors at `a` and `b` (global numbers).
+    pub connectors: (usize, usize),
+    /// Below this distance the direction is kept from dividing by zero.
+    pub s_small: f64,
+}
+
+/// A line's length `s >= s_small`, its rate, its unit direction from
+/// frame_a to frame_b (world), and the force the 1-D elements push its far
+/// end with (along `e`).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct LineState {
+    pub s: f64,
+    pub v: f64,
+    pub e: Vec3,
+    pub force: f64,
 }
 
 #[derive(Debug, Clone, Copy)]
