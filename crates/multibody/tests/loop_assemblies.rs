@@ -21,6 +21,7 @@ fn assert_same_motion(label: &str, a: &Model, b: &Model, names: &[&str]) {
         (a.assemble().unwrap().simulate(&options()).unwrap(), b.assemble().unwrap().simulate(&options()).unwrap());
     for name in names {
         let d = difference(&sa, &sb, name);
+        eprintln!("{label}: {name} differs by {d:.1e} (tolerance 1e-7)");
         assert!(d < 1e-7, "{label}: {name} differs by {d:e}");
     }
     // And it moves: the comparison is not of two resting mechanisms.
@@ -225,4 +226,55 @@ fn a_cut_mount_releasing_the_redundant_directions_closes_a_planar_loop() {
     let names = ["crank.phi", "crank.w", "rocker_mass.frame_a.R[1,2]"];
     assert_same_motion("CutMount", &close("RevolutePlanarLoopConstraint"), &close("CutMount"), &names);
     assert_same_motion("CutMount", &planar_elementary(), &close("CutMount"), &names);
+}
+
+/// UniversalSpherical's rod frame frame_ia carries mass as the rod of an
+/// elementary universal joint does: the same axes (n1_a, then n1_a x rod),
+/// the same body on the rod, the same motion.
+#[test]
+fn a_body_on_the_universal_spherical_rod_frame_moves_as_on_elementary_joints() {
+    let rod = [-1.0, 0.3, 0.1];
+    let n1 = [0.0, 1.0, 0.0];
+    let across = [0.1 / 1.01f64.sqrt(), 0.0, 1.0 / 1.01f64.sqrt()];
+    let rod_body = |m: &mut Model| {
+        m.add("rod_mass", "Body")
+            .set("m", 0.7)
+            .set("r_cm", [-0.5, 0.15, 0.05])
+            .set("I_11", 0.02)
+            .set("I_22", 0.03)
+            .set("I_33", 0.04);
+    };
+
+    let mut elementary = spatial_four_bar("elementary_rod_mass");
+    elementary.add("j2", "Prismatic").set("n", [1.0, 0.0, 0.0]).guess("s", -0.2);
+    elementary.add("rev", "Revolute").set("n", n1);
+    elementary.add("rev1", "Revolute").set("n", across);
+    elementary.add("rod", "FixedTranslation").set("r", rod);
+    elementary.add("ball", "Spherical");
+    rod_body(&mut elementary);
+    elementary.connect(["b0.frame_b", "j2.frame_a"]);
+    elementary.connect(["j2.frame_b", "b2.frame_a"]);
+    elementary.connect(["b2.frame_b", "rev.frame_a"]);
+    elementary.connect(["rev.frame_b", "rev1.frame_a"]);
+    elementary.connect(["rev1.frame_b", "rod.frame_a", "rod_mass.frame_a"]);
+    elementary.connect(["rod.frame_b", "ball.frame_a"]);
+    elementary.connect(["ball.frame_b", "b1.frame_b"]);
+
+    let mut us = spatial_four_bar("universal_spherical_rod_mass");
+    us.add("j2", "Prismatic").set("n", [1.0, 0.0, 0.0]).guess("s", -0.2);
+    us.add("a", "UniversalSpherical").set("n1_a", n1).set("rRod_ia", rod);
+    rod_body(&mut us);
+    us.connect(["b0.frame_b", "j2.frame_a"]);
+    us.connect(["j2.frame_b", "b2.frame_a"]);
+    us.connect(["b2.frame_b", "a.frame_a"]);
+    us.connect(["a.frame_b", "b1.frame_b"]);
+    us.connect(["a.frame_ia", "rod_mass.frame_a"]);
+
+    let names = ["j1.phi", "j1.w", "j2.s", "rod_mass.w_a[1]", "rod_mass.w_a[3]"];
+    assert_same_motion("UniversalSpherical with a body on frame_ia", &elementary, &us, &names);
+
+    // The rod's mass changes the motion: without it the crank moves otherwise.
+    let without = spatial_elementary().assemble().unwrap().simulate(&options()).unwrap();
+    let with = us.assemble().unwrap().simulate(&options()).unwrap();
+    assert!(difference(&with, &without, "j1.phi") > 1e-3, "the rod's body made no difference");
 }
