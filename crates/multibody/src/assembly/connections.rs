@@ -75,7 +75,7 @@ pub fn resolve(model: &Model, components: &[CompiledComponent]) -> Result<Connec
     let mut flange_node_of = vec![usize::MAX; infos.len()];
     for id in 0..infos.len() {
         let k = class[id];
-        if types[id] == ConnectorType::Frame {
+        if types[id].is_frame() {
             if frame_of_class[k] == usize::MAX {
                 frame_of_class[k] = frame_nodes.len();
                 frame_nodes.push(Vec::new());

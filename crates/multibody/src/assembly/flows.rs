@@ -21,7 +21,10 @@ pub fn flow_tree(components: &[CompiledComponent], conn: &Connectors, tree: &Tre
         for (pi, part) in c.parts.iter().enumerate() {
             match *part {
                 Part::Ground { frame, .. } => from_ground.push((conn.node(id(frame)), Some(id(frame)))),
-                Part::Owner { frame, .. } => from_ground.push((conn.node(id(frame)), None)),
+                // A fallback owner that is not used does not hold its frame.
+                Part::Owner { frame, fallback, .. } if !fallback || tree_parts.contains(&(ci, pi)) => {
+                    from_ground.push((conn.node(id(frame)), None))
+                }
                 Part::Rigid { a, b, .. } => link(&mut adjacency, conn, id(a), id(b)),
                 Part::Joint { a, b, .. } if tree_parts.contains(&(ci, pi)) => link(&mut adjacency, conn, id(a), id(b)),
                 _ => {}

@@ -30,6 +30,7 @@ pub fn elements(
                 ForceLaw::Flow { inputs } => {
                     Load::Flow { signals: inputs.map(|i| signal_of_connector[Connectors::id(components, ci, i)]) }
                 }
+                ForceLaw::PlanarAxes { c, d, rel0 } => Load::PlanarAxes { c, d, rel0 },
                 ForceLaw::Tyre { radius, law, c_z, d_z, road } => {
                     Load::Tyre { radius, law, c_z, d_z, road: road.map(|r| super::road_base(components, ci) + r) }
                 }
@@ -38,6 +39,13 @@ pub fn elements(
             let element = ForceElement { load, a: a.map(attach), b: attach(b), connectors: (a.map(id), id(b)) };
             for end in element.a.iter().chain([&element.b]) {
                 if let Anchor::Massless(m) = end.anchor {
+                    if let Load::PlanarAxes { .. } = load {
+                        return Err(Error::Unsupported {
+                            component: c.name.clone(),
+                            what: "a planar spring or damper on frames without mass".into(),
+                            fix: "add mass there (a PlanarMechanics.Body)".into(),
+                        });
+                    }
                     if let Load::Line { d, .. } = load {
                         if d != 0.0 {
                             return Err(Error::Unsupported {

@@ -3,21 +3,45 @@
 
 use super::equations::Extra;
 use super::mechanism::CompiledComponent;
-use crate::components::{lookup, registry, world, ConnectorType, ParamSet, WorldSettings};
+use crate::components::planar_mechanics::world as planar_world;
+use crate::components::{lookup, registry, world, ComponentSpec, ParamSet, WorldSettings};
 use crate::error::closest;
 use crate::{Error, Model};
 use std::collections::HashSet;
 
-/// The settings of the model's one World.
+/// The settings of the model's one World: a 3-D one, a planar one, or one
+/// of each that agree on gravity.
 pub fn world_settings(model: &Model) -> Result<WorldSettings, Error> {
-    let worlds: Vec<_> =
-        model.components.iter().filter(|c| lookup(&c.kind).is_some_and(|s| std::ptr::eq(s, &world::SPEC))).collect();
-    match worlds.as_slice() {
+    let of_kind = |spec: &ComponentSpec| -> Vec<_> {
+        model.components.iter().filter(|c| lookup(&c.kind).is_some_and(|s| std::ptr::eq(s, spec))).collect()
+    };
+    let (worlds, planar) = (of_kind(&world::SPEC), of_kind(&planar_world::SPEC));
+    for many in [&worlds, &planar] {
+        if many.len() > 1 {
+            return Err(Error::SeveralWorlds { names: many.iter().map(|c| c.name.clone()).collect() });
+        }
+    }
+    match (worlds.first(), planar.first()) {
         // A model of 1-D parts alone needs no World.
-        [] if !model.components.iter().any(has_frames) => Ok(WorldSettings::default()),
-        [] => Err(Error::NoWorld),
-        [world] => WorldSettings::from_instance(world),
-        many => Err(Error::SeveralWorlds { names: many.iter().map(|c| c.name.clone()).collect() }),
+        (None, None) if !model.components.iter().any(has_frames) => Ok(WorldSettings::default()),
+        (None, None) => Err(Error::NoWorld),
+        (Some(world), None) => WorldSettings::from_instance(world),
+        (None, Some(planar)) => planar_world::settings(planar),
+        (Some(world), Some(planar)) => {
+            let (spatial, plane) = (WorldSettings::from_instance(world)?, planar_world::settings(planar)?);
+            if (spatial.uniform_gravity() - plane.uniform_gravity()).norm() > 1e-12 * (1.0 + spatial.g.abs()) {
+                return Err(Error::InvalidValue {
+                    component: planar.name.clone(),
+                    name: "g".into(),
+                    value: format!("{} along {}", plane.g, plane.n.transpose()),
+                    reason: format!(
+                        "the planar World's gravity differs from the 3-D World `{}`'s ({} along {}): both act on every body, so they must agree",
+                        world.name, spatial.g, spatial.n.transpose()
+                    ),
+                });
+            }
+            Ok(spatial)
+        }
     }
 }
 
@@ -80,7 +104,7 @@ pub fn build(model: &Model, world: &WorldSettings, extras: &[Extra]) -> Result<V
 /// them; their own error comes later).
 fn has_frames(instance: &crate::ComponentInstance) -> bool {
     match lookup(&instance.kind) {
-        Some(spec) => spec.connectors.iter().any(|c| c.ty == ConnectorType::Frame),
+        Some(spec) => spec.connectors.iter().any(|c| c.ty.is_frame()),
         None => true,
     }
 }

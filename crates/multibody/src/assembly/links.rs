@@ -142,6 +142,8 @@ struct OwnerRef {
     model: JointModel,
     /// A line-force end with a fixed rotation, rather than a body's states.
     line_end: bool,
+    /// Used only where nothing else places the group (see `Part::Owner`).
+    fallback: bool,
 }
 
 /// A relation kept by constraint forces: a joint left out of the tree (it
@@ -217,15 +219,21 @@ pub fn spanning_tree(
                 Part::Constraint { a, b, kind } => {
                     cuts.push(Cut { component: ci, part: pi, a: node(ci, a), b: node(ci, b), kind, joint: None })
                 }
-                Part::Owner { frame, model, .. } => {
-                    owners.push(OwnerRef { component: ci, part: pi, node: node(ci, frame), model, line_end: false })
-                }
+                Part::Owner { frame, model, fallback, .. } => owners.push(OwnerRef {
+                    component: ci,
+                    part: pi,
+                    node: node(ci, frame),
+                    model,
+                    line_end: false,
+                    fallback,
+                }),
                 Part::FixedRotationEnd { frame } => owners.push(OwnerRef {
                     component: ci,
                     part: pi,
                     node: node(ci, frame),
                     model: JointModel::Translation,
                     line_end: true,
+                    fallback: false,
                 }),
                 Part::Mass { frame, inertia, .. } => {
                     let g = groups.group_of[node(ci, frame)];
@@ -248,7 +256,7 @@ pub fn spanning_tree(
         joined.union(group(j.a), group(j.b));
     }
     let ground_cluster = joined.find(groups.ground);
-    for o in &owners {
+    for o in owners.iter().filter(|o| !o.fallback) {
         // A root PointMass has no orientation to share; a prescribed
         // position keeps its frame's orientation the world's.
         let prescribed = components[o.component].parts.iter().any(|p| matches!(p, Part::Drive { .. }));
@@ -299,8 +307,11 @@ pub fn spanning_tree(
             }
             names
         };
-        let cluster_owners: Vec<&OwnerRef> =
-            owners.iter().filter(|o| joined.find(group(o.node)) == cluster_id).collect();
+        let here: Vec<&OwnerRef> = owners.iter().filter(|o| joined.find(group(o.node)) == cluster_id).collect();
+        let mut cluster_owners: Vec<&OwnerRef> = here.iter().copied().filter(|o| !o.fallback).collect();
+        if cluster_owners.is_empty() {
+            cluster_owners.extend(here.first());
+        }
         match cluster_owners.as_slice() {
             [] => return Err(Error::NoOrientationOwner { components: names() }),
             [owner] => {

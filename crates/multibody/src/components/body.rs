@@ -230,7 +230,7 @@ impl Component for RigidBody {
                 RotationCoordinates::Quaternion { .. } => QUATERNION_STATES,
                 RotationCoordinates::Euler { .. } => EULER_STATES,
             };
-            parts.push(Part::Owner { frame: 0, model: JointModel::Free(rot), states });
+            parts.push(Part::Owner { frame: 0, model: JointModel::Free(rot), states, fallback: false });
         }
         if let Some(r) = self.frame_b {
             parts.push(Part::Rigid { a: 0, b: 1, pose: Transform::translation(r) });

@@ -41,6 +41,7 @@ mod mounting_1d;
 pub mod one_d;
 mod orientation;
 mod planar;
+pub mod planar_mechanics;
 mod point_mass;
 mod prescribed;
 mod prismatic;
@@ -219,6 +220,20 @@ static REGISTRY: &[&ComponentSpec] = &[
     &blocks::trajectories::KINEMATIC_PTP,
     &blocks::trajectories::KINEMATIC_PTP_BOUNDED_JERK,
     &blocks::trajectories::BLOCK_KINEMATIC_PTP,
+    &planar_mechanics::world::SPEC,
+    &planar_mechanics::body::BODY,
+    &planar_mechanics::body::BODY_SHAPE,
+    &planar_mechanics::fixed::FIXED,
+    &planar_mechanics::fixed::FIXED_TRANSLATION,
+    &planar_mechanics::fixed::FIXED_ROTATION,
+    &planar_mechanics::joints::REVOLUTE,
+    &planar_mechanics::joints::PRISMATIC,
+    &planar_mechanics::forces::SPRING,
+    &planar_mechanics::forces::DAMPER,
+    &planar_mechanics::forces::SPRING_DAMPER,
+    &planar_mechanics::forces::WORLD_FORCE_TORQUE,
+    &planar_mechanics::adapters::PLANAR_TO_MULTIBODY,
+    &planar_mechanics::adapters::FRAME_VISUALIZER,
 ];
 
 /// The kind named `kind`. Accepts the library prefix
@@ -319,8 +334,10 @@ pub enum Part {
     /// to be the one cut when it closes a kinematic loop.
     Joint { a: usize, b: usize, model: JointModel, states: StateNames, flanges: Option<AxisFlanges>, iscut: bool },
     /// Ownership of the orientation (and position) of `frame`: a joint from
-    /// the world with the component's states.
-    Owner { frame: usize, model: JointModel, states: StateNames },
+    /// the world with the component's states. A `fallback` owner (a planar
+    /// Body's) is used only where nothing else places the frame: no joints
+    /// from the ground and no other owner in its group.
+    Owner { frame: usize, model: JointModel, states: StateNames, fallback: bool },
     /// A 1-D force element between two flanges.
     Element1D { a: usize, b: usize, law: Law1D },
     /// A signal block driving the output connector `output`: a function of

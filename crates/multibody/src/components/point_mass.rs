@@ -84,7 +84,7 @@ impl Component for PointMass {
         let inertia = RigidInertia::from_com(self.m, Vec3::zeros(), Mat3::zeros());
         let mut parts = vec![Part::Mass { frame: 0, inertia, point_gravity: self.point_gravity }];
         if self.isroot {
-            parts.push(Part::Owner { frame: 0, model: JointModel::Translation, states: ROOT_STATES });
+            parts.push(Part::Owner { frame: 0, model: JointModel::Translation, states: ROOT_STATES, fallback: false });
         }
         parts
     }

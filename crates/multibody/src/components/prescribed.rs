@@ -140,7 +140,7 @@ impl Component for Prescribed {
             if self.pose { DriveMap::Pose } else { DriveMap::Linear { first: 0, count: 3, scale: 1.0, offset: 0.0 } };
         let inputs = std::array::from_fn(|k| if k < if self.pose { 7 } else { 3 } { Some(k + 1) } else { None });
         vec![
-            Part::Owner { frame: 0, model, states },
+            Part::Owner { frame: 0, model, states, fallback: false },
             Part::Drive { part: 0, level: self.level, map, inputs, start: self.start },
         ]
     }

@@ -156,6 +156,11 @@ impl ParamSpec {
 pub enum ConnectorType {
     /// A 3-D frame (Frame3D).
     Frame,
+    /// A planar frame (Frame2D): a frame that stays in the world's x-y
+    /// plane, turned about z. Inside, it is a frame like any other; it
+    /// connects only to planar frames, and reads as `x`, `y`, `phi`, `fx`,
+    /// `fy`, `tau` (world coordinates).
+    Frame2D,
     /// A 1-D rotational flange (Dyad's Spline).
     Spline,
     /// A 1-D translational flange.
@@ -170,6 +175,7 @@ impl ConnectorType {
     pub fn name(&self) -> &'static str {
         match self {
             ConnectorType::Frame => "Frame3D",
+            ConnectorType::Frame2D => "Frame2D",
             ConnectorType::Spline => "Spline",
             ConnectorType::Flange => "Flange",
             ConnectorType::RealInput => "RealInput",
@@ -180,6 +186,11 @@ impl ConnectorType {
     /// Whether connectors of the two types may be connected.
     pub fn connects_to(&self, other: &ConnectorType) -> bool {
         self == other || (self.is_signal() && other.is_signal())
+    }
+
+    /// Whether it is a frame (3-D or planar): a node of the mechanism.
+    pub fn is_frame(&self) -> bool {
+        matches!(self, ConnectorType::Frame | ConnectorType::Frame2D)
     }
 
     pub fn is_signal(&self) -> bool {
@@ -200,6 +211,9 @@ pub struct ConnectorSpec {
 impl ConnectorSpec {
     pub const fn frame(name: &'static str, doc: &'static str) -> Self {
         Self { name, ty: ConnectorType::Frame, doc, internal: false }
+    }
+    pub const fn frame_2d(name: &'static str, doc: &'static str) -> Self {
+        Self { name, ty: ConnectorType::Frame2D, doc, internal: false }
     }
     pub const fn flange(name: &'static str, ty: ConnectorType, doc: &'static str) -> Self {
         Self { name, ty, doc, internal: false }

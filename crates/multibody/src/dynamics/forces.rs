@@ -2,6 +2,7 @@
 //! and the position of massless groups that only they hold.
 
 use super::{DynamicsError, Workspace};
+use crate::math::rotation::planar_angle;
 use crate::math::surface::Surface;
 use crate::math::wheel::road_contact;
 use crate::math::{Force, Mat3, Vec3};
@@ -82,6 +83,15 @@ impl System {
                     Vec3::new(ws.signals[signals[k]], ws.signals[signals[k + 1]], ws.signals[signals[k + 2]])
                 };
                 ((zero, zero), (-kb.rot.tr_mul(&at(0)), -kb.rot.tr_mul(&at(3))))
+            }
+            Load::PlanarAxes { c, d, rel0 } => {
+                let ka = ka.expect("planar springs have two ends");
+                let (dr, dv) = (kb.r - ka.r, kb.v - ka.v);
+                let dphi = planar_angle(&(kb.rot * ka.rot.transpose()));
+                let pull = |k: usize, s: f64, v: f64| c[k] * (s - rel0[k]) + d[k] * v;
+                let f = Vec3::new(pull(0, dr.x, dv.x), pull(1, dr.y, dv.y), 0.0);
+                let t = Vec3::new(0.0, 0.0, pull(2, dphi, kb.w.z - ka.w.z));
+                ((f, t), (-f, -t))
             }
             Load::Tyre { radius, law, c_z, d_z, road } => {
                 let (f, delta) = tyre_force(radius, &law, c_z, d_z, road.map(|r| &self.roads[r]), &kb);

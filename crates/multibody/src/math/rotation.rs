@@ -38,6 +38,12 @@ pub fn axis_rotation(axis: usize, angle: f64) -> Mat3 {
     }
 }
 
+/// The angle about z of a rotation about z (a planar frame's `phi`), in
+/// (-pi, pi]: the inverse of `axis_rotation(2, phi)`.
+pub fn planar_angle(r: &Mat3) -> f64 {
+    r[(0, 1)].atan2(r[(0, 0)])
+}
+
 /// Rotation by `angle` about the unit axis `n`:
 /// `R = n n' + (I - n n') cos(angle) - [n]x sin(angle)`.
 pub fn planar_rotation(n: &Vec3, angle: f64) -> Mat3 {

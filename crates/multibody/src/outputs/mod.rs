@@ -7,6 +7,7 @@ use crate::assembly::Mechanism;
 use crate::assembly::SignalTable;
 use crate::components::{ConnectorType, Element1DState, EvalContext, FlangeState, FrameState, JointState, Part};
 use crate::dynamics::{DynamicsError, Workspace};
+use crate::math::rotation::planar_angle;
 use crate::math::Transform;
 use crate::math::{Motion, Vec3};
 use crate::system::JointMotion;
@@ -42,6 +43,9 @@ pub(crate) struct OutputScratch {
 }
 
 const FRAME_SIGNALS: [(&str, usize, &str); 4] = [("r_0", 3, "m"), ("R", 9, ""), ("f", 3, "N"), ("tau", 3, "N.m")];
+/// A planar frame's signals, all scalars in world coordinates.
+const FRAME_2D_SIGNALS: [(&str, &str); 6] =
+    [("x", "m"), ("y", "m"), ("phi", "rad"), ("fx", "N"), ("fy", "N"), ("tau", "N.m")];
 
 impl Mechanism {
     /// Every output signal, in the order of a [`crate::Solution`]'s columns:
@@ -64,6 +68,11 @@ impl Mechanism {
             for v in &c.variables {
                 for suffix in v.shape.suffixes() {
                     out.push(Signal { name: format!("{}.{}{}", c.name, v.name, suffix), unit: v.unit });
+                }
+            }
+            for conn in c.spec.public_connectors().filter(|k| k.ty == ConnectorType::Frame2D) {
+                for (name, unit) in FRAME_2D_SIGNALS {
+                    out.push(Signal { name: format!("{}.{}.{}", c.name, conn.name, name), unit });
                 }
             }
             for conn in c.spec.public_connectors().filter(|k| k.ty == ConnectorType::Frame) {
@@ -229,6 +238,13 @@ impl Mechanism {
                 c.name
             );
             for (local, conn) in c.spec.connectors.iter().enumerate() {
+                if conn.ty == ConnectorType::Frame2D && !conn.internal {
+                    let f = &frames[local];
+                    let (force, torque) = (f.rot.tr_mul(&f.f), f.rot.tr_mul(&f.tau));
+                    values.extend([f.r_0.x, f.r_0.y, planar_angle(&f.rot), force.x, force.y, torque.z]);
+                }
+            }
+            for (local, conn) in c.spec.connectors.iter().enumerate() {
                 if conn.ty == ConnectorType::Frame && !conn.internal {
                     let f = &frames[local];
                     values.extend_from_slice(f.r_0.as_slice());
@@ -255,8 +271,9 @@ impl Mechanism {
             return 0;
         }
         let frames = c.spec.public_connectors().filter(|k| k.ty == ConnectorType::Frame).count();
+        let planar = c.spec.public_connectors().filter(|k| k.ty == ConnectorType::Frame2D).count();
         let per_frame: usize = FRAME_SIGNALS.iter().map(|(_, size, _)| size).sum();
-        c.variables.iter().map(|v| v.shape.len()).sum::<usize>() + frames * per_frame
+        c.variables.iter().map(|v| v.shape.len()).sum::<usize>() + frames * per_frame + planar * FRAME_2D_SIGNALS.len()
     }
 
     /// The coordinates, rates and accelerations of cut joints, from the

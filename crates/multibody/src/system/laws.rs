@@ -88,6 +88,12 @@ pub enum ForceLaw {
     /// equations give a component at frame_b, from `inputs`: frame_b
     /// receives their opposite. No frame_a.
     Flow { inputs: [usize; 6] },
+    /// A planar spring and damper per world axis (PlanarMechanics): with
+    /// `dx`, `dy` from frame_a's origin to frame_b's and `dphi` the angle
+    /// from frame_a to frame_b, frame_b is pulled back by
+    /// `c[k] (d_k - rel0[k]) + d[k] der(d_k)` along x, y and about z, and
+    /// frame_a the other way.
+    PlanarAxes { c: [f64; 3], d: [f64; 3], rel0: [f64; 3] },
     /// A slipping wheel's elastic contact with the ground plane y = 0
     /// (frame_b at the wheel's centre, spin axis z; the reaction on the
     /// world): where the rim's lowest point is `pen` below the plane, the

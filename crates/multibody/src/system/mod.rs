@@ -194,6 +194,11 @@ pub(crate) enum Load {
     Flow {
         signals: [usize; 6],
     },
+    PlanarAxes {
+        c: [f64; 3],
+        d: [f64; 3],
+        rel0: [f64; 3],
+    },
     /// `road`: an index into `System::roads`.
     Tyre {
         radius: f64,

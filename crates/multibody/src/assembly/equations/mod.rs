@@ -484,6 +484,7 @@ fn classify_library(
             vec![name.to_string()],
             match connector.ty {
                 ConnectorType::Frame => "a frame's equations read `r_0[i]` and `R[i, j]` (and `der` of them)",
+                ConnectorType::Frame2D => "a planar frame's equations read `x` and `y` (and `der` of them)",
                 ConnectorType::Spline => "a spline's equations read `phi` (and `der(phi)`)",
                 ConnectorType::Flange => "a flange's equations read `s` (and `der(s)`)",
                 _ => "a signal connector is read by its name alone",
@@ -516,6 +517,29 @@ fn classify_library(
                 ))
             }
             _ => return Err(bad_field("not a quantity of a frame")),
+        },
+        ConnectorType::Frame2D => match rest {
+            "x" | "y" => Role::Read(Read::Frame {
+                connector: connector_name,
+                quantity: FrameQuantity::Position(usize::from(rest == "y")),
+            }),
+            "phi" => {
+                return Err(problem(
+                    format!("`{name}`: equations cannot read a planar frame's angle yet"),
+                    vec![],
+                    vec![name.to_string()],
+                    "read it from a PlanarMechanics.AbsolutePosition sensor's output `phi` instead",
+                ))
+            }
+            "fx" | "fy" | "tau" => {
+                return Err(problem(
+                    format!("`{name}` is a flow that the mechanics decides; equations cannot read it"),
+                    vec![],
+                    vec![name.to_string()],
+                    "measure it in the results (every planar frame's `fx`, `fy` and `tau` are there)",
+                ))
+            }
+            _ => return Err(bad_field("not a quantity of a planar frame")),
         },
         ConnectorType::Spline | ConnectorType::Flange => match rest {
             "phi" | "s" => Role::Read(Read::Axis { connector: connector_name, speed: false }),
