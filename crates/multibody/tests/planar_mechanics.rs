@@ -32,6 +32,20 @@ fn assert_same(label: &str, planar: &Model, spatial: &Model, stop: f64, pairs: &
     a
 }
 
+/// Without damping the bodies' KE + PE stays what it was, to 1e-9 of its
+/// swing.
+fn assert_energy_kept(label: &str, s: &Solution, bodies: &[&str]) {
+    let total: Vec<f64> = (0..s.time().len())
+        .map(|k| {
+            bodies.iter().map(|b| s.get(&format!("{b}.KE")).unwrap()[k] + s.get(&format!("{b}.PE")).unwrap()[k]).sum()
+        })
+        .collect();
+    let ke_max = bodies.iter().flat_map(|b| s.get(&format!("{b}.KE")).unwrap().iter()).fold(0.0f64, |m, x| m.max(*x));
+    let drift = total.iter().fold(0.0f64, |m, e| m.max((e - total[0]).abs())) / ke_max;
+    eprintln!("{label}: energy drift {drift:.1e} of the largest kinetic energy (tolerance 1e-9)");
+    assert!(drift < 1e-9, "{label}: energy drifts by {drift:e}");
+}
+
 /// A planar link: a revolute then a rod `r` then a body at its end.
 fn planar_link(m: &mut Model, k: usize, from: &str, r: [f64; 2], mass: f64, inertia: f64) -> String {
     m.add(&format!("rev{k}"), "PlanarMechanics.Revolute");
@@ -111,4 +125,214 @@ fn a_planar_double_pendulum_moves_as_its_3d_twin() {
     let pairs =
         [("rev2.phi", "rev2.phi"), ("rev1.phi", "rev1.phi"), ("rev2.w", "rev2.w"), ("body2.r[1]", "body2.r_0[1]")];
     assert_same("double pendulum", &chain(true, &links), &chain(false, &links), 3.0, &pairs);
+}
+
+/// Kinds of the planar library and their 3-D twins.
+struct Kinds {
+    planar: bool,
+}
+
+impl Kinds {
+    fn world(&self, m: &mut Model) {
+        m.add("world", if self.planar { "PlanarMechanics.World" } else { "World" });
+    }
+    fn revolute(&self, m: &mut Model, name: &str) {
+        if self.planar {
+            m.add(name, "PlanarMechanics.Revolute");
+        } else {
+            m.add(name, "Revolute").set("n", [0.0, 0.0, 1.0]);
+        }
+    }
+    fn rod(&self, m: &mut Model, name: &str, r: [f64; 2]) {
+        if self.planar {
+            m.add(name, "PlanarMechanics.FixedTranslation").set("r", r);
+        } else {
+            m.add(name, "FixedTranslation").set("r", [r[0], r[1], 0.0]);
+        }
+    }
+    fn fixed(&self, m: &mut Model, name: &str, r: [f64; 2]) {
+        if self.planar {
+            m.add(name, "PlanarMechanics.Fixed").set("r", r);
+        } else {
+            m.add(name, "Fixed").set("r", [r[0], r[1], 0.0]);
+        }
+    }
+    fn body(&self, m: &mut Model, name: &str, mass: f64, inertia: f64) {
+        if self.planar {
+            m.add(name, "PlanarMechanics.Body").set("m", mass).set("I", inertia);
+        } else {
+            m.add(name, "Body").set("m", mass).set("I_11", 0.0).set("I_22", 0.0).set("I_33", inertia);
+        }
+    }
+    fn prismatic(&self, m: &mut Model, name: &str, r: [f64; 2]) {
+        if self.planar {
+            m.add(name, "PlanarMechanics.Prismatic").set("r", r);
+        } else {
+            m.add(name, "Prismatic").set("n", [r[0], r[1], 0.0]);
+        }
+    }
+    /// The position of a body's frame (x or y).
+    fn position(&self, body: &str, k: usize) -> String {
+        if self.planar {
+            format!("{body}.r[{k}]")
+        } else {
+            format!("{body}.r_0[{k}]")
+        }
+    }
+}
+
+/// A crank (0.5 m, turning at 2 rad/s at the start) drives a slider along x
+/// through a 1.5 m connecting rod; bodies on the crank's tip, the rod's
+/// middle and the slider; gravity along -y.
+fn slider_crank(k: &Kinds) -> Model {
+    let mut m = Model::new("slider_crank");
+    k.world(&mut m);
+    k.revolute(&mut m, "crank");
+    k.rod(&mut m, "crank_rod", [0.5, 0.0]);
+    k.body(&mut m, "crank_tip", 1.0, 0.01);
+    k.revolute(&mut m, "elbow");
+    k.rod(&mut m, "rod_half", [0.75, 0.0]);
+    k.rod(&mut m, "rod_rest", [0.75, 0.0]);
+    k.body(&mut m, "rod_mass", 0.5, 0.1);
+    k.revolute(&mut m, "wrist");
+    k.prismatic(&mut m, "slide", [1.0, 0.0]);
+    k.body(&mut m, "slider", 2.0, 0.01);
+    m.connect(["world.frame_b", "crank.frame_a", "slide.frame_a"]);
+    m.connect(["crank.frame_b", "crank_rod.frame_a"]);
+    m.connect(["crank_rod.frame_b", "crank_tip.frame_a", "elbow.frame_a"]);
+    m.connect(["elbow.frame_b", "rod_half.frame_a"]);
+    m.connect(["rod_half.frame_b", "rod_mass.frame_a", "rod_rest.frame_a"]);
+    m.connect(["rod_rest.frame_b", "wrist.frame_a"]);
+    m.connect(["wrist.frame_b", "slider.frame_a", "slide.frame_b"]);
+    m.component_mut("crank").unwrap().initial("phi", 0.0).initial("w", 2.0);
+    m
+}
+
+#[test]
+fn a_planar_slider_crank_moves_as_its_3d_twin() {
+    let (planar, spatial) = (slider_crank(&Kinds { planar: true }), slider_crank(&Kinds { planar: false }));
+    let pairs =
+        [("crank.phi", "crank.phi"), ("crank.w", "crank.w"), ("slide.s", "slide.s"), ("elbow.phi", "elbow.phi")];
+    let s = assert_same("slider-crank", &planar, &spatial, 3.0, &pairs);
+    assert_energy_kept("slider-crank", &s, &["crank_tip", "rod_mass", "slider"]);
+}
+
+/// A four-bar: crank from the origin to A = (0, 0.5), coupler from A to
+/// M = (1.1, 0.6), rocker from B = (1, 0) to M; bodies on all three.
+fn four_bar(k: &Kinds) -> Model {
+    let mut m = Model::new("four_bar");
+    k.world(&mut m);
+    k.fixed(&mut m, "b", [1.0, 0.0]);
+    for (rev, rod, body, r, mass) in [
+        ("j1", "crank", "crank_body", [0.0, 0.5], 1.0),
+        ("j2", "coupler", "coupler_body", [1.1, 0.1], 2.0),
+        ("j4", "rocker", "rocker_body", [0.1, 0.6], 1.5),
+    ] {
+        k.revolute(&mut m, rev);
+        k.rod(&mut m, rod, r);
+        k.body(&mut m, body, mass, 0.05);
+        m.connect([format!("{rev}.frame_b"), format!("{rod}.frame_a")]);
+        m.connect([format!("{rod}.frame_b"), format!("{body}.frame_a")]);
+    }
+    k.revolute(&mut m, "j3");
+    m.connect(["world.frame_b", "j1.frame_a"]);
+    m.connect(["crank.frame_b", "j2.frame_a"]);
+    m.connect(["b.frame_b", "j4.frame_a"]);
+    m.connect(["coupler.frame_b", "j3.frame_a"]);
+    m.connect(["rocker.frame_b", "j3.frame_b"]);
+    m.component_mut("j1").unwrap().initial("w", 3.0);
+    m
+}
+
+#[test]
+fn a_planar_four_bar_moves_as_its_3d_twin() {
+    let (planar, spatial) = (four_bar(&Kinds { planar: true }), four_bar(&Kinds { planar: false }));
+    let pairs = [("j1.phi", "j1.phi"), ("j1.w", "j1.w"), ("j4.phi", "j4.phi"), ("j2.phi", "j2.phi")];
+    let s = assert_same("four-bar", &planar, &spatial, 3.0, &pairs);
+    assert_energy_kept("four-bar", &s, &["crank_body", "coupler_body", "rocker_body"]);
+    // The loop stays closed: the coupler's end is the rocker's.
+    let gap = worst(&s, &s, &[("coupler.frame_b.x", "rocker.frame_b.x"), ("coupler.frame_b.y", "rocker.frame_b.y")]);
+    assert!(gap < 1e-9, "the loop opens by {gap:e}");
+}
+
+/// A planar body with nothing holding it falls freely: its own planar
+/// coordinates are its states.
+#[test]
+fn a_free_planar_body_falls_as_the_closed_form_says() {
+    let mut m = Model::new("free_fall");
+    m.add("world", "PlanarMechanics.World");
+    m.add("body", "PlanarMechanics.Body")
+        .set("m", 2.0)
+        .set("I", 1.0)
+        .initial("r", [1.0, 2.0])
+        .initial("v", [0.5, 3.0])
+        .initial("w", 0.7);
+    let s = run(&m, 3.0);
+    let g = 9.80665;
+    let mut worst = 0.0f64;
+    for (k, t) in s.time().iter().enumerate() {
+        let expect = [1.0 + 0.5 * t, 2.0 + 3.0 * t - g * t * t / 2.0, 0.7 * t];
+        let got = [s.get("body.r[1]").unwrap()[k], s.get("body.r[2]").unwrap()[k], s.get("body.phi").unwrap()[k]];
+        worst = (0..3).fold(worst, |m, i| m.max((got[i] - expect[i]).abs()));
+    }
+    eprintln!("free fall: worst error {worst:.1e} m (tolerance 1e-9)");
+    assert!(worst < 1e-9, "free fall differs by {worst:e}");
+}
+
+/// Constant signals feeding a WorldForceTorque.
+fn push(m: &mut Model, at: &str, force: [f64; 3]) {
+    m.add("push", "PlanarMechanics.WorldForceTorque");
+    for (k, input) in ["force_x", "force_y", "torque"].iter().enumerate() {
+        let name = format!("push_{input}");
+        m.add(&name, "BlockComponents.Constant").set("k", force[k]);
+        m.connect([format!("{name}.y"), format!("push.{input}")]);
+    }
+    m.connect([at.to_string(), "push.frame_b".to_string()]);
+}
+
+#[test]
+fn a_body_on_a_prismatic_joint_pushed_by_a_constant_force_moves_as_f_t2_over_2m() {
+    let (f, mass) = (3.0, 2.0);
+    let mut m = Model::new("push");
+    m.add("world", "PlanarMechanics.World").set("g", 0.0);
+    m.add("slide", "PlanarMechanics.Prismatic").set("r", [3.0, 4.0]);
+    m.add("body", "PlanarMechanics.Body").set("m", mass).set("I", 0.1);
+    m.connect(["world.frame_b", "slide.frame_a"]);
+    m.connect(["slide.frame_b", "body.frame_a"]);
+    // Along the slide (3, 4)/5, plus a push across it that the joint takes.
+    push(&mut m, "body.frame_a", [f * 0.6 - 4.0 * 0.8, f * 0.8 + 4.0 * 0.6, 0.0]);
+    let s = run(&m, 2.0);
+    let worst = s
+        .time()
+        .iter()
+        .zip(s.get("slide.s").unwrap())
+        .fold(0.0f64, |w, (t, x)| w.max((x - f * t * t / (2.0 * mass)).abs()));
+    eprintln!("prismatic push: worst error {worst:.1e} m (tolerance 1e-9)");
+    assert!(worst < 1e-9, "s differs from F t^2 / 2m by {worst:e}");
+    // The joint's force along its axis is zero: nothing drives it.
+    assert!(s.get("slide.f").unwrap().iter().all(|f| f.abs() < 1e-9));
+}
+
+#[test]
+fn a_planar_spring_mass_oscillates_at_sqrt_c_over_m() {
+    let (c, mass, x0) = (4.0, 1.0, 0.5);
+    let mut m = Model::new("spring_mass");
+    m.add("world", "PlanarMechanics.World");
+    m.add("slide", "PlanarMechanics.Prismatic").set("r", [1.0, 0.0]).initial("s", x0).initial("v", 0.0);
+    m.add("body", "PlanarMechanics.Body").set("m", mass).set("I", 0.1);
+    m.add("spring", "PlanarMechanics.Spring").set("c_x", c).set("c_y", 7.0);
+    m.connect(["world.frame_b", "slide.frame_a", "spring.frame_a"]);
+    m.connect(["slide.frame_b", "body.frame_a", "spring.frame_b"]);
+    let s = run(&m, 5.0);
+    let omega = (c / mass).sqrt();
+    let worst = s
+        .time()
+        .iter()
+        .zip(s.get("slide.s").unwrap())
+        .fold(0.0f64, |w, (t, x)| w.max((x - x0 * (omega * t).cos()).abs()));
+    eprintln!("spring-mass: worst error {worst:.1e} m (tolerance 1e-9)");
+    assert!(worst < 1e-9, "the spring-mass differs from x0 cos(sqrt(c/m) t) by {worst:e}");
+    // The spring's force is c x along x, none along y (the body stays on y = 0).
+    let (fx, x) = (s.get("spring.f_x").unwrap(), s.get("spring.s_relx").unwrap());
+    assert!(fx.iter().zip(x).all(|(f, x)| (f - c * x).abs() < 1e-12));
 }
