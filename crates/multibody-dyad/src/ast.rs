@@ -29,6 +29,10 @@ impl Path {
 #[derive(Clone, Debug, PartialEq)]
 pub struct File {
     pub items: Vec<Item>,
+    /// The library package the file is inside (`PlanarMechanics` for a file
+    /// in a folder of that name): its short names refer to that package's
+    /// components first, as Dyad's folders make them.
+    pub package: Option<String>,
 }
 
 #[derive(Clone, Debug, PartialEq)]

@@ -122,8 +122,11 @@ impl Package {
     /// Adds and parses a source file. The text is kept either way, so that
     /// a syntax error can be shown with it.
     pub fn add_source(&mut self, name: impl Into<String>, text: impl Into<String>) -> Result<FileId, Diagnostic> {
+        let name = name.into();
+        let package = library_package(&name);
         let id = self.sources.add(name, text);
-        let file = parser::parse(id, self.sources.text(id))?;
+        let mut file = parser::parse(id, self.sources.text(id))?;
+        file.package = package;
         self.files.push(file);
         Ok(id)
     }
@@ -256,4 +259,12 @@ impl Package {
             d.note(format!("the files define: {}", names.join(", ")))
         }
     }
+}
+
+/// The library package a file at `path` is inside, as Dyad's folders make
+/// packages: a file in a folder named `PlanarMechanics` is in the planar
+/// package, whose components its short names then mean.
+fn library_package(path: &str) -> Option<String> {
+    let parent = std::path::Path::new(path).parent()?.file_name()?.to_str()?;
+    (parent == "PlanarMechanics").then(|| parent.to_string())
 }

@@ -26,8 +26,9 @@ const MAX_NESTING: usize = 32;
 /// How many library components one model may have.
 const MAX_COMPONENTS: usize = 20_000;
 /// The connector types users can declare, by the names the library gives them.
-pub(crate) const CONNECTOR_TYPES: [ConnectorType; 5] = [
+pub(crate) const CONNECTOR_TYPES: [ConnectorType; 6] = [
     ConnectorType::Frame,
+    ConnectorType::Frame2D,
     ConnectorType::Spline,
     ConnectorType::Flange,
     ConnectorType::RealInput,
@@ -40,6 +41,8 @@ pub struct Index<'a> {
     pub components: HashMap<String, &'a ComponentDef>,
     pub analyses: HashMap<&'a str, &'a AnalysisDef>,
     pub aliases: HashMap<&'a str, &'a TypeAlias>,
+    /// The library package of each file inside one (see `File::package`).
+    pub packages: HashMap<crate::source::FileId, &'a str>,
 }
 
 impl<'a> Index<'a> {
@@ -49,7 +52,12 @@ impl<'a> Index<'a> {
         libraries: &'a [(&'static str, File)],
         files: impl IntoIterator<Item = &'a File>,
     ) -> Result<Self, Diagnostic> {
-        let mut index = Index { components: HashMap::new(), analyses: HashMap::new(), aliases: HashMap::new() };
+        let mut index = Index {
+            components: HashMap::new(),
+            analyses: HashMap::new(),
+            aliases: HashMap::new(),
+            packages: HashMap::new(),
+        };
         for (library, file) in libraries {
             for item in &file.items {
                 if let Item::Component(c) = item {
@@ -65,6 +73,9 @@ impl<'a> Index<'a> {
                     Item::Analysis(a) => (&a.name, a.header),
                     Item::TypeAlias(t) => (&t.name, t.span),
                 };
+                if let Some(package) = &file.package {
+                    index.packages.insert(span.file, package.as_str());
+                }
                 if let Some(first) = seen.insert(name.name.as_str(), span) {
                     return Err(Diagnostic::error(format!("`{}` is defined twice", name.name))
                         .primary(name.span, "defined again here")
@@ -309,6 +320,13 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                     if flows {
                         let flow_names = |field: &str| relations::scalar_names(&format!("{m}.{field}"), &[3]);
                         let flow = match ty {
+                            ConnectorType::Frame2D => {
+                                return Err(Diagnostic::error(format!(
+                                    "equations cannot give forces to the planar frame `{m}` yet"
+                                ))
+                                .primary(span, "its fx, fy or tau are written here")
+                                .help("drive a PlanarMechanics.WorldForceTorque with signals instead"))
+                            }
                             ConnectorType::Frame => {
                                 let (f, t) = (flow_names("f"), flow_names("tau"));
                                 multibody::Flow::Frame {
@@ -327,7 +345,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 }
                 continue;
             }
-            if ty == ConnectorType::Frame {
+            if ty.is_frame() {
                 return Err(Diagnostic::error(format!(
                     "the frame `{}` is joined to no body, joint or World: nothing moves it",
                     members[0].0
@@ -1047,6 +1065,15 @@ fn check_unique<'b>(names: impl Iterator<Item = &'b Ident>) -> Result<(), Diagno
 /// or a library component from the engine's registry.
 fn resolve_kind<'a>(index: &Index<'a>, kind: &Path) -> Result<Kind<'a>, Diagnostic> {
     let text = kind.text();
+    // Inside a library package, a short name is that package's component
+    // (unless the files define one of that name).
+    if let Some(package) = index.packages.get(&kind.span.file) {
+        if !text.contains('.') && !index.components.contains_key(text.as_str()) {
+            if let Some(spec) = lookup(&format!("{package}.{text}")) {
+                return Ok(Kind::Library(spec));
+            }
+        }
+    }
     // The files' and the library's components, then the engine's.
     if let Some(def) = index.components.get(text.as_str()) {
         return Ok(Kind::User(def));

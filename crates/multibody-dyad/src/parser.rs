@@ -296,7 +296,7 @@ impl<'a> Parser<'a> {
             }
             items.push(self.definition(doc)?);
         }
-        Ok(File { items })
+        Ok(File { items, package: None })
     }
 
     fn definition(&mut self, doc: Option<String>) -> PResult<Item> {

@@ -537,6 +537,14 @@ fn select(value: Sym, index: &[usize], span: Span, what: &str) -> Result<Sym, Di
 pub fn connector_fields(ty: ConnectorType) -> &'static [(&'static str, &'static [usize], bool)] {
     match ty {
         ConnectorType::Frame => &[("r_0", &[3], false), ("R", &[3, 3], false), ("f", &[3], true), ("tau", &[3], true)],
+        ConnectorType::Frame2D => &[
+            ("x", &[], false),
+            ("y", &[], false),
+            ("phi", &[], false),
+            ("fx", &[], true),
+            ("fy", &[], true),
+            ("tau", &[], true),
+        ],
         ConnectorType::Spline => &[("phi", &[], false), ("tau", &[], true)],
         ConnectorType::Flange => &[("s", &[], false), ("f", &[], true)],
         _ => &[],

@@ -508,6 +508,35 @@ fn cable_bridge() {
 }
 
 #[test]
+fn planar_slider_crank() {
+    let mut m = Model::new("SliderCrank");
+    m.add("world", "PlanarMechanics.World");
+    for (name, l, mass) in [("crank", 0.5, 1.0), ("rod", 1.5, 0.5)] {
+        m.add(&format!("{name}.joint"), "PlanarMechanics.Revolute");
+        m.add(&format!("{name}.rod"), "PlanarMechanics.BodyShape")
+            .set("r", [l, 0.0])
+            .set("m", mass)
+            .set("I", mass * l * l / 12.0);
+    }
+    m.add("wrist", "PlanarMechanics.Revolute");
+    m.add("slide", "PlanarMechanics.Prismatic").set("r", [1.0, 0.0]);
+    m.add("slider", "PlanarMechanics.Body").set("m", 2.0).set("I", 0.01);
+    m.add("damper", "RotationalComponents.Damper").set("d", 0.05);
+    m.add("mount", "RotationalComponents.Fixed");
+    m.component_mut("crank.joint").unwrap().initial("phi", 0.0).initial("w", 2.0);
+    m.connect(["world.frame_b", "crank.joint.frame_a", "slide.frame_a"]);
+    m.connect(["crank.rod.frame_b", "rod.joint.frame_a"]);
+    m.connect(["rod.rod.frame_b", "wrist.frame_a"]);
+    m.connect(["wrist.frame_b", "slide.frame_b", "slider.frame_a"]);
+    m.connect(["damper.spline_a", "mount.spline"]);
+    m.connect(["damper.spline_b", "crank.joint.flange_a"]);
+    for name in ["crank", "rod"] {
+        m.connect([format!("{name}.joint.frame_b"), format!("{name}.rod.frame_a")]);
+    }
+    assert_same("PlanarMechanics/slider_crank.dyad", m, options(4.0, 0.01));
+}
+
+#[test]
 fn every_example_is_checked() {
     let checked = [
         "pendulum.dyad",
@@ -525,6 +554,7 @@ fn every_example_is_checked() {
         "wheeled_cart.dyad",
         "slipping_wheels.dyad",
         "docs/annotated_swing.dyad",
+        "PlanarMechanics/slider_crank.dyad",
     ];
     let mut found = Vec::new();
     let mut dirs = vec![examples_dir()];

@@ -13,8 +13,16 @@ pub enum Error {
     #[error("two components are named `{name}`; give each component its own name")]
     DuplicateName { name: String },
 
-    #[error("{kind} has no parameter `{param}` (in `{component}`).{}\nIts parameters are: {}", suggest(suggestions, "parameter"), valid.join(", "))]
-    UnknownParameter { component: String, kind: String, param: String, suggestions: Vec<String>, valid: Vec<String> },
+    #[error("{kind} has no parameter `{param}` (in `{component}`).{}{hint}\nIts parameters are: {}", suggest(suggestions, "parameter"), valid.join(", "))]
+    UnknownParameter {
+        component: String,
+        kind: String,
+        param: String,
+        suggestions: Vec<String>,
+        valid: Vec<String>,
+        /// More to say (the planar component of the same name has it), or empty.
+        hint: String,
+    },
 
     #[error("{kind} has no variable `{variable}` that takes a start value (in `{component}`).{}\nVariables with start values: {}", suggest(suggestions, "variable"), if valid.is_empty() { "none".to_string() } else { valid.join(", ") })]
     UnknownVariable { component: String, kind: String, variable: String, suggestions: Vec<String>, valid: Vec<String> },
@@ -43,7 +51,7 @@ pub enum Error {
         valid: Vec<String>,
     },
 
-    #[error("`{a}` ({a_type}) cannot be connected to `{b}` ({b_type}): only connectors of the same type connect")]
+    #[error("`{a}` ({a_type}) cannot be connected to `{b}` ({b_type}): only connectors of the same type connect{}", if a_type.starts_with("Frame") && b_type.starts_with("Frame") { "; a planar frame joins a 3-D one through a PlanarMechanics.PlanarToMultiBody" } else { "" })]
     IncompatibleConnectors { a: String, a_type: String, b: String, b_type: String },
 
     #[error("a connection needs at least two connectors, `{0}` is alone")]

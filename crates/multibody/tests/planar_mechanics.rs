@@ -336,3 +336,55 @@ fn a_planar_spring_mass_oscillates_at_sqrt_c_over_m() {
     let (fx, x) = (s.get("spring.f_x").unwrap(), s.get("spring.s_relx").unwrap());
     assert!(fx.iter().zip(x).all(|(f, x)| (f - c * x).abs() < 1e-12));
 }
+
+/// A planar pendulum carries a 3-D body through PlanarToMultiBody, 0.25 m
+/// out of the plane: it swings as the same pendulum built in 3-D, and the
+/// plane takes the body's weight moment about the rod.
+#[test]
+fn a_planar_pendulum_drives_a_3d_body_through_planar_to_multibody() {
+    let mut planar = chain(true, &[([1.0, 0.0], 1.0, 0.1)]);
+    planar.add("adapter", "PlanarMechanics.PlanarToMultiBody").set("z_position", 0.25);
+    planar.add("world3d", "World");
+    planar.add("load", "Body").set("m", 0.5).set("r_cm", [0.1, 0.0, 0.0]).set("I_33", 0.02);
+    planar.connect(["rod1.frame_b", "adapter.frame_a"]);
+    planar.connect(["adapter.frame_b", "load.frame_a"]);
+
+    let mut spatial = chain(false, &[([1.0, 0.0], 1.0, 0.1)]);
+    spatial.add("lift", "FixedTranslation").set("r", [0.0, 0.0, 0.25]);
+    spatial.add("load", "Body").set("m", 0.5).set("r_cm", [0.1, 0.0, 0.0]).set("I_33", 0.02);
+    spatial.connect(["rod1.frame_b", "lift.frame_a"]);
+    spatial.connect(["lift.frame_b", "load.frame_a"]);
+
+    let pairs = [
+        ("rev1.phi", "rev1.phi"),
+        ("rev1.w", "rev1.w"),
+        ("load.r_0[1]", "load.r_0[1]"),
+        ("load.r_0[3]", "load.r_0[3]"),
+    ];
+    assert_same("planar to 3-D", &planar, &spatial, 2.0, &pairs);
+    // Hanging at rest, the load's weight (0.5 g, 0.25 m out of the plane)
+    // is a moment about the rod's y axis that the plane takes.
+    planar.component_mut("rev1").unwrap().initial("phi", -std::f64::consts::FRAC_PI_2).initial("w", 0.0);
+    let s = run(&planar, 1.0);
+    let expected = 0.5 * 9.80665 * 0.25;
+    let worst = s.get("adapter.tau_perp[2]").unwrap().iter().fold(0.0f64, |m, t| m.max((t.abs() - expected).abs()));
+    assert!(worst < 1e-9, "the plane's moment differs from m g z by {worst:e}");
+}
+
+#[test]
+fn a_planar_frame_does_not_connect_to_a_3d_frame() {
+    let mut m = chain(true, &[([1.0, 0.0], 1.0, 0.1)]);
+    m.add("world3d", "World");
+    m.add("load", "Body").set("m", 0.5);
+    m.connect(["rod1.frame_b", "load.frame_a"]);
+    let message = m.assemble().unwrap_err().to_string();
+    for part in ["`rod1.frame_b` (Frame2D)", "`load.frame_a` (Frame3D)", "PlanarToMultiBody"] {
+        assert!(message.contains(part), "{message}");
+    }
+    // The 3-D Prismatic has no `r`; the message points at the planar one.
+    let mut m = Model::new("m");
+    m.add("world", "PlanarMechanics.World");
+    m.add("slide", "Prismatic").set("r", [1.0, 0.0]);
+    let message = m.assemble().unwrap_err().to_string();
+    assert!(message.contains("`PlanarMechanics.Prismatic`"), "{message}");
+}

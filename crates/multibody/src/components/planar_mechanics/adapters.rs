@@ -16,8 +16,13 @@ pub static PLANAR_TO_MULTIBODY: ComponentSpec = ComponentSpec {
     params: &[ParamSpec::real("z_position", 0.0, "m", "Where frame_b sits along z")],
     connectors: &[FRAME_A, ConnectorSpec::frame("frame_b", "The 3-D frame")],
     variables: &[
-        VarSpec::scalar("fz", "N", "Force along z that the plane takes, at frame_b"),
-        VarSpec::vector("tau_perp", 2, "N.m", "Torques about x and y that the plane takes, at frame_b"),
+        VarSpec::scalar("fz", "N", "Force along z with which the plane holds the 3-D side, at frame_a"),
+        VarSpec::vector(
+            "tau_perp",
+            2,
+            "N.m",
+            "Torques about frame_a's x and y with which the plane holds the 3-D side",
+        ),
     ],
     build: |p| Ok(Box::new(PlanarToMultiBody { z: p.real("z_position") })),
     shapes: super::super::shapes::none,
@@ -38,10 +43,9 @@ impl Component for PlanarToMultiBody {
     }
 
     fn evaluate(&self, ctx: &EvalContext, out: &mut Vec<f64>) {
-        // What the 3-D side pushes on frame_b, less what reaches the plane.
-        let b = &ctx.frames[1];
-        let (f, t) = (b.rot.tr_mul(&b.f), b.rot.tr_mul(&b.tau));
-        out.extend([-f.z, -t.x, -t.y]);
+        // The plane's reaction on the adapter at frame_a, out of the plane.
+        let a = &ctx.frames[0];
+        out.extend([a.f.z, a.tau.x, a.tau.y]);
     }
 }
 
