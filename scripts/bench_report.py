@@ -127,6 +127,15 @@ def main(argv):
     rodas, dopri = get("stiff_spring/Rodas4"), get("stiff_spring/DormandPrince45")
     md.append(f"| {fmt(rodas)} | {fmt(dopri)} | {ratio(dopri, rodas)} |")
     md.append("")
+    md.append("### Planar against 3-D\n")
+    md.append("A 100-link chain of PlanarMechanics revolutes and rods against the same chain of 3-D components "
+              "(crates/multibody/benches/planar.rs); `simulate` runs 0.05 s with outputs every 10 ms.\n")
+    md.append("| | planar | 3-D | planar / 3-D |")
+    md.append("|---|---|---|---|")
+    for what in ("rhs", "simulate"):
+        p, s = get(f"planar/{what}/planar/100"), get(f"planar/{what}/3d/100")
+        md.append(f"| {what} | {fmt(p)} | {fmt(s)} | {ratio(p, s)} |")
+    md.append("")
     if missing:
         md.append(f"**Missing from this run: {', '.join(missing)}**\n")
     print("\n".join(md))

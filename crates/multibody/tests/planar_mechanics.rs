@@ -388,3 +388,17 @@ fn a_planar_frame_does_not_connect_to_a_3d_frame() {
     let message = m.assemble().unwrap_err().to_string();
     assert!(message.contains("`PlanarMechanics.Prismatic`"), "{message}");
 }
+
+#[path = "common/chain.rs"]
+mod chain;
+
+/// The benchmark's 100-link planar chain moves as its 3-D twin.
+#[test]
+fn a_hundred_link_planar_chain_moves_as_its_3d_twin() {
+    let (planar, spatial) = (chain::planar_chain(100, true), chain::planar_chain(100, false));
+    let pairs = [("j0.phi", "j0.phi"), ("j99.phi", "j99.phi"), ("j50.w", "j50.w")];
+    let (a, b) = (run(&planar, 0.2), run(&spatial, 0.2));
+    let d = worst(&a, &b, &pairs);
+    eprintln!("100-link chain: planar and 3-D differ by {d:.1e} (tolerance 1e-9)");
+    assert!(d < 1e-9, "the 100-link chains differ by {d:e}");
+}

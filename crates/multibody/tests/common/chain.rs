@@ -47,3 +47,33 @@ pub fn geared_chain(n: usize) -> Model {
     }
     model
 }
+
+/// A chain of `n` rods hanging from revolutes about z, in the plane: built
+/// from PlanarMechanics components (`planar`) or from their 3-D twins.
+/// Each rod 1 m, 1 kg, inertia 1/12 about its centre; start angles 0.1 rad
+/// each, at rest.
+pub fn planar_chain(n: usize, planar: bool) -> Model {
+    let mut model = Model::new(format!("{}{n}", if planar { "planar" } else { "spatial" }));
+    model.add("world", if planar { "PlanarMechanics.World" } else { "World" });
+    let mut previous = "world.frame_b".to_string();
+    for k in 0..n {
+        if planar {
+            model.add(format!("j{k}"), "PlanarMechanics.Revolute");
+            model.add(format!("b{k}"), "PlanarMechanics.BodyShape").set("r", [1.0, 0.0]).set("I", 1.0 / 12.0);
+        } else {
+            model.add(format!("j{k}"), "Revolute").set("n", [0.0, 0.0, 1.0]);
+            model
+                .add(format!("b{k}"), "BodyShape")
+                .set("r", [1.0, 0.0, 0.0])
+                .set("r_cm", [0.5, 0.0, 0.0])
+                .set("I_11", 0.0)
+                .set("I_22", 0.0)
+                .set("I_33", 1.0 / 12.0);
+        }
+        model.component_mut(&format!("j{k}")).unwrap().initial("phi", 0.1).initial("w", 0.0);
+        model.connect([previous.clone(), format!("j{k}.frame_a")]);
+        model.connect([format!("j{k}.frame_b"), format!("b{k}.frame_a")]);
+        previous = format!("b{k}.frame_b");
+    }
+    model
+}
