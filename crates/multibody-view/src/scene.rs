@@ -64,10 +64,22 @@ fn kind_name(kind: &ShapeKind) -> (&'static str, f64) {
     }
 }
 
-/// The 12 columns of a frame's pose: `r_0[1..3]`, then `R[1,1]..R[3,3]`.
-type FrameColumns<'a> = [&'a [f64]; 12];
+/// The columns of a frame's pose: a 3-D frame's `r_0[1..3]` and
+/// `R[1,1]..R[3,3]`, or a planar frame's `x`, `y` and `phi` (it lies in the
+/// world's x-y plane, turned about z).
+enum FrameColumns<'a> {
+    Spatial([&'a [f64]; 12]),
+    Planar([&'a [f64]; 3]),
+}
 
 fn frame_columns<'a>(solution: &'a Solution, frame: &str) -> Option<FrameColumns<'a>> {
+    if let (Some(x), Some(y), Some(phi)) = (
+        solution.get(&format!("{frame}.x")),
+        solution.get(&format!("{frame}.y")),
+        solution.get(&format!("{frame}.phi")),
+    ) {
+        return Some(FrameColumns::Planar([x, y, phi]));
+    }
     let mut names = Vec::with_capacity(12);
     for i in 1..=3 {
         names.push(format!("{frame}.r_0[{i}]"));
@@ -81,7 +93,7 @@ fn frame_columns<'a>(solution: &'a Solution, frame: &str) -> Option<FrameColumns
     for n in &names {
         cols.push(solution.get(n)?);
     }
-    cols.try_into().ok()
+    cols.try_into().ok().map(FrameColumns::Spatial)
 }
 
 /// Where each animation frame falls between two solution samples.
@@ -160,6 +172,13 @@ fn dot4(a: &[f64; 4], b: &[f64; 4]) -> f64 {
 /// solution's `R` maps world to frame (`v_frame = R v_world`), so the
 /// frame-to-world matrix is its transpose.
 fn pose_at(cols: &FrameColumns, k: usize) -> ([f64; 3], [f64; 4]) {
+    let cols = match cols {
+        FrameColumns::Spatial(cols) => cols,
+        FrameColumns::Planar([x, y, phi]) => {
+            let half = phi[k] / 2.0;
+            return ([x[k], y[k], 0.0], [half.cos(), 0.0, 0.0, half.sin()]);
+        }
+    };
     let p = [cols[0][k], cols[1][k], cols[2][k]];
     let r = |i: usize, j: usize| cols[3 + 3 * i + j][k];
     let m = [r(0, 0), r(1, 0), r(2, 0), r(0, 1), r(1, 1), r(2, 1), r(0, 2), r(1, 2), r(2, 2)];
@@ -209,7 +228,7 @@ pub fn sample(shapes: &[Shape], solution: &Solution, fps: f64, max_frames: usize
                 Some(frames.len() - 1)
             }
             None => {
-                skipped.push(format!("{component}: the solution has no pose of {name} ({name}.r_0, {name}.R)"));
+                skipped.push(format!("{component}: the solution has no pose of {name} ({name}.r_0 and {name}.R, or {name}.x, .y and .phi)"));
                 None
             }
         }

@@ -371,7 +371,11 @@ pub fn spanning_tree(
                 part: j.part,
                 a: j.a,
                 b: j.b,
-                kind: constraint_of_joint(&j.model),
+                kind: if is_planar(&components[j.component]) {
+                    planar_constraint_of_joint(&j.model)
+                } else {
+                    constraint_of_joint(&j.model)
+                },
                 joint: Some(j.model),
             });
         }
@@ -542,6 +546,33 @@ fn constraint_of_joint(model: &JointModel) -> ConstraintKind {
         },
         JointModel::Free(_) => ConstraintKind::locking_axes(RotationLock::Free, [false; 3]),
         JointModel::Translation => ConstraintKind::locking_axes(RotationLock::All, [false; 3]),
+    }
+}
+
+/// Whether a component is planar (PlanarMechanics): its frames stay in the
+/// world's x-y plane, turned about z.
+fn is_planar(c: &CompiledComponent) -> bool {
+    c.spec.connectors.first().is_some_and(|k| k.ty == crate::components::ConnectorType::Frame2D)
+}
+
+/// The constraint a cut planar joint leaves: only its rows in the plane,
+/// since the rest of the planar mechanism keeps the others (a 3-D cut would
+/// add three redundant rows).
+fn planar_constraint_of_joint(model: &JointModel) -> ConstraintKind {
+    match *model {
+        // In-plane translations (frame_a's x and y).
+        JointModel::Revolute { .. } => ConstraintKind::Locks {
+            rotation: RotationLock::Free,
+            directions: [Vec3::x(), Vec3::y(), Vec3::zeros()],
+            count: 2,
+        },
+        // The in-plane translation across the axis, and the turn about z.
+        JointModel::Prismatic { axis } => ConstraintKind::Locks {
+            rotation: RotationLock::Axes([false, false, true]),
+            directions: [Vec3::z().cross(&axis), Vec3::zeros(), Vec3::zeros()],
+            count: 1,
+        },
+        _ => constraint_of_joint(model),
     }
 }
 
