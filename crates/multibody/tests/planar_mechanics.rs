@@ -402,3 +402,80 @@ fn a_hundred_link_planar_chain_moves_as_its_3d_twin() {
     eprintln!("100-link chain: planar and 3-D differ by {d:.1e} (tolerance 1e-9)");
     assert!(d < 1e-9, "the 100-link chains differ by {d:e}");
 }
+
+/// A wheel (a planar body on a rolling joint) pushed along x by a constant
+/// force at its centre: it rolls with a = F / (m + I / r^2), the ground
+/// carries its weight, and x = radius phi_roll + x0 holds.
+#[test]
+fn a_planar_rolling_wheel_pushed_at_its_centre_accelerates_as_the_closed_form_says() {
+    let (f, mass, inertia, radius) = (0.5, 0.1, 0.01, 0.4);
+    let mut m = Model::new("rolling");
+    m.add("world", "PlanarMechanics.World");
+    m.add("wheel", "PlanarMechanics.OneDOFRollingWheelJoint").set("radius", radius).set("x0", 0.3);
+    m.add("body", "PlanarMechanics.Body")
+        .set("m", mass)
+        .set("I", inertia)
+        .initial("r", [0.3, radius])
+        .initial("v", [0.0, 0.0])
+        .initial("phi", 0.0)
+        .initial("w", 0.0);
+    m.connect(["wheel.frame_a", "body.frame_a"]);
+    push(&mut m, "body.frame_a", [f, 0.0, 0.0]);
+    let s = run(&m, 3.0);
+    let a = f / (mass + inertia / (radius * radius));
+    let (x, phi_roll) = (s.get("wheel.x").unwrap(), s.get("wheel.phi_roll").unwrap());
+    let mut worst = 0.0f64;
+    for (k, t) in s.time().iter().enumerate() {
+        worst = worst.max((x[k] - 0.3 - a * t * t / 2.0).abs());
+        // Turning clockwise while it rolls to +x: phi = -phi_roll.
+        worst = worst.max((s.get("body.w").unwrap()[k] + a * t / radius).abs());
+        worst = worst.max((radius * phi_roll[k] + 0.3 - x[k]).abs());
+    }
+    let weight = s.get("wheel.f_n").unwrap().iter().fold(0.0f64, |m, n| m.max((n - mass * 9.80665).abs()));
+    let grip = mass * a - f; // the ground's push along x: m a = F + f_long
+    let long = s.get("wheel.f_long").unwrap().iter().fold(0.0f64, |m, g| m.max((g - grip).abs()));
+    eprintln!("rolling wheel: worst motion error {worst:.1e} (tolerance 1e-8), normal force {weight:.1e} N, grip {long:.1e} N");
+    assert!(worst < 1e-8, "the rolling wheel differs from its closed form by {worst:e}");
+    assert!(weight < 1e-9 && long < 1e-9, "contact forces: {weight:e}, {long:e}");
+}
+
+/// A wheel spun at 30 rad/s and set on the ground slips, and friction brings
+/// it to rolling; about the contact point its angular momentum
+/// I w - m r v is kept throughout (ground forces act at that point, gravity
+/// on the vertical through it), so it ends rolling at w = I w0 / (I + m r^2).
+#[test]
+fn a_spinning_planar_wheel_slips_until_it_rolls_keeping_its_angular_momentum_about_the_contact() {
+    let (mass, inertia, radius, w0) = (0.1, 0.1, 1.0, 30.0);
+    let mut m = Model::new("slipping");
+    m.add("world", "PlanarMechanics.World");
+    m.add("wheel", "PlanarMechanics.OneDOFSlippingWheelJoint")
+        .set("radius", radius)
+        .set("mu_A", 0.95)
+        .set("mu_S", 0.7)
+        .set("sAdhesion", 0.04)
+        .set("sSlide", 0.12)
+        .set("vAdhesion_min", 0.05)
+        .set("vSlide_min", 0.15);
+    m.add("body", "PlanarMechanics.Body")
+        .set("m", mass)
+        .set("I", inertia)
+        .initial("r", [0.0, radius])
+        .initial("v", [0.0, 0.0])
+        .initial("phi", 0.0)
+        .initial("w", w0);
+    m.connect(["wheel.frame_a", "body.frame_a"]);
+    let s = run(&m, 6.0);
+    let (v, w) = (s.get("body.v[1]").unwrap(), s.get("body.w").unwrap());
+    let l0 = inertia * w0;
+    let kept = v.iter().zip(w).fold(0.0f64, |m, (v, w)| m.max((inertia * w - mass * radius * v - l0).abs())) / l0;
+    let last = v.len() - 1;
+    let w_end = inertia * w0 / (inertia + mass * radius * radius);
+    eprintln!(
+        "slipping wheel: angular momentum about the contact kept to {kept:.1e} of it (tolerance 1e-8); ends at w = {:.6} (rolling: {w_end}), v + r w = {:.1e}",
+        w[last],
+        v[last] + radius * w[last]
+    );
+    assert!(kept < 1e-8, "angular momentum about the contact changes by {kept:e}");
+    assert!((w[last] - w_end).abs() < 1e-3 * w_end, "ends at w = {}", w[last]);
+    assert!(v[last] < 0.0, "a wheel spinning counterclockwise rolls towards -x");
+}

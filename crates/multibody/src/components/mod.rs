@@ -234,6 +234,8 @@ static REGISTRY: &[&ComponentSpec] = &[
     &planar_mechanics::forces::WORLD_FORCE_TORQUE,
     &planar_mechanics::adapters::PLANAR_TO_MULTIBODY,
     &planar_mechanics::adapters::FRAME_VISUALIZER,
+    &planar_mechanics::wheels::ROLLING,
+    &planar_mechanics::wheels::SLIPPING,
 ];
 
 /// The kind named `kind`. Accepts the library prefix

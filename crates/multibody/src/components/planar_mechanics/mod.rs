@@ -14,6 +14,7 @@ pub mod body;
 pub mod fixed;
 pub mod forces;
 pub mod joints;
+pub mod wheels;
 pub mod world;
 
 use super::spec::{ConnectorSpec, ParamSpec, ParamType};
