@@ -65,6 +65,11 @@ impl<'a> Index<'a> {
                 }
             }
         }
+        for (_, file) in libraries {
+            if let (Some(package), Some(Item::Component(c))) = (&file.package, file.items.first()) {
+                index.packages.insert(c.header.file, package.as_str());
+            }
+        }
         let mut seen: HashMap<&'a str, Span> = HashMap::new();
         for file in files {
             for item in &file.items {
@@ -97,6 +102,9 @@ impl<'a> Index<'a> {
     pub fn component(&self, name: &str) -> Option<&'a ComponentDef> {
         if let Some(c) = self.components.get(name) {
             return Some(c);
+        }
+        if let Some(planar) = name.strip_prefix("MultibodyComponents.").filter(|n| n.starts_with("PlanarMechanics.")) {
+            return self.components.get(planar).copied();
         }
         let parts: Vec<&str> = name.split('.').collect();
         match parts.as_slice() {
@@ -1069,7 +1077,11 @@ fn resolve_kind<'a>(index: &Index<'a>, kind: &Path) -> Result<Kind<'a>, Diagnost
     // (unless the files define one of that name).
     if let Some(package) = index.packages.get(&kind.span.file) {
         if !text.contains('.') && !index.components.contains_key(text.as_str()) {
-            if let Some(spec) = lookup(&format!("{package}.{text}")) {
+            let full = format!("{package}.{text}");
+            if let Some(def) = index.components.get(full.as_str()) {
+                return Ok(Kind::User(def));
+            }
+            if let Some(spec) = lookup(&full) {
                 return Ok(Kind::Library(spec));
             }
         }

@@ -11,6 +11,7 @@ use std::sync::OnceLock;
 const LIBRARIES: &[(&str, &str, &str)] = &[
     ("BlockComponents", "<stdlib>/BlockComponents.dyad", include_str!("../stdlib/BlockComponents.dyad")),
     ("MultibodyComponents", "<stdlib>/MultibodyComponents.dyad", include_str!("../stdlib/MultibodyComponents.dyad")),
+    ("PlanarMechanics", "<stdlib>/PlanarMechanics.dyad", include_str!("../stdlib/PlanarMechanics.dyad")),
 ];
 
 /// The libraries' names, file names and texts, in file order.
@@ -26,8 +27,10 @@ pub fn files() -> &'static [(&'static str, File)] {
             .iter()
             .enumerate()
             .map(|(id, (library, _, text))| {
-                let file = parse(id, text)
+                let mut file = parse(id, text)
                     .unwrap_or_else(|d| panic!("the standard library {library} does not parse: {}", d.message));
+                // Short names inside the planar library are its components.
+                file.package = (*library == "PlanarMechanics").then(|| library.to_string());
                 (*library, file)
             })
             .collect()

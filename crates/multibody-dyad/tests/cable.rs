@@ -154,3 +154,104 @@ end
     assert!(rod_length <= 1e-7, "the rod's length changes by {rod_length} m");
     assert!(drift <= 1e-8, "energy drifts by {drift} of m g l");
 }
+
+/// The planar Cable (PlanarMechanics) with damped joints against the same
+/// chain of planar revolutes, rods and rotational dampers written out.
+#[test]
+fn a_planar_cable_moves_as_the_chain_it_is_made_of() {
+    let text = "
+example component WithCable
+  world = MultibodyComponents.PlanarMechanics.World()
+  cable = MultibodyComponents.PlanarMechanics.Cable(n = 3, l = 1.2, m = 0.6, dir = [1, 0], hasdamping = true, d_joint = 0.05)
+  load = MultibodyComponents.PlanarMechanics.Body(m = 0.5, I = 0.01)
+relations
+  connect(world.frame_b, cable.frame_a)
+  connect(cable.frame_b, load.frame_a)
+end
+example component ByHand
+  world = MultibodyComponents.PlanarMechanics.World()
+  link1 = MultibodyComponents.PlanarMechanics.BodyShape(r = [0.4, 0], m = 0.2, I = 0.2 * 0.4 ^ 2 / 12)
+  link2 = MultibodyComponents.PlanarMechanics.BodyShape(r = [0.4, 0], m = 0.2, I = 0.2 * 0.4 ^ 2 / 12)
+  link3 = MultibodyComponents.PlanarMechanics.BodyShape(r = [0.4, 0], m = 0.2, I = 0.2 * 0.4 ^ 2 / 12)
+  rev1 = MultibodyComponents.PlanarMechanics.Revolute()
+  rev2 = MultibodyComponents.PlanarMechanics.Revolute()
+  rev3 = MultibodyComponents.PlanarMechanics.Revolute()
+  rev4 = MultibodyComponents.PlanarMechanics.Revolute()
+  d1 = RotationalComponents.Components.Damper(d = 0.05)
+  d2 = RotationalComponents.Components.Damper(d = 0.05)
+  d3 = RotationalComponents.Components.Damper(d = 0.05)
+  d4 = RotationalComponents.Components.Damper(d = 0.05)
+  f1 = RotationalComponents.Components.Fixed()
+  f2 = RotationalComponents.Components.Fixed()
+  f3 = RotationalComponents.Components.Fixed()
+  f4 = RotationalComponents.Components.Fixed()
+  load = MultibodyComponents.PlanarMechanics.Body(m = 0.5, I = 0.01)
+relations
+  connect(world.frame_b, rev1.frame_a)
+  connect(rev1.frame_b, link1.frame_a)
+  connect(link1.frame_b, rev2.frame_a)
+  connect(rev2.frame_b, link2.frame_a)
+  connect(link2.frame_b, rev3.frame_a)
+  connect(rev3.frame_b, link3.frame_a)
+  connect(link3.frame_b, rev4.frame_a)
+  connect(rev4.frame_b, load.frame_a)
+  connect(d1.spline_b, rev1.flange_a)
+  connect(d2.spline_b, rev2.flange_a)
+  connect(d3.spline_b, rev3.flange_a)
+  connect(d4.spline_b, rev4.flange_a)
+  connect(d1.spline_a, f1.spline)
+  connect(d2.spline_a, f2.spline)
+  connect(d3.spline_a, f3.spline)
+  connect(d4.spline_a, f4.spline)
+end
+";
+    let (cable, hand) = (simulate(text, "WithCable", 2.0), simulate(text, "ByHand", 2.0));
+    let mut worst = 0.0f64;
+    for (a, b) in [
+        ("load.r[1]", "load.r[1]"),
+        ("load.r[2]", "load.r[2]"),
+        ("cable.joints[2].phi", "rev2.phi"),
+        ("cable.joints[4].w", "rev4.w"),
+    ] {
+        worst = column(&cable, a).iter().zip(column(&hand, b)).fold(worst, |m, (x, y)| m.max((x - y).abs()));
+    }
+    eprintln!("planar cable against the chain by hand: worst difference {worst:.1e} (tolerance 1e-9)");
+    assert!(worst < 1e-9, "the planar cable and the chain differ by {worst:e}");
+    assert!(column(&cable, "load.r[2]").iter().any(|y| *y < -0.5), "the load should fall");
+}
+
+/// A planar cable hanging between two mounts 1 m apart (a loop), undamped:
+/// energy stays what it was.
+#[test]
+fn a_planar_cable_between_two_mounts_keeps_its_energy() {
+    let text = "
+example component Bridge
+  world = MultibodyComponents.PlanarMechanics.World()
+  post = MultibodyComponents.PlanarMechanics.Fixed(r = [1, 0])
+  cable = MultibodyComponents.PlanarMechanics.Cable(n = 4, l = 1.4, m = 0.8, dir = [1, -1])
+relations
+  connect(world.frame_b, cable.frame_a)
+  connect(cable.frame_b, post.frame_b)
+end
+";
+    let s = simulate(text, "Bridge", 2.0);
+    let energy: Vec<f64> = (0..s.time().len())
+        .map(|k| {
+            (1..=4)
+                .map(|i| {
+                    column(&s, &format!("cable.links[{i}].KE"))[k] + column(&s, &format!("cable.links[{i}].PE"))[k]
+                })
+                .sum()
+        })
+        .collect();
+    let scale = 0.8 * G * 1.4;
+    let drift = energy.iter().fold(0.0f64, |m, e| m.max((e - energy[0]).abs())) / scale;
+    let gap = column(&s, "cable.links[4].frame_b.x").iter().fold(0.0f64, |m, x| m.max((x - 1.0).abs()));
+    eprintln!(
+        "planar cable bridge: energy drift {drift:.1e} of m g l (tolerance 1e-8), end off its mount by {gap:.1e} m"
+    );
+    assert!(drift < 1e-8, "energy drifts by {drift:e} of m g l");
+    assert!(gap < 1e-9, "the cable's end leaves its mount by {gap:e}");
+    let swing = column(&s, "cable.joints[1].w").iter().fold(0.0f64, |m, w| m.max(w.abs()));
+    assert!(swing > 0.5, "the cable should swing");
+}
