@@ -537,6 +537,61 @@ fn planar_slider_crank() {
 }
 
 #[test]
+fn planar_springs() {
+    let mut m = Model::new("Springs");
+    m.add("world", "PlanarMechanics.World");
+    m.add("anchor", "PlanarMechanics.Fixed").set("r", [-1.0, 0.0]);
+    m.add("spring_damper", "PlanarMechanics.SpringDamper")
+        .set("c_x", 5.0)
+        .set("c_y", 5.0)
+        .set("c_phi", 0.0)
+        .set("d_x", 1.0)
+        .set("d_y", 1.0)
+        .set("d_phi", 0.0);
+    m.add("body", "PlanarMechanics.Body")
+        .set("m", 0.5)
+        .set("I", 0.1)
+        .initial("r", [1.0, 1.0])
+        .initial("v", [0.0, 0.0])
+        .initial("phi", 0.0)
+        .initial("w", 0.0);
+    m.add("slide", "PlanarMechanics.Prismatic").set("r", [0.0, 1.0]).initial("s", 0.5).initial("v", 0.0);
+    m.add("slider", "PlanarMechanics.Body").set("m", 1.0).set("I", 0.1);
+    m.add("spring", "PlanarMechanics.Spring").set("c_x", 1.0).set("c_y", 10.0).set("s_rely0", -0.5).set("c_phi", 0.0);
+    m.add("damper", "PlanarMechanics.Damper").set("d", 1.0);
+    m.connect(["anchor.frame_b", "spring_damper.frame_a"]);
+    m.connect(["spring_damper.frame_b", "body.frame_a"]);
+    m.connect(["world.frame_b", "slide.frame_a", "spring.frame_a", "damper.frame_a"]);
+    m.connect(["slide.frame_b", "slider.frame_a", "spring.frame_b", "damper.frame_b"]);
+    assert_same("PlanarMechanics/springs.dyad", m, options(10.0, 0.02));
+}
+
+#[test]
+fn planar_rolling_wheel() {
+    let mut m = Model::new("RollingWheel");
+    m.add("world", "PlanarMechanics.World");
+    m.add("wheel", "PlanarMechanics.OneDOFRollingWheelJoint").set("radius", 0.3);
+    m.add("hub", "PlanarMechanics.Body")
+        .set("m", 2.0)
+        .set("I", 0.09)
+        .initial("r", [0.0, 0.3])
+        .initial("v", [0.6, 0.0])
+        .initial("phi", 0.0)
+        .initial("w", -2.0);
+    m.add("push", "PlanarMechanics.WorldForceTorque");
+    m.add("force", "BlockComponents.Constant").set("k", 1.0);
+    m.add("zero", "BlockComponents.Constant").set("k", 0.0);
+    m.add("adapter", "PlanarMechanics.PlanarToMultiBody").set("z_position", 0.2);
+    m.add("flag", "BodyBox").set("r", [0.0, 0.25, 0.0]).set("width", 0.04).set("height", 0.04);
+    m.add("axes", "PlanarMechanics.FrameVisualizer2D");
+    m.connect(["wheel.frame_a", "hub.frame_a", "push.frame_b", "adapter.frame_a", "axes.frame_a"]);
+    m.connect(["force.y", "push.force_x"]);
+    m.connect(["zero.y", "push.force_y", "push.torque"]);
+    m.connect(["adapter.frame_b", "flag.frame_a"]);
+    assert_same("PlanarMechanics/rolling_wheel.dyad", m, options(4.0, 0.01));
+}
+
+#[test]
 fn every_example_is_checked() {
     let checked = [
         "pendulum.dyad",
@@ -555,6 +610,8 @@ fn every_example_is_checked() {
         "slipping_wheels.dyad",
         "docs/annotated_swing.dyad",
         "PlanarMechanics/slider_crank.dyad",
+        "PlanarMechanics/springs.dyad",
+        "PlanarMechanics/rolling_wheel.dyad",
     ];
     let mut found = Vec::new();
     let mut dirs = vec![examples_dir()];
