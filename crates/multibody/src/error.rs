@@ -60,7 +60,7 @@ pub enum Error {
     #[error("the model has no World; add one component of kind World (PlanarMechanics.World for a planar model): every mechanism is positioned relative to it")]
     NoWorld,
 
-    #[error("the model has {} Worlds of one kind ({}); keep exactly one (and at most one planar World)", names.len(), names.join(", "))]
+    #[error("the model has {} Worlds ({}); keep exactly one (besides, a model may have one PlanarMechanics.World)", names.len(), names.join(", "))]
     SeveralWorlds { names: Vec<String> },
 
     #[error("nothing owns the orientation of the assembly of {}: it is not connected to the World and has no Body with an orientation state.\nTo fix it, either connect it to the World (through joints or fixed parts), or give it an owner: a Body with `orientation_state = Quaternion` (or `Euler`) rigidly attached to it.", list(components))]

@@ -479,3 +479,52 @@ fn a_spinning_planar_wheel_slips_until_it_rolls_keeping_its_angular_momentum_abo
     assert!((w[last] - w_end).abs() < 1e-3 * w_end, "ends at w = {}", w[last]);
     assert!(v[last] < 0.0, "a wheel spinning counterclockwise rolls towards -x");
 }
+
+/// Multibody.jl's test of the slip-based wheel: a 10 kg body held on a
+/// slide (along y) from a pivot, its wheel (radius 0.3, rolling along x)
+/// driven by 2 N.m through a 1 kg.m2 inertia, no gravity. The wheel runs in
+/// circles, its lateral force saturated at mu_A N = 80 N; that test asserts
+/// [f_lat, f_long] = [80, -5] at t = 15 and [80, -4.95] at t = 20 (to 1 %).
+#[test]
+fn a_slip_based_wheel_driving_in_circles_meets_multibody_jl() {
+    let mut m = Model::new("slip_based");
+    m.add("world", "PlanarMechanics.World").set("g", 0.0);
+    m.add("pivot", "PlanarMechanics.Revolute");
+    m.add("slide", "PlanarMechanics.Prismatic").set("r", [0.0, 1.0]).initial("s", 1.0).initial("v", 0.0);
+    m.add("body", "PlanarMechanics.Body").set("m", 10.0).set("I", 1.0);
+    m.add("wheel", "PlanarMechanics.SlipBasedWheelJoint")
+        .set("radius", 0.3)
+        .set("r", [1.0, 0.0])
+        .set("mu_A", 0.8)
+        .set("mu_S", 0.4)
+        .set("N", 100.0)
+        .set("sAdhesion", 0.04)
+        .set("sSlide", 0.12)
+        .set("vAdhesion_min", 0.05)
+        .set("vSlide_min", 0.15);
+    m.add("engine", "RotationalComponents.ConstantTorque").set("tau_constant", 2.0);
+    m.add("mount", "RotationalComponents.Fixed");
+    m.add("inertia", "RotationalComponents.Inertia").set("J", 1.0).initial("phi", 0.0).initial("w", 1e-10);
+    m.add("load", "BlockComponents.Constant").set("k", 0.0);
+    m.component_mut("pivot").unwrap().initial("phi", 0.0).initial("w", 0.0);
+    m.connect(["world.frame_b", "pivot.frame_a"]);
+    m.connect(["pivot.frame_b", "slide.frame_a"]);
+    m.connect(["slide.frame_b", "body.frame_a", "wheel.frame_a"]);
+    m.connect(["engine.support", "mount.spline"]);
+    m.connect(["engine.spline", "inertia.spline_a"]);
+    m.connect(["inertia.spline_b", "wheel.flange_a"]);
+    m.connect(["load.y", "wheel.dynamicLoad"]);
+    let options = SimulationOptions { stop: 20.0, saveat: 0.05, abstol: 1e-8, reltol: 1e-8, ..Default::default() };
+    let s = m.assemble().unwrap().simulate(&options).unwrap();
+    let at = |name: &str, t: f64| s.get(name).unwrap()[(t / 0.05).round() as usize];
+    let mut worst = 0.0f64;
+    for (t, lat, long) in [(15.0, 80.0, -5.0), (20.0, 80.0, -4.95)] {
+        let (f_lat, f_long) = (at("wheel.f_lat", t), at("wheel.f_long", t));
+        eprintln!(
+            "slip-based wheel at t = {t}: [f_lat, f_long] = [{f_lat:.4}, {f_long:.4}], Multibody.jl [{lat}, {long}]"
+        );
+        worst = worst.max(((f_lat - lat) / lat).abs()).max(((f_long - long) / long).abs());
+    }
+    eprintln!("slip-based wheel: worst relative difference {worst:.1e} (tolerance 1e-2)");
+    assert!(worst < 1e-2, "the slip-based wheel differs from Multibody.jl by {worst:e}");
+}

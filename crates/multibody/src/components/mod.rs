@@ -236,6 +236,7 @@ static REGISTRY: &[&ComponentSpec] = &[
     &planar_mechanics::adapters::FRAME_VISUALIZER,
     &planar_mechanics::wheels::ROLLING,
     &planar_mechanics::wheels::SLIPPING,
+    &planar_mechanics::wheels::SLIP_BASED,
 ];
 
 /// The kind named `kind`. Accepts the library prefix

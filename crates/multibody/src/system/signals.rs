@@ -6,8 +6,9 @@
 //! inputs read slots. The slot after the last block always reads zero (an
 //! input connected to nothing).
 
-use super::laws::{Resolve, SignalSource};
+use super::laws::{Resolve, SignalSource, SlipLaw};
 use super::{Attachment, FlangeRef};
+use crate::math::Vec3;
 
 /// How a block computes its output.
 #[derive(Clone, Debug, PartialEq)]
@@ -48,6 +49,12 @@ pub enum SignalLaw {
     /// Component `index` of the vector of the three inputs, given in world
     /// coordinates, resolved in frame b (the world without one).
     ResolveVector { index: usize },
+    /// A planar slip-based wheel's ground force (PlanarMechanics'
+    /// SlipBasedWheelJoint): component `index` of `[fx, fy]` (world, on
+    /// frame b, the wheel's steering frame) or, for index 2, the torque on
+    /// the rolling flange b. The wheel rolls along `axis` (unit, in frame
+    /// b) with the flange's speed; the normal force is `max(0, n + u1)`.
+    PlanarSlip { index: usize, radius: f64, axis: Vec3, n: f64, law: SlipLaw },
     /// An output the signal graph cannot compute before the accelerations
     /// (it depends on them or on cut forces), or that the component's
     /// parameters switch off: assembly refuses a model that reads it, and
@@ -61,7 +68,10 @@ impl SignalLaw {
     /// Whether the output depends on the inputs at the same instant (so a
     /// loop of such blocks is an algebraic loop).
     pub fn feeds_through(&self) -> bool {
-        matches!(self, SignalLaw::Affine { .. } | SignalLaw::Product | SignalLaw::Division)
+        matches!(
+            self,
+            SignalLaw::Affine { .. } | SignalLaw::Product | SignalLaw::Division | SignalLaw::PlanarSlip { .. }
+        )
     }
 
     /// Whether the block reads frame poses, which the kinematics then
@@ -76,6 +86,7 @@ impl SignalLaw {
                 | SignalLaw::FrameAngles { .. }
                 | SignalLaw::FrameDistance { .. }
                 | SignalLaw::ResolveVector { .. }
+                | SignalLaw::PlanarSlip { .. }
         )
     }
 }

@@ -9,7 +9,10 @@
 
 use super::super::spec::{ComponentSpec, ConnectorType, ParamSpec, ParamType, VarSpec};
 use super::super::wheel_common::{positive, wheel_shapes};
-use super::super::{Component, ConstraintKind, EvalContext, ParamSet, Part, RotationLock, SlipLaw, WheelContact};
+use super::super::{
+    Component, ConstraintKind, EvalContext, ForceLaw, Law1D, ParamSet, Part, Resolve, RotationLock, SignalLaw,
+    SignalSource, SlipLaw, WheelContact,
+};
 use super::{RENDER, SPECULAR, Z_POSITION};
 use crate::math::rotation::planar_angle;
 use crate::math::{Transform, Vec3};
@@ -100,7 +103,12 @@ pub static SLIPPING: ComponentSpec = ComponentSpec {
 };
 
 fn build_slipping(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
-    let law = SlipLaw::Triple {
+    Ok(Box::new(Wheel { radius: positive(p, "radius", "the wheel's radius")?, x0: 0.0, law: Some(slip_law(p)?) }))
+}
+
+/// The library's slip law from the wheel's parameters.
+fn slip_law(p: &ParamSet) -> Result<SlipLaw, Error> {
+    Ok(SlipLaw::Triple {
         v_adhesion_min: positive(p, "vAdhesion_min", "the adhesion speed")?,
         v_slide_min: positive(p, "vSlide_min", "the sliding speed")?,
         s_adhesion: p.non_negative("sAdhesion", true)?,
@@ -108,8 +116,7 @@ fn build_slipping(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
         mu_a: p.non_negative("mu_A", true)?,
         mu_s: p.non_negative("mu_S", true)?,
         v_small: 1e-4,
-    };
-    Ok(Box::new(Wheel { radius: positive(p, "radius", "the wheel's radius")?, x0: 0.0, law: Some(law) }))
+    })
 }
 
 fn shapes(p: &ParamSet) -> Vec<super::super::shapes::LocalShape> {
@@ -182,5 +189,114 @@ impl Component for Wheel {
                 out.extend([x, v, -planar_angle(&a.rot), w_roll, v - self.radius * w_roll, on_wheel.y, on_wheel.x])
             }
         }
+    }
+}
+
+const SLIP_BASED_VARIABLES: &[VarSpec] = &[
+    VarSpec::scalar(
+        "f_long",
+        "N",
+        "Longitudinal force of the wheel on the ground (the ground's on the wheel is its opposite)",
+    ),
+    VarSpec::scalar("f_lat", "N", "Lateral force of the wheel on the ground"),
+    VarSpec::scalar("w_roll", "rad/s", "Rolling speed of flange_a"),
+    VarSpec::vector("e0", 2, "", "Rolling direction, world coordinates"),
+];
+
+pub static SLIP_BASED: ComponentSpec = ComponentSpec {
+    kind: "PlanarMechanics.SlipBasedWheelJoint",
+    doc: "A planar wheel that slips: frame_a is its steering frame (it does not turn with the wheel), flange_a its \
+          rolling axis. The ground pushes frame_a against the slip of the contact (frame_a's velocity less \
+          radius w_roll along r, turned with frame_a) with the normal force max(0, N + dynamicLoad) times \
+          mu = limit_S_triple(vAdhesion, vSlide, mu_A, mu_S, |v_slip| + 1e-4), and brakes the flange by the \
+          longitudinal force at the radius. Put the wheel's spin inertia on flange_a.",
+    params: &[
+        ParamSpec::vector("r", &[1.0, 0.0], "", "Rolling direction, resolved in frame_a"),
+        ParamSpec::required("N", ParamType::Real, "N", "Base normal load"),
+        ParamSpec::required("vAdhesion_min", ParamType::Real, "m/s", "Least slip speed of full adhesion"),
+        ParamSpec::required("vSlide_min", ParamType::Real, "m/s", "Least slip speed of full sliding"),
+        ParamSpec::required("sAdhesion", ParamType::Real, "", "Adhesion slip as a fraction of the rolling speed"),
+        ParamSpec::required("sSlide", ParamType::Real, "", "Sliding slip as a fraction of the rolling speed"),
+        ParamSpec::required("mu_A", ParamType::Real, "", "Friction coefficient at adhesion"),
+        ParamSpec::required("mu_S", ParamType::Real, "", "Friction coefficient when sliding"),
+        ParamSpec::real("radius", 0.1, "m", "Radius of the wheel"),
+        LOOK[0],
+        LOOK[1],
+        LOOK[2],
+        LOOK[3],
+        LOOK[4],
+        LOOK[5],
+    ],
+    connectors: &[
+        super::super::spec::ConnectorSpec::frame_2d("frame_a", "The wheel's steering frame"),
+        super::super::spec::ConnectorSpec::flange("flange_a", ConnectorType::Spline, "The wheel's rolling axis"),
+        super::super::spec::ConnectorSpec::input("dynamicLoad", "Normal load added to N"),
+        super::super::spec::ConnectorSpec::internal("force_x", ConnectorType::RealOutput),
+        super::super::spec::ConnectorSpec::internal("force_y", ConnectorType::RealOutput),
+        super::super::spec::ConnectorSpec::internal("torque", ConnectorType::RealOutput),
+        super::super::spec::ConnectorSpec::internal("zero", ConnectorType::RealOutput),
+        super::super::spec::ConnectorSpec::internal("ground", ConnectorType::Spline),
+    ],
+    variables: SLIP_BASED_VARIABLES,
+    build: build_slip_based,
+    shapes: super::super::shapes::none,
+};
+
+fn build_slip_based(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
+    let r = super::in_plane(p, "r");
+    if r.norm() == 0.0 {
+        return Err(p.invalid("r", "the rolling direction must not be zero"));
+    }
+    let radius = positive(p, "radius", "the wheel's radius")?;
+    Ok(Box::new(SlipBased { radius, axis: r.normalize(), n: p.real("N"), law: slip_law(p)? }))
+}
+
+#[derive(Debug)]
+struct SlipBased {
+    radius: f64,
+    /// Rolling direction in frame_a.
+    axis: Vec3,
+    n: f64,
+    law: SlipLaw,
+}
+
+impl Component for SlipBased {
+    fn parts(&self) -> Vec<Part> {
+        // frame_a 0, flange_a 1, dynamicLoad 2, force_x 3, force_y 4,
+        // torque 5, zero 6, ground 7.
+        let slip = |output: usize, index: usize| Part::Signal {
+            output,
+            law: SignalLaw::PlanarSlip { index, radius: self.radius, axis: self.axis, n: self.n, law: self.law },
+            inputs: [Some(2), None, None],
+            frames: [None, Some(0)],
+            flanges: [None, Some(1)],
+        };
+        vec![
+            slip(3, 0),
+            slip(4, 1),
+            slip(5, 2),
+            Part::Signal {
+                output: 6,
+                law: SignalLaw::Source(SignalSource::Constant { k: 0.0 }),
+                inputs: [None; 3],
+                frames: [None; 2],
+                flanges: [None; 2],
+            },
+            Part::Force { a: None, b: 0, law: ForceLaw::Force { inputs: [3, 4, 6], resolve: Resolve::World } },
+            Part::Fixed1D { flange: 7, at: 0.0 },
+            Part::Element1D { a: 7, b: 1, law: Law1D::Input { signal: 5 } },
+        ]
+    }
+
+    fn variables(&self) -> Vec<VarSpec> {
+        SLIP_BASED_VARIABLES.to_vec()
+    }
+
+    fn evaluate(&self, ctx: &EvalContext, out: &mut Vec<f64>) {
+        let a = &ctx.frames[0];
+        let e0 = a.rot.tr_mul(&self.axis);
+        let e_lat = Vec3::new(-e0.y, e0.x, 0.0);
+        let on_wheel = Vec3::new(ctx.signals[3], ctx.signals[4], 0.0);
+        out.extend([-on_wheel.dot(&e0), -on_wheel.dot(&e_lat), ctx.flanges[1].v, e0.x, e0.y]);
     }
 }
