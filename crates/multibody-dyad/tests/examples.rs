@@ -512,8 +512,8 @@ fn planar_slider_crank() {
     let mut m = Model::new("SliderCrank");
     m.add("world", "PlanarMechanics.World");
     for (name, l, mass) in [("crank", 0.5, 1.0), ("rod", 1.5, 0.5)] {
-        m.add(&format!("{name}.joint"), "PlanarMechanics.Revolute");
-        m.add(&format!("{name}.rod"), "PlanarMechanics.BodyShape")
+        m.add(format!("{name}.joint"), "PlanarMechanics.Revolute");
+        m.add(format!("{name}.rod"), "PlanarMechanics.BodyShape")
             .set("r", [l, 0.0])
             .set("m", mass)
             .set("I", mass * l * l / 12.0);

@@ -13,15 +13,16 @@ pub enum Error {
     #[error("two components are named `{name}`; give each component its own name")]
     DuplicateName { name: String },
 
-    #[error("{kind} has no parameter `{param}` (in `{component}`).{}{hint}\nIts parameters are: {}", suggest(suggestions, "parameter"), valid.join(", "))]
+    #[error("{kind} has no parameter `{param}` (in `{component}`).{}{}\nIts parameters are: {}", suggest(suggestions, "parameter"), if *planar_has_it { format!(" The planar PlanarMechanics.{kind} has it: write `PlanarMechanics.{kind}`; in a model file inside a folder named PlanarMechanics, short names are the planar components.") } else { String::new() }, valid.join(", "))]
     UnknownParameter {
         component: String,
         kind: String,
         param: String,
         suggestions: Vec<String>,
         valid: Vec<String>,
-        /// More to say (the planar component of the same name has it), or empty.
-        hint: String,
+        /// The planar component of the same name has the parameter: the
+        /// model most likely meant it.
+        planar_has_it: bool,
     },
 
     #[error("{kind} has no variable `{variable}` that takes a start value (in `{component}`).{}\nVariables with start values: {}", suggest(suggestions, "variable"), if valid.is_empty() { "none".to_string() } else { valid.join(", ") })]

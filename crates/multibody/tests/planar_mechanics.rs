@@ -48,9 +48,9 @@ fn assert_energy_kept(label: &str, s: &Solution, bodies: &[&str]) {
 
 /// A planar link: a revolute then a rod `r` then a body at its end.
 fn planar_link(m: &mut Model, k: usize, from: &str, r: [f64; 2], mass: f64, inertia: f64) -> String {
-    m.add(&format!("rev{k}"), "PlanarMechanics.Revolute");
-    m.add(&format!("rod{k}"), "PlanarMechanics.FixedTranslation").set("r", r);
-    m.add(&format!("body{k}"), "PlanarMechanics.Body").set("m", mass).set("I", inertia);
+    m.add(format!("rev{k}"), "PlanarMechanics.Revolute");
+    m.add(format!("rod{k}"), "PlanarMechanics.FixedTranslation").set("r", r);
+    m.add(format!("body{k}"), "PlanarMechanics.Body").set("m", mass).set("I", inertia);
     m.connect([from.to_string(), format!("rev{k}.frame_a")]);
     m.connect([format!("rev{k}.frame_b"), format!("rod{k}.frame_a")]);
     m.connect([format!("rod{k}.frame_b"), format!("body{k}.frame_a")]);
@@ -58,9 +58,9 @@ fn planar_link(m: &mut Model, k: usize, from: &str, r: [f64; 2], mass: f64, iner
 }
 
 fn spatial_link(m: &mut Model, k: usize, from: &str, r: [f64; 2], mass: f64, inertia: f64) -> String {
-    m.add(&format!("rev{k}"), "Revolute").set("n", [0.0, 0.0, 1.0]);
-    m.add(&format!("rod{k}"), "FixedTranslation").set("r", [r[0], r[1], 0.0]);
-    m.add(&format!("body{k}"), "Body").set("m", mass).set("I_11", 0.0).set("I_22", 0.0).set("I_33", inertia);
+    m.add(format!("rev{k}"), "Revolute").set("n", [0.0, 0.0, 1.0]);
+    m.add(format!("rod{k}"), "FixedTranslation").set("r", [r[0], r[1], 0.0]);
+    m.add(format!("body{k}"), "Body").set("m", mass).set("I_11", 0.0).set("I_22", 0.0).set("I_33", inertia);
     m.connect([from.to_string(), format!("rev{k}.frame_a")]);
     m.connect([format!("rev{k}.frame_b"), format!("rod{k}.frame_a")]);
     m.connect([format!("rod{k}.frame_b"), format!("body{k}.frame_a")]);
@@ -169,14 +169,6 @@ impl Kinds {
             m.add(name, "PlanarMechanics.Prismatic").set("r", r);
         } else {
             m.add(name, "Prismatic").set("n", [r[0], r[1], 0.0]);
-        }
-    }
-    /// The position of a body's frame (x or y).
-    fn position(&self, body: &str, k: usize) -> String {
-        if self.planar {
-            format!("{body}.r[{k}]")
-        } else {
-            format!("{body}.r_0[{k}]")
         }
     }
 }

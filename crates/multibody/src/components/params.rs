@@ -38,7 +38,7 @@ impl<'a> ParamSet<'a> {
                     param: name.clone(),
                     suggestions: closest(name, spec.params.iter().map(|p| p.name)),
                     valid: spec.params.iter().map(|p| p.name.to_string()).collect(),
-                    hint: planar_hint(spec, name),
+                    planar_has_it: planar_has(spec, name),
                 });
             };
             values[index] = Some(check_value(&instance.name, name, spec.params[index].ty, value)?);
@@ -272,14 +272,8 @@ fn finite(component: &str, name: &str, value: &Value, xs: &[f64]) -> Result<(), 
     }
 }
 
-/// Where a 3-D kind lacks `param` but the planar kind of the same name has
-/// it, the model most likely meant the planar one.
-fn planar_hint(spec: &ComponentSpec, param: &str) -> String {
-    let planar = format!("PlanarMechanics.{}", spec.kind);
-    match super::lookup(&planar) {
-        Some(p) if p.param(param).is_some() => format!(
-            " The planar {planar} has it: write `{planar}`; in a model file inside a folder named PlanarMechanics, short names are the planar components."
-        ),
-        _ => String::new(),
-    }
+/// Whether the planar kind of the same name as the 3-D kind `spec` has
+/// `param` (which the 3-D kind lacks).
+fn planar_has(spec: &ComponentSpec, param: &str) -> bool {
+    super::lookup(&format!("PlanarMechanics.{}", spec.kind)).is_some_and(|p| p.param(param).is_some())
 }

@@ -71,8 +71,8 @@ impl System {
                     smooth_distance((b.r - a.r).norm_squared(), s_small)
                 }
                 &SignalLaw::ResolveVector { index } => {
-                    let (_, b) = self.frame_pair(ws, &block.frames);
-                    (b.rot * Vec3::new(input(0), input(1), input(2)))[index]
+                    let (a, b) = self.frame_pair(ws, &block.frames);
+                    (b.rot * a.rot.tr_mul(&Vec3::new(input(0), input(1), input(2))))[index]
                 }
                 &SignalLaw::PlanarSlip { index, radius, axis, n, law } => {
                     let (_, b) = self.frame_pair(ws, &block.frames);

@@ -46,8 +46,9 @@ pub enum SignalLaw {
     /// Distance between the origins of frames a and b, smoothed below
     /// `s_small`.
     FrameDistance { s_small: f64 },
-    /// Component `index` of the vector of the three inputs, given in world
-    /// coordinates, resolved in frame b (the world without one).
+    /// Component `index` of the vector of the three inputs, given in frame
+    /// a's coordinates (the world's without frame a), resolved in frame b
+    /// (the world without one).
     ResolveVector { index: usize },
     /// A planar slip-based wheel's ground force (PlanarMechanics'
     /// SlipBasedWheelJoint): component `index` of `[fx, fy]` (world, on

@@ -14,6 +14,8 @@ pub mod body;
 pub mod fixed;
 pub mod forces;
 pub mod joints;
+pub mod prescribed;
+pub mod sensors;
 pub mod wheels;
 pub mod world;
 
