@@ -6,22 +6,29 @@
 
 use super::super::line_force::helix;
 use super::super::shapes::{between, look, LocalShape, ShapeKind};
-use super::super::spec::{ComponentSpec, ConnectorSpec, ParamSpec, ParamType, VarSpec};
+use super::super::spec::{concat, ComponentSpec, ConnectorSpec, ParamSpec, ParamType, VarSpec};
 use super::super::{Component, EvalContext, ForceLaw, ParamSet, Part, Resolve, SignalLaw, SignalSource};
 use super::{FRAME_A, FRAME_B, RENDER, SPECULAR, Z_POSITION};
 use crate::math::rotation::planar_angle;
 use crate::Error;
 
-const SPRING_PARAMS: [ParamSpec; 6] = [
+const STIFFNESS: [ParamSpec; 3] = [
     ParamSpec::real("c_x", 1.0, "N/m", "Stiffness along the world's x"),
     ParamSpec::real("c_y", 1.0, "N/m", "Stiffness along the world's y"),
     ParamSpec::real("c_phi", 1.0e5, "N.m/rad", "Stiffness of the relative angle"),
+];
+
+const DAMPING: [ParamSpec; 3] = [
+    ParamSpec::real("d_x", 1.0, "N.s/m", "Damping along the world's x"),
+    ParamSpec::real("d_y", 1.0, "N.s/m", "Damping along the world's y"),
+    ParamSpec::real("d_phi", 1.0, "N.m.s/rad", "Damping of the relative angle"),
+];
+
+/// The unstretched offsets, then how the coil is drawn.
+const REST_AND_LOOK: [ParamSpec; 11] = [
     ParamSpec::real("s_relx0", 0.0, "m", "Unstretched x distance from frame_a to frame_b"),
     ParamSpec::real("s_rely0", 0.0, "m", "Unstretched y distance from frame_a to frame_b"),
     ParamSpec::real("phi_rel0", 0.0, "rad", "Unstretched angle from frame_a to frame_b"),
-];
-
-const LOOK: [ParamSpec; 7] = [
     ParamSpec::world("radius", ParamType::Real, "default_force_width", 1.0, "m", "Radius of the coil drawn"),
     ParamSpec::real("num_windings", 6.0, "", "Windings of the coil drawn"),
     ParamSpec::integer("N", 200.0, "Points of the coil drawn (kept for compatibility)"),
@@ -29,6 +36,7 @@ const LOOK: [ParamSpec; 7] = [
     Z_POSITION,
     RENDER,
     ParamSpec::vector("color", &[0.0, 0.0, 1.0, 1.0], "", "Colour (RGBA)"),
+    SPECULAR,
 ];
 
 const SPRING_VARIABLES: &[VarSpec] = &[
@@ -55,22 +63,7 @@ pub static SPRING: ComponentSpec = ComponentSpec {
     kind: "PlanarMechanics.Spring",
     doc: "A planar spring per world axis: frame_b is pulled back by c_x (s_relx - s_relx0) along x and \
           c_y (s_rely - s_rely0) along y, frame_a the other way. As in the library, c_phi is kept but no torque acts.",
-    params: &[
-        SPRING_PARAMS[0],
-        SPRING_PARAMS[1],
-        SPRING_PARAMS[2],
-        SPRING_PARAMS[3],
-        SPRING_PARAMS[4],
-        SPRING_PARAMS[5],
-        LOOK[0],
-        LOOK[1],
-        LOOK[2],
-        LOOK[3],
-        LOOK[4],
-        LOOK[5],
-        LOOK[6],
-        SPECULAR,
-    ],
+    params: &concat::<ParamSpec, 14>(&STIFFNESS, &REST_AND_LOOK),
     connectors: &[FRAME_A, FRAME_B],
     variables: SPRING_VARIABLES,
     build: |p| axes(p, false),
@@ -82,25 +75,7 @@ pub static SPRING_DAMPER: ComponentSpec = ComponentSpec {
     doc: "A planar spring and damper per world axis: frame_b is pulled back by c_x (s_relx - s_relx0) + \
           d_x v_relx along x, likewise along y, and turned back by c_phi (phi_rel - phi_rel0) + d_phi w_rel; \
           frame_a the other way.",
-    params: &[
-        SPRING_PARAMS[0],
-        SPRING_PARAMS[1],
-        SPRING_PARAMS[2],
-        ParamSpec::real("d_x", 1.0, "N.s/m", "Damping along the world's x"),
-        ParamSpec::real("d_y", 1.0, "N.s/m", "Damping along the world's y"),
-        ParamSpec::real("d_phi", 1.0, "N.m.s/rad", "Damping of the relative angle"),
-        SPRING_PARAMS[3],
-        SPRING_PARAMS[4],
-        SPRING_PARAMS[5],
-        LOOK[0],
-        LOOK[1],
-        LOOK[2],
-        LOOK[3],
-        LOOK[4],
-        LOOK[5],
-        LOOK[6],
-        SPECULAR,
-    ],
+    params: &concat::<ParamSpec, 17>(&concat::<ParamSpec, 6>(&STIFFNESS, &DAMPING), &REST_AND_LOOK),
     connectors: &[FRAME_A, FRAME_B],
     variables: SPRING_DAMPER_VARIABLES,
     build: |p| axes(p, true),

@@ -16,6 +16,7 @@
 //! Angles are those of the frames' rotations about z, in (-pi, pi]: they
 //! do not keep counting past a half turn as a body's own `phi` does.
 
+use super::super::sensors::{at, at3};
 use super::super::spec::{ComponentSpec, ConnectorSpec, ConnectorType, Default, ParamSpec, ParamType, VarSpec};
 use super::super::{Component, EvalContext, FrameState, ParamSet, Part, Resolve, SignalLaw};
 use super::{FRAME_A, FRAME_B, RENDER, Z_POSITION};
@@ -72,18 +73,6 @@ impl Target {
             Target::Frame(c) => Some(c),
         }
     }
-}
-
-/// The connector `name` of `spec`.
-fn at(spec: &ComponentSpec, name: &str) -> usize {
-    spec.connectors
-        .iter()
-        .position(|c| c.name == name)
-        .unwrap_or_else(|| panic!("{} has no connector {name}", spec.kind))
-}
-
-fn at3(spec: &ComponentSpec, names: [&str; 3]) -> [usize; 3] {
-    names.map(|n| at(spec, n))
 }
 
 /// The target a `ResolveInFrame` variant names.

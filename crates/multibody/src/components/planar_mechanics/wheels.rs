@@ -7,7 +7,7 @@
 //! +x), the slipping wheel's is pushed against its slip by the library's
 //! friction law times the normal force.
 
-use super::super::spec::{ComponentSpec, ConnectorType, ParamSpec, ParamType, VarSpec};
+use super::super::spec::{concat, ComponentSpec, ConnectorType, ParamSpec, ParamType, VarSpec};
 use super::super::wheel_common::{positive, wheel_shapes};
 use super::super::{
     Component, ConstraintKind, EvalContext, ForceLaw, Law1D, ParamSet, Part, Resolve, RotationLock, SignalLaw,
@@ -18,7 +18,19 @@ use crate::math::rotation::planar_angle;
 use crate::math::{Transform, Vec3};
 use crate::Error;
 
-const LOOK: [ParamSpec; 6] = [
+/// The library's slip law's parameters (no defaults).
+const SLIP: [ParamSpec; 6] = [
+    ParamSpec::required("vAdhesion_min", ParamType::Real, "m/s", "Least slip speed of full adhesion"),
+    ParamSpec::required("vSlide_min", ParamType::Real, "m/s", "Least slip speed of full sliding"),
+    ParamSpec::required("sAdhesion", ParamType::Real, "", "Adhesion slip as a fraction of the rolling speed"),
+    ParamSpec::required("sSlide", ParamType::Real, "", "Sliding slip as a fraction of the rolling speed"),
+    ParamSpec::required("mu_A", ParamType::Real, "", "Friction coefficient at adhesion"),
+    ParamSpec::required("mu_S", ParamType::Real, "", "Friction coefficient when sliding"),
+];
+
+/// The radius, then how the wheel is drawn.
+const RADIUS_AND_LOOK: [ParamSpec; 7] = [
+    ParamSpec::real("radius", 0.1, "m", "Radius of the wheel"),
     ParamSpec::derived("rim_diameter", ParamType::Real, "radius / 3", "m", "Diameter of the rim drawn"),
     ParamSpec::derived("wheel_width", ParamType::Real, "radius / 4", "m", "Width of the wheel drawn"),
     Z_POSITION,
@@ -47,16 +59,10 @@ pub static ROLLING: ComponentSpec = ComponentSpec {
     doc: "A planar wheel of radius `radius` rolling without slipping on the ground line y = 0: frame_a (the \
           centre, turning with the wheel) stays at y = radius and x = radius phi_roll + x0, with phi_roll the \
           clockwise angle rolled. Give the wheel mass with a PlanarMechanics.Body on frame_a.",
-    params: &[
-        ParamSpec::real("radius", 0.1, "m", "Radius of the wheel"),
-        ParamSpec::real("x0", 0.0, "m", "x of the centre where phi_roll is zero"),
-        LOOK[0],
-        LOOK[1],
-        LOOK[2],
-        LOOK[3],
-        LOOK[4],
-        LOOK[5],
-    ],
+    params: &concat::<ParamSpec, 8>(
+        &RADIUS_AND_LOOK,
+        &[ParamSpec::real("x0", 0.0, "m", "x of the centre where phi_roll is zero")],
+    ),
     connectors: CONNECTORS,
     variables: ROLLING_VARIABLES,
     build: |p| {
@@ -81,21 +87,7 @@ pub static SLIPPING: ComponentSpec = ComponentSpec {
           with the wheel) stays at y = radius, and the ground pushes the contact point against its slip with \
           the normal force times mu = limit_S_triple(vAdhesion, vSlide, mu_A, mu_S, |v_slip| + 1e-4), \
           vAdhesion = max(vAdhesion_min, sAdhesion |radius w_roll|), vSlide likewise.",
-    params: &[
-        ParamSpec::required("vAdhesion_min", ParamType::Real, "m/s", "Least slip speed of full adhesion"),
-        ParamSpec::required("vSlide_min", ParamType::Real, "m/s", "Least slip speed of full sliding"),
-        ParamSpec::required("sAdhesion", ParamType::Real, "", "Adhesion slip as a fraction of the rolling speed"),
-        ParamSpec::required("sSlide", ParamType::Real, "", "Sliding slip as a fraction of the rolling speed"),
-        ParamSpec::required("mu_A", ParamType::Real, "", "Friction coefficient at adhesion"),
-        ParamSpec::required("mu_S", ParamType::Real, "", "Friction coefficient when sliding"),
-        ParamSpec::real("radius", 0.1, "m", "Radius of the wheel"),
-        LOOK[0],
-        LOOK[1],
-        LOOK[2],
-        LOOK[3],
-        LOOK[4],
-        LOOK[5],
-    ],
+    params: &concat::<ParamSpec, 13>(&SLIP, &RADIUS_AND_LOOK),
     connectors: CONNECTORS,
     variables: SLIPPING_VARIABLES,
     build: build_slipping,
@@ -210,23 +202,13 @@ pub static SLIP_BASED: ComponentSpec = ComponentSpec {
           radius w_roll along r, turned with frame_a) with the normal force max(0, N + dynamicLoad) times \
           mu = limit_S_triple(vAdhesion, vSlide, mu_A, mu_S, |v_slip| + 1e-4), and brakes the flange by the \
           longitudinal force at the radius. Put the wheel's spin inertia on flange_a.",
-    params: &[
-        ParamSpec::vector("r", &[1.0, 0.0], "", "Rolling direction, resolved in frame_a"),
-        ParamSpec::required("N", ParamType::Real, "N", "Base normal load"),
-        ParamSpec::required("vAdhesion_min", ParamType::Real, "m/s", "Least slip speed of full adhesion"),
-        ParamSpec::required("vSlide_min", ParamType::Real, "m/s", "Least slip speed of full sliding"),
-        ParamSpec::required("sAdhesion", ParamType::Real, "", "Adhesion slip as a fraction of the rolling speed"),
-        ParamSpec::required("sSlide", ParamType::Real, "", "Sliding slip as a fraction of the rolling speed"),
-        ParamSpec::required("mu_A", ParamType::Real, "", "Friction coefficient at adhesion"),
-        ParamSpec::required("mu_S", ParamType::Real, "", "Friction coefficient when sliding"),
-        ParamSpec::real("radius", 0.1, "m", "Radius of the wheel"),
-        LOOK[0],
-        LOOK[1],
-        LOOK[2],
-        LOOK[3],
-        LOOK[4],
-        LOOK[5],
-    ],
+    params: &concat::<ParamSpec, 15>(
+        &[
+            ParamSpec::vector("r", &[1.0, 0.0], "", "Rolling direction, resolved in frame_a"),
+            ParamSpec::required("N", ParamType::Real, "N", "Base normal load"),
+        ],
+        &concat::<ParamSpec, 13>(&SLIP, &RADIUS_AND_LOOK),
+    ),
     connectors: &[
         super::super::spec::ConnectorSpec::frame_2d("frame_a", "The wheel's steering frame"),
         super::super::spec::ConnectorSpec::flange("flange_a", ConnectorType::Spline, "The wheel's rolling axis"),

@@ -342,7 +342,7 @@ impl Component for Sensor {
 }
 
 /// The connector `name` of `spec` (public or internal).
-fn at(spec: &ComponentSpec, name: &str) -> usize {
+pub(crate) fn at(spec: &ComponentSpec, name: &str) -> usize {
     spec.connectors
         .iter()
         .position(|c| c.name == name)
@@ -350,7 +350,7 @@ fn at(spec: &ComponentSpec, name: &str) -> usize {
 }
 
 /// The connectors `names` of `spec`.
-fn at3(spec: &ComponentSpec, names: [&str; 3]) -> [usize; 3] {
+pub(crate) fn at3(spec: &ComponentSpec, names: [&str; 3]) -> [usize; 3] {
     names.map(|n| at(spec, n))
 }
 
