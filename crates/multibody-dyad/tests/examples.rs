@@ -592,6 +592,32 @@ fn planar_rolling_wheel() {
 }
 
 #[test]
+fn planar_measured_pendulum() {
+    let mut m = Model::new("MeasuredPendulum");
+    m.add("world", "PlanarMechanics.World");
+    m.add("shaker", "BlockComponents.Sine").set("amplitude", 0.2).set("frequency", 0.5);
+    m.add("height", "BlockComponents.Constant").set("k", 1.0);
+    m.add("support", "PlanarMechanics.PrescribedPosition");
+    m.add("hinge", "PlanarMechanics.Revolute").initial("phi", -1.2).initial("w", 0.0);
+    m.add("rod", "PlanarMechanics.FixedTranslation").set("r", [1.0, 0.0]);
+    m.add("pull", "PlanarMechanics.CutForce").set("resolve_in_frame", multibody::Value::Enum("World".into()));
+    m.add("power", "PlanarMechanics.Power");
+    m.add("bob", "PlanarMechanics.Body").set("m", 1.0).set("I", 0.01);
+    m.add("position", "PlanarMechanics.AbsolutePosition")
+        .set("resolve_in_frame", multibody::Value::Enum("World".into()));
+    m.add("speed", "PlanarMechanics.RelativeVelocity");
+    m.add("distance", "PlanarMechanics.Distance");
+    m.connect(["shaker.y", "support.r_x"]);
+    m.connect(["height.y", "support.r_y"]);
+    m.connect(["support.frame_b", "hinge.frame_a", "speed.frame_a", "distance.frame_a"]);
+    m.connect(["hinge.frame_b", "rod.frame_a"]);
+    m.connect(["rod.frame_b", "pull.frame_a"]);
+    m.connect(["pull.frame_b", "power.frame_a"]);
+    m.connect(["power.frame_b", "bob.frame_a", "position.frame_a", "speed.frame_b", "distance.frame_b"]);
+    assert_same("PlanarMechanics/measured_pendulum.dyad", m, options(5.0, 0.01));
+}
+
+#[test]
 fn every_example_is_checked() {
     let checked = [
         "pendulum.dyad",
@@ -612,6 +638,7 @@ fn every_example_is_checked() {
         "PlanarMechanics/slider_crank.dyad",
         "PlanarMechanics/springs.dyad",
         "PlanarMechanics/rolling_wheel.dyad",
+        "PlanarMechanics/measured_pendulum.dyad",
     ];
     let mut found = Vec::new();
     let mut dirs = vec![examples_dir()];
