@@ -328,13 +328,11 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                     if flows {
                         let flow_names = |field: &str| relations::scalar_names(&format!("{m}.{field}"), &[3]);
                         let flow = match ty {
-                            ConnectorType::Frame2D => {
-                                return Err(Diagnostic::error(format!(
-                                    "equations cannot give forces to the planar frame `{m}` yet"
-                                ))
-                                .primary(span, "its fx, fy or tau are written here")
-                                .help("drive a PlanarMechanics.WorldForceTorque with signals instead"))
-                            }
+                            ConnectorType::Frame2D => multibody::Flow::Frame2D {
+                                connector: anchor.clone(),
+                                force: [format!("{m}.fx"), format!("{m}.fy")],
+                                torque: format!("{m}.tau"),
+                            },
                             ConnectorType::Frame => {
                                 let (f, t) = (flow_names("f"), flow_names("tau"));
                                 multibody::Flow::Frame {

@@ -245,6 +245,9 @@ pub enum Flow {
     /// At the frame of library connector `connector` (`body.frame_a`):
     /// force and torque, resolved in that frame.
     Frame { connector: String, force: [String; 3], torque: [String; 3] },
+    /// At the planar library connector `connector` (`body.frame_a`): force
+    /// `[fx, fy]` and torque `tau`, in world coordinates.
+    Frame2D { connector: String, force: [String; 2], torque: String },
     /// At the 1-D library connector `connector` (`rev.axis`): torque or force.
     Flange { connector: String, value: String },
 }

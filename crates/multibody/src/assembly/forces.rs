@@ -27,9 +27,10 @@ pub fn elements(
                 ForceLaw::Line { c, d, s_unstretched, s_small } => Load::Line { c, d, s_unstretched, s_small },
                 ForceLaw::Force { inputs, resolve } => Load::Force { signals: slots(inputs), resolve },
                 ForceLaw::Torque { inputs, resolve } => Load::Torque { signals: slots(inputs), resolve },
-                ForceLaw::Flow { inputs } => {
-                    Load::Flow { signals: inputs.map(|i| signal_of_connector[Connectors::id(components, ci, i)]) }
-                }
+                ForceLaw::Flow { inputs, world } => Load::Flow {
+                    signals: inputs.map(|i| signal_of_connector[Connectors::id(components, ci, i)]),
+                    world,
+                },
                 ForceLaw::PlanarAxes { c, d, rel0 } => Load::PlanarAxes { c, d, rel0 },
                 ForceLaw::Tyre { radius, law, c_z, d_z, road } => {
                     Load::Tyre { radius, law, c_z, d_z, road: road.map(|r| super::road_base(components, ci) + r) }

@@ -80,6 +80,8 @@ impl System {
                             FrameQuantity::Rotation(i, j) => p.rot[(i, j)],
                             FrameQuantity::Velocity(i) => p.v[i],
                             FrameQuantity::RotationRate(i, j) => rate[(i, j)],
+                            FrameQuantity::PlanarAngle => crate::math::rotation::planar_angle(&p.rot),
+                            FrameQuantity::PlanarAngleRate => w.z,
                         };
                     }
                 }

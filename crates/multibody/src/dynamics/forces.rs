@@ -78,11 +78,16 @@ impl System {
                 let t = resolved(input(signals), resolve);
                 ((zero, -t), (zero, t))
             }
-            Load::Flow { signals } => {
+            Load::Flow { signals, world } => {
                 let at = |k: usize| {
-                    Vec3::new(ws.signals[signals[k]], ws.signals[signals[k + 1]], ws.signals[signals[k + 2]])
+                    let v = Vec3::new(ws.signals[signals[k]], ws.signals[signals[k + 1]], ws.signals[signals[k + 2]]);
+                    if world {
+                        v
+                    } else {
+                        kb.rot.tr_mul(&v)
+                    }
                 };
-                ((zero, zero), (-kb.rot.tr_mul(&at(0)), -kb.rot.tr_mul(&at(3))))
+                ((zero, zero), (-at(0), -at(3)))
             }
             Load::PlanarAxes { c, d, rel0 } => {
                 let ka = ka.expect("planar springs have two ends");

@@ -54,6 +54,10 @@ pub enum FrameQuantity {
     Velocity(usize),
     /// `der(R[i, j])`.
     RotationRate(usize, usize),
+    /// A planar frame's angle about z, in (-pi, pi].
+    PlanarAngle,
+    /// `der(phi)` of a planar frame: its angular velocity about z.
+    PlanarAngleRate,
 }
 
 /// What is read into registers before the blocks run.

@@ -84,10 +84,10 @@ pub enum ForceLaw {
     Force { inputs: [usize; 3], resolve: Resolve },
     /// A torque on frame_b from `inputs`; the reaction acts on frame_a.
     Torque { inputs: [usize; 3], resolve: Resolve },
-    /// The flows (force, then torque, resolved in frame_b) that the model's
-    /// equations give a component at frame_b, from `inputs`: frame_b
-    /// receives their opposite. No frame_a.
-    Flow { inputs: [usize; 6] },
+    /// The flows (force, then torque, resolved in frame_b, or in the world
+    /// with `world`) that the model's equations give a component at
+    /// frame_b, from `inputs`: frame_b receives their opposite. No frame_a.
+    Flow { inputs: [usize; 6], world: bool },
     /// A planar spring and damper per world axis (PlanarMechanics): with
     /// `dx`, `dy` from frame_a's origin to frame_b's and `dphi` the angle
     /// from frame_a to frame_b, frame_b is pulled back by

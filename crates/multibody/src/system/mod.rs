@@ -193,6 +193,7 @@ pub(crate) enum Load {
     },
     Flow {
         signals: [usize; 6],
+        world: bool,
     },
     PlanarAxes {
         c: [f64; 3],

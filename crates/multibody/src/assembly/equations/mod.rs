@@ -325,6 +325,13 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
                 EquationPart::FrameFlow,
                 false,
             ),
+            Flow::Frame2D { connector, force, torque } => (
+                connector,
+                force.iter().chain([torque]).collect(),
+                &["fx", "fy", "tau"],
+                EquationPart::PlanarFlow,
+                false,
+            ),
             Flow::Flange { connector, value } => (
                 connector,
                 vec![value],
@@ -335,6 +342,7 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
         };
         let expected = match flow {
             Flow::Frame { .. } => [ConnectorType::Frame].as_slice(),
+            Flow::Frame2D { .. } => [ConnectorType::Frame2D].as_slice(),
             Flow::Flange { .. } => [ConnectorType::Spline, ConnectorType::Flange].as_slice(),
         };
         if !net.connector_type(connector).is_some_and(|t| expected.contains(&t)) {
@@ -354,7 +362,7 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
             let _ = v;
         }
         let local = match part {
-            EquationPart::FrameFlow => "frame",
+            EquationPart::FrameFlow | EquationPart::PlanarFlow => "frame",
             _ if rotational => "spline",
             _ => "flange",
         };
@@ -397,6 +405,7 @@ impl Table {
                 quantity: match *quantity {
                     FrameQuantity::Position(i) => FrameQuantity::Velocity(i),
                     FrameQuantity::Rotation(i, j) => FrameQuantity::RotationRate(i, j),
+                    FrameQuantity::PlanarAngle => FrameQuantity::PlanarAngleRate,
                     _ => return Err(second_derivative(&self.vars[v].name, origin)),
                 },
             }),
@@ -484,7 +493,7 @@ fn classify_library(
             vec![name.to_string()],
             match connector.ty {
                 ConnectorType::Frame => "a frame's equations read `r_0[i]` and `R[i, j]` (and `der` of them)",
-                ConnectorType::Frame2D => "a planar frame's equations read `x` and `y` (and `der` of them)",
+                ConnectorType::Frame2D => "a planar frame's equations read `x`, `y` and `phi` (and `der` of them)",
                 ConnectorType::Spline => "a spline's equations read `phi` (and `der(phi)`)",
                 ConnectorType::Flange => "a flange's equations read `s` (and `der(s)`)",
                 _ => "a signal connector is read by its name alone",
@@ -523,14 +532,7 @@ fn classify_library(
                 connector: connector_name,
                 quantity: FrameQuantity::Position(usize::from(rest == "y")),
             }),
-            "phi" => {
-                return Err(problem(
-                    format!("`{name}`: equations cannot read a planar frame's angle yet"),
-                    vec![],
-                    vec![name.to_string()],
-                    "read it from a PlanarMechanics.AbsolutePosition sensor's output `phi` instead",
-                ))
-            }
+            "phi" => Role::Read(Read::Frame { connector: connector_name, quantity: FrameQuantity::PlanarAngle }),
             "fx" | "fy" | "tau" => {
                 return Err(problem(
                     format!("`{name}` is a flow that the mechanics decides; equations cannot read it"),

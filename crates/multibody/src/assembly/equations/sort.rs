@@ -228,6 +228,21 @@ fn no_unknown(pending: &Pending, reads: &[Option<Source>], r: &Sym, origin: &str
             _ => {}
         }
     });
+    if !mechanics.is_empty() && !own_states.is_empty() {
+        // A connector's quantity equal to the mechanism's, whose `der` the equations take.
+        return problem(
+            format!(
+                "`der` is taken of `{}`, which is the mechanism's `{}`: the derivative of a connector's quantity \
+                 is not supported yet",
+                own_states.join("`, `"),
+                mechanics.join("`, `")
+            ),
+            vec![origin.to_string()],
+            own_states,
+            "measure the velocity with a sensor (AbsoluteVelocity, RelativeVelocity, or their PlanarMechanics \
+             versions) and use its output in the equations",
+        );
+    }
     if !mechanics.is_empty() {
         return problem(
             format!(

@@ -69,6 +69,23 @@ pub static FRAME_FLOW: ComponentSpec = ComponentSpec {
     shapes: crate::components::shapes::none,
 };
 
+/// The flows that the model's equations give a component at a planar frame.
+pub static PLANAR_FLOW: ComponentSpec = ComponentSpec {
+    kind: "EquationPlanarFlow",
+    doc: "The force and torque that the model's equations give a component at a planar frame.",
+    params: &[],
+    connectors: &[
+        ConnectorSpec::frame_2d("frame", "The planar frame"),
+        ConnectorSpec::output("fx", "Force on the component, x (world coordinates)"),
+        ConnectorSpec::output("fy", "Force on the component, y (world coordinates)"),
+        ConnectorSpec::output("tau", "Torque on the component, about z"),
+        ConnectorSpec::internal("zero", ConnectorType::RealOutput),
+    ],
+    variables: &[],
+    build: not_by_name,
+    shapes: crate::components::shapes::none,
+};
+
 /// The torque the model's equations give a component at a spline.
 pub static SPLINE_FLOW: ComponentSpec = ComponentSpec {
     kind: "EquationSplineFlow",
@@ -108,6 +125,8 @@ pub enum EquationPart {
     Written,
     /// Flows at a frame.
     FrameFlow,
+    /// Flows at a planar frame (world coordinates).
+    PlanarFlow,
     /// A flow at a 1-D connector.
     AxisFlow,
 }
@@ -118,6 +137,7 @@ impl EquationPart {
             EquationPart::Formula(_) => &SPEC,
             EquationPart::Written => &WRITTEN,
             EquationPart::FrameFlow => &FRAME_FLOW,
+            EquationPart::PlanarFlow => &PLANAR_FLOW,
             EquationPart::AxisFlow if rotational => &SPLINE_FLOW,
             EquationPart::AxisFlow => &FLANGE_FLOW,
         }
@@ -141,7 +161,28 @@ impl Component for EquationPart {
             EquationPart::Written => vec![written(0)],
             EquationPart::FrameFlow => {
                 let mut parts: Vec<Part> = (1..=6).map(written).collect();
-                parts.push(Part::Force { a: None, b: 0, law: ForceLaw::Flow { inputs: [1, 2, 3, 4, 5, 6] } });
+                parts.push(Part::Force {
+                    a: None,
+                    b: 0,
+                    law: ForceLaw::Flow { inputs: [1, 2, 3, 4, 5, 6], world: false },
+                });
+                parts
+            }
+            EquationPart::PlanarFlow => {
+                // Connectors: frame 0, fx 1, fy 2, tau 3, zero 4 (world coordinates).
+                let mut parts: Vec<Part> = (1..=3).map(written).collect();
+                parts.push(Part::Signal {
+                    output: 4,
+                    law: SignalLaw::Source(SignalSource::Constant { k: 0.0 }),
+                    inputs: [None; 3],
+                    frames: [None; 2],
+                    flanges: [None; 2],
+                });
+                parts.push(Part::Force {
+                    a: None,
+                    b: 0,
+                    law: ForceLaw::Flow { inputs: [1, 2, 4, 4, 4, 3], world: true },
+                });
                 parts
             }
             EquationPart::AxisFlow => vec![
