@@ -173,29 +173,12 @@ impl ConnectionGraph {
     /// where their ends were written, and warns about declared connectors
     /// that reach no component (unless equations use them: `used`).
     pub fn finish(self, model: &mut Model, map: &mut SourceMap, used: &[String]) -> Vec<Diagnostic> {
-        let n = self.nodes.len();
-        let mut parent: Vec<usize> = (0..n).collect();
-        fn find(parent: &mut [usize], mut i: usize) -> usize {
-            while parent[i] != i {
-                parent[i] = parent[parent[i]];
-                i = parent[i];
-            }
-            i
-        }
-        for s in &self.statements {
-            for w in s.ends.windows(2) {
-                let (a, b) = (find(&mut parent, w[0].0), find(&mut parent, w[1].0));
-                if a != b {
-                    parent[b.max(a)] = a.min(b);
-                }
-            }
-        }
+        let class = self.classes();
         // Each class is represented by its first engine connector.
         let mut representative: HashMap<usize, usize> = HashMap::new();
-        for i in 0..n {
-            if matches!(self.nodes[i].kind, NodeKind::Leaf(_)) {
-                let root = find(&mut parent, i);
-                representative.entry(root).or_insert(i);
+        for (i, node) in self.nodes.iter().enumerate() {
+            if matches!(node.kind, NodeKind::Leaf(_)) {
+                representative.entry(class[i]).or_insert(i);
             }
         }
         for s in &self.statements {
@@ -204,7 +187,7 @@ impl ConnectionGraph {
             for &(node, span) in &s.ends {
                 let leaf = match self.nodes[node].kind {
                     NodeKind::Leaf(_) => Some(node),
-                    NodeKind::Declared { .. } => representative.get(&find(&mut parent, node)).copied(),
+                    NodeKind::Declared { .. } => representative.get(&class[node]).copied(),
                 };
                 if let Some(leaf) = leaf {
                     map.add_end(&self.nodes[leaf].name, span);
@@ -222,19 +205,18 @@ impl ConnectionGraph {
         // A declared connector must reach a component inside its owner;
         // otherwise connections to it from outside have no effect.
         let mut leaves_of: HashMap<usize, Vec<&str>> = HashMap::new();
-        for i in 0..n {
-            if matches!(self.nodes[i].kind, NodeKind::Leaf(_)) {
-                leaves_of.entry(find(&mut parent, i)).or_default().push(&self.nodes[i].name);
+        for (node, &root) in self.nodes.iter().zip(&class) {
+            if matches!(node.kind, NodeKind::Leaf(_)) {
+                leaves_of.entry(root).or_default().push(&node.name);
             }
         }
         let mut warnings = Vec::new();
         let mut warned: Vec<Span> = Vec::new();
-        for i in 0..n {
+        for (i, &root) in class.iter().enumerate() {
             if let NodeKind::Declared { declaration, owner, .. } = &self.nodes[i].kind {
                 if used.contains(&self.nodes[i].name) {
                     continue;
                 }
-                let root = find(&mut parent, i);
                 let inside = match self.nodes[i].name.rsplit_once('.') {
                     Some((instance, _)) => format!("{instance}."),
                     None => String::new(),

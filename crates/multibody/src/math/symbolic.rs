@@ -335,24 +335,7 @@ pub fn substitute(e: &S, v: usize, by: &S) -> S {
     if !e.depends_on(v) {
         return e.clone();
     }
-    let s = |x: &S| substitute(x, v, by);
-    match &**e {
-        Sym::Var(w) if *w == v => by.clone(),
-        Sym::Const(_) | Sym::Time | Sym::Var(_) => e.clone(),
-        Sym::Neg(a) => neg(s(a)),
-        Sym::Add(a, b) => add(s(a), s(b)),
-        Sym::Sub(a, b) => sub(s(a), s(b)),
-        Sym::Mul(a, b) => mul(s(a), s(b)),
-        Sym::Div(a, b) => div(s(a), s(b)),
-        Sym::Pow(a, b) => pow(s(a), s(b)),
-        Sym::Call(f, a) => call(*f, s(a)),
-        Sym::Call2(f, a, b) => call2(*f, s(a), s(b)),
-        Sym::Compare(c, a, b) => compare(*c, s(a), s(b)),
-        Sym::And(a, b) => and(s(a), s(b)),
-        Sym::Or(a, b) => or(s(a), s(b)),
-        Sym::Not(a) => not(s(a)),
-        Sym::If(c, a, b) => if_else(s(c), s(a), s(b)),
-    }
+    substitute_all(e, &|w| (w == v).then(|| by.clone()))
 }
 
 /// If `e` is affine in `v`, `e = slope * v + rest` with neither part

@@ -102,13 +102,13 @@ impl Emitter {
         let r = self.emit(e, vars);
         // Write the last op's result straight into the target when it made it.
         let last = self.ops.len().checked_sub(1).filter(|&i| i >= before);
-        match last.map(|i| &mut self.ops[i]) {
-            Some(op) if result_of(op) == Some(r) => {
-                set_result(op, target);
+        match last.and_then(|i| result_mut(&mut self.ops[i])).filter(|d| **d == r) {
+            Some(d) => {
+                *d = target;
                 // The temporary is never written now: later uses read the target.
                 self.memo.insert(Rc_ptr(e), target);
             }
-            _ => self.ops.push(Op::Copy(target, r)),
+            None => self.ops.push(Op::Copy(target, r)),
         }
     }
 
@@ -123,8 +123,9 @@ fn Rc_ptr(e: &S) -> *const Sym {
     std::rc::Rc::as_ptr(e)
 }
 
-fn result_of(op: &Op) -> Option<Reg> {
-    match *op {
+/// The register an operation writes (a store writes a slot, not a register).
+fn result_mut(op: &mut Op) -> Option<&mut Reg> {
+    match op {
         Op::Copy(d, _)
         | Op::Neg(d, _)
         | Op::Add(d, ..)
@@ -141,27 +142,6 @@ fn result_of(op: &Op) -> Option<Reg> {
         | Op::Select(d, ..)
         | Op::Load(d, _) => Some(d),
         Op::Store(..) => None,
-    }
-}
-
-fn set_result(op: &mut Op, target: Reg) {
-    match op {
-        Op::Copy(d, _)
-        | Op::Neg(d, _)
-        | Op::Add(d, ..)
-        | Op::Sub(d, ..)
-        | Op::Mul(d, ..)
-        | Op::Div(d, ..)
-        | Op::Pow(d, ..)
-        | Op::Call(_, d, _)
-        | Op::Call2(_, d, ..)
-        | Op::Compare(_, d, ..)
-        | Op::And(d, ..)
-        | Op::Or(d, ..)
-        | Op::Not(d, _)
-        | Op::Select(d, ..)
-        | Op::Load(d, _) => *d = target,
-        Op::Store(..) => {}
     }
 }
 
