@@ -442,6 +442,20 @@ pub enum Part {
     AxisDrive { flange: usize, support: usize, input: usize, level: DriveLevel },
 }
 
+impl Part {
+    /// A signal that is always zero, at the (internal) output connector
+    /// `output`: the unused components of a force that takes three inputs.
+    pub(crate) fn zero_signal(output: usize) -> Part {
+        Part::Signal {
+            output,
+            law: SignalLaw::Source(SignalSource::Constant { k: 0.0 }),
+            inputs: [None; 3],
+            frames: [None; 2],
+            flanges: [None; 2],
+        }
+    }
+}
+
 /// The motion of one frame connector and the cut force on it.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FrameState {

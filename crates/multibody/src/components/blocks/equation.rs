@@ -171,13 +171,7 @@ impl Component for EquationPart {
             EquationPart::PlanarFlow => {
                 // Connectors: frame 0, fx 1, fy 2, tau 3, zero 4 (world coordinates).
                 let mut parts: Vec<Part> = (1..=3).map(written).collect();
-                parts.push(Part::Signal {
-                    output: 4,
-                    law: SignalLaw::Source(SignalSource::Constant { k: 0.0 }),
-                    inputs: [None; 3],
-                    frames: [None; 2],
-                    flanges: [None; 2],
-                });
+                parts.push(Part::zero_signal(4));
                 parts.push(Part::Force {
                     a: None,
                     b: 0,

@@ -7,7 +7,7 @@
 use super::super::line_force::helix;
 use super::super::shapes::{between, look, LocalShape, ShapeKind};
 use super::super::spec::{concat, ComponentSpec, ConnectorSpec, ParamSpec, ParamType, VarSpec};
-use super::super::{Component, EvalContext, ForceLaw, ParamSet, Part, Resolve, SignalLaw, SignalSource};
+use super::super::{Component, EvalContext, ForceLaw, ParamSet, Part, Resolve};
 use super::{FRAME_A, FRAME_B, RENDER, SPECULAR, Z_POSITION};
 use crate::math::rotation::planar_angle;
 use crate::Error;
@@ -234,13 +234,7 @@ impl Component for WorldForceTorque {
     fn parts(&self) -> Vec<Part> {
         // Connectors: frame_b 0, force_x 1, force_y 2, torque 3, zero 4.
         vec![
-            Part::Signal {
-                output: 4,
-                law: SignalLaw::Source(SignalSource::Constant { k: 0.0 }),
-                inputs: [None; 3],
-                frames: [None; 2],
-                flanges: [None; 2],
-            },
+            Part::zero_signal(4),
             Part::Force { a: None, b: 0, law: ForceLaw::Force { inputs: [1, 2, 4], resolve: self.resolve } },
             Part::Force { a: None, b: 0, law: ForceLaw::Torque { inputs: [4, 4, 3], resolve: Resolve::World } },
         ]

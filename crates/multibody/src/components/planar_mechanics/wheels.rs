@@ -10,8 +10,8 @@
 use super::super::spec::{concat, ComponentSpec, ConnectorType, ParamSpec, ParamType, VarSpec};
 use super::super::wheel_common::{positive, wheel_shapes};
 use super::super::{
-    Component, ConstraintKind, EvalContext, ForceLaw, Law1D, ParamSet, Part, Resolve, RotationLock, SignalLaw,
-    SignalSource, SlipLaw, WheelContact,
+    Component, ConstraintKind, EvalContext, ForceLaw, Law1D, ParamSet, Part, Resolve, RotationLock, SignalLaw, SlipLaw,
+    WheelContact,
 };
 use super::{RENDER, SPECULAR, Z_POSITION};
 use crate::math::rotation::planar_angle;
@@ -257,13 +257,7 @@ impl Component for SlipBased {
             slip(3, 0),
             slip(4, 1),
             slip(5, 2),
-            Part::Signal {
-                output: 6,
-                law: SignalLaw::Source(SignalSource::Constant { k: 0.0 }),
-                inputs: [None; 3],
-                frames: [None; 2],
-                flanges: [None; 2],
-            },
+            Part::zero_signal(6),
             Part::Force { a: None, b: 0, law: ForceLaw::Force { inputs: [3, 4, 6], resolve: Resolve::World } },
             Part::Fixed1D { flange: 7, at: 0.0 },
             Part::Element1D { a: 7, b: 1, law: Law1D::Input { signal: 5 } },
