@@ -42,5 +42,7 @@ pub use dynamics::{DynamicsError, Workspace};
 pub use error::{closest, Error};
 pub use math::expr::{Cmp, Expr, Func, Func2, TimeExpr};
 pub use model::{ComponentInstance, Connection, Equation, Equations, Flow, Model, OrientationState, Value, Variable};
-pub use simulate::{Method, OptionError, RunReport, SampleSink, SimulationError, SimulationOptions, Solution, Stopped};
+pub use simulate::{
+    Method, OptionError, RunReport, SampleSink, SimulationError, SimulationOptions, Simulator, Solution, Stopped,
+};
 pub use system::{StateLayout, System};

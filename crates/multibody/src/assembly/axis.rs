@@ -496,7 +496,7 @@ pub fn couplings(
 }
 
 /// The refusal of `what` on a LineForceWithMass's flange.
-fn on_a_line(components: &[CompiledComponent], ci: usize, what: &str) -> Error {
+pub(crate) fn on_a_line(components: &[CompiledComponent], ci: usize, what: &str) -> Error {
     Error::Unsupported {
         component: components[ci].name.clone(),
         what: format!("{what} on the flange of a line force with mass (the line's length places that flange)"),

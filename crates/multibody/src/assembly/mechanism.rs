@@ -90,6 +90,8 @@ pub(crate) struct CompiledComponent {
     pub joints: Vec<JointRef>,
     /// For each `Element1D` part, in order: its index in `axis_elements`.
     pub elements: Vec<usize>,
+    /// For each `Friction` part, in order: its index in `frictions`.
+    pub frictions: Vec<usize>,
     /// Its variables (besides frame signals), as it reports them.
     pub variables: Vec<VarSpec>,
     /// What it draws in animations.

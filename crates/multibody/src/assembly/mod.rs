@@ -20,6 +20,7 @@ mod drives;
 mod equations;
 mod flows;
 mod forces;
+mod friction;
 mod initial;
 mod instances;
 mod links;
@@ -120,6 +121,10 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     let axis_elements = axis::elements(&mut components, &conn, &drive.places, &signals.of_connector)?;
     let couplings = axis::couplings(&components, &conn, &drive, constraint_rows)?;
     let constraint_rows = constraint_rows + couplings.len();
+    let mut events = crate::system::EventLayout { inputs: std::mem::take(&mut signals.inputs), ..Default::default() };
+    let frictions =
+        friction::elements(&mut components, &conn, &drive.places, &signals.of_connector, constraint_rows, &mut events)?;
+    let constraint_rows = constraint_rows + frictions.len();
     let force_elements = forces::elements(&components, &conn, &mut tree, &signals.of_connector)?;
     let (drives, drive_starts) = drives::attach(&components, &conn, &mut tree, &drive.places, &signals)?;
     let mut states = states::layout(model, &components, &tree, &drive.geared)?;
@@ -165,6 +170,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         free_coordinates,
         signals: signals.blocks,
         couplings,
+        frictions,
         force_elements,
         massless: tree.massless,
         constraints,
@@ -187,6 +193,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         mu: world.mu,
         states,
         dof,
+        events,
     };
     let mut mechanism = Mechanism {
         name: model.name.clone(),

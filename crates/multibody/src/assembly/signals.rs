@@ -21,6 +21,8 @@ pub struct Signals {
     pub of_connector: Vec<usize>,
     /// How many slots there are, the zero slot included.
     pub slots: usize,
+    /// The model's inputs (components of kind `Input`), by their number.
+    pub inputs: Vec<(String, f64)>,
     pub warnings: Vec<String>,
 }
 
@@ -45,6 +47,7 @@ pub fn resolve(
     let (of_connector, warnings) = connect(components, conn, &slot_of_output, zero)?;
 
     let mut blocks = Vec::with_capacity(owners.len());
+    let mut model_inputs = Vec::new();
     for (ci, c) in components.iter().enumerate() {
         let id = |local: usize| Connectors::id(components, ci, local);
         for part in &c.parts {
@@ -56,8 +59,15 @@ pub fn resolve(
             let flange = |local: Option<usize>| -> Result<FlangeRef, Error> {
                 local.map_or(Ok(FlangeRef::FIXED), |l| axis::flange(components, conn, places, id(l)))
             };
+            let law = match *law {
+                SignalLaw::Input { start, .. } => {
+                    model_inputs.push((c.name.clone(), start));
+                    SignalLaw::Input { index: model_inputs.len() - 1, start }
+                }
+                ref law => law.clone(),
+            };
             blocks.push(SignalBlock {
-                law: law.clone(),
+                law,
                 output: slot_of_output[id(*output)],
                 inputs: inputs.map(|i| i.map_or(zero, |l| of_connector[id(l)])),
                 frames: frames.map(|f| f.map(attach)),
@@ -84,7 +94,7 @@ pub fn resolve(
     let (mut blocks, rest): (Vec<_>, Vec<_>) = blocks.into_iter().partition(|b| of_time[b.output]);
     let time_signals = blocks.len();
     blocks.extend(rest);
-    Ok(Signals { blocks, time_signals, of_connector, slots: zero + 1, warnings })
+    Ok(Signals { blocks, time_signals, of_connector, slots: zero + 1, inputs: model_inputs, warnings })
 }
 
 /// The slot of every connector: each signal node reads its one output.

@@ -30,6 +30,7 @@ mod fixed_translation;
 mod force;
 mod free_motion;
 mod free_motion_scalar_init;
+mod friction;
 mod gear_constraint;
 mod ideal_gear;
 mod inertia_1d;
@@ -170,7 +171,13 @@ static REGISTRY: &[&ComponentSpec] = &[
     &motion_sources::TRANSLATIONAL_POSITION,
     &motion_sources::TRANSLATIONAL_SPEED,
     &motion_sources::TRANSLATIONAL_ACCELERATE,
+    &friction::CLUTCH,
+    &friction::ROTATIONAL_BRAKE,
+    &friction::BEARING_FRICTION,
+    &friction::TRANSLATIONAL_BRAKE,
+    &friction::SUPPORT_FRICTION,
     &blocks::constant::SPEC,
+    &blocks::input::SPEC,
     &blocks::step::SPEC,
     &blocks::ramp::SPEC,
     &blocks::sine::SPEC,
@@ -359,6 +366,10 @@ pub enum Part {
     Owner { frame: usize, model: JointModel, states: StateNames, fallback: bool },
     /// A 1-D force element between two flanges.
     Element1D { a: usize, b: usize, law: Law1D },
+    /// A 1-D friction element with modes between flanges `a` and `b`
+    /// (sliding, stuck as a constraint, free), pressed by the signal at the
+    /// input connector `normal` (always, without one).
+    Friction { a: usize, b: usize, law: crate::system::friction::FrictionLaw, normal: Option<usize> },
     /// A signal block driving the output connector `output`: a function of
     /// time, of the signals at the input connectors `inputs`, or of the
     /// motion of `frames` (frame a, or the world when `None`; frame b) or
@@ -505,6 +516,16 @@ pub struct Element1DState {
     pub force: f64,
 }
 
+/// The state of one of a component's friction elements.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrictionState {
+    pub values: crate::system::friction::FrictionValues,
+    /// Modelica's numbering: -1 backward, 0 stuck, 1 forward, 2 free.
+    pub mode: f64,
+    pub start_forward: bool,
+    pub start_backward: bool,
+}
+
 /// What a component sees when it computes its variables.
 pub struct EvalContext<'a> {
     pub time: f64,
@@ -515,6 +536,8 @@ pub struct EvalContext<'a> {
     pub joints: &'a [JointState<'a>],
     /// One per `Element1D` part, in the order of `parts()`.
     pub elements: &'a [Element1DState],
+    /// One per `Friction` part, in the order of `parts()`.
+    pub frictions: &'a [FrictionState],
     /// By connector number: the value of each signal connector.
     pub signals: &'a [f64],
     /// By connector number: the motion of each 1-D connector (zero for the

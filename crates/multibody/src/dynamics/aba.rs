@@ -29,7 +29,11 @@ impl System {
             // Loops may leave massless links in the tree, and a line
             // force's point mass couples two branches: solve the system as
             // a whole instead of the ABA's recursion.
-            self.constrained_accelerations(ws, q, ud)
+            self.constrained_accelerations(ws, q, ud)?;
+            if !self.frictions.is_empty() {
+                self.friction_modes(ws, q, u, ud);
+            }
+            Ok(())
         }
     }
 
@@ -140,6 +144,9 @@ impl System {
         }
         for &(v, force) in &self.axis_forces {
             ws.tau[v] += force;
+        }
+        if !self.frictions.is_empty() {
+            self.friction_forces(ws, q, u);
         }
         for pm in &self.point_masses {
             let w = &mut ws.links[pm.link];

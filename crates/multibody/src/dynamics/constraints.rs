@@ -250,6 +250,9 @@ impl System {
             }
         }
         self.coupling_terms(ws, q, with_jacobian);
+        if !self.frictions.is_empty() {
+            self.friction_terms(ws, with_jacobian);
+        }
     }
 
     /// The rows of the couplings: `sum c_k q_k`, constant Jacobian, no

@@ -8,6 +8,7 @@ mod constraints;
 mod drives;
 mod equations;
 pub(crate) mod forces;
+mod friction;
 mod signals;
 
 use crate::math::{ArticulatedInertia, Force, Mat3, Motion, Transform, Vec3};
@@ -83,6 +84,26 @@ pub struct Workspace {
     /// Newton's scratch: the Jacobian, the step and LU work; and pivots.
     pub(crate) newton: Vec<f64>,
     pub(crate) newton_pivots: Vec<usize>,
+    /// The values of the model's inputs, as the host set them.
+    pub(crate) inputs: Vec<f64>,
+    /// The event indicators of the last evaluation (see `EventLayout`).
+    pub(crate) indicators: Vec<f64>,
+    /// The discrete state, and its value before the current pass of an
+    /// event iteration (`pre`).
+    pub(crate) discrete: Vec<f64>,
+    pub(crate) discrete_pre: Vec<f64>,
+    /// Set during an event iteration: relations are evaluated as they are
+    /// and modes may change; between events they hold.
+    pub(crate) at_event: bool,
+    /// Set during the first event iteration, at the start (`initial()`).
+    pub(crate) initial: bool,
+    /// State values that the last event pass sets (`reinit`): index, value.
+    pub(crate) reinits: Vec<(usize, f64)>,
+    /// What each friction element computed in the last evaluation.
+    pub(crate) friction: Vec<crate::system::friction::FrictionValues>,
+    /// The time of the time event the integration is heading for: sources
+    /// show their values from before it there (NaN: none).
+    pub(crate) left_limit_at: f64,
 }
 
 /// What the articulated-body algorithm keeps per link.
@@ -162,6 +183,15 @@ impl Workspace {
             registers: system.equation_registers(),
             newton: vec![0.0; system.equations.largest_block * (system.equations.largest_block + 2)],
             newton_pivots: vec![0; system.equations.largest_block],
+            inputs: system.events.inputs.iter().map(|i| i.1).collect(),
+            indicators: vec![0.0; system.events.indicators.len()],
+            discrete: system.events.discrete_start.clone(),
+            discrete_pre: system.events.discrete_start.clone(),
+            at_event: false,
+            initial: false,
+            reinits: Vec::with_capacity(system.states.start.len()),
+            left_limit_at: f64::NAN,
+            friction: vec![Default::default(); system.frictions.len()],
         }
     }
 }

@@ -6,6 +6,17 @@ use crate::math::{Mat3, Vec3};
 use crate::system::{Anchor, Attachment, Resolve, SignalLaw, System};
 
 impl System {
+    /// The first time after `t` at which a source of time switches.
+    pub(crate) fn next_time_event(&self, t: f64) -> f64 {
+        self.signals
+            .iter()
+            .filter_map(|b| match &b.law {
+                SignalLaw::Source(source) => Some(source.next_switch(t)),
+                _ => None,
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// Every block's output into `ws.signals`, with the blocks of the
     /// model's own equations at their places among them. Needs the link
     /// velocities (and world poses when a block reads frames) of the
@@ -29,7 +40,9 @@ impl System {
             }
             let input = |k: usize| ws.signals[block.inputs[k]];
             let value = match &block.law {
+                SignalLaw::Source(source) if t == ws.left_limit_at => source.value_before(t),
                 SignalLaw::Source(source) => source.value(t),
+                &SignalLaw::Input { index, .. } => ws.inputs[index],
                 SignalLaw::Affine { gains, bias } => {
                     bias + gains[0] * input(0) + gains[1] * input(1) + gains[2] * input(2)
                 }

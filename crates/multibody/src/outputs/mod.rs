@@ -5,7 +5,9 @@
 use crate::assembly::JointRef;
 use crate::assembly::Mechanism;
 use crate::assembly::SignalTable;
-use crate::components::{ConnectorType, Element1DState, EvalContext, FlangeState, FrameState, JointState, Part};
+use crate::components::{
+    ConnectorType, Element1DState, EvalContext, FlangeState, FrameState, FrictionState, JointState, Part,
+};
 use crate::dynamics::{DynamicsError, Workspace};
 use crate::math::rotation::planar_angle;
 use crate::math::Transform;
@@ -164,6 +166,7 @@ impl Mechanism {
         let mut column = 0;
         let mut joints: Vec<JointState> = Vec::new();
         let mut elements: Vec<Element1DState> = Vec::new();
+        let mut frictions: Vec<FrictionState> = Vec::new();
         for (k, c) in self.components.iter().enumerate() {
             let width = self.output_width(c);
             if c.hidden || wanted.is_some_and(|w| !w[k]) {
@@ -215,6 +218,17 @@ impl Mechanism {
                     force: el.law.force(s_rel, v_rel, &ws.signals),
                 });
             }
+            frictions.clear();
+            for &f in &c.frictions {
+                let friction = &self.system.frictions[f];
+                let flags = crate::system::friction::FrictionFlags::read(&ws.discrete[friction.discrete..]);
+                frictions.push(FrictionState {
+                    values: ws.friction[f],
+                    mode: flags.mode as i32 as f64,
+                    start_forward: flags.start_forward,
+                    start_backward: flags.start_backward,
+                });
+            }
             let own = c.first_connector..c.first_connector + c.spec.connectors.len();
             let frames = &scratch.frames[own.clone()];
             let signals = &scratch.signals[own.clone()];
@@ -225,6 +239,7 @@ impl Mechanism {
                 frames,
                 joints: &joints,
                 elements: &elements,
+                frictions: &frictions,
                 signals,
                 flanges,
             };

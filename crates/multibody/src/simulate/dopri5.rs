@@ -2,7 +2,7 @@
 //! with beta = 0.04) and 4th-order dense output (CONTD5).
 
 use super::integrator::{
-    finish_step, initial_step, DenseStep, Failure, OdeSystem, Stats, StiffStretch, Stopped, Tolerances,
+    finish_step, initial_step, DenseStep, Failure, OdeSystem, Reached, Stats, StiffStretch, Stopped, Tolerances,
 };
 
 const C2: f64 = 1.0 / 5.0;
@@ -65,6 +65,18 @@ pub struct DormandPrince {
     cont: [Vec<f64>; 5],
     t_old: f64,
     h_old: f64,
+    /// Where the integration stands, and the step it will try next.
+    t: f64,
+    h: f64,
+    h_max: f64,
+    /// The step-size controller's memory: the last accepted error, and
+    /// whether the last try was rejected.
+    fac_old: f64,
+    rejected_last: bool,
+    /// Steps in a row at (and away from) the stability edge.
+    at_edge: usize,
+    off_edge: usize,
+    stats: Stats,
 }
 
 impl DenseStep for DormandPrince {
@@ -96,100 +108,149 @@ impl DormandPrince {
             cont: [v(), v(), v(), v(), v()],
             t_old: 0.0,
             h_old: 0.0,
+            t: 0.0,
+            h: 0.0,
+            h_max: 0.0,
+            fac_old: 1e-4,
+            rejected_last: false,
+            at_edge: 0,
+            off_edge: 0,
+            stats: Stats::default(),
         }
     }
 
     /// Integrates from `t0` to `tf` starting at `y0`, calling `observe`
     /// after every accepted step.
+    #[cfg(test)]
     pub fn integrate<S: OdeSystem>(
         &mut self,
         sys: &mut S,
         t0: f64,
         tf: f64,
         y0: &[f64],
-        mut observe: impl FnMut(&Self) -> Result<(), S::Error>,
+        mut observe: impl FnMut(&dyn DenseStep) -> Result<(), S::Error>,
     ) -> Result<Stats, Stopped<S::Error>> {
-        let mut stats = Stats::default();
-        let n = y0.len();
-        self.y.copy_from_slice(y0);
-        let stop = |t: f64, failure, stats| Err(Stopped { t, failure, stats });
-        let mut t = t0;
+        self.start(sys, t0, y0, tf - t0)?;
+        self.advance(sys, tf, &mut observe)?;
+        Ok(self.stats)
+    }
+
+    /// Starts at `(t, y)` (or starts again there after an event): the
+    /// derivative and a first step size. `horizon` is the length of the
+    /// whole run, the largest step when `dtmax` is 0.
+    pub fn start<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        y: &[f64],
+        horizon: f64,
+    ) -> Result<(), Stopped<S::Error>> {
+        self.y.copy_from_slice(y);
+        self.t = t;
+        let stop = |failure, stats| Err(Stopped { t, failure, stats });
         if let Err(e) = sys.rhs(t, &self.y, &mut self.k[0]) {
-            return stop(t, Failure::Rhs(e), stats);
+            return stop(Failure::Rhs(e), self.stats);
         }
-        stats.evaluations += 1;
-        let h_max = if self.tol.dtmax > 0.0 { self.tol.dtmax } else { (tf - t0).abs() };
+        self.stats.evaluations += 1;
+        self.h_max = if self.tol.dtmax > 0.0 { self.tol.dtmax } else { horizon.abs() };
         let [k1, k2, ..] = &mut self.k;
         let scratch = (&mut self.stage[..], &mut k2[..]);
-        let mut h = match initial_step(sys, t, &self.y, k1, &self.tol, h_max, 0.2, scratch, &mut stats) {
+        self.h = match initial_step(sys, t, &self.y, k1, &self.tol, self.h_max, 0.2, scratch, &mut self.stats) {
             Ok(h) => h,
-            Err(e) => return stop(t, Failure::Rhs(e), stats),
+            Err(e) => return stop(Failure::Rhs(e), self.stats),
         };
-        let mut fac_old = 1e-4f64;
-        let mut rejected_last = false;
-        let (mut at_edge, mut off_edge) = (0usize, 0usize);
-        while t < tf {
+        self.fac_old = 1e-4;
+        self.rejected_last = false;
+        (self.at_edge, self.off_edge) = (0, 0);
+        Ok(())
+    }
+
+    /// Steps from the current time to exactly `tf`, calling `observe` after
+    /// every accepted step, or to the first event the system locates
+    /// inside a step; [`Self::start`] must follow an event.
+    pub fn advance<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        tf: f64,
+        observe: &mut dyn FnMut(&dyn DenseStep) -> Result<(), S::Error>,
+    ) -> Result<Reached, Stopped<S::Error>> {
+        let n = self.y.len();
+        let stop = |t: f64, failure, stats| Err(Stopped { t, failure, stats });
+        let mut h = self.h;
+        while self.t < tf {
+            let t = self.t;
             if 0.1 * h.abs() <= t.abs() * f64::EPSILON * 4.0 {
-                return stop(t, Failure::StepTooSmall { h }, stats);
+                return stop(t, Failure::StepTooSmall { h }, self.stats);
             }
             let last = t + 1.01 * h >= tf;
             if last {
                 h = tf - t;
             }
             if let Err(e) = self.stages(sys, t, h, n) {
-                return stop(t, Failure::Rhs(e), stats);
+                return stop(t, Failure::Rhs(e), self.stats);
             }
-            stats.evaluations += 6;
+            self.stats.evaluations += 6;
             let err = self.error_norm(h, n);
             if !err.is_finite() {
                 // A step too large for the dynamics: try a much smaller one.
-                stats.rejected += 1;
+                self.stats.rejected += 1;
                 h *= 0.1;
-                rejected_last = true;
+                self.rejected_last = true;
                 continue;
             }
             let fac11 = err.powf(0.2 - BETA * 0.75);
-            let fac = (fac11 / fac_old.powf(BETA) / SAFETY).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN);
+            let fac = (fac11 / self.fac_old.powf(BETA) / SAFETY).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN);
             if err <= 1.0 {
-                stats.accepted += 1;
-                stats.error_sum += err;
-                if stats.stiff.is_none() {
+                self.stats.accepted += 1;
+                self.stats.error_sum += err;
+                if self.stats.stiff.is_none() {
                     match self.stiff_mode(h, n) {
                         Some((h_lambda, state)) if h_lambda > STABILITY_EDGE => {
-                            (at_edge, off_edge) = (at_edge + 1, 0);
-                            if at_edge == STIFF_STEPS {
-                                stats.stiff = Some(StiffStretch { time: t, h, rate: h_lambda / h, state });
+                            (self.at_edge, self.off_edge) = (self.at_edge + 1, 0);
+                            if self.at_edge == STIFF_STEPS {
+                                self.stats.stiff = Some(StiffStretch { time: t, h, rate: h_lambda / h, state });
                             }
                         }
                         _ => {
-                            off_edge += 1;
-                            if off_edge == NON_STIFF_STEPS {
-                                at_edge = 0;
+                            self.off_edge += 1;
+                            if self.off_edge == NON_STIFF_STEPS {
+                                self.at_edge = 0;
                             }
                         }
                     }
                 }
-                fac_old = err.max(1e-4);
+                self.fac_old = err.max(1e-4);
                 self.dense_coefficients(h, n);
                 self.k.swap(0, 6);
                 std::mem::swap(&mut self.y, &mut self.y_new);
                 self.t_old = t;
                 self.h_old = h;
-                t = if last { tf } else { t + h };
-                finish_step(sys, self, t, |s| (&mut s.y, &mut s.k[0]), &mut observe, &mut stats)?;
-                let mut h_new = (h / fac).min(h_max);
-                if rejected_last {
+                self.t = if last { tf } else { t + h };
+                let mut h_new = (h / fac).min(self.h_max);
+                if self.rejected_last {
                     h_new = h_new.min(h);
                 }
-                rejected_last = false;
-                h = h_new;
+                self.rejected_last = false;
+                self.h = h_new;
+                let end = finish_step(sys, self, self.t, |s| (&mut s.y, &mut s.k[0], &mut s.stats), observe, true)?;
+                if let Some(te) = end {
+                    self.t = te;
+                    return Ok(Reached::Event(te));
+                }
+                h = self.h;
             } else {
-                stats.rejected += 1;
+                self.stats.rejected += 1;
                 h /= (fac11 / SAFETY).min(1.0 / FAC_MIN);
-                rejected_last = true;
+                self.rejected_last = true;
             }
         }
-        Ok(stats)
+        self.h = h;
+        Ok(Reached::End)
+    }
+
+    /// The counts of the work done so far.
+    pub fn stats(&self) -> Stats {
+        self.stats
     }
 
     fn stages<S: OdeSystem>(&mut self, sys: &mut S, t: f64, h: f64, n: usize) -> Result<(), S::Error> {

@@ -13,6 +13,43 @@ pub trait OdeSystem {
     fn accept(&mut self, _step: &dyn DenseStep, _y: &mut [f64]) -> Result<bool, Self::Error> {
         Ok(false)
     }
+
+    /// Called after every accepted step, before the observer sees it: the
+    /// time of the first event inside the step (an indicator changing
+    /// sign), if any; the step then ends there. `end_evaluated` says that
+    /// the integrator's last evaluation was at the step's end state.
+    fn locate(&mut self, _step: &dyn DenseStep, _end_evaluated: bool) -> Result<Option<f64>, Self::Error> {
+        Ok(None)
+    }
+}
+
+/// How far [`advance`](super::dopri5::DormandPrince::advance) went.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Reached {
+    /// The time asked for.
+    End,
+    /// An event at this time, inside a step: the state there is the
+    /// integrator's, and it must start again from there.
+    Event(f64),
+}
+
+/// An accepted step cut short at an event: the observer sees it end there.
+struct Truncated<'a> {
+    step: &'a dyn DenseStep,
+    end: f64,
+    y: &'a [f64],
+}
+
+impl DenseStep for Truncated<'_> {
+    fn span(&self) -> (f64, f64) {
+        (self.step.span().0, self.end)
+    }
+    fn y(&self) -> &[f64] {
+        self.y
+    }
+    fn interpolate(&self, t: f64, out: &mut [f64]) {
+        self.step.interpolate(t, out)
+    }
 }
 
 /// A solution between two accepted steps, as an observer sees it.
@@ -77,34 +114,56 @@ pub struct Stopped<E> {
 }
 
 /// What every integrator does with a step it has accepted, ending at
-/// `t_end`: check that the state is finite, show the step to the observer,
-/// let the system move the end state (onto constraints), and evaluate the
-/// derivative there again when it moved. `ends` gives the integrator's end
-/// state and its derivative at the end (carried into the next step).
+/// `t_end`: check that the state is finite, let the system locate events
+/// inside it (the step then ends at the first, with the state there),
+/// show the step to the observer, let the system move the end state (onto
+/// constraints), and evaluate the derivative there again when it moved.
+/// `ends` gives the integrator's end state, its derivative at the end
+/// (carried into the next step) and its counts. Returns the event's time.
 pub(crate) fn finish_step<S: OdeSystem, D: DenseStep>(
     sys: &mut S,
     step: &mut D,
     t_end: f64,
-    ends: fn(&mut D) -> (&mut Vec<f64>, &mut Vec<f64>),
-    observe: &mut impl FnMut(&D) -> Result<(), S::Error>,
-    stats: &mut Stats,
-) -> Result<(), Stopped<S::Error>> {
-    let stopped = |t, failure, stats: &Stats| Stopped { t, failure, stats: *stats };
+    ends: fn(&mut D) -> (&mut Vec<f64>, &mut Vec<f64>, &mut Stats),
+    observe: &mut dyn FnMut(&dyn DenseStep) -> Result<(), S::Error>,
+    end_evaluated: bool,
+) -> Result<Option<f64>, Stopped<S::Error>> {
+    let stopped = |t, failure, stats: &mut Stats| Stopped { t, failure, stats: *stats };
     if step.y().iter().any(|x| !x.is_finite()) {
-        return Err(stopped(step.span().0, Failure::NotFinite, stats));
+        let t0 = step.span().0;
+        return Err(stopped(t0, Failure::NotFinite, ends(step).2));
     }
-    observe(step).map_err(|e| stopped(t_end, Failure::Observer(e), stats))?;
+    let event = sys.locate(&*step, end_evaluated);
+    match event {
+        Err(e) => return Err(stopped(t_end, Failure::Rhs(e), ends(step).2)),
+        Ok(Some(te)) => {
+            let mut y = std::mem::take(ends(step).0);
+            step.interpolate(te, &mut y);
+            let seen = observe(&Truncated { step: &*step, end: te, y: &y });
+            *ends(step).0 = y;
+            seen.map_err(|e| stopped(te, Failure::Observer(e), ends(step).2))?;
+            return Ok(Some(te));
+        }
+        Ok(None) => {}
+    }
+    if let Err(e) = observe(&*step) {
+        return Err(stopped(t_end, Failure::Observer(e), ends(step).2));
+    }
     // The end state moves out while the system looks at the step's dense output.
     let mut end = std::mem::take(ends(step).0);
     let moved = sys.accept(&*step, &mut end);
     *ends(step).0 = end;
-    if moved.map_err(|e| stopped(t_end, Failure::Rhs(e), stats))? {
-        // The derivative carried over to the next step is stale.
-        let (y, f) = ends(step);
-        sys.rhs(t_end, y, f).map_err(|e| stopped(t_end, Failure::Rhs(e), stats))?;
-        stats.evaluations += 1;
+    match moved {
+        Err(e) => Err(stopped(t_end, Failure::Rhs(e), ends(step).2)),
+        Ok(true) => {
+            // The derivative carried over to the next step is stale.
+            let (y, f, stats) = ends(step);
+            stats.evaluations += 1;
+            sys.rhs(t_end, y, f).map_err(|e| stopped(t_end, Failure::Rhs(e), stats))?;
+            Ok(None)
+        }
+        Ok(false) => Ok(None),
     }
-    Ok(())
 }
 
 /// Hairer's starting step for an adaptive method whose error estimate

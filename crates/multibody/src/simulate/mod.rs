@@ -15,15 +15,14 @@ mod dopri5;
 pub mod integrator;
 mod rk4;
 mod rodas;
+mod simulator;
 mod solution;
 
 pub use integrator::{Stats, StiffStretch};
+pub use simulator::{Shared, Simulator};
 pub use solution::{glob, CsvWriter, Solution};
 
 use crate::assembly::Mechanism;
-use crate::dynamics::{DynamicsError, Workspace};
-use crate::outputs::OutputScratch;
-use integrator::{DenseStep, Failure, OdeSystem, Tolerances};
 
 /// The integration method.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -192,177 +191,6 @@ pub struct RunReport {
     pub warnings: Vec<String>,
 }
 
-/// What stops a step: the dynamics, or the caller (through the sink or the
-/// progress callback).
-#[derive(Debug)]
-enum StepError {
-    Dynamics(DynamicsError),
-    Caller(String),
-}
-
-impl From<DynamicsError> for StepError {
-    fn from(e: DynamicsError) -> Self {
-        StepError::Dynamics(e)
-    }
-}
-
-/// The mechanism as an ODE for the integrators.
-struct Dynamics<'a> {
-    mechanism: &'a Mechanism,
-    ws: Workspace,
-    /// Side of the singular configuration of each Euler-angle joint.
-    euler_sides: Vec<f64>,
-    /// The same at the end of the step being accepted (scratch).
-    euler_sides_now: Vec<f64>,
-}
-
-impl OdeSystem for Dynamics<'_> {
-    type Error = StepError;
-    fn dim(&self) -> usize {
-        self.mechanism.system.states.nq + self.mechanism.system.states.nv
-    }
-    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), StepError> {
-        Ok(self.mechanism.rhs(&mut self.ws, t, y, dy)?)
-    }
-
-    fn accept(&mut self, step: &dyn DenseStep, y: &mut [f64]) -> Result<bool, StepError> {
-        if !self.euler_sides.is_empty() {
-            self.euler_crossing(step, y)?;
-        }
-        Ok(self.mechanism.project(&mut self.ws, step.span().1, y)?)
-    }
-}
-
-impl Dynamics<'_> {
-    /// Stops at an Euler-angle joint's singular configuration, also when the
-    /// step went across it (the motion may pass smoothly, the angles not):
-    /// the time is where `det J` changes sign, found on the dense output.
-    fn euler_crossing(&mut self, step: &dyn DenseStep, y: &[f64]) -> Result<(), DynamicsError> {
-        let (t0, t1) = step.span();
-        let sides = |mech: &Mechanism, y: &[f64], out: &mut Vec<f64>| mech.system.euler_sides(y, out);
-        let mut now = std::mem::take(&mut self.euler_sides_now);
-        let crossed = match sides(self.mechanism, y, &mut now) {
-            Err(link) => Some(link),
-            Ok(()) => now.iter().zip(&self.euler_sides).position(|(a, b)| a != b).map(|k| self.euler_link(k)),
-        };
-        let Some(link) = crossed else {
-            // Swap, so that accepted steps reuse both buffers.
-            self.euler_sides_now = std::mem::replace(&mut self.euler_sides, now);
-            return Ok(());
-        };
-        let (mut lo, mut hi) = (t0, t1);
-        let mut mid_state = vec![0.0; y.len()];
-        for _ in 0..60 {
-            let mid = 0.5 * (lo + hi);
-            step.interpolate(mid, &mut mid_state);
-            match sides(self.mechanism, &mid_state, &mut now) {
-                Ok(()) if now == self.euler_sides => lo = mid,
-                _ => hi = mid,
-            }
-        }
-        Err(DynamicsError::EulerSingularity { link, time: hi })
-    }
-
-    /// The link of the k-th Euler-angle joint.
-    fn euler_link(&self, k: usize) -> usize {
-        self.mechanism
-            .system
-            .links
-            .iter()
-            .enumerate()
-            .filter(|(_, l)| {
-                matches!(
-                    l.joint.rotation_coordinates(),
-                    Some((_, crate::system::joint::RotationCoordinates::Euler { .. }))
-                )
-            })
-            .nth(k)
-            .map_or(0, |(i, _)| i)
-    }
-}
-
-/// Samples outputs on the grid as the integrator advances. With Euler-angle
-/// joints, the samples of the latest step wait in `pending` until the step
-/// is final (a singular configuration found inside it cuts it short), then
-/// go to the sink; otherwise they go at once.
-struct Recorder<'a, 's, 'p> {
-    mechanism: &'a Mechanism,
-    ws: Workspace,
-    scratch: OutputScratch,
-    sink: &'s mut dyn SampleSink,
-    progress: Option<&'p mut dyn FnMut(f64) -> Result<(), String>>,
-    row: Vec<f64>,
-    /// The components whose outputs the sink reads (`None`: all).
-    wanted: Option<Vec<bool>>,
-    y: Vec<f64>,
-    pending_time: Vec<f64>,
-    pending_rows: Vec<f64>,
-    /// Whether samples wait for their step to be final.
-    hold: bool,
-    saveat: f64,
-    start: f64,
-    stop: f64,
-    next: usize,
-}
-
-impl Recorder<'_, '_, '_> {
-    fn record(&mut self, t: f64, y: &[f64]) -> Result<(), StepError> {
-        let wanted = self.wanted.as_deref();
-        self.mechanism.outputs_into(&mut self.ws, &mut self.scratch, t, y, &mut self.row, wanted)?;
-        if !self.hold {
-            return self.sink.sample(t, &self.row).map_err(StepError::Caller);
-        }
-        self.pending_time.push(t);
-        self.pending_rows.extend_from_slice(&self.row);
-        Ok(())
-    }
-
-    /// Gives the sink the pending samples up to time `until`, drops the rest.
-    fn flush(&mut self, until: f64) -> Result<(), StepError> {
-        let width = self.row.len();
-        let result = self
-            .pending_time
-            .iter()
-            .zip(self.pending_rows.chunks_exact(width.max(1)))
-            .take_while(|(&t, _)| t <= until)
-            .try_for_each(|(&t, row)| self.sink.sample(t, row));
-        self.pending_time.clear();
-        self.pending_rows.clear();
-        result.map_err(StepError::Caller)
-    }
-
-    /// Records the grid points that the step `step` covers.
-    fn observe(&mut self, step: &dyn DenseStep) -> Result<(), StepError> {
-        // The previous step was final: the integrator went on from it.
-        self.flush(f64::INFINITY)?;
-        let (_, t1) = step.span();
-        if self.saveat > 0.0 {
-            loop {
-                let t = (self.start + self.next as f64 * self.saveat).min(self.stop);
-                let last = t >= self.stop;
-                if t > t1 + 1e-12 * self.saveat {
-                    break;
-                }
-                let mut y = std::mem::take(&mut self.y);
-                step.interpolate(t, &mut y);
-                let recorded = self.record(t, &y);
-                self.y = y;
-                recorded?;
-                self.next += 1;
-                if last {
-                    break;
-                }
-            }
-        } else {
-            self.record(t1, step.y())?;
-        }
-        match self.progress.as_mut() {
-            Some(p) => p(t1).map_err(StepError::Caller),
-            None => Ok(()),
-        }
-    }
-}
-
 /// When the error estimates of the accepted steps add up to more than this
 /// many tolerances, the run warns: the global error may be far above what
 /// was asked. The examples and Modelica references add up to 1 to 1.6e3
@@ -419,110 +247,19 @@ impl Mechanism {
         sink: &mut dyn SampleSink,
         progress: Option<&mut dyn FnMut(f64) -> Result<(), String>>,
     ) -> Result<RunReport, Stopped> {
-        let fail = |time: f64, reason: String| Stopped { time, reason, by_caller: false };
-        if let Err(e) = options.validate() {
-            return Err(fail(options.start, e.message));
-        }
-        if y0.len() != self.system.states.start.len() {
-            let reason = format!(
-                "the start state has {} values, the mechanism {} states",
-                y0.len(),
-                self.system.states.start.len()
-            );
-            return Err(fail(options.start, reason));
-        }
-        // Prescribed positions and speeds start where their signals are.
-        let imposed_start;
-        let y0 = if self.system.drives.is_empty() {
-            y0
-        } else {
-            let mut start = y0.to_vec();
-            self.impose_drives(&mut self.workspace(), options.start, &mut start);
-            imposed_start = start;
-            &imposed_start
-        };
-        let wanted = sink.columns().map(|columns| {
-            let table = self.signal_table();
-            let mut wanted = vec![false; self.components.len()];
-            for owner in columns.iter().filter_map(|&k| table.owner(k)) {
-                wanted[owner] = true;
-            }
-            wanted
-        });
-        let mut recorder = Recorder {
-            mechanism: self,
-            ws: self.workspace(),
-            scratch: OutputScratch::default(),
-            sink,
-            wanted,
-            progress,
-            row: Vec::new(),
-            y: vec![0.0; y0.len()],
-            pending_time: Vec::new(),
-            pending_rows: Vec::new(),
-            hold: false,
-            saveat: options.saveat,
-            start: options.start,
-            stop: options.stop,
-            next: 1,
-        };
-        let describe = |e: StepError, t: f64| match e {
-            StepError::Dynamics(e) => fail(t, self.describe(&e)),
-            StepError::Caller(reason) => Stopped { time: t, reason, by_caller: true },
-        };
-        if let Err(e) = recorder.record(options.start, y0).and_then(|_| recorder.flush(options.start)) {
-            return Err(describe(e, options.start));
-        }
-        let mut system =
-            Dynamics { mechanism: self, ws: self.workspace(), euler_sides: Vec::new(), euler_sides_now: Vec::new() };
-        if let Err(link) = self.system.euler_sides(y0, &mut system.euler_sides) {
-            let e = DynamicsError::EulerSingularity { link, time: options.start };
-            return Err(fail(options.start, self.describe(&e)));
-        }
-        recorder.hold = !system.euler_sides.is_empty();
-        let (t0, tf) = (options.start, options.stop);
-        let result = match options.method {
-            Method::DormandPrince45 => {
-                let tol = Tolerances { abstol: options.abstol, reltol: options.reltol, dtmax: options.dtmax };
-                dopri5::DormandPrince::new(y0.len(), tol).integrate(&mut system, t0, tf, y0, |s| recorder.observe(s))
-            }
-            Method::Rk4 { dt } => {
-                rk4::Rk4::new(y0.len(), dt).integrate(&mut system, t0, tf, y0, |s| recorder.observe(s))
-            }
-            Method::Rodas4 => {
-                let tol = Tolerances { abstol: options.abstol, reltol: options.reltol, dtmax: options.dtmax };
-                rodas::Rodas4::new(y0.len(), tol).integrate(&mut system, t0, tf, y0, |s| recorder.observe(s))
-            }
-        };
-        match result {
-            Ok(stats) => {
-                recorder.flush(f64::INFINITY).map_err(|e| describe(e, tf))?;
-                Ok(RunReport { stats, warnings: self.doubts(&stats, options) })
-            }
-            Err(integrator::Stopped { t, failure, .. }) => {
-                // A singularity inside the last step stops at its own time,
-                // whether the step's check or its outputs found it.
-                let t = match failure {
-                    Failure::Rhs(StepError::Dynamics(DynamicsError::EulerSingularity { time, .. }))
-                    | Failure::Observer(StepError::Dynamics(DynamicsError::EulerSingularity { time, .. }))
-                        if time.is_finite() && time <= t =>
-                    {
-                        time
-                    }
-                    _ => t,
-                };
-                recorder.flush(t).map_err(|e| describe(e, t))?;
-                Err(match failure {
-                    Failure::Rhs(e) | Failure::Observer(e) => describe(e, t),
-                    Failure::StepTooSmall { h } => fail(t, self.step_too_small(h)),
-                    Failure::NotFinite => fail(t, self.describe(&DynamicsError::NotFinite)),
-                })
-            }
-        }
+        let mut simulator = Simulator::from_state(self.into(), y0, options, sink.columns())?;
+        simulator.run(options.stop, sink, progress)?;
+        Ok(simulator.report())
+    }
+
+    /// The first time after `t` at which a source switches (a step, the
+    /// corners of ramps and tables): the integration stops exactly there.
+    pub fn next_time_event(&self, t: f64) -> f64 {
+        self.system.next_time_event(t)
     }
 
     /// Why the step size collapsed, as far as the run can tell.
-    fn step_too_small(&self, h: f64) -> String {
+    pub(crate) fn step_too_small(&self, h: f64) -> String {
         format!(
             "the step size fell to {h:e}, too small to make progress: the motion changes faster than the \
              integrator can follow here (a singular configuration, a force that grows without bound, or a \
@@ -532,7 +269,7 @@ impl Mechanism {
 
     /// Warnings about a run that met its error control step by step but
     /// may still be less accurate than asked.
-    fn doubts(&self, stats: &Stats, options: &SimulationOptions) -> Vec<String> {
+    pub(crate) fn doubts(&self, stats: &Stats, options: &SimulationOptions) -> Vec<String> {
         let mut doubts = Vec::new();
         let state = |i: usize| self.system.states.names.get(i).map_or("?", String::as_str);
         if let Some(stiff) = stats.stiff {

@@ -1,7 +1,7 @@
 //! The classical fixed-step Runge-Kutta method, with cubic Hermite dense
 //! output between steps.
 
-use super::integrator::{finish_step, DenseStep, Failure, OdeSystem, Stats, Stopped};
+use super::integrator::{finish_step, DenseStep, Failure, OdeSystem, Reached, Stats, Stopped};
 
 pub struct Rk4 {
     dt: f64,
@@ -13,6 +13,9 @@ pub struct Rk4 {
     stage: Vec<f64>,
     t_old: f64,
     h_old: f64,
+    /// Where the integration stands.
+    t: f64,
+    stats: Stats,
 }
 
 impl DenseStep for Rk4 {
@@ -54,39 +57,74 @@ impl Rk4 {
             stage: v(),
             t_old: 0.0,
             h_old: 0.0,
+            t: 0.0,
+            stats: Stats::default(),
         }
     }
 
+    #[cfg(test)]
     pub fn integrate<S: OdeSystem>(
         &mut self,
         sys: &mut S,
         t0: f64,
         tf: f64,
         y0: &[f64],
-        mut observe: impl FnMut(&Self) -> Result<(), S::Error>,
+        mut observe: impl FnMut(&dyn DenseStep) -> Result<(), S::Error>,
     ) -> Result<Stats, Stopped<S::Error>> {
-        let n = y0.len();
-        let mut stats = Stats::default();
-        self.y.copy_from_slice(y0);
+        self.start(sys, t0, y0)?;
+        self.advance(sys, tf, &mut observe)?;
+        Ok(self.stats)
+    }
+
+    /// Starts at `(t, y)`, or starts again there after an event.
+    pub fn start<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64]) -> Result<(), Stopped<S::Error>> {
+        self.y.copy_from_slice(y);
+        self.t = t;
+        if let Err(e) = sys.rhs(t, &self.y, &mut self.f_new) {
+            return Err(Stopped { t, failure: Failure::Rhs(e), stats: self.stats });
+        }
+        Ok(())
+    }
+
+    /// Steps from the current time to exactly `tf` in equal steps of
+    /// about `dt`, or to the first event inside a step.
+    pub fn advance<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        tf: f64,
+        observe: &mut dyn FnMut(&dyn DenseStep) -> Result<(), S::Error>,
+    ) -> Result<Reached, Stopped<S::Error>> {
+        let n = self.y.len();
+        let t0 = self.t;
+        if t0 >= tf {
+            return Ok(Reached::End);
+        }
         let steps = ((tf - t0) / self.dt).round().max(1.0) as usize;
         let h = (tf - t0) / steps as f64;
-        if let Err(e) = sys.rhs(t0, &self.y, &mut self.f_new) {
-            return Err(Stopped { t: t0, failure: Failure::Rhs(e), stats });
-        }
         for step in 0..steps {
             let t = t0 + step as f64 * h;
             std::mem::swap(&mut self.y_old, &mut self.y);
             std::mem::swap(&mut self.f_old, &mut self.f_new);
             if let Err(e) = self.step(sys, t, h, n) {
-                return Err(Stopped { t, failure: Failure::Rhs(e), stats });
+                return Err(Stopped { t, failure: Failure::Rhs(e), stats: self.stats });
             }
-            stats.evaluations += 4;
-            stats.accepted += 1;
+            self.stats.evaluations += 4;
+            self.stats.accepted += 1;
             self.t_old = t;
             self.h_old = h;
-            finish_step(sys, self, t + h, |s| (&mut s.y, &mut s.f_new), &mut observe, &mut stats)?;
+            self.t = if step + 1 == steps { tf } else { t + h };
+            let end = finish_step(sys, self, t + h, |s| (&mut s.y, &mut s.f_new, &mut s.stats), observe, true)?;
+            if let Some(te) = end {
+                self.t = te;
+                return Ok(Reached::Event(te));
+            }
         }
-        Ok(stats)
+        Ok(Reached::End)
+    }
+
+    /// The counts of the work done so far.
+    pub fn stats(&self) -> Stats {
+        self.stats
     }
 
     fn step<S: OdeSystem>(&mut self, sys: &mut S, t: f64, h: f64, n: usize) -> Result<(), S::Error> {

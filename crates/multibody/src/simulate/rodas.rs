@@ -82,7 +82,9 @@
 //!
 //! All memory is allocated in [`Rodas4::new`]; `integrate` allocates nothing.
 
-use super::integrator::{finish_step, initial_step, DenseStep, Failure, OdeSystem, Stats, Stopped, Tolerances};
+use super::integrator::{
+    finish_step, initial_step, DenseStep, Failure, OdeSystem, Reached, Stats, Stopped, Tolerances,
+};
 use crate::math::dense::{lu, lu_solve};
 
 /// The diagonal of the method: `W = I/(hγ) - J`.
@@ -155,6 +157,14 @@ pub struct Rodas4 {
     cont: [Vec<f64>; 4],
     t_old: f64,
     h_old: f64,
+    /// Where the integration stands, and the step it will try next.
+    t: f64,
+    h: f64,
+    h_max: f64,
+    rejected_last: bool,
+    /// Step and error of the last accepted step, for the predictive control.
+    previous: Option<(f64, f64)>,
+    stats: Stats,
 }
 
 impl DenseStep for Rodas4 {
@@ -195,118 +205,172 @@ impl Rodas4 {
             cont: [v(), v(), v(), v()],
             t_old: 0.0,
             h_old: 0.0,
+            t: 0.0,
+            h: 0.0,
+            h_max: 0.0,
+            rejected_last: false,
+            previous: None,
+            stats: Stats::default(),
         }
     }
 
     /// Integrates from `t0` to `tf` starting at `y0`, calling `observe`
     /// after every accepted step; stops like [`super::dopri5::DormandPrince`].
+    #[cfg(test)]
     pub fn integrate<S: OdeSystem>(
         &mut self,
         sys: &mut S,
         t0: f64,
         tf: f64,
         y0: &[f64],
-        mut observe: impl FnMut(&Self) -> Result<(), S::Error>,
+        mut observe: impl FnMut(&dyn DenseStep) -> Result<(), S::Error>,
     ) -> Result<Stats, Stopped<S::Error>> {
-        let mut stats = Stats::default();
-        self.y.copy_from_slice(y0);
-        let stop = |t: f64, failure, stats| Err(Stopped { t, failure, stats });
-        let mut t = t0;
-        stats.evaluations += 1;
+        self.start(sys, t0, y0, tf - t0)?;
+        self.advance(sys, tf, &mut observe)?;
+        Ok(self.stats)
+    }
+
+    /// Starts at `(t, y)` (or starts again there after an event), as
+    /// [`super::dopri5::DormandPrince::start`].
+    pub fn start<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        y: &[f64],
+        horizon: f64,
+    ) -> Result<(), Stopped<S::Error>> {
+        self.y.copy_from_slice(y);
+        self.t = t;
+        let stop = |failure, stats| Err(Stopped { t, failure, stats });
+        self.stats.evaluations += 1;
         if let Err(e) = sys.rhs(t, &self.y, &mut self.f) {
-            return stop(t, Failure::Rhs(e), stats);
+            return stop(Failure::Rhs(e), self.stats);
         }
-        let h_max = if self.tol.dtmax > 0.0 { self.tol.dtmax } else { (tf - t0).abs() };
+        self.h_max = if self.tol.dtmax > 0.0 { self.tol.dtmax } else { horizon.abs() };
         let scratch = (&mut self.arg[..], &mut self.k[0][..]);
-        let mut h = match initial_step(sys, t, &self.y, &self.f, &self.tol, h_max, EXPONENT, scratch, &mut stats) {
+        self.h = match initial_step(sys, t, &self.y, &self.f, &self.tol, self.h_max, EXPONENT, scratch, &mut self.stats)
+        {
             Ok(h) => h,
-            Err(e) => return stop(t, Failure::Rhs(e), stats),
+            Err(e) => return stop(Failure::Rhs(e), self.stats),
         };
+        self.rejected_last = false;
+        self.previous = None;
+        Ok(())
+    }
+
+    /// Steps from the current time to exactly `tf`, or to the first event
+    /// inside a step, as [`super::dopri5::DormandPrince::advance`].
+    pub fn advance<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        tf: f64,
+        observe: &mut dyn FnMut(&dyn DenseStep) -> Result<(), S::Error>,
+    ) -> Result<Reached, Stopped<S::Error>> {
+        let stop = |t: f64, failure, stats| Err(Stopped { t, failure, stats });
+        let mut h = self.h;
         // Whether `jac` and `f_t` belong to the current `(t, y)`.
         let mut jacobian_current = false;
-        let mut rejected_last = false;
-        // Step and error of the last accepted step, for the predictive control.
-        let mut previous: Option<(f64, f64)> = None;
-        while t < tf {
+        while self.t < tf {
+            let t = self.t;
             if 0.1 * h.abs() <= t.abs() * f64::EPSILON * 4.0 {
-                return stop(t, Failure::StepTooSmall { h }, stats);
+                return stop(t, Failure::StepTooSmall { h }, self.stats);
             }
             let last = t + 1.01 * h >= tf;
             if last {
                 h = tf - t;
             }
             if !jacobian_current {
-                if let Err(e) = self.jacobian(sys, t, &mut stats) {
-                    return stop(t, Failure::Rhs(e), stats);
+                let mut stats = self.stats;
+                let computed = self.jacobian(sys, t, &mut stats);
+                self.stats = stats;
+                if let Err(e) = computed {
+                    return stop(t, Failure::Rhs(e), self.stats);
                 }
                 jacobian_current = true;
             }
             if !self.factor(h) {
                 // 1/(hγ) is an eigenvalue of J: any other step will do.
-                stats.rejected += 1;
+                self.stats.rejected += 1;
                 h *= 0.5;
-                rejected_last = true;
+                self.rejected_last = true;
                 continue;
             }
-            if let Err(e) = self.stages(sys, t, h, &mut stats) {
-                return stop(t, Failure::Rhs(e), stats);
+            let mut stats = self.stats;
+            let staged = self.stages(sys, t, h, &mut stats);
+            self.stats = stats;
+            if let Err(e) = staged {
+                return stop(t, Failure::Rhs(e), self.stats);
             }
             let mut err = self.error_norm(&self.k[5]);
             if err <= 1.0 {
                 // The end of the step is good enough; is the continuous
                 // output in between?
-                match self.dense_error(sys, t, h, &mut stats) {
+                let mut stats = self.stats;
+                let dense = self.dense_error(sys, t, h, &mut stats);
+                self.stats = stats;
+                match dense {
                     Ok(dense) if dense.is_nan() || dense > err => err = dense,
                     Ok(_) => {}
-                    Err(e) => return stop(t, Failure::Rhs(e), stats),
+                    Err(e) => return stop(t, Failure::Rhs(e), self.stats),
                 }
             }
             if !err.is_finite() {
                 // A step too large for the dynamics: try a much smaller one.
-                stats.rejected += 1;
+                self.stats.rejected += 1;
                 h *= 0.1;
-                rejected_last = true;
+                self.rejected_last = true;
                 continue;
             }
             // h_new = h / fac
             let mut fac = (err.powf(EXPONENT) / SAFETY).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN);
             if err > 1.0 {
-                stats.rejected += 1;
+                self.stats.rejected += 1;
                 h /= fac;
-                rejected_last = true;
+                self.rejected_last = true;
                 continue;
             }
-            if let Some((h_prev, err_prev)) = previous {
+            if let Some((h_prev, err_prev)) = self.previous {
                 // Gustafsson: also look at how the error changed since the
                 // last accepted step, and take the more cautious step.
                 let predicted =
                     (h_prev / h * (err * err / err_prev).powf(EXPONENT) / SAFETY).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN);
                 fac = fac.max(predicted);
             }
-            previous = Some((h, err.max(1e-2)));
+            self.previous = Some((h, err.max(1e-2)));
             self.dense_coefficients();
             std::mem::swap(&mut self.y, &mut self.y_new);
             let t_end = if last { tf } else { t + h };
             // The derivative at the new point starts the next step.
-            stats.evaluations += 1;
+            self.stats.evaluations += 1;
             if let Err(e) = sys.rhs(t_end, &self.y, &mut self.f) {
-                return stop(t, Failure::Rhs(e), stats);
+                return stop(t, Failure::Rhs(e), self.stats);
             }
-            stats.accepted += 1;
-            stats.error_sum += err;
+            self.stats.accepted += 1;
+            self.stats.error_sum += err;
             self.t_old = t;
             self.h_old = h;
-            t = t_end;
-            finish_step(sys, self, t, |s| (&mut s.y, &mut s.f), &mut observe, &mut stats)?;
-            jacobian_current = false;
-            let mut h_new = (h / fac).min(h_max);
-            if rejected_last {
+            self.t = t_end;
+            let mut h_new = (h / fac).min(self.h_max);
+            if self.rejected_last {
                 h_new = h_new.min(h);
             }
-            rejected_last = false;
-            h = h_new;
+            self.rejected_last = false;
+            self.h = h_new;
+            let end = finish_step(sys, self, t_end, |s| (&mut s.y, &mut s.f, &mut s.stats), observe, true)?;
+            jacobian_current = false;
+            if let Some(te) = end {
+                self.t = te;
+                return Ok(Reached::Event(te));
+            }
+            h = self.h;
         }
-        Ok(stats)
+        self.h = h;
+        Ok(Reached::End)
+    }
+
+    /// The counts of the work done so far.
+    pub fn stats(&self) -> Stats {
+        self.stats
     }
 
     /// `∂f/∂y` and `∂f/∂t` at `(t, self.y)` by forward differences from

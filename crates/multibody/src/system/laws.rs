@@ -360,6 +360,41 @@ impl SignalSource {
 }
 
 impl SignalSource {
+    /// The first time after `t` at which the signal jumps or kinks (a time
+    /// event), or infinity.
+    pub fn next_switch(&self, t: f64) -> f64 {
+        let after = |times: &mut dyn Iterator<Item = f64>| times.filter(|&s| s > t).fold(f64::INFINITY, f64::min);
+        match *self {
+            SignalSource::Step { start_time, .. } | SignalSource::Sine { start_time, .. } => {
+                after(&mut [start_time].into_iter())
+            }
+            SignalSource::Ramp { duration, start_time, .. } => {
+                after(&mut [start_time, start_time + duration].into_iter())
+            }
+            SignalSource::Table { ref points } => after(&mut points.iter().map(|p| p.0)),
+            _ => f64::INFINITY,
+        }
+    }
+
+    /// The value just before `t` (its left limit): where the signal jumps
+    /// at `t`, the value it jumps from.
+    pub fn value_before(&self, t: f64) -> f64 {
+        match *self {
+            SignalSource::Step { height, offset, start_time } => offset + if t > start_time { height } else { 0.0 },
+            SignalSource::Sine { offset, start_time, .. } if t <= start_time => offset,
+            SignalSource::Table { ref points } => {
+                // Coming from before, the first row at `t` is reached (rows
+                // at the same time are a jump).
+                let k = points.partition_point(|p| p.0 < t);
+                match points.get(k) {
+                    Some(&(tk, yk)) if tk == t && k > 0 => yk,
+                    _ => self.value(t),
+                }
+            }
+            _ => self.value(t),
+        }
+    }
+
     /// The value and its first two time derivatives at `t`, for motion
     /// that a source prescribes (positions need their speed and
     /// acceleration). Jumps and kinks count as having zero derivative at

@@ -9,6 +9,7 @@
 
 pub mod drive;
 pub(crate) mod equations;
+pub mod friction;
 pub mod joint;
 pub mod laws;
 pub mod signals;
@@ -53,6 +54,9 @@ pub struct System {
     /// Linear relations between joint coordinates (gears), kept by
     /// constraint forces in the rows after those of `constraints`.
     pub(crate) couplings: Vec<Coupling>,
+    /// 1-D friction elements with modes; each has a constraint row after
+    /// the couplings', used while it is locked.
+    pub(crate) frictions: Vec<friction::Friction>,
     /// Force elements acting between frames.
     pub(crate) force_elements: Vec<ForceElement>,
     /// Groups of frames without mass whose position the force elements
@@ -85,6 +89,22 @@ pub struct System {
     pub(crate) states: StateLayout,
     /// Degrees of freedom: velocity coordinates less independent constraints.
     pub(crate) dof: usize,
+    /// What the dynamics knows of events, inputs and modes.
+    pub(crate) events: EventLayout,
+}
+
+/// The model's boundary and its discrete part: the inputs the host sets,
+/// the event indicators every evaluation writes (`Workspace::indicators`;
+/// an event is where one changes sign), and the discrete state (modes,
+/// the values of relations between events) that events change.
+#[derive(Debug, Clone, Default)]
+pub struct EventLayout {
+    /// The inputs by number: name and value before the host sets one.
+    pub inputs: Vec<(String, f64)>,
+    /// What each indicator watches, for messages.
+    pub indicators: Vec<String>,
+    /// The discrete state at the start, before the first event iteration.
+    pub discrete_start: Vec<f64>,
 }
 
 impl System {

@@ -63,6 +63,9 @@ pub enum SignalLaw {
     Unavailable { reason: &'static str },
     /// A slot the model's own equations write (they run in its place).
     Written,
+    /// Input number `index` of the model, which the host sets
+    /// (`Workspace::inputs`, holding `start` until then).
+    Input { index: usize, start: f64 },
 }
 
 impl SignalLaw {

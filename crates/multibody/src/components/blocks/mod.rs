@@ -2,6 +2,7 @@
 
 pub mod constant;
 pub mod equation;
+pub mod input;
 pub mod math;
 pub mod ramp;
 pub mod sine;

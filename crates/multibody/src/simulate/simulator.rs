@@ -1,0 +1,888 @@
+//! The [`Simulator`]: a compiled model with a boundary. It owns the
+//! integrator, the event handling and the recorder, and advances on
+//! request ([`Simulator::step_until`]) while the host sets inputs and reads
+//! or sets the state between calls. [`Mechanism::simulate`] is one call.
+//!
+//! Events: every evaluation of the dynamics writes its indicators
+//! (`Workspace::indicators`); an event is where one changes sign against
+//! its sign when the integration last started. It is located on the
+//! step's dense output by bisection, the step is cut there, and the event
+//! iteration runs the dynamics at that instant with relations evaluated as
+//! they are until no discrete value changes (applying `reinit`s), the
+//! state is moved back onto the constraints, and the integrator starts
+//! again. Time events (a source's switching times) end a stretch of
+//! integration exactly, the dynamics seeing the sources' left limits up to
+//! them.
+
+use super::integrator::{DenseStep, Failure, OdeSystem, Reached, Stats, Tolerances};
+use super::{dopri5, rk4, rodas, Method, RunReport, SampleSink, SimulationOptions, Solution, Stopped};
+use crate::assembly::Mechanism;
+use crate::dynamics::{DynamicsError, Workspace};
+use crate::outputs::OutputScratch;
+use std::ops::Deref;
+use std::sync::Arc;
+
+/// Passes of one event iteration before it is declared not to settle.
+const EVENT_ITERATIONS: usize = 50;
+/// Events within so short a time (relative to the time, at least 1 s)
+/// that, this many in a row, mean the events pile up (Zeno behaviour, or an
+/// indicator that chatters).
+const ZENO_SPAN: f64 = 1e-9;
+const ZENO_EVENTS: usize = 100;
+
+/// The mechanism a simulator runs: borrowed, or shared (as a host that
+/// keeps the simulator needs: Python, an FMU).
+#[derive(Clone)]
+pub enum Shared<'m> {
+    Borrowed(&'m Mechanism),
+    Owned(Arc<Mechanism>),
+}
+
+impl Deref for Shared<'_> {
+    type Target = Mechanism;
+    fn deref(&self) -> &Mechanism {
+        match self {
+            Shared::Borrowed(m) => m,
+            Shared::Owned(m) => m,
+        }
+    }
+}
+
+impl<'m> From<&'m Mechanism> for Shared<'m> {
+    fn from(m: &'m Mechanism) -> Self {
+        Shared::Borrowed(m)
+    }
+}
+
+impl From<Arc<Mechanism>> for Shared<'static> {
+    fn from(m: Arc<Mechanism>) -> Self {
+        Shared::Owned(m)
+    }
+}
+
+/// The integrator of the chosen method.
+enum Stepper {
+    DormandPrince(dopri5::DormandPrince),
+    Rk4(rk4::Rk4),
+    Rodas4(rodas::Rodas4),
+}
+
+impl Stepper {
+    fn new(n: usize, options: &SimulationOptions) -> Self {
+        let tol = Tolerances { abstol: options.abstol, reltol: options.reltol, dtmax: options.dtmax };
+        match options.method {
+            Method::DormandPrince45 => Stepper::DormandPrince(dopri5::DormandPrince::new(n, tol)),
+            Method::Rk4 { dt } => Stepper::Rk4(rk4::Rk4::new(n, dt)),
+            Method::Rodas4 => Stepper::Rodas4(rodas::Rodas4::new(n, tol)),
+        }
+    }
+
+    fn start<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64], horizon: f64) -> Result<(), Stop<S::Error>> {
+        match self {
+            Stepper::DormandPrince(s) => s.start(sys, t, y, horizon),
+            Stepper::Rk4(s) => s.start(sys, t, y),
+            Stepper::Rodas4(s) => s.start(sys, t, y, horizon),
+        }
+    }
+
+    fn advance<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        tf: f64,
+        observe: &mut dyn FnMut(&dyn DenseStep) -> Result<(), S::Error>,
+    ) -> Result<Reached, Stop<S::Error>> {
+        match self {
+            Stepper::DormandPrince(s) => s.advance(sys, tf, observe),
+            Stepper::Rk4(s) => s.advance(sys, tf, observe),
+            Stepper::Rodas4(s) => s.advance(sys, tf, observe),
+        }
+    }
+
+    /// The state reached.
+    fn state(&self) -> &[f64] {
+        match self {
+            Stepper::DormandPrince(s) => s.y(),
+            Stepper::Rk4(s) => s.y(),
+            Stepper::Rodas4(s) => s.y(),
+        }
+    }
+
+    fn stats(&self) -> Stats {
+        match self {
+            Stepper::DormandPrince(s) => s.stats(),
+            Stepper::Rk4(s) => s.stats(),
+            Stepper::Rodas4(s) => s.stats(),
+        }
+    }
+}
+
+type Stop<E> = super::integrator::Stopped<E>;
+
+/// What stops a step: the dynamics, the caller (through the sink or the
+/// progress callback), or events that do not settle.
+#[derive(Debug)]
+pub(crate) enum StepError {
+    Dynamics(DynamicsError),
+    Caller(String),
+    Events(String),
+}
+
+impl From<DynamicsError> for StepError {
+    fn from(e: DynamicsError) -> Self {
+        StepError::Dynamics(e)
+    }
+}
+
+/// Where the indicators stood when the integration last started, and
+/// scratch for locating a change.
+#[derive(Default)]
+struct Indicators {
+    /// Whether each indicator was positive.
+    above: Vec<bool>,
+    y: Vec<f64>,
+    dy: Vec<f64>,
+    /// The indicator that changed sign at the last event located.
+    last: Option<usize>,
+}
+
+impl Indicators {
+    /// The first indicator whose sign differs from where it stood.
+    fn changed(&self, values: &[f64]) -> Option<usize> {
+        values.iter().zip(&self.above).position(|(&g, &above)| (g > 0.0) != above)
+    }
+}
+
+/// The mechanism as an ODE for the integrators.
+struct Dynamics<'a> {
+    mechanism: &'a Mechanism,
+    ws: &'a mut Workspace,
+    /// Side of the singular configuration of each Euler-angle joint.
+    euler_sides: &'a mut Vec<f64>,
+    /// The same at the end of the step being accepted (scratch).
+    euler_sides_now: &'a mut Vec<f64>,
+    indicators: &'a mut Indicators,
+}
+
+impl OdeSystem for Dynamics<'_> {
+    type Error = StepError;
+    fn dim(&self) -> usize {
+        self.mechanism.system.states.start.len()
+    }
+    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), StepError> {
+        Ok(self.mechanism.rhs(self.ws, t, y, dy)?)
+    }
+
+    fn accept(&mut self, step: &dyn DenseStep, y: &mut [f64]) -> Result<bool, StepError> {
+        if !self.euler_sides.is_empty() {
+            self.euler_crossing(step, y)?;
+        }
+        Ok(self.mechanism.project(self.ws, step.span().1, y)?)
+    }
+
+    fn locate(&mut self, step: &dyn DenseStep, end_evaluated: bool) -> Result<Option<f64>, StepError> {
+        if self.indicators.above.is_empty() {
+            return Ok(None);
+        }
+        let (t0, t1) = step.span();
+        let mut ind = std::mem::take(self.indicators);
+        let located = self.first_change(step, t0, t1, end_evaluated, &mut ind);
+        *self.indicators = ind;
+        located
+    }
+}
+
+impl Dynamics<'_> {
+    /// The time of the first sign change of an indicator in `[t0, t1]`,
+    /// to the resolution of the time: bisection on the dense output
+    /// (whether any indicator changed is monotone in time where the step
+    /// meets a single crossing, as it does at the integrator's tolerance).
+    fn first_change(
+        &mut self,
+        step: &dyn DenseStep,
+        t0: f64,
+        t1: f64,
+        end_evaluated: bool,
+        ind: &mut Indicators,
+    ) -> Result<Option<f64>, StepError> {
+        if !end_evaluated {
+            self.mechanism.rhs(self.ws, t1, step.y(), &mut ind.dy)?;
+        }
+        let Some(mut which) = ind.changed(&self.ws.indicators) else { return Ok(None) };
+        let (mut lo, mut hi) = (t0, t1);
+        let resolution = 4.0 * f64::EPSILON * t0.abs().max(t1.abs()).max(1.0);
+        while hi - lo > resolution {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
+            }
+            step.interpolate(mid, &mut ind.y);
+            self.mechanism.rhs(self.ws, mid, &ind.y, &mut ind.dy)?;
+            match ind.changed(&self.ws.indicators) {
+                Some(k) => {
+                    hi = mid;
+                    which = k;
+                }
+                None => lo = mid,
+            }
+        }
+        ind.last = Some(which);
+        Ok(Some(hi))
+    }
+
+    /// Stops at an Euler-angle joint's singular configuration, also when the
+    /// step went across it (the motion may pass smoothly, the angles not):
+    /// the time is where `det J` changes sign, found on the dense output.
+    fn euler_crossing(&mut self, step: &dyn DenseStep, y: &[f64]) -> Result<(), DynamicsError> {
+        let (t0, t1) = step.span();
+        let sides = |mech: &Mechanism, y: &[f64], out: &mut Vec<f64>| mech.system.euler_sides(y, out);
+        let mut now = std::mem::take(self.euler_sides_now);
+        let crossed = match sides(self.mechanism, y, &mut now) {
+            Err(link) => Some(link),
+            Ok(()) => now.iter().zip(self.euler_sides.iter()).position(|(a, b)| a != b).map(|k| self.euler_link(k)),
+        };
+        let Some(link) = crossed else {
+            // Swap, so that accepted steps reuse both buffers.
+            *self.euler_sides_now = std::mem::replace(self.euler_sides, now);
+            return Ok(());
+        };
+        let (mut lo, mut hi) = (t0, t1);
+        let mut mid_state = vec![0.0; y.len()];
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            step.interpolate(mid, &mut mid_state);
+            match sides(self.mechanism, &mid_state, &mut now) {
+                Ok(()) if now == *self.euler_sides => lo = mid,
+                _ => hi = mid,
+            }
+        }
+        Err(DynamicsError::EulerSingularity { link, time: hi })
+    }
+
+    /// The link of the k-th Euler-angle joint.
+    fn euler_link(&self, k: usize) -> usize {
+        self.mechanism
+            .system
+            .links
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| {
+                matches!(
+                    l.joint.rotation_coordinates(),
+                    Some((_, crate::system::joint::RotationCoordinates::Euler { .. }))
+                )
+            })
+            .nth(k)
+            .map_or(0, |(i, _)| i)
+    }
+}
+
+/// What the recorder keeps between calls: the output grid's progress, its
+/// own workspace, and with Euler-angle joints the samples of the latest
+/// step, which wait until the step is final (a singular configuration found
+/// inside it cuts it short).
+struct RecorderState {
+    ws: Workspace,
+    scratch: OutputScratch,
+    row: Vec<f64>,
+    /// The components whose outputs the sink reads (`None`: all).
+    wanted: Option<Vec<bool>>,
+    y: Vec<f64>,
+    pending_time: Vec<f64>,
+    pending_rows: Vec<f64>,
+    /// Whether samples wait for their step to be final.
+    hold: bool,
+    saveat: f64,
+    start: f64,
+    stop: f64,
+    /// The next grid point's number (0: the start).
+    next: usize,
+    /// Whether the stop was recorded (a simulator may go on past it).
+    past_stop: bool,
+}
+
+/// The recorder during one call: its state, where samples go, and whom
+/// to tell the progress.
+struct Recorder<'a, 's, 'p, 'q> {
+    mechanism: &'a Mechanism,
+    state: &'a mut RecorderState,
+    sink: &'s mut dyn SampleSink,
+    progress: Option<&'p mut Progress<'q>>,
+}
+
+/// Told the time reached after every step; an error stops the run.
+type Progress<'q> = dyn FnMut(f64) -> Result<(), String> + 'q;
+
+impl Recorder<'_, '_, '_, '_> {
+    fn record(&mut self, t: f64, y: &[f64]) -> Result<(), StepError> {
+        let s = &mut *self.state;
+        let wanted = s.wanted.as_deref();
+        self.mechanism.outputs_into(&mut s.ws, &mut s.scratch, t, y, &mut s.row, wanted)?;
+        if !s.hold {
+            return self.sink.sample(t, &s.row).map_err(StepError::Caller);
+        }
+        s.pending_time.push(t);
+        s.pending_rows.extend_from_slice(&s.row);
+        Ok(())
+    }
+
+    /// Gives the sink the pending samples up to time `until`, drops the rest.
+    fn flush(&mut self, until: f64) -> Result<(), StepError> {
+        let s = &mut *self.state;
+        let width = s.row.len();
+        let result = s
+            .pending_time
+            .iter()
+            .zip(s.pending_rows.chunks_exact(width.max(1)))
+            .take_while(|(&t, _)| t <= until)
+            .try_for_each(|(&t, row)| self.sink.sample(t, row));
+        s.pending_time.clear();
+        s.pending_rows.clear();
+        result.map_err(StepError::Caller)
+    }
+
+    /// Records the grid points that the step `step` covers.
+    fn observe(&mut self, step: &dyn DenseStep) -> Result<(), StepError> {
+        // The previous step was final: the integrator went on from it.
+        self.flush(f64::INFINITY)?;
+        let (_, t1) = step.span();
+        if self.state.saveat > 0.0 {
+            loop {
+                let s = &*self.state;
+                let on_grid = s.start + s.next as f64 * s.saveat;
+                // The stop is a sample even off the grid; past it the grid goes on.
+                let t = if s.past_stop { on_grid } else { on_grid.min(s.stop) };
+                if t > t1 + 1e-12 * s.saveat {
+                    break;
+                }
+                if s.past_stop && on_grid <= s.stop {
+                    self.state.next += 1;
+                    continue;
+                }
+                let mut y = std::mem::take(&mut self.state.y);
+                step.interpolate(t, &mut y);
+                let recorded = self.record(t, &y);
+                self.state.y = y;
+                recorded?;
+                self.state.next += 1;
+                if t >= self.state.stop {
+                    self.state.past_stop = true;
+                }
+            }
+        } else {
+            self.record(t1, step.y())?;
+        }
+        match self.progress.as_mut() {
+            Some(p) => p(t1).map_err(StepError::Caller),
+            None => Ok(()),
+        }
+    }
+}
+
+/// A model being simulated, advanced on request.
+///
+/// ```no_run
+/// # use multibody::{Model, SimulationOptions, Simulator};
+/// # let mechanism = Model::new("m").assemble().unwrap();
+/// let options = SimulationOptions { stop: 5.0, saveat: 0.01, ..Default::default() };
+/// let mut sim = Simulator::new(&mechanism, &options).unwrap();
+/// while sim.time() < 5.0 {
+///     let angle = sim.value("rev.phi").unwrap();
+///     sim.set_input("torque", -4.0 * angle).unwrap();
+///     sim.step_until(sim.time() + 0.001).unwrap();
+/// }
+/// let result = sim.solution();
+/// ```
+pub struct Simulator<'m> {
+    mechanism: Shared<'m>,
+    options: SimulationOptions,
+    stepper: Stepper,
+    ws: Workspace,
+    indicators: Indicators,
+    euler_sides: Vec<f64>,
+    euler_sides_now: Vec<f64>,
+    recorder: RecorderState,
+    /// The samples [`Simulator::step_until`] records.
+    solution: Solution,
+    /// The time and state reached.
+    t: f64,
+    y: Vec<f64>,
+    /// The state to go back to on [`Simulator::reset`].
+    y0: Vec<f64>,
+    /// Whether the integrator holds `(t, y)` with its derivative, ready to
+    /// step on (events, inputs and a new state make it start again).
+    started: bool,
+    /// Events in a row within `ZENO_SPAN`, and when the first of them was.
+    piled: (usize, f64),
+    events: usize,
+    /// Work done by integrators that were replaced (on reset).
+    stats: Stats,
+}
+
+impl<'m> Simulator<'m> {
+    /// A simulator at the model's start values and `options.start`.
+    pub fn new(mechanism: impl Into<Shared<'m>>, options: &SimulationOptions) -> Result<Self, Stopped> {
+        let mechanism = mechanism.into();
+        let y0 = mechanism.system.states.start.clone();
+        Self::from_state(mechanism, &y0, options, None)
+    }
+
+    /// A simulator at the state `y0`, whose recorder computes only the
+    /// components of the signals `columns` (all if `None`).
+    pub(crate) fn from_state(
+        mechanism: Shared<'m>,
+        y0: &[f64],
+        options: &SimulationOptions,
+        columns: Option<&[usize]>,
+    ) -> Result<Self, Stopped> {
+        let fail = |reason: String| Stopped { time: options.start, reason, by_caller: false };
+        if let Err(e) = options.validate() {
+            return Err(fail(e.message));
+        }
+        let n = mechanism.system.states.start.len();
+        if y0.len() != n {
+            return Err(fail(format!("the start state has {} values, the mechanism {n} states", y0.len())));
+        }
+        let wanted = columns.map(|columns| {
+            let table = mechanism.signal_table();
+            let mut wanted = vec![false; mechanism.components.len()];
+            for owner in columns.iter().filter_map(|&k| table.owner(k)) {
+                wanted[owner] = true;
+            }
+            wanted
+        });
+        let recorder = RecorderState {
+            ws: mechanism.workspace(),
+            scratch: OutputScratch::default(),
+            row: Vec::new(),
+            wanted,
+            y: vec![0.0; n],
+            pending_time: Vec::new(),
+            pending_rows: Vec::new(),
+            hold: false,
+            saveat: options.saveat,
+            start: options.start,
+            stop: options.stop,
+            next: 0,
+            past_stop: false,
+        };
+        let mut sim = Simulator {
+            stepper: Stepper::new(n, options),
+            ws: mechanism.workspace(),
+            indicators: Indicators::default(),
+            euler_sides: Vec::new(),
+            euler_sides_now: Vec::new(),
+            recorder,
+            solution: Solution::with_signals(mechanism.signal_table().clone()),
+            t: options.start,
+            y: y0.to_vec(),
+            y0: y0.to_vec(),
+            started: false,
+            piled: (0, f64::NEG_INFINITY),
+            events: 0,
+            stats: Stats::default(),
+            options: options.clone(),
+            mechanism,
+        };
+        sim.begin().map_err(|e| sim.stopped(e, options.start))?;
+        Ok(sim)
+    }
+
+    /// Puts the simulator at its start: the start state with prescribed
+    /// coordinates where their signals are, the initial event iteration,
+    /// and the Euler-angle joints' sides.
+    fn begin(&mut self) -> Result<(), StepError> {
+        self.t = self.options.start;
+        self.y.copy_from_slice(&self.y0);
+        // Prescribed positions and speeds start where their signals are.
+        self.mechanism.impose_drives(&mut self.ws, self.t, &mut self.y);
+        self.ws.discrete.copy_from_slice(&self.mechanism.system.events.discrete_start);
+        self.ws.initial = true;
+        // Assembly started the state on the constraints already.
+        let settled = self.event_iteration(false);
+        self.ws.initial = false;
+        settled?;
+        if let Err(link) = self.mechanism.system.euler_sides(&self.y, &mut self.euler_sides) {
+            return Err(StepError::Dynamics(DynamicsError::EulerSingularity { link, time: self.t }));
+        }
+        self.recorder.hold = !self.euler_sides.is_empty();
+        self.recorder.next = 0;
+        self.recorder.past_stop = false;
+        self.started = false;
+        self.piled = (0, f64::NEG_INFINITY);
+        Ok(())
+    }
+
+    /// The time reached.
+    pub fn time(&self) -> f64 {
+        self.t
+    }
+
+    /// The state reached, in the order of [`Simulator::state_names`].
+    pub fn state(&self) -> &[f64] {
+        &self.y
+    }
+
+    /// The names of the states.
+    pub fn state_names(&self) -> &[String] {
+        &self.mechanism.system.states.names
+    }
+
+    /// Sets the whole state; the integrator starts again from it.
+    pub fn set_state(&mut self, y: &[f64]) -> Result<(), String> {
+        if y.len() != self.y.len() {
+            return Err(format!("the state has {} values, not {}", self.y.len(), y.len()));
+        }
+        if let Some(k) = y.iter().position(|x| !x.is_finite()) {
+            return Err(format!("the value of `{}` is not finite ({})", self.state_names()[k], y[k]));
+        }
+        self.y.copy_from_slice(y);
+        self.started = false;
+        Ok(())
+    }
+
+    /// Sets one state by its name (`rev.phi`, `body.v_0[2]`).
+    pub fn set_state_value(&mut self, name: &str, value: f64) -> Result<(), String> {
+        let k = self.state_index(name)?;
+        let mut y = self.y.clone();
+        y[k] = value;
+        self.set_state(&y)
+    }
+
+    /// A state's value by its name.
+    pub fn state_value(&self, name: &str) -> Result<f64, String> {
+        Ok(self.y[self.state_index(name)?])
+    }
+
+    fn state_index(&self, name: &str) -> Result<usize, String> {
+        let names = self.state_names();
+        names.iter().position(|n| n == name).ok_or_else(|| {
+            let hint = did_you_mean(name, names.iter().map(String::as_str));
+            format!("`{name}` is not a state of the model{hint} (its states: {})", names.join(", "))
+        })
+    }
+
+    /// The names of the model's inputs.
+    pub fn input_names(&self) -> Vec<&str> {
+        self.mechanism.system.events.inputs.iter().map(|(n, _)| n.as_str()).collect()
+    }
+
+    /// Sets an input; it holds this value until set again.
+    pub fn set_input(&mut self, name: &str, value: f64) -> Result<(), String> {
+        let inputs = &self.mechanism.system.events.inputs;
+        let Some(k) = inputs.iter().position(|(n, _)| n == name) else {
+            let names: Vec<&str> = inputs.iter().map(|(n, _)| n.as_str()).collect();
+            return Err(if names.is_empty() {
+                format!("the model has no inputs, so not `{name}`: declare one as a RealInput of the model")
+            } else {
+                let hint = did_you_mean(name, names.iter().copied());
+                format!("`{name}` is not an input of the model{hint} (its inputs: {})", names.join(", "))
+            });
+        };
+        if !value.is_finite() {
+            return Err(format!("the input `{name}` must be finite, not {value}"));
+        }
+        if self.ws.inputs[k] != value {
+            self.ws.inputs[k] = value;
+            self.recorder.ws.inputs[k] = value;
+            // The derivative the integrator carries is stale.
+            self.started = false;
+        }
+        Ok(())
+    }
+
+    /// The value of any variable of the model (a column of the results)
+    /// at the time and state reached.
+    pub fn value(&mut self, name: &str) -> Result<f64, String> {
+        let table = self.mechanism.signal_table().clone();
+        let Some(k) = table.index(name) else {
+            let hint = did_you_mean(name, table.names().iter().map(String::as_str));
+            return Err(format!("the model has no variable `{name}`{hint}"));
+        };
+        let mut wanted = vec![false; self.mechanism.components.len()];
+        if let Some(owner) = table.owner(k) {
+            wanted[owner] = true;
+        }
+        let r = &mut self.recorder;
+        self.mechanism
+            .outputs_into(&mut r.ws, &mut r.scratch, self.t, &self.y, &mut r.row, Some(&wanted))
+            .map_err(|e| self.mechanism.describe(&e))?;
+        Ok(r.row[k])
+    }
+
+    /// The samples recorded so far on the output grid (every `saveat`
+    /// from `start`; at the end of each step with `saveat = 0`).
+    pub fn solution(&self) -> &Solution {
+        &self.solution
+    }
+
+    /// Takes the samples recorded so far, leaving none.
+    pub fn take_solution(&mut self) -> Solution {
+        let empty = Solution::with_signals(self.mechanism.signal_table().clone());
+        std::mem::replace(&mut self.solution, empty)
+    }
+
+    /// How many events were handled (time events and state events).
+    pub fn event_count(&self) -> usize {
+        self.events
+    }
+
+    /// Back to the start state, time, inputs and discrete state; the
+    /// samples recorded are dropped.
+    pub fn reset(&mut self) -> Result<(), String> {
+        self.stats = self.stats();
+        self.stepper = Stepper::new(self.y.len(), &self.options);
+        let inputs: Vec<f64> = self.mechanism.system.events.inputs.iter().map(|i| i.1).collect();
+        self.ws.inputs.copy_from_slice(&inputs);
+        self.recorder.ws.inputs.copy_from_slice(&inputs);
+        self.take_solution();
+        self.events = 0;
+        self.begin().map_err(|e| self.stopped(e, self.options.start).reason)
+    }
+
+    /// Counts of the integrators' work since the simulator was made.
+    pub fn stats(&self) -> Stats {
+        let now = self.stepper.stats();
+        Stats {
+            accepted: self.stats.accepted + now.accepted,
+            rejected: self.stats.rejected + now.rejected,
+            evaluations: self.stats.evaluations + now.evaluations,
+            error_sum: self.stats.error_sum + now.error_sum,
+            stiff: self.stats.stiff.or(now.stiff),
+        }
+    }
+
+    /// Integrates to exactly `t` (handling the events on the way),
+    /// recording the grid points passed into [`Simulator::solution`]. On
+    /// failure the simulator stays at the last good time, and what was
+    /// recorded is kept.
+    pub fn step_until(&mut self, t: f64) -> Result<(), Stopped> {
+        let mut solution = std::mem::take(&mut self.solution);
+        let result = self.run(t, &mut solution, None);
+        self.solution = solution;
+        result
+    }
+
+    /// Integrates to exactly `target`, giving the samples of the output
+    /// grid to `sink` and the time reached after every step to `progress`.
+    pub fn run(
+        &mut self,
+        target: f64,
+        sink: &mut dyn SampleSink,
+        mut progress: Option<&mut Progress>,
+    ) -> Result<(), Stopped> {
+        if !target.is_finite() {
+            return Err(self.stopped(StepError::Caller(format!("cannot step until t = {target}")), self.t));
+        }
+        if self.recorder.next == 0 {
+            let mut recorder = Recorder { mechanism: &self.mechanism, state: &mut self.recorder, sink, progress: None };
+            let (t, y) = (self.t, self.y.clone());
+            if let Err(e) = recorder.record(t, &y).and_then(|_| recorder.flush(t)) {
+                return Err(self.stopped(e, t));
+            }
+            self.recorder.next = 1;
+        }
+        while self.t < target {
+            let time_event = self.mechanism.next_time_event(self.t);
+            let tf = target.min(time_event);
+            let reached = self.advance(tf, sink, progress.as_deref_mut());
+            match reached {
+                Ok(Reached::End) => {
+                    self.t = tf;
+                    if tf == time_event {
+                        self.ws.left_limit_at = f64::NAN;
+                        if let Err(e) = self.event() {
+                            return Err(self.stopped(e, tf));
+                        }
+                    }
+                }
+                Ok(Reached::Event(te)) => {
+                    self.t = te;
+                    if let Err(e) = self.event() {
+                        return Err(self.stopped(e, te));
+                    }
+                }
+                Err(stop) => return Err(stop),
+            }
+        }
+        // The last step is final: its samples go out.
+        let mut recorder = Recorder { mechanism: &self.mechanism, state: &mut self.recorder, sink, progress: None };
+        recorder.flush(f64::INFINITY).map_err(|e| self.stopped(e, self.t))
+    }
+
+    /// One stretch of integration to `tf` (a target or a time event), or to
+    /// the first state event before it.
+    fn advance<'q>(
+        &mut self,
+        tf: f64,
+        sink: &mut dyn SampleSink,
+        progress: Option<&mut Progress<'q>>,
+    ) -> Result<Reached, Stopped> {
+        let Simulator { mechanism, stepper, ws, indicators, euler_sides, euler_sides_now, recorder, .. } = self;
+        let mechanism: &Mechanism = mechanism;
+        let time_event = mechanism.next_time_event(self.t) == tf;
+        // Up to a time event the sources show their values before it.
+        ws.left_limit_at = if time_event { tf } else { f64::NAN };
+        let mut system = Dynamics { mechanism, ws, euler_sides, euler_sides_now, indicators };
+        let horizon = (self.options.stop - self.options.start).max(tf - self.t);
+        if !self.started {
+            if let Err(stop) = stepper.start(&mut system, self.t, &self.y, horizon) {
+                system.ws.left_limit_at = f64::NAN;
+                return Err(self.stop_integration(stop));
+            }
+            self.started = true;
+        }
+        let mut recorder = Recorder { mechanism, state: recorder, sink, progress };
+        let result = stepper.advance(&mut system, tf, &mut |s| recorder.observe(s));
+        system.ws.left_limit_at = f64::NAN;
+        if let Err(stop) = &result {
+            // The samples of the last step up to the failure are good.
+            let t = failure_time(stop);
+            if let Err(e) = recorder.flush(t) {
+                return Err(self.stopped(e, t));
+            }
+        }
+        match result {
+            Ok(reached) => {
+                self.y.copy_from_slice(self.stepper.state());
+                if let Reached::Event(_) = reached {
+                    self.started = false;
+                }
+                Ok(reached)
+            }
+            Err(stop) => Err(self.stop_integration(stop)),
+        }
+    }
+
+    /// The report of a failed stretch of integration, with the samples up
+    /// to the failure given out.
+    fn stop_integration(&mut self, stop: Stop<StepError>) -> Stopped {
+        let t = failure_time(&stop);
+        let failure = stop.failure;
+        self.started = false;
+        let reason = match failure {
+            Failure::Rhs(e) | Failure::Observer(e) => return self.stopped(e, t),
+            Failure::StepTooSmall { h } => self.mechanism.step_too_small(h),
+            Failure::NotFinite => self.mechanism.describe(&DynamicsError::NotFinite),
+        };
+        Stopped { time: t, reason, by_caller: false }
+    }
+
+    /// The report of an error at time `t`.
+    fn stopped(&self, e: StepError, t: f64) -> Stopped {
+        match e {
+            StepError::Dynamics(e) => Stopped { time: t, reason: self.mechanism.describe(&e), by_caller: false },
+            StepError::Caller(reason) => Stopped { time: t, reason, by_caller: true },
+            StepError::Events(reason) => Stopped { time: t, reason, by_caller: false },
+        }
+    }
+
+    /// Handles an event at the time reached: the event iteration, the state
+    /// back onto the constraints, the indicators' new signs; the integrator
+    /// starts again.
+    fn event(&mut self) -> Result<(), StepError> {
+        self.events += 1;
+        let t = self.t;
+        if t - self.piled.1 <= ZENO_SPAN * t.abs().max(1.0) {
+            self.piled.0 += 1;
+            if self.piled.0 >= ZENO_EVENTS {
+                let which = self
+                    .indicators
+                    .last
+                    .and_then(|k| self.mechanism.system.events.indicators.get(k))
+                    .map_or("a source's switching time".to_string(), |n| format!("`{n}`"));
+                return Err(StepError::Events(format!(
+                    "{ZENO_EVENTS} events within {:.1e} s, the last at {which}: the events pile up (a bounce that \
+                     loses energy geometrically, or a condition that switches back and forth). Stop it with a \
+                     condition that ends it (a rest threshold), or smooth the switch",
+                    self.piled.1.max(t) - self.piled.1.min(t)
+                )));
+            }
+        } else {
+            self.piled = (1, t);
+        }
+        self.event_iteration(true)?;
+        self.started = false;
+        Ok(())
+    }
+
+    /// Evaluates the dynamics at the time and state reached with relations
+    /// as they are, until no discrete value changes (applying `reinit`s);
+    /// then moves the state onto the constraints and takes the indicators'
+    /// signs from there (at the start, only where a `reinit` moved it).
+    fn event_iteration(&mut self, project: bool) -> Result<(), StepError> {
+        let mechanism = &*self.mechanism;
+        let (t, n) = (self.t, self.y.len());
+        let ind = &mut self.indicators;
+        ind.dy.resize(n, 0.0);
+        ind.y.resize(n, 0.0);
+        let discrete = !mechanism.system.events.discrete_start.is_empty();
+        if discrete || !mechanism.system.events.indicators.is_empty() {
+            self.ws.at_event = true;
+            let mut settled = false;
+            for _ in 0..EVENT_ITERATIONS {
+                self.ws.discrete_pre.copy_from_slice(&self.ws.discrete);
+                self.ws.reinits.clear();
+                let evaluated = mechanism.rhs(&mut self.ws, t, &self.y, &mut ind.dy);
+                if let Err(e) = evaluated {
+                    self.ws.at_event = false;
+                    return Err(e.into());
+                }
+                for &(k, value) in &self.ws.reinits {
+                    self.y[k] = value;
+                }
+                if self.ws.discrete == self.ws.discrete_pre && self.ws.reinits.is_empty() {
+                    settled = true;
+                    break;
+                }
+            }
+            self.ws.at_event = false;
+            if !settled {
+                let names = &mechanism.system.events.indicators;
+                let changing: Vec<&str> = (0..self.ws.discrete.len())
+                    .filter(|&k| self.ws.discrete[k] != self.ws.discrete_pre[k])
+                    .filter_map(|k| names.get(k).map(String::as_str))
+                    .collect();
+                return Err(StepError::Events(format!(
+                    "the event iteration at t = {t} does not settle after {EVENT_ITERATIONS} passes: the modes keep \
+                     changing ({}). The conditions contradict each other at this instant",
+                    if changing.is_empty() { "reinit".to_string() } else { changing.join(", ") }
+                )));
+            }
+            self.recorder.ws.discrete.copy_from_slice(&self.ws.discrete);
+        }
+        if project || !self.ws.reinits.is_empty() {
+            mechanism.project(&mut self.ws, t, &mut self.y)?;
+        }
+        if !mechanism.system.events.indicators.is_empty() {
+            mechanism.rhs(&mut self.ws, t, &self.y, &mut ind.dy)?;
+            ind.above.clear();
+            ind.above.extend(self.ws.indicators.iter().map(|&g| g > 0.0));
+        }
+        Ok(())
+    }
+
+    /// The warnings and counts of a run that reached its end.
+    pub(crate) fn report(&self) -> RunReport {
+        let stats = self.stats();
+        RunReport { stats, warnings: self.mechanism.doubts(&stats, &self.options) }
+    }
+}
+
+/// When a failed integration stopped: a singularity inside the last step
+/// stops at its own time, whether the step's check or its outputs found it.
+fn failure_time(stop: &Stop<StepError>) -> f64 {
+    match stop.failure {
+        Failure::Rhs(StepError::Dynamics(DynamicsError::EulerSingularity { time, .. }))
+        | Failure::Observer(StepError::Dynamics(DynamicsError::EulerSingularity { time, .. }))
+            if time.is_finite() && time <= stop.t =>
+        {
+            time
+        }
+        _ => stop.t,
+    }
+}
+
+/// `; did you mean `x`?` for the candidate nearest `name`, if one is near.
+fn did_you_mean<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> String {
+    crate::error::closest(name, candidates).first().map_or(String::new(), |c| format!("; did you mean `{c}`?"))
+}

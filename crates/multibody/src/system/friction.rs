@@ -1,0 +1,273 @@
+//! 1-D friction with modes, after Modelica's `PartialFriction`: an element
+//! between two flanges (a clutch between two shafts, a brake or bearing
+//! between a flange and its support) that slides with a force given by
+//! its law, sticks when the relative speed reaches zero, holds as a
+//! constraint while the force that keeps it stuck stays within its limit,
+//! and breaks away beyond it. The mode is discrete state that changes only
+//! at events; the indicators say when to look again.
+
+use super::FlangeRef;
+
+/// The mode of a friction element, as Modelica numbers it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrictionMode {
+    Backward = -1,
+    Stuck = 0,
+    Forward = 1,
+    Free = 2,
+    /// Before the first event iteration.
+    Unknown = 3,
+}
+
+impl FrictionMode {
+    pub fn from_value(x: f64) -> Self {
+        match x as i32 {
+            -1 => FrictionMode::Backward,
+            0 => FrictionMode::Stuck,
+            1 => FrictionMode::Forward,
+            2 => FrictionMode::Free,
+            _ => FrictionMode::Unknown,
+        }
+    }
+}
+
+/// How much force the element transmits: `scale * mu(v)` while sliding at
+/// relative speed `v >= 0` (mirrored below zero), where `scale` is
+/// `cgeo fn_max` times the normal-force signal (or 1 without one), and up
+/// to `peak` times the sliding force at zero speed while stuck.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrictionLaw {
+    /// `(v, mu)` rows, `v >= 0` ascending: interpolated linearly and
+    /// extrapolated linearly beyond the ends (one row: a constant).
+    pub table: Vec<(f64, f64)>,
+    pub peak: f64,
+    /// `cgeo fn_max`: the normal-force signal's scale (1 without one).
+    pub scale: f64,
+    /// A sliding element whose speed passes `-v_small` (or `+v_small`)
+    /// reverses without sticking (Modelica's `v_small`, `w_small`).
+    pub v_small: f64,
+}
+
+impl FrictionLaw {
+    /// `mu(v)` for `v >= 0`.
+    pub fn mu(&self, v: f64) -> f64 {
+        let t = &self.table;
+        match t.len() {
+            0 => 0.0,
+            1 => t[0].1,
+            n => {
+                let k = t.partition_point(|p| p.0 <= v).clamp(1, n - 1);
+                let ((v0, m0), (v1, m1)) = (t[k - 1], t[k]);
+                if v1 > v0 {
+                    m0 + (m1 - m0) * (v - v0) / (v1 - v0)
+                } else {
+                    m1
+                }
+            }
+        }
+    }
+}
+
+/// A friction element in the compiled model.
+#[derive(Clone, Debug)]
+pub(crate) struct Friction {
+    /// The relative motion is `b - a`; the element's force pushes `b` back
+    /// and `a` forward while it slides forward (`b` faster).
+    pub a: FlangeRef,
+    pub b: FlangeRef,
+    pub law: FrictionLaw,
+    /// The signal slot of the normalized normal force, if any.
+    pub normal: Option<usize>,
+    /// Its constraint row (used while locked).
+    pub row: usize,
+    /// Its first discrete slot: mode, startForward, startBackward, free.
+    pub discrete: usize,
+    /// Its first indicator (three).
+    pub indicator: usize,
+}
+
+/// Indicators per friction element.
+pub(crate) const FRICTION_INDICATORS: usize = 3;
+/// Discrete slots per friction element: mode, startForward, startBackward, free.
+pub(crate) const FRICTION_DISCRETE: usize = 4;
+
+/// What a friction element computed in the last evaluation.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrictionValues {
+    pub s_rel: f64,
+    pub v_rel: f64,
+    pub a_rel: f64,
+    /// The element's force (Law1D's sign: it pushes `b` back).
+    pub force: f64,
+    /// The normal force `scale * signal`, and the limits of a stuck element.
+    pub normal: f64,
+    pub f0: f64,
+    pub f0_max: f64,
+    /// Modelica's path parameter: the holding force while locked.
+    pub sa: f64,
+    pub locked: bool,
+    pub free: bool,
+}
+
+/// The discrete state of a friction element.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct FrictionFlags {
+    pub mode: FrictionMode,
+    pub start_forward: bool,
+    pub start_backward: bool,
+    /// No normal force: decided at events like the rest (between them the
+    /// normal force may cross zero only where an indicator says so).
+    pub free: bool,
+}
+
+impl FrictionFlags {
+    pub fn read(d: &[f64]) -> Self {
+        FrictionFlags {
+            mode: FrictionMode::from_value(d[0]),
+            start_forward: d[1] != 0.0,
+            start_backward: d[2] != 0.0,
+            free: d[3] != 0.0,
+        }
+    }
+
+    pub fn write(&self, d: &mut [f64]) {
+        d[0] = self.mode as i32 as f64;
+        d[1] = self.start_forward as i32 as f64;
+        d[2] = self.start_backward as i32 as f64;
+        d[3] = self.free as i32 as f64;
+    }
+
+    /// Before the first event iteration.
+    pub const START: [f64; FRICTION_DISCRETE] = [3.0, 0.0, 0.0, 0.0];
+
+    /// Whether the element is a constraint: stuck (or just engaged from
+    /// free), not breaking away, and pressed.
+    pub fn locked(&self) -> bool {
+        use FrictionMode::*;
+        !self.free
+            && !(matches!(self.mode, Forward | Backward) || self.start_forward || self.start_backward)
+            && self.mode != Unknown
+    }
+
+    /// The sliding force at relative speed `v` (zero when free or locked).
+    pub fn force(&self, law: &FrictionLaw, normal: f64, v: f64) -> f64 {
+        if self.free || self.locked() || self.mode == FrictionMode::Unknown {
+            return 0.0;
+        }
+        let forward = self.start_forward || (self.mode == FrictionMode::Forward && !self.start_backward);
+        if forward {
+            normal * law.mu(v.max(0.0))
+        } else {
+            -normal * law.mu((-v).max(0.0))
+        }
+    }
+
+    /// The next discrete state from `pre` (the last pass's), as Modelica's
+    /// PartialFriction decides it, given the speed `v` and the path
+    /// parameter `sa` of the pass evaluated with `pre`.
+    pub fn next(
+        pre: &FrictionFlags,
+        v: f64,
+        sa: f64,
+        f0: f64,
+        f0_max: f64,
+        v_small: f64,
+        free: bool,
+        initial: bool,
+    ) -> Self {
+        use FrictionMode::*;
+        let start_forward = pre.mode == Stuck && (sa > f0_max || pre.start_forward && sa > f0)
+            || pre.mode == Backward && v > v_small
+            || initial && v > 0.0;
+        let start_backward = pre.mode == Stuck && (sa < -f0_max || pre.start_backward && sa < -f0)
+            || pre.mode == Forward && v < -v_small
+            || initial && v < 0.0;
+        let mode = if free {
+            Free
+        } else if (matches!(pre.mode, Forward | Free) || start_forward) && v > 0.0 {
+            Forward
+        } else if (matches!(pre.mode, Backward | Free) || start_backward) && v < 0.0 {
+            Backward
+        } else {
+            Stuck
+        };
+        FrictionFlags { mode, start_forward, start_backward, free }
+    }
+
+    /// The indicators that watch for the next change, given what the
+    /// element computed: they change sign where the mode must be looked
+    /// at again.
+    pub fn indicators(&self, values: &FrictionValues, out: &mut [f64]) {
+        use FrictionMode::*;
+        out.fill(1.0);
+        let pressed = values.normal;
+        let v = values.v_rel;
+        match self.mode {
+            _ if values.free => out[0] = pressed,
+            _ if values.locked => {
+                out[0] = values.f0_max - values.sa;
+                out[1] = values.sa + values.f0_max;
+                out[2] = pressed;
+            }
+            Stuck if self.start_forward => {
+                out[0] = v;
+                out[1] = values.sa - values.f0;
+                out[2] = pressed;
+            }
+            Stuck if self.start_backward => {
+                out[0] = -v;
+                out[1] = -values.sa - values.f0;
+                out[2] = pressed;
+            }
+            Forward => {
+                out[0] = v;
+                out[2] = pressed;
+            }
+            Backward => {
+                out[0] = -v;
+                out[2] = pressed;
+            }
+            _ => out[2] = pressed,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn law() -> FrictionLaw {
+        FrictionLaw { table: vec![(0.0, 0.5)], peak: 1.1, scale: 20.0, v_small: 1e10 }
+    }
+
+    #[test]
+    fn a_table_is_interpolated_and_extrapolated_linearly() {
+        let l = FrictionLaw { table: vec![(0.0, 0.5), (1.0, 0.3)], ..law() };
+        assert_eq!([l.mu(0.0), l.mu(0.5), l.mu(2.0)], [0.5, 0.4, 0.09999999999999998]);
+        assert_eq!(law().mu(7.0), 0.5);
+    }
+
+    #[test]
+    fn modes_follow_partial_friction() {
+        use FrictionMode::*;
+        let (f0, f0_max) = (10.0, 11.0);
+        let flags = |mode| FrictionFlags { mode, start_forward: false, start_backward: false, free: false };
+        // At the start, an engaged element slides the way it moves.
+        let start = FrictionFlags::next(&flags(Unknown), -10.0, 0.0, f0, f0_max, 1e10, false, true);
+        assert_eq!((start.mode, start.start_backward), (Backward, true));
+        // Engaging from free with a speed slides; at rest it sticks.
+        assert_eq!(FrictionFlags::next(&flags(Free), 2.0, 0.0, f0, f0_max, 1e10, false, false).mode, Forward);
+        assert_eq!(FrictionFlags::next(&flags(Free), 0.0, 0.0, f0, f0_max, 1e10, false, false).mode, Stuck);
+        // Sliding forward, the speed reaching zero sticks (v_small large).
+        assert_eq!(FrictionFlags::next(&flags(Forward), -1e-12, 0.0, f0, f0_max, 1e10, false, false).mode, Stuck);
+        // Stuck within the limit holds; beyond it the start flag rises.
+        let held = FrictionFlags::next(&flags(Stuck), 0.0, 10.5, f0, f0_max, 1e10, false, false);
+        assert!(held.locked());
+        let away = FrictionFlags::next(&flags(Stuck), 0.0, 11.5, f0, f0_max, 1e10, false, false);
+        assert_eq!((away.mode, away.start_forward, away.locked()), (Stuck, true, false));
+        // ... and the mode follows once the speed has the sign.
+        assert_eq!(FrictionFlags::next(&away, 1e-9, 10.5, f0, f0_max, 1e10, false, false).mode, Forward);
+        // No normal force: free.
+        assert_eq!(FrictionFlags::next(&flags(Forward), 1.0, 0.0, f0, f0_max, 1e10, true, false).mode, Free);
+    }
+}
