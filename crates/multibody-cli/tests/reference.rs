@@ -273,3 +273,31 @@ fn rolling_wheel_set_driving() {
     let names: Vec<&str> = map.iter().map(|m| m.0).collect();
     assert_pairs_within_tube(&reference, &mapped, &names.iter().map(|n| (*n, *n)).collect::<Vec<_>>());
 }
+
+/// A brake (translational friction with modes): free, then sliding forward
+/// from the time event at 0.1 s, then stuck from the state event at 1.1 s;
+/// the mode and the start flags are compared as signals too.
+#[test]
+fn brake() {
+    let mut signals = Vec::new();
+    for (mass, brake) in [("mass1", "brake"), ("mass2", "brake1")] {
+        signals.extend([format!("{mass}.s"), format!("{mass}.v")]);
+        signals.extend(["mode", "startBackward", "startForward"].map(|v| format!("{brake}.{v}")));
+    }
+    let signals: Vec<&str> = signals.iter().map(String::as_str).collect();
+    check("Brake", &signals);
+}
+
+/// Three clutches between four inertias (rotational friction with modes):
+/// sliding, sticking with their torques solved together, breaking away,
+/// and free; the modes and start flags are compared as signals too.
+#[test]
+fn coupled_clutches() {
+    let mut signals = vec!["J1.phi".to_string(), "J1.w".to_string()];
+    for k in 1..=3 {
+        let vars = ["phi_rel", "w_rel", "mode", "startBackward", "startForward"];
+        signals.extend(vars.map(|v| format!("clutch{k}.{v}")));
+    }
+    let signals: Vec<&str> = signals.iter().map(String::as_str).collect();
+    check("CoupledClutches", &signals);
+}

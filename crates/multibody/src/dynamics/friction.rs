@@ -81,7 +81,7 @@ impl System {
             flags.indicators(&values, &mut ws.indicators[f.indicator..f.indicator + FRICTION_INDICATORS]);
             if ws.at_event {
                 let free = f.normal.is_some() && normal <= 0.0;
-                let next = FrictionFlags::next(&flags, v_rel, sa, f0, f0_max, f.law.v_small, free, ws.initial);
+                let next = FrictionFlags::next(&flags, &values, f.law.v_small, free, ws.initial);
                 next.write(&mut ws.discrete[slots]);
             }
         }

@@ -275,7 +275,9 @@ impl Mechanism {
             row[column] = ws.registers[*reg as usize];
             column += 1;
         }
-        row[column..].copy_from_slice(&ws.residual);
+        // Friction rows (after the couplings') have no residual to report.
+        let reported = ws.residual.len() - self.system.frictions.len();
+        row[column..].copy_from_slice(&ws.residual[..reported]);
         Ok(())
     }
 

@@ -2,7 +2,8 @@
 //! with beta = 0.04) and 4th-order dense output (CONTD5).
 
 use super::integrator::{
-    finish_step, initial_step, DenseStep, Failure, OdeSystem, Reached, Stats, StiffStretch, Stopped, Tolerances,
+    finish_step, initial_step, DenseStep, Failure, Observer, OdeSystem, Reached, Stats, StiffStretch, Stopped,
+    Tolerances,
 };
 
 const C2: f64 = 1.0 / 5.0;
@@ -172,7 +173,7 @@ impl DormandPrince {
         &mut self,
         sys: &mut S,
         tf: f64,
-        observe: &mut dyn FnMut(&dyn DenseStep) -> Result<(), S::Error>,
+        observe: &mut Observer<S::Error>,
     ) -> Result<Reached, Stopped<S::Error>> {
         let n = self.y.len();
         let stop = |t: f64, failure, stats| Err(Stopped { t, failure, stats });

@@ -33,6 +33,12 @@ pub enum Reached {
     Event(f64),
 }
 
+/// Sees every accepted step; an error stops the integration.
+pub type Observer<'a, E> = dyn FnMut(&dyn DenseStep) -> Result<(), E> + 'a;
+
+/// An integrator's end state, its derivative there and its counts.
+pub(crate) type Ends<D> = fn(&mut D) -> (&mut Vec<f64>, &mut Vec<f64>, &mut Stats);
+
 /// An accepted step cut short at an event: the observer sees it end there.
 struct Truncated<'a> {
     step: &'a dyn DenseStep,
@@ -124,8 +130,8 @@ pub(crate) fn finish_step<S: OdeSystem, D: DenseStep>(
     sys: &mut S,
     step: &mut D,
     t_end: f64,
-    ends: fn(&mut D) -> (&mut Vec<f64>, &mut Vec<f64>, &mut Stats),
-    observe: &mut dyn FnMut(&dyn DenseStep) -> Result<(), S::Error>,
+    ends: Ends<D>,
+    observe: &mut Observer<S::Error>,
     end_evaluated: bool,
 ) -> Result<Option<f64>, Stopped<S::Error>> {
     let stopped = |t, failure, stats: &mut Stats| Stopped { t, failure, stats: *stats };

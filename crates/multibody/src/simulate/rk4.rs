@@ -1,7 +1,7 @@
 //! The classical fixed-step Runge-Kutta method, with cubic Hermite dense
 //! output between steps.
 
-use super::integrator::{finish_step, DenseStep, Failure, OdeSystem, Reached, Stats, Stopped};
+use super::integrator::{finish_step, DenseStep, Failure, Observer, OdeSystem, Reached, Stats, Stopped};
 
 pub struct Rk4 {
     dt: f64,
@@ -62,20 +62,6 @@ impl Rk4 {
         }
     }
 
-    #[cfg(test)]
-    pub fn integrate<S: OdeSystem>(
-        &mut self,
-        sys: &mut S,
-        t0: f64,
-        tf: f64,
-        y0: &[f64],
-        mut observe: impl FnMut(&dyn DenseStep) -> Result<(), S::Error>,
-    ) -> Result<Stats, Stopped<S::Error>> {
-        self.start(sys, t0, y0)?;
-        self.advance(sys, tf, &mut observe)?;
-        Ok(self.stats)
-    }
-
     /// Starts at `(t, y)`, or starts again there after an event.
     pub fn start<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64]) -> Result<(), Stopped<S::Error>> {
         self.y.copy_from_slice(y);
@@ -92,7 +78,7 @@ impl Rk4 {
         &mut self,
         sys: &mut S,
         tf: f64,
-        observe: &mut dyn FnMut(&dyn DenseStep) -> Result<(), S::Error>,
+        observe: &mut Observer<S::Error>,
     ) -> Result<Reached, Stopped<S::Error>> {
         let n = self.y.len();
         let t0 = self.t;

@@ -83,7 +83,7 @@
 //! All memory is allocated in [`Rodas4::new`]; `integrate` allocates nothing.
 
 use super::integrator::{
-    finish_step, initial_step, DenseStep, Failure, OdeSystem, Reached, Stats, Stopped, Tolerances,
+    finish_step, initial_step, DenseStep, Failure, Observer, OdeSystem, Reached, Stats, Stopped, Tolerances,
 };
 use crate::math::dense::{lu, lu_solve};
 
@@ -264,7 +264,7 @@ impl Rodas4 {
         &mut self,
         sys: &mut S,
         tf: f64,
-        observe: &mut dyn FnMut(&dyn DenseStep) -> Result<(), S::Error>,
+        observe: &mut Observer<S::Error>,
     ) -> Result<Reached, Stopped<S::Error>> {
         let stop = |t: f64, failure, stats| Err(Stopped { t, failure, stats });
         let mut h = self.h;

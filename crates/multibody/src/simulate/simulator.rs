@@ -14,7 +14,7 @@
 //! integration exactly, the dynamics seeing the sources' left limits up to
 //! them.
 
-use super::integrator::{DenseStep, Failure, OdeSystem, Reached, Stats, Tolerances};
+use super::integrator::{DenseStep, Failure, Observer, OdeSystem, Reached, Stats, Tolerances};
 use super::{dopri5, rk4, rodas, Method, RunReport, SampleSink, SimulationOptions, Solution, Stopped};
 use crate::assembly::Mechanism;
 use crate::dynamics::{DynamicsError, Workspace};
@@ -89,7 +89,7 @@ impl Stepper {
         &mut self,
         sys: &mut S,
         tf: f64,
-        observe: &mut dyn FnMut(&dyn DenseStep) -> Result<(), S::Error>,
+        observe: &mut Observer<S::Error>,
     ) -> Result<Reached, Stop<S::Error>> {
         match self {
             Stepper::DormandPrince(s) => s.advance(sys, tf, observe),
@@ -414,6 +414,9 @@ pub struct Simulator<'m> {
     /// Events in a row within `ZENO_SPAN`, and when the first of them was.
     piled: (usize, f64),
     events: usize,
+    /// The time of the last event, and the indicator that made it (none
+    /// for a time event).
+    last_event: Option<(f64, Option<usize>)>,
     /// Work done by integrators that were replaced (on reset).
     stats: Stats,
 }
@@ -479,6 +482,7 @@ impl<'m> Simulator<'m> {
             started: false,
             piled: (0, f64::NEG_INFINITY),
             events: 0,
+            last_event: None,
             stats: Stats::default(),
             options: options.clone(),
             mechanism,
@@ -496,11 +500,14 @@ impl<'m> Simulator<'m> {
         // Prescribed positions and speeds start where their signals are.
         self.mechanism.impose_drives(&mut self.ws, self.t, &mut self.y);
         self.ws.discrete.copy_from_slice(&self.mechanism.system.events.discrete_start);
+        // Assembly started the state on the constraints already. What
+        // `initial()` decides settles first; then the model goes on from
+        // there as at any event (Modelica's first stored values).
         self.ws.initial = true;
-        // Assembly started the state on the constraints already.
         let settled = self.event_iteration(false);
         self.ws.initial = false;
         settled?;
+        self.event_iteration(false)?;
         if let Err(link) = self.mechanism.system.euler_sides(&self.y, &mut self.euler_sides) {
             return Err(StepError::Dynamics(DynamicsError::EulerSingularity { link, time: self.t }));
         }
@@ -626,6 +633,13 @@ impl<'m> Simulator<'m> {
         self.events
     }
 
+    /// When the last event was, and what the indicator that made it
+    /// watches (`None` for a source's switching time).
+    pub fn last_event(&self) -> Option<(f64, Option<&str>)> {
+        let names = &self.mechanism.system.events.indicators;
+        self.last_event.map(|(t, k)| (t, k.and_then(|k| names.get(k)).map(String::as_str)))
+    }
+
     /// Back to the start state, time, inputs and discrete state; the
     /// samples recorded are dropped.
     pub fn reset(&mut self) -> Result<(), String> {
@@ -636,6 +650,7 @@ impl<'m> Simulator<'m> {
         self.recorder.ws.inputs.copy_from_slice(&inputs);
         self.take_solution();
         self.events = 0;
+        self.last_event = None;
         self.begin().map_err(|e| self.stopped(e, self.options.start).reason)
     }
 
@@ -690,6 +705,7 @@ impl<'m> Simulator<'m> {
                     self.t = tf;
                     if tf == time_event {
                         self.ws.left_limit_at = f64::NAN;
+                        self.last_event = Some((tf, None));
                         if let Err(e) = self.event() {
                             return Err(self.stopped(e, tf));
                         }
@@ -697,6 +713,7 @@ impl<'m> Simulator<'m> {
                 }
                 Ok(Reached::Event(te)) => {
                     self.t = te;
+                    self.last_event = Some((te, self.indicators.last));
                     if let Err(e) = self.event() {
                         return Err(self.stopped(e, te));
                     }

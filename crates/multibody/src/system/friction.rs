@@ -144,9 +144,7 @@ impl FrictionFlags {
     /// free), not breaking away, and pressed.
     pub fn locked(&self) -> bool {
         use FrictionMode::*;
-        !self.free
-            && !(matches!(self.mode, Forward | Backward) || self.start_forward || self.start_backward)
-            && self.mode != Unknown
+        !(self.free || matches!(self.mode, Forward | Backward | Unknown) || self.start_forward || self.start_backward)
     }
 
     /// The sliding force at relative speed `v` (zero when free or locked).
@@ -165,17 +163,9 @@ impl FrictionFlags {
     /// The next discrete state from `pre` (the last pass's), as Modelica's
     /// PartialFriction decides it, given the speed `v` and the path
     /// parameter `sa` of the pass evaluated with `pre`.
-    pub fn next(
-        pre: &FrictionFlags,
-        v: f64,
-        sa: f64,
-        f0: f64,
-        f0_max: f64,
-        v_small: f64,
-        free: bool,
-        initial: bool,
-    ) -> Self {
+    pub fn next(pre: &FrictionFlags, values: &FrictionValues, v_small: f64, free: bool, initial: bool) -> Self {
         use FrictionMode::*;
+        let FrictionValues { v_rel: v, sa, f0, f0_max, .. } = *values;
         let start_forward = pre.mode == Stuck && (sa > f0_max || pre.start_forward && sa > f0)
             || pre.mode == Backward && v > v_small
             || initial && v > 0.0;
@@ -250,24 +240,24 @@ mod tests {
     #[test]
     fn modes_follow_partial_friction() {
         use FrictionMode::*;
-        let (f0, f0_max) = (10.0, 11.0);
+        let at = |v_rel, sa| FrictionValues { v_rel, sa, f0: 10.0, f0_max: 11.0, ..Default::default() };
         let flags = |mode| FrictionFlags { mode, start_forward: false, start_backward: false, free: false };
         // At the start, an engaged element slides the way it moves.
-        let start = FrictionFlags::next(&flags(Unknown), -10.0, 0.0, f0, f0_max, 1e10, false, true);
+        let start = FrictionFlags::next(&flags(Unknown), &at(-10.0, 0.0), 1e10, false, true);
         assert_eq!((start.mode, start.start_backward), (Backward, true));
         // Engaging from free with a speed slides; at rest it sticks.
-        assert_eq!(FrictionFlags::next(&flags(Free), 2.0, 0.0, f0, f0_max, 1e10, false, false).mode, Forward);
-        assert_eq!(FrictionFlags::next(&flags(Free), 0.0, 0.0, f0, f0_max, 1e10, false, false).mode, Stuck);
+        assert_eq!(FrictionFlags::next(&flags(Free), &at(2.0, 0.0), 1e10, false, false).mode, Forward);
+        assert_eq!(FrictionFlags::next(&flags(Free), &at(0.0, 0.0), 1e10, false, false).mode, Stuck);
         // Sliding forward, the speed reaching zero sticks (v_small large).
-        assert_eq!(FrictionFlags::next(&flags(Forward), -1e-12, 0.0, f0, f0_max, 1e10, false, false).mode, Stuck);
+        assert_eq!(FrictionFlags::next(&flags(Forward), &at(-1e-12, 0.0), 1e10, false, false).mode, Stuck);
         // Stuck within the limit holds; beyond it the start flag rises.
-        let held = FrictionFlags::next(&flags(Stuck), 0.0, 10.5, f0, f0_max, 1e10, false, false);
+        let held = FrictionFlags::next(&flags(Stuck), &at(0.0, 10.5), 1e10, false, false);
         assert!(held.locked());
-        let away = FrictionFlags::next(&flags(Stuck), 0.0, 11.5, f0, f0_max, 1e10, false, false);
+        let away = FrictionFlags::next(&flags(Stuck), &at(0.0, 11.5), 1e10, false, false);
         assert_eq!((away.mode, away.start_forward, away.locked()), (Stuck, true, false));
         // ... and the mode follows once the speed has the sign.
-        assert_eq!(FrictionFlags::next(&away, 1e-9, 10.5, f0, f0_max, 1e10, false, false).mode, Forward);
+        assert_eq!(FrictionFlags::next(&away, &at(1e-9, 10.5), 1e10, false, false).mode, Forward);
         // No normal force: free.
-        assert_eq!(FrictionFlags::next(&flags(Forward), 1.0, 0.0, f0, f0_max, 1e10, true, false).mode, Free);
+        assert_eq!(FrictionFlags::next(&flags(Forward), &at(1.0, 0.0), 1e10, true, false).mode, Free);
     }
 }
