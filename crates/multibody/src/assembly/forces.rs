@@ -1,53 +1,61 @@
-//! Force elements between frames, with their inputs resolved to signal
-//! slots and their ends to the links (or massless groups) they act on.
+//! Force elements, with their inputs resolved to signal slots, their ends
+//! to the links (or massless groups) they act on, and their flanges placed.
 
+use super::axis::{self, Places};
 use super::connections::Connectors;
 use super::links::Tree;
 use super::mechanism::CompiledComponent;
 use crate::components::{ForceLaw, Part};
-use crate::system::{Anchor, Attachment, ForceElement, Load};
+use crate::system::{Anchor, Attachment, FlangeRef, ForceElement};
 use crate::Error;
 
 pub fn elements(
     components: &[CompiledComponent],
     conn: &Connectors,
     tree: &mut Tree,
+    places: &Places,
     signal_of_connector: &[usize],
+    zero_slot: usize,
 ) -> Result<Vec<ForceElement>, Error> {
     let mut elements = Vec::new();
     for (ci, c) in components.iter().enumerate() {
         for part in &c.parts {
-            let Part::Force { a, b, law } = *part else { continue };
+            let Part::Force { a, b, law, inputs, flanges } = *part else { continue };
+            let id = |local: usize| Connectors::id(components, ci, local);
             let attach = |local: usize| {
-                let node = conn.node(Connectors::id(components, ci, local));
+                let node = conn.node(id(local));
                 Attachment { anchor: tree.nodes[node].anchor, pose: tree.nodes[node].pose }
             };
-            let slots = |inputs: [usize; 3]| inputs.map(|i| signal_of_connector[Connectors::id(components, ci, i)]);
-            let load = match law {
-                ForceLaw::Line { c, d, s_unstretched, s_small } => Load::Line { c, d, s_unstretched, s_small },
-                ForceLaw::Force { inputs, resolve } => Load::Force { signals: slots(inputs), resolve },
-                ForceLaw::Torque { inputs, resolve } => Load::Torque { signals: slots(inputs), resolve },
-                ForceLaw::Flow { inputs, world } => Load::Flow {
-                    signals: inputs.map(|i| signal_of_connector[Connectors::id(components, ci, i)]),
-                    world,
-                },
-                ForceLaw::PlanarAxes { c, d, rel0 } => Load::PlanarAxes { c, d, rel0 },
+            let law = match law {
                 ForceLaw::Tyre { radius, law, c_z, d_z, road } => {
-                    Load::Tyre { radius, law, c_z, d_z, road: road.map(|r| super::road_base(components, ci) + r) }
+                    ForceLaw::Tyre { radius, law, c_z, d_z, road: road.map(|r| super::road_base(components, ci) + r) }
                 }
+                other => other,
             };
-            let id = |local: usize| Connectors::id(components, ci, local);
-            let element = ForceElement { load, a: a.map(attach), b: attach(b), connectors: (a.map(id), id(b)) };
+            let mut flange_refs = [FlangeRef::FIXED; 2];
+            for (r, f) in flange_refs.iter_mut().zip(flanges) {
+                if let Some(local) = f {
+                    *r = axis::flange(components, conn, places, id(local))?;
+                }
+            }
+            let element = ForceElement {
+                law,
+                a: a.map(attach),
+                b: attach(b),
+                connectors: (a.map(id), id(b)),
+                inputs: inputs.map(|i| i.map_or(zero_slot, |i| signal_of_connector[id(i)])),
+                flanges: flange_refs,
+            };
             for end in element.a.iter().chain([&element.b]) {
                 if let Anchor::Massless(m) = end.anchor {
-                    if let Load::PlanarAxes { .. } = load {
+                    if let ForceLaw::PlanarAxes { .. } = law {
                         return Err(Error::Unsupported {
                             component: c.name.clone(),
                             what: "a planar spring or damper on frames without mass".into(),
                             fix: "add mass there (a PlanarMechanics.Body)".into(),
                         });
                     }
-                    if let Load::Line { d, .. } = load {
+                    if let ForceLaw::Line { d, .. } = law {
                         if d != 0.0 {
                             return Err(Error::Unsupported {
                                 component: c.name.clone(),

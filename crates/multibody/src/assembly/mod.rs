@@ -125,7 +125,9 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     let frictions =
         friction::elements(&mut components, &conn, &drive.places, &signals.of_connector, constraint_rows, &mut events)?;
     let constraint_rows = constraint_rows + frictions.len();
-    let force_elements = forces::elements(&components, &conn, &mut tree, &signals.of_connector)?;
+    let zero_slot = signals.slots - 1;
+    let force_elements =
+        forces::elements(&components, &conn, &mut tree, &drive.places, &signals.of_connector, zero_slot)?;
     let (drives, drive_starts) = drives::attach(&components, &conn, &mut tree, &drive.places, &signals)?;
     let mut states = states::layout(model, &components, &tree, &drive.geared)?;
     drives::apply_starts(&drive_starts, &tree, &mut states);

@@ -76,11 +76,11 @@ impl ExternalLoad {
 impl Component for ExternalLoad {
     fn parts(&self) -> Vec<Part> {
         let (inputs, resolve) = (self.inputs(), self.resolve);
-        let law = if self.torque { ForceLaw::Torque { inputs, resolve } } else { ForceLaw::Force { inputs, resolve } };
+        let law = if self.torque { ForceLaw::Torque { resolve } } else { ForceLaw::Force { resolve } };
         if self.two_frames {
-            vec![Part::Force { a: Some(0), b: 1, law }]
+            vec![Part::driven_force(Some(0), 1, law, &inputs)]
         } else {
-            vec![Part::Force { a: None, b: 0, law }]
+            vec![Part::driven_force(None, 0, law, &inputs)]
         }
     }
 

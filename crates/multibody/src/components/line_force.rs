@@ -70,7 +70,7 @@ pub fn line_mass(p: &ParamSet) -> Result<Option<LineMass>, Error> {
 impl Component for LineForce {
     fn parts(&self) -> Vec<Part> {
         let law = ForceLaw::Line { c: self.c, d: self.d, s_unstretched: self.s_unstretched, s_small: self.s_small };
-        let mut parts = vec![Part::Force { a: Some(0), b: 1, law }];
+        let mut parts = vec![Part::force(Some(0), 1, law)];
         for (frame, fixed) in self.fixed_rotation.iter().enumerate() {
             if *fixed {
                 parts.push(Part::FixedRotationEnd { frame });

@@ -409,8 +409,10 @@ pub enum Part {
     /// housings is connected to it.
     Housing { flange: usize },
     /// A force element on frame `b` with its reaction on frame `a` (or on
-    /// the world when `a` is `None`); inputs are connector numbers.
-    Force { a: Option<usize>, b: usize, law: ForceLaw },
+    /// the world when `a` is `None`), reading the signals at the input
+    /// connectors `inputs` (zero where `None`) and acting on the 1-D
+    /// connectors `flanges` (a, b) where its law says: see [`ForceLaw`].
+    Force { a: Option<usize>, b: usize, law: ForceLaw, inputs: [Option<usize>; 6], flanges: [Option<usize>; 2] },
     /// A relation between two frames kept by constraint forces (a joint
     /// without states, or the cut of a kinematic loop).
     Constraint { a: usize, b: usize, kind: ConstraintKind },
@@ -454,6 +456,20 @@ pub enum Part {
 }
 
 impl Part {
+    /// A force element between frames only, without inputs.
+    pub(crate) fn force(a: Option<usize>, b: usize, law: ForceLaw) -> Part {
+        Part::Force { a, b, law, inputs: [None; 6], flanges: [None; 2] }
+    }
+
+    /// A force element reading the input connectors `inputs` (in order).
+    pub(crate) fn driven_force(a: Option<usize>, b: usize, law: ForceLaw, inputs: &[usize]) -> Part {
+        let mut slots = [None; 6];
+        for (slot, &i) in slots.iter_mut().zip(inputs) {
+            *slot = Some(i);
+        }
+        Part::Force { a, b, law, inputs: slots, flanges: [None; 2] }
+    }
+
     /// A signal that is always zero, at the (internal) output connector
     /// `output`: the unused components of a force that takes three inputs.
     pub(crate) fn zero_signal(output: usize) -> Part {

@@ -356,11 +356,11 @@ impl Component for SlippingWheel {
             parts.push(free_joint(self.sequence, self.iscut));
         }
         parts.push(match self.elastic {
-            Some((c_z, d_z)) => Part::Force {
-                a: None,
-                b: 0,
-                law: ForceLaw::Tyre { radius: self.radius, law: self.law, c_z, d_z, road: self.surface.map(|_| 0) },
-            },
+            Some((c_z, d_z)) => Part::force(
+                None,
+                0,
+                ForceLaw::Tyre { radius: self.radius, law: self.law, c_z, d_z, road: self.surface.map(|_| 0) },
+            ),
             None => Part::Constraint {
                 a: 1,
                 b: 0,

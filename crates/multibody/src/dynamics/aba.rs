@@ -62,7 +62,7 @@ impl System {
             self.solve_massless(ws)?;
         }
         self.apply_forces(ws, q, u);
-        self.apply_force_elements(ws);
+        self.apply_force_elements(ws, q, u);
         Ok(())
     }
 

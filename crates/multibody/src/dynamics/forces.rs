@@ -7,7 +7,7 @@ use crate::math::surface::Surface;
 use crate::math::wheel::road_contact;
 use crate::math::{Force, Mat3, Vec3};
 use crate::system::{resolve_input, Resolve, SlipLaw};
-use crate::system::{Anchor, Attachment, ForceElement, Load, System, GROUND};
+use crate::system::{Anchor, Attachment, ForceElement, ForceLaw, System, GROUND};
 
 /// The motion of a frame a force element acts on.
 #[derive(Clone, Copy, Debug)]
@@ -55,64 +55,84 @@ impl System {
         }
     }
 
-    /// What element `el` applies to the frames at its ends: `(on a, on b)`.
+    /// What element `el` applies: to the frames at its ends `(on a, on b)`,
+    /// and the forces pushing its flanges `[a, b]` forward.
     #[inline]
-    pub(crate) fn applied(&self, ws: &Workspace, el: &ForceElement) -> (Wrench, Wrench) {
+    pub(crate) fn applied(
+        &self,
+        ws: &Workspace,
+        el: &ForceElement,
+        q: &[f64],
+        u: &[f64],
+    ) -> (Wrench, Wrench, [f64; 2]) {
         let kb = self.point_state(ws, &el.b);
         let ka = el.a.map(|a| self.point_state(ws, &a));
         let zero = Vec3::zeros();
-        let input = |slots: [usize; 3]| Vec3::new(ws.signals[slots[0]], ws.signals[slots[1]], ws.signals[slots[2]]);
+        let input = |k: usize| ws.signals[el.inputs[k]];
+        let vector = |k: usize| Vec3::new(input(k), input(k + 1), input(k + 2));
         let resolved = |u: Vec3, resolve: Resolve| resolve_input(u, resolve, ka.as_ref().map(|a| &a.rot), &kb.rot);
-        match el.load {
-            Load::Line { c, d, s_unstretched, s_small } => {
+        let frames_only = |(on_a, on_b): (Wrench, Wrench)| (on_a, on_b, [0.0; 2]);
+        match el.law {
+            ForceLaw::Line { c, d, s_unstretched, s_small } => {
                 let ka = ka.expect("line forces have two ends");
                 let f = line_force(c, d, s_unstretched, s_small, &ka, &kb).1;
-                ((f, zero), (-f, zero))
+                frames_only(((f, zero), (-f, zero)))
             }
-            Load::Force { signals, resolve } => {
-                let f = resolved(input(signals), resolve);
+            ForceLaw::Force { resolve } => {
+                let f = resolved(vector(0), resolve);
                 let lever = ka.map_or(zero, |a| kb.r - a.r);
-                ((-f, -lever.cross(&f)), (f, zero))
+                frames_only(((-f, -lever.cross(&f)), (f, zero)))
             }
-            Load::Torque { signals, resolve } => {
-                let t = resolved(input(signals), resolve);
-                ((zero, -t), (zero, t))
+            ForceLaw::Torque { resolve } => {
+                let t = resolved(vector(0), resolve);
+                frames_only(((zero, -t), (zero, t)))
             }
-            Load::Flow { signals, world } => {
-                let at = |k: usize| {
-                    let v = Vec3::new(ws.signals[signals[k]], ws.signals[signals[k + 1]], ws.signals[signals[k + 2]]);
-                    if world {
-                        v
-                    } else {
-                        kb.rot.tr_mul(&v)
-                    }
-                };
-                ((zero, zero), (-at(0), -at(3)))
+            ForceLaw::Flow { world } => {
+                let at = |k: usize| if world { vector(k) } else { kb.rot.tr_mul(&vector(k)) };
+                frames_only(((zero, zero), (-at(0), -at(3))))
             }
-            Load::PlanarAxes { c, d, rel0 } => {
+            ForceLaw::PlanarAxes { c, d, rel0 } => {
                 let ka = ka.expect("planar springs have two ends");
                 let (dr, dv) = (kb.r - ka.r, kb.v - ka.v);
                 let dphi = planar_angle(&(kb.rot * ka.rot.transpose()));
                 let pull = |k: usize, s: f64, v: f64| c[k] * (s - rel0[k]) + d[k] * v;
                 let f = Vec3::new(pull(0, dr.x, dv.x), pull(1, dr.y, dv.y), 0.0);
                 let t = Vec3::new(0.0, 0.0, pull(2, dphi, kb.w.z - ka.w.z));
-                ((f, t), (-f, -t))
+                frames_only(((f, t), (-f, -t)))
             }
-            Load::Tyre { radius, law, c_z, d_z, road } => {
+            ForceLaw::Tyre { radius, law, c_z, d_z, road } => {
                 let (f, delta) = tyre_force(radius, &law, c_z, d_z, road.map(|r| &self.roads[r]), &kb);
-                ((-f, zero), (f, delta.cross(&f)))
+                frames_only(((-f, zero), (f, delta.cross(&f))))
+            }
+            ForceLaw::PlanarSlip { radius, axis, n, law } => {
+                let w_roll = el.flanges[1].motion(q, u, &ws.lines).1;
+                let e_long = kb.rot.tr_mul(&axis);
+                let e_lat = Vec3::new(-e_long.y, e_long.x, 0.0);
+                let v_roll = radius * w_roll;
+                let (mu_long, mu_lat) = law.coefficients(kb.v.dot(&e_long) - v_roll, kb.v.dot(&e_lat), v_roll);
+                let f_n = (n + input(0)).max(0.0);
+                // The ground pushes the wheel against its slip, and the
+                // rolling flange by the longitudinal force at the radius.
+                let on_wheel = -(e_long * mu_long + e_lat * mu_lat) * f_n;
+                ((zero, zero), (on_wheel, zero), [0.0, radius * f_n * mu_long])
             }
         }
     }
 
-    /// Adds the force elements' wrenches to the links' bias forces, and
-    /// the lines' forces (from the 1-D elements on their flanges).
-    pub(crate) fn apply_force_elements(&self, ws: &mut Workspace) {
+    /// Adds the force elements' wrenches to the links' bias forces and
+    /// their flange forces to the coordinates', and the lines' forces (from
+    /// the 1-D elements on their flanges).
+    pub(crate) fn apply_force_elements(&self, ws: &mut Workspace, q: &[f64], u: &[f64]) {
         for el in &self.force_elements {
-            let (on_a, on_b) = self.applied(ws, el);
+            let (on_a, on_b, on_flanges) = self.applied(ws, el, q, u);
             apply(ws, &el.b, on_b);
             if let Some(a) = &el.a {
                 apply(ws, a, on_a);
+            }
+            for (flange, force) in el.flanges.iter().zip(on_flanges) {
+                if force != 0.0 {
+                    flange.push(&mut ws.tau, &mut ws.lines, force);
+                }
             }
         }
         for (line, k) in self.lines.iter().zip(0..) {
@@ -175,7 +195,8 @@ impl System {
         let (mut force, mut stiffness, mut coupling) = (Vec3::zeros(), Mat3::zeros(), Vec3::zeros());
         for &e in elements {
             let el = &self.force_elements[e];
-            let (on_a, on_b) = self.applied(ws, el);
+            // Massless groups carry no flanges: no coordinates are needed.
+            let (on_a, on_b, _) = self.applied(ws, el, &[], &[]);
             let a_here = el.a.is_some_and(|a| a.anchor == Anchor::Massless(m));
             let b_here = el.b.anchor == Anchor::Massless(m);
             if a_here {
@@ -184,7 +205,7 @@ impl System {
             if b_here {
                 force += on_b.0;
             }
-            if let (Load::Line { c, s_unstretched, s_small, .. }, Some(a)) = (el.load, el.a) {
+            if let (ForceLaw::Line { c, s_unstretched, s_small, .. }, Some(a)) = (el.law, el.a) {
                 if a_here != b_here {
                     let (ka, kb) = (self.point_state(ws, &a), self.point_state(ws, &el.b));
                     let k = line_stiffness(c, s_unstretched, s_small, &ka, &kb);
@@ -200,7 +221,7 @@ impl System {
 /// The line force's geometry and the force it applies on frame_a:
 /// `(unit vector a to b, force on a)`; the force on b is the opposite.
 /// The force (world) of an elastic tyre contact on the wheel at `b`, and
-/// where it acts: at `delta` from the wheel's centre (see [`Load::Tyre`]).
+/// where it acts: at `delta` from the wheel's centre (see [`ForceLaw::Tyre`]).
 #[inline]
 pub(crate) fn tyre_force(
     radius: f64,

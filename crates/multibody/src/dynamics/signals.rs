@@ -87,23 +87,6 @@ impl System {
                     let (a, b) = self.frame_pair(ws, &block.frames);
                     (b.rot * a.rot.tr_mul(&Vec3::new(input(0), input(1), input(2))))[index]
                 }
-                &SignalLaw::PlanarSlip { index, radius, axis, n, law } => {
-                    let (_, b) = self.frame_pair(ws, &block.frames);
-                    let w_roll = block.flanges[1].motion(q, u, &ws.lines).1;
-                    let e_long = b.rot.tr_mul(&axis);
-                    let e_lat = Vec3::new(-e_long.y, e_long.x, 0.0);
-                    let v_roll = radius * w_roll;
-                    let (mu_long, mu_lat) = law.coefficients(b.v.dot(&e_long) - v_roll, b.v.dot(&e_lat), v_roll);
-                    let f_n = (n + input(0)).max(0.0);
-                    // The ground pushes the wheel against its slip, and the
-                    // flange by the longitudinal force at the radius.
-                    let on_wheel = -(e_long * mu_long + e_lat * mu_lat) * f_n;
-                    match index {
-                        0 => on_wheel.x,
-                        1 => on_wheel.y,
-                        _ => radius * f_n * mu_long,
-                    }
-                }
                 SignalLaw::Unavailable { .. } => f64::NAN,
                 SignalLaw::Written => continue,
             };

@@ -143,7 +143,7 @@ impl Mechanism {
             w.a += Motion::new(Vec3::zeros(), w.rot * self.system.uniform_gravity);
         }
         self.frame_states(ws, scratch);
-        self.cut_forces(ws, scratch);
+        self.cut_forces(ws, scratch, y);
         self.cut_joint_coordinates(scratch);
         scratch.signals.clear();
         scratch.signals.extend(self.signal_of_connector.iter().map(|&slot| ws.signals[slot]));
@@ -376,7 +376,8 @@ impl Mechanism {
     /// Cut forces: loads at each node (masses), summed from the leaves of
     /// the flow tree towards the ground. Each transmitting part carries the
     /// sum of the loads beyond it.
-    fn cut_forces(&self, ws: &Workspace, scratch: &mut OutputScratch) {
+    fn cut_forces(&self, ws: &Workspace, scratch: &mut OutputScratch, y: &[f64]) {
+        let (q, u) = y.split_at(self.system.states.nq);
         let n = self.nodes.len();
         scratch.node_wrench.clear();
         scratch.node_wrench.resize(n, (Vec3::zeros(), Vec3::zeros()));
@@ -409,7 +410,10 @@ impl Mechanism {
             .system
             .force_elements
             .iter()
-            .map(|el| (el.connectors.0, el.connectors.1, self.system.applied(ws, el)))
+            .map(|el| {
+                let (on_a, on_b, _) = self.system.applied(ws, el, q, u);
+                (el.connectors.0, el.connectors.1, (on_a, on_b))
+            })
             .chain(
                 self.system
                     .constraints

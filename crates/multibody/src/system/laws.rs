@@ -72,22 +72,26 @@ pub fn resolve_input(u: Vec3, resolve: Resolve, rot_a: Option<&Mat3>, rot_b: &Ma
     }
 }
 
-/// How a force element acts between its frames.
+/// How a force element acts. Its attachments are the element's, not the
+/// law's: frame_b and the reaction frame_a (or the world), up to six input
+/// signals `u[0..6]` and two 1-D flanges (see `Part::Force`), so a new law
+/// is one arm here and one in the dynamics' `applied`, whatever it acts on.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ForceLaw {
     /// Along the line from frame_a to frame_b with
     /// `f = c (s - s_unstretched) + d ds/dt`, where `s = max(|r_ab|, s_small)`;
     /// `f > 0` pulls the frames together. No torques.
     Line { c: f64, d: f64, s_unstretched: f64, s_small: f64 },
-    /// A force at frame_b's origin from the input connectors `inputs`
-    /// (x, y, z), resolved in `resolve`; the reaction acts on frame_a.
-    Force { inputs: [usize; 3], resolve: Resolve },
-    /// A torque on frame_b from `inputs`; the reaction acts on frame_a.
-    Torque { inputs: [usize; 3], resolve: Resolve },
-    /// The flows (force, then torque, resolved in frame_b, or in the world
-    /// with `world`) that the model's equations give a component at
-    /// frame_b, from `inputs`: frame_b receives their opposite. No frame_a.
-    Flow { inputs: [usize; 6], world: bool },
+    /// A force `u[0..3]` at frame_b's origin, resolved in `resolve`; the
+    /// reaction acts on frame_a.
+    Force { resolve: Resolve },
+    /// A torque `u[0..3]` on frame_b; the reaction acts on frame_a.
+    Torque { resolve: Resolve },
+    /// The flows (force `u[0..3]`, then torque `u[3..6]`, resolved in
+    /// frame_b, or in the world with `world`) that the model's equations
+    /// give a component at frame_b: frame_b receives their opposite. No
+    /// frame_a.
+    Flow { world: bool },
     /// A planar spring and damper per world axis (PlanarMechanics): with
     /// `dx`, `dy` from frame_a's origin to frame_b's and `dphi` the angle
     /// from frame_a to frame_b, frame_b is pulled back by
@@ -101,6 +105,13 @@ pub enum ForceLaw {
     /// `f_n` times the coefficients of `law`, at the contact point. On the
     /// component's road number `road` (its `Part::Road`s) if given.
     Tyre { radius: f64, law: SlipLaw, c_z: f64, d_z: f64, road: Option<usize> },
+    /// A planar wheel's slip force (PlanarMechanics' SlipBasedWheelJoint):
+    /// frame_b is the wheel's steering frame, flange_b its rolling axis,
+    /// which turns it along `axis` (unit, in frame_b) at `radius` times
+    /// its speed. The ground pushes frame_b against the contact's slip
+    /// with the normal force `max(0, n + u[0])` times the coefficients of
+    /// `law`, and the flange back by the longitudinal force at the radius.
+    PlanarSlip { radius: f64, axis: Vec3, n: f64, law: SlipLaw },
 }
 
 /// Which relative rotations of frame_b a constraint locks.

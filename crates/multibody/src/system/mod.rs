@@ -183,51 +183,20 @@ pub(crate) struct Attachment {
     pub pose: Transform,
 }
 
-/// A force element in the form the dynamics evaluates.
+/// A force element in the form the dynamics evaluates: its law and its
+/// attachments.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct ForceElement {
-    pub load: Load,
+    pub law: ForceLaw,
     /// The reaction side (None: the world).
     pub a: Option<Attachment>,
     pub b: Attachment,
     /// The element's connectors at `a` and `b` (global numbers).
     pub connectors: (Option<usize>, usize),
-}
-
-/// A force law with its inputs resolved to signal slots.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) enum Load {
-    Line {
-        c: f64,
-        d: f64,
-        s_unstretched: f64,
-        s_small: f64,
-    },
-    Force {
-        signals: [usize; 3],
-        resolve: Resolve,
-    },
-    Torque {
-        signals: [usize; 3],
-        resolve: Resolve,
-    },
-    Flow {
-        signals: [usize; 6],
-        world: bool,
-    },
-    PlanarAxes {
-        c: [f64; 3],
-        d: [f64; 3],
-        rel0: [f64; 3],
-    },
-    /// `road`: an index into `System::roads`.
-    Tyre {
-        radius: f64,
-        law: SlipLaw,
-        c_z: f64,
-        d_z: f64,
-        road: Option<usize>,
-    },
+    /// The signal slots of its inputs (the zero slot where unused).
+    pub inputs: [usize; 6],
+    /// Its 1-D flanges a and b (fixed where unused).
+    pub flanges: [FlangeRef; 2],
 }
 
 /// Frames without mass held by force elements only; their orientation is

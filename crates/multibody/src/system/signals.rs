@@ -6,9 +6,8 @@
 //! inputs read slots. The slot after the last block always reads zero (an
 //! input connected to nothing).
 
-use super::laws::{Resolve, SignalSource, SlipLaw};
+use super::laws::{Resolve, SignalSource};
 use super::{Attachment, FlangeRef};
-use crate::math::Vec3;
 
 /// How a block computes its output.
 #[derive(Clone, Debug, PartialEq)]
@@ -50,12 +49,6 @@ pub enum SignalLaw {
     /// a's coordinates (the world's without frame a), resolved in frame b
     /// (the world without one).
     ResolveVector { index: usize },
-    /// A planar slip-based wheel's ground force (PlanarMechanics'
-    /// SlipBasedWheelJoint): component `index` of `[fx, fy]` (world, on
-    /// frame b, the wheel's steering frame) or, for index 2, the torque on
-    /// the rolling flange b. The wheel rolls along `axis` (unit, in frame
-    /// b) with the flange's speed; the normal force is `max(0, n + u1)`.
-    PlanarSlip { index: usize, radius: f64, axis: Vec3, n: f64, law: SlipLaw },
     /// An output the signal graph cannot compute before the accelerations
     /// (it depends on them or on cut forces), or that the component's
     /// parameters switch off: assembly refuses a model that reads it, and
@@ -72,10 +65,7 @@ impl SignalLaw {
     /// Whether the output depends on the inputs at the same instant (so a
     /// loop of such blocks is an algebraic loop).
     pub fn feeds_through(&self) -> bool {
-        matches!(
-            self,
-            SignalLaw::Affine { .. } | SignalLaw::Product | SignalLaw::Division | SignalLaw::PlanarSlip { .. }
-        )
+        matches!(self, SignalLaw::Affine { .. } | SignalLaw::Product | SignalLaw::Division)
     }
 
     /// Whether the block reads frame poses, which the kinematics then
@@ -90,7 +80,6 @@ impl SignalLaw {
                 | SignalLaw::FrameAngles { .. }
                 | SignalLaw::FrameDistance { .. }
                 | SignalLaw::ResolveVector { .. }
-                | SignalLaw::PlanarSlip { .. }
         )
     }
 }

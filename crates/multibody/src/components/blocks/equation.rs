@@ -161,11 +161,7 @@ impl Component for EquationPart {
             EquationPart::Written => vec![written(0)],
             EquationPart::FrameFlow => {
                 let mut parts: Vec<Part> = (1..=6).map(written).collect();
-                parts.push(Part::Force {
-                    a: None,
-                    b: 0,
-                    law: ForceLaw::Flow { inputs: [1, 2, 3, 4, 5, 6], world: false },
-                });
+                parts.push(Part::driven_force(None, 0, ForceLaw::Flow { world: false }, &[1, 2, 3, 4, 5, 6]));
                 parts
             }
             EquationPart::PlanarFlow => {
@@ -175,7 +171,9 @@ impl Component for EquationPart {
                 parts.push(Part::Force {
                     a: None,
                     b: 0,
-                    law: ForceLaw::Flow { inputs: [1, 2, 4, 4, 4, 3], world: true },
+                    law: ForceLaw::Flow { world: true },
+                    inputs: [Some(1), Some(2), None, None, None, Some(3)],
+                    flanges: [None; 2],
                 });
                 parts
             }

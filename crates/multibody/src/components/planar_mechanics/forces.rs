@@ -105,7 +105,7 @@ struct Axes {
 
 impl Component for Axes {
     fn parts(&self) -> Vec<Part> {
-        vec![Part::Force { a: Some(0), b: 1, law: ForceLaw::PlanarAxes { c: self.c, d: self.d, rel0: self.rel0 } }]
+        vec![Part::force(Some(0), 1, ForceLaw::PlanarAxes { c: self.c, d: self.d, rel0: self.rel0 })]
     }
 
     fn variables(&self) -> Vec<VarSpec> {
@@ -175,7 +175,7 @@ struct Damper {
 impl Component for Damper {
     fn parts(&self) -> Vec<Part> {
         let law = ForceLaw::Line { c: 0.0, d: self.d, s_unstretched: 0.0, s_small: self.s_small };
-        vec![Part::Force { a: Some(0), b: 1, law }]
+        vec![Part::force(Some(0), 1, law)]
     }
 
     fn variables(&self) -> Vec<VarSpec> {
@@ -234,9 +234,22 @@ impl Component for WorldForceTorque {
     fn parts(&self) -> Vec<Part> {
         // Connectors: frame_b 0, force_x 1, force_y 2, torque 3, zero 4.
         vec![
+            // The internal connector 4 stays a zero signal (unused now).
             Part::zero_signal(4),
-            Part::Force { a: None, b: 0, law: ForceLaw::Force { inputs: [1, 2, 4], resolve: self.resolve } },
-            Part::Force { a: None, b: 0, law: ForceLaw::Torque { inputs: [4, 4, 3], resolve: Resolve::World } },
+            Part::Force {
+                a: None,
+                b: 0,
+                law: ForceLaw::Force { resolve: self.resolve },
+                inputs: [Some(1), Some(2), None, None, None, None],
+                flanges: [None; 2],
+            },
+            Part::Force {
+                a: None,
+                b: 0,
+                law: ForceLaw::Torque { resolve: Resolve::World },
+                inputs: [None, None, Some(3), None, None, None],
+                flanges: [None; 2],
+            },
         ]
     }
 

@@ -10,8 +10,7 @@
 use super::super::spec::{concat, ComponentSpec, ConnectorType, ParamSpec, ParamType, VarSpec};
 use super::super::wheel_common::{positive, wheel_shapes};
 use super::super::{
-    Component, ConstraintKind, EvalContext, ForceLaw, Law1D, ParamSet, Part, Resolve, RotationLock, SignalLaw, SlipLaw,
-    WheelContact,
+    Component, ConstraintKind, EvalContext, ForceLaw, ParamSet, Part, RotationLock, SlipLaw, WheelContact,
 };
 use super::{RENDER, SPECULAR, Z_POSITION};
 use crate::math::rotation::planar_angle;
@@ -213,11 +212,6 @@ pub static SLIP_BASED: ComponentSpec = ComponentSpec {
         super::super::spec::ConnectorSpec::frame_2d("frame_a", "The wheel's steering frame"),
         super::super::spec::ConnectorSpec::flange("flange_a", ConnectorType::Spline, "The wheel's rolling axis"),
         super::super::spec::ConnectorSpec::input("dynamicLoad", "Normal load added to N"),
-        super::super::spec::ConnectorSpec::internal("force_x", ConnectorType::RealOutput),
-        super::super::spec::ConnectorSpec::internal("force_y", ConnectorType::RealOutput),
-        super::super::spec::ConnectorSpec::internal("torque", ConnectorType::RealOutput),
-        super::super::spec::ConnectorSpec::internal("zero", ConnectorType::RealOutput),
-        super::super::spec::ConnectorSpec::internal("ground", ConnectorType::Spline),
     ],
     variables: SLIP_BASED_VARIABLES,
     build: build_slip_based,
@@ -244,24 +238,16 @@ struct SlipBased {
 
 impl Component for SlipBased {
     fn parts(&self) -> Vec<Part> {
-        // frame_a 0, flange_a 1, dynamicLoad 2, force_x 3, force_y 4,
-        // torque 5, zero 6, ground 7.
-        let slip = |output: usize, index: usize| Part::Signal {
-            output,
-            law: SignalLaw::PlanarSlip { index, radius: self.radius, axis: self.axis, n: self.n, law: self.law },
-            inputs: [Some(2), None, None],
-            frames: [None, Some(0)],
+        // One element on the steering frame (0) and the rolling flange (1),
+        // reading dynamicLoad (2).
+        let law = ForceLaw::PlanarSlip { radius: self.radius, axis: self.axis, n: self.n, law: self.law };
+        vec![Part::Force {
+            a: None,
+            b: 0,
+            law,
+            inputs: [Some(2), None, None, None, None, None],
             flanges: [None, Some(1)],
-        };
-        vec![
-            slip(3, 0),
-            slip(4, 1),
-            slip(5, 2),
-            Part::zero_signal(6),
-            Part::Force { a: None, b: 0, law: ForceLaw::Force { inputs: [3, 4, 6], resolve: Resolve::World } },
-            Part::Fixed1D { flange: 7, at: 0.0 },
-            Part::Element1D { a: 7, b: 1, law: Law1D::Input { signal: 5 } },
-        ]
+        }]
     }
 
     fn variables(&self) -> Vec<VarSpec> {
@@ -272,7 +258,9 @@ impl Component for SlipBased {
         let a = &ctx.frames[0];
         let e0 = a.rot.tr_mul(&self.axis);
         let e_lat = Vec3::new(-e0.y, e0.x, 0.0);
-        let on_wheel = Vec3::new(ctx.signals[3], ctx.signals[4], 0.0);
+        // The ground's force on the wheel is what the wheel's frame gets:
+        // the opposite of the cut force on this component there.
+        let on_wheel = -a.rot.tr_mul(&a.f);
         out.extend([-on_wheel.dot(&e0), -on_wheel.dot(&e_lat), ctx.flanges[1].v, e0.x, e0.y]);
     }
 }
