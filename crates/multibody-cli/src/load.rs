@@ -144,7 +144,7 @@ pub fn assignment<'t>(option: &str, text: &'t str) -> Result<(&'t str, &'t str),
 
 pub fn print_diagnostics(package: &Package, diagnostics: &[Diagnostic]) {
     for d in diagnostics {
-        eprint!("{}", d.render(package.sources(), color()));
+        crate::console::say_text(&d.render(package.sources(), color()));
     }
 }
 

@@ -1,5 +1,7 @@
 //! The `multibody` command: run, check and describe Dyad multibody models.
 
+#[macro_use]
+mod console;
 mod catalog;
 mod check;
 mod exit;

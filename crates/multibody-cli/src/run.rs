@@ -28,7 +28,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         Failure::Model
     })?;
     for w in mechanism.warnings() {
-        eprintln!("warning: {w}");
+        say!("warning: {w}");
     }
     let signals = chosen_signals(&mechanism, &args.signals)?;
     let views = args.animate.is_some() || args.plot.is_some();
@@ -41,8 +41,8 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         Target::Analysis(name) => format!("analysis {name} (model {})", lowered.model.name),
         Target::Component(name) => format!("component {name} with default options"),
     };
-    eprintln!("Simulating {what} from {}", file_of(&package, &lowered.name));
-    eprintln!(
+    say!("Simulating {what} from {}", file_of(&package, &lowered.name));
+    say!(
         "  {} of freedom, t = {} … {} s, {}",
         plural(mechanism.degrees_of_freedom(), "degree"),
         number(options.start),
@@ -67,7 +67,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     match result {
         Ok(report) => {
             let kept = csv.finish(&out)?;
-            eprintln!(
+            say!(
                 "  {} × {} → {} ({elapsed:.0?})",
                 plural(kept.samples, "sample"),
                 plural(signals.len(), "signal"),
@@ -77,20 +77,20 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
                 write_views(args, &files, false, &lowered.name, &mechanism, solution)?;
             }
             for w in &report.warnings {
-                eprintln!("warning: {w}");
+                say!("warning: {w}");
             }
             print_final_states(&mechanism, &kept);
             Ok(())
         }
         Err(stopped) => {
             let partial_csv = output::partial_path(&out);
-            eprintln!("{}: the simulation stopped at t = {}: {}", error_word(), number(stopped.time), stopped.reason);
+            say!("{}: the simulation stopped at t = {}: {}", error_word(), number(stopped.time), stopped.reason);
             let kept = csv.finish(&partial_csv)?;
             if let Some(solution) = kept.solution.as_ref().filter(|s| !s.is_empty()) {
                 write_views(args, &files, true, &lowered.name, &mechanism, solution)?;
             }
             match kept.span {
-                Some((first, last)) => eprintln!(
+                Some((first, last)) => say!(
                     "  wrote what was computed: {} (t = {} … {} s) × {} → {}",
                     plural(kept.samples, "sample"),
                     number(first),
@@ -98,7 +98,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
                     plural(signals.len(), "signal"),
                     partial_csv.display()
                 ),
-                None => eprintln!("  nothing was computed; wrote the header to {}", partial_csv.display()),
+                None => say!("  nothing was computed; wrote the header to {}", partial_csv.display()),
             }
             if stopped.by_caller && interrupted.load(Ordering::Relaxed) {
                 Err(Failure::Interrupted)
@@ -133,7 +133,7 @@ fn on_ctrl_c() -> Arc<AtomicBool> {
         }
     });
     if let Err(e) = installed {
-        eprintln!("warning: Ctrl-C will end the run without keeping its results ({e})");
+        say!("warning: Ctrl-C will end the run without keeping its results ({e})");
     }
     flag
 }
@@ -177,7 +177,7 @@ fn write_views(
         let page =
             multibody_view::animation_html(title, &mechanism.shapes(), solution, &options).map_err(view_error)?;
         output::write_atomically(&path, |w| w.write_all(page.html.as_bytes()))?;
-        eprintln!(
+        say!(
             "  animation: {} frames of {} shapes → {} ({})",
             page.summary.frames,
             page.summary.shapes,
@@ -197,12 +197,7 @@ fn write_views(
         .map_err(view_error)?;
         output::write_atomically(&path, |w| w.write_all(&image))?;
         let signals: usize = summary.panels.iter().map(|(_, s)| s.len()).sum();
-        eprintln!(
-            "  plot: {} in {} → {}",
-            plural(signals, "signal"),
-            plural(summary.panels.len(), "panel"),
-            path.display()
-        );
+        say!("  plot: {} in {} → {}", plural(signals, "signal"), plural(summary.panels.len(), "panel"), path.display());
     }
     Ok(())
 }
@@ -228,16 +223,16 @@ fn print_final_states(mechanism: &Mechanism, kept: &output::Kept) {
     if groups.is_empty() {
         return;
     }
-    eprintln!("  final state at t = {}:", number(t));
+    say!("  final state at t = {}:", number(t));
     for (name, values) in groups.iter().take(SUMMARY_STATES) {
         let shown: Vec<String> = values.iter().map(|x| number(*x)).collect();
         match shown.as_slice() {
-            [one] => eprintln!("    {name} = {one}"),
-            many => eprintln!("    {name} = [{}]", many.join(", ")),
+            [one] => say!("    {name} = {one}"),
+            many => say!("    {name} = [{}]", many.join(", ")),
         }
     }
     if groups.len() > SUMMARY_STATES {
-        eprintln!("    ... and {} more in the CSV", groups.len() - SUMMARY_STATES);
+        say!("    ... and {} more in the CSV", groups.len() - SUMMARY_STATES);
     }
 }
 

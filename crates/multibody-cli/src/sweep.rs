@@ -49,7 +49,7 @@ pub fn sweep(args: &SweepArgs) -> Result<(), Failure> {
     drop(mechanism);
 
     let jobs = args.jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1);
-    eprintln!(
+    say!(
         "Sweeping {} from {}: {} × {}, on {}",
         first.name,
         file_of(&package, &first.name),
@@ -78,7 +78,7 @@ pub fn sweep(args: &SweepArgs) -> Result<(), Failure> {
     let failed = runs.iter().filter(|r| r.is_err()).count();
     for (k, (set, run)) in sets.iter().zip(&runs).enumerate() {
         if let Err(reason) = run {
-            eprintln!("{}: run {} ({}): {reason}", error_word(), k + 1, describe(set));
+            say!("{}: run {} ({}): {reason}", error_word(), k + 1, describe(set));
         }
     }
     let keys: Vec<&str> = std::iter::once("run").chain(axes.iter().map(|a| a.name.as_str())).collect();
@@ -94,7 +94,7 @@ pub fn sweep(args: &SweepArgs) -> Result<(), Failure> {
         Ok(())
     })?;
     let samples: usize = runs.iter().flatten().map(|r| r.time.len()).sum();
-    eprintln!(
+    say!(
         "  {} of {} ran ({} samples in all, {elapsed:.1?}) → {}",
         plural(sets.len() - failed, "run"),
         sets.len(),
@@ -102,7 +102,7 @@ pub fn sweep(args: &SweepArgs) -> Result<(), Failure> {
         out.display()
     );
     if failed > 0 {
-        eprintln!("  {} failed (above); the table holds the others", plural(failed, "run"));
+        say!("  {} failed (above); the table holds the others", plural(failed, "run"));
         return Err(Failure::Simulation);
     }
     Ok(())
