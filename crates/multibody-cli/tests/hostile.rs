@@ -96,3 +96,87 @@ fn a_run_writes_its_results_whatever_happens_to_its_console() {
     assert_eq!(code(&o), 3);
     assert!(dir.join("r.partial.csv").exists());
 }
+
+/// `multibody` with `args` in `dir`, its output captured.
+fn multibody(dir: &Path, args: &[&str]) -> Output {
+    multibody_with(dir, args, Stdio::piped(), Stdio::piped())
+}
+
+/// A model file `r.partial.dyad` and `--out r.dyad`: a failing run would
+/// keep its partial CSV as `r.partial.dyad`, over the model. Refused before
+/// the run; the model file stays.
+#[test]
+fn a_partial_name_never_replaces_a_model_file() {
+    let dir = scratch("partial-collision");
+    let model = dir.join("r.partial.dyad");
+    std::fs::copy(crate_path("tests/models/EulerSingularity.dyad"), &model).unwrap();
+    let text = std::fs::read_to_string(&model).unwrap();
+    let o = multibody(&dir, &["run", "r.partial.dyad", "--out", "r.dyad"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("`--out r.dyad`: a run that stops part way would keep its results as r.partial.dyad"),
+        "{err}"
+    );
+    assert!(err.contains("is the model file r.partial.dyad"), "{err}");
+    assert!(!err.contains("Simulating"), "refused before the run: {err}");
+    assert_eq!(std::fs::read_to_string(&model).unwrap(), text, "the model file is untouched");
+    // The views' partial names count too, and so do a sweep's.
+    let o = multibody(&dir, &["run", "r.partial.dyad", "--plot", "r.svg", "--out", "r.partial.svg"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("may both write r.partial.svg"), "{}", stderr(&o));
+    let o = multibody(&dir, &["sweep", "r.partial.dyad", "--param", "body.m=1,2", "--out", "r.dyad"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(&model).unwrap(), text);
+}
+
+/// `--out /dev/null` used to replace the device node by a regular file
+/// (as root, the real `/dev/null`). Devices, FIFOs and folders are refused
+/// before anything runs, under their own name or a link to them. The test
+/// names devices only through links and copies in its own folder: should
+/// the refusal ever break, a link or a copy is replaced, never /dev/null.
+#[test]
+fn outputs_must_be_regular_files_or_new_paths() {
+    let dir = scratch("special-outputs");
+    let pendulum = example("pendulum.dyad");
+    let fifo = dir.join("fifo.csv");
+    let made = Command::new("mkfifo").arg(&fifo).status().expect("mkfifo runs");
+    assert!(made.success());
+    std::os::unix::fs::symlink("/dev/null", dir.join("null-link.csv")).unwrap();
+    std::os::unix::fs::symlink("/dev/full", dir.join("full-link.svg")).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", dir.join("zero-link.html")).unwrap();
+    std::fs::create_dir(dir.join("folder.csv")).unwrap();
+    let mut cases: Vec<(&[&str], &str)> = vec![
+        (&["--out", "null-link.csv"], "`--out null-link.csv`: it is a device, not a regular file"),
+        (&["--out", "fifo.csv"], "it is a FIFO (named pipe)"),
+        (&["--out", "folder.csv"], "it is a folder"),
+        (&["--plot", "full-link.svg"], "`--plot full-link.svg`: it is a device"),
+        (&["--animate", "zero-link.html"], "`--animate zero-link.html`: it is a device"),
+    ];
+    // A copy of /dev/null (a device node of its own) where the test may make one (as root).
+    let copied = Command::new("mknod").arg(dir.join("null-copy.csv")).args(["c", "1", "3"]).status();
+    if copied.is_ok_and(|s| s.success()) {
+        cases.push((&["--out", "null-copy.csv"], "`--out null-copy.csv`: it is a device"));
+    }
+    for (options, message) in cases {
+        let mut args = vec!["run", pendulum.as_str(), "--stop", "0.1"];
+        args.extend_from_slice(options);
+        let o = multibody(&dir, &args);
+        assert_eq!(code(&o), 2, "{options:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(message), "{options:?}: {}", stderr(&o));
+        assert!(!stderr(&o).contains("Simulating"), "{options:?}: refused before the run");
+    }
+    use std::os::unix::fs::FileTypeExt;
+    assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo(), "the FIFO stays");
+    assert!(std::fs::symlink_metadata(dir.join("null-link.csv")).unwrap().file_type().is_symlink());
+    // The partial name is checked too: a FIFO there would be replaced by a failing run.
+    let made = Command::new("mkfifo").arg(dir.join("r.partial.csv")).status().expect("mkfifo runs");
+    assert!(made.success());
+    let o = multibody(&dir, &["run", &pendulum, "--stop", "0.1", "--out", "r.csv"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("would keep its results as r.partial.csv, which is a FIFO"), "{}", stderr(&o));
+    // A sweep's output too.
+    let o = multibody(&dir, &["sweep", &pendulum, "--param", "body.m=1,2", "--out", "null-link.csv"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("it is a device"), "{}", stderr(&o));
+}
