@@ -72,7 +72,8 @@ pub fn check(selection: &Selection) -> Result<(), Failure> {
             put!(out, "    {owner}: {how}");
         }
     }
-    let warnings = mechanism.warnings();
+    let mut warnings = mechanism.warnings().to_vec();
+    warnings.extend(lowered.options.warnings().into_iter().map(|(_, w)| w));
     if warnings.is_empty() && lowered.warnings.is_empty() {
         put!(out, "  warnings: none");
     } else {

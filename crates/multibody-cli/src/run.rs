@@ -35,6 +35,11 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     let budget = Budget::of_this_machine();
     budget.check(&options, mechanism.signals().len(), signals.len(), views, &out)?;
 
+    let tolerance_warnings = tolerance_warnings(&args.options, &options);
+    for w in &tolerance_warnings {
+        say!("warning: {w}");
+    }
+
     let mut csv = StreamingCsv::create(&files.csv, &mechanism, &signals, views.then_some(budget.memory))?;
 
     let what = match &target {
@@ -100,6 +105,9 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
                 ),
                 None => say!("  nothing was computed; wrote the header to {}", partial_csv.display()),
             }
+            if !tolerance_warnings.is_empty() && !stopped.by_caller {
+                say!("  the tolerances warned about above may be why; rerun with the defaults (leave out --abstol and --reltol)");
+            }
             if stopped.by_caller && interrupted.load(Ordering::Relaxed) {
                 Err(Failure::Interrupted)
             } else {
@@ -120,6 +128,27 @@ pub fn command_line_options(args: &OptionArgs, analysis: &SimulationOptions) -> 
         };
         Failure::Usage(format!("{from}{}", e.message))
     })
+}
+
+/// The warnings of valid options that spoil the result (a loose `reltol`,
+/// an `abstol` below rounding), naming the command-line option that gave
+/// the value.
+pub fn tolerance_warnings(args: &OptionArgs, options: &SimulationOptions) -> Vec<String> {
+    options
+        .warnings()
+        .into_iter()
+        .map(|(option, message)| {
+            let given = match option {
+                "reltol" => args.reltol,
+                "abstol" => args.abstol,
+                _ => None,
+            };
+            match given {
+                Some(x) => format!("--{option} {}: {message}", number(x)),
+                None => message,
+            }
+        })
+        .collect()
 }
 
 /// A flag that Ctrl-C raises: the run stops after its current step and

@@ -40,7 +40,10 @@ pub fn sweep(args: &SweepArgs) -> Result<(), Failure> {
         return Err(Failure::Model);
     };
     // Bad options are refused once, before the runs.
-    command_line_options(&args.options, &first.options)?;
+    let options = command_line_options(&args.options, &first.options)?;
+    for w in crate::run::tolerance_warnings(&args.options, &options) {
+        say!("warning: {w}");
+    }
     let patterns = if args.signals.is_empty() { mechanism.states().names.clone() } else { args.signals.clone() };
     let signals = chosen_signals(&mechanism, &patterns)?;
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("{}_sweep.csv", first.name)));

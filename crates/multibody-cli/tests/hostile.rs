@@ -180,3 +180,38 @@ fn outputs_must_be_regular_files_or_new_paths() {
     assert_eq!(code(&o), 2, "{}", stderr(&o));
     assert!(stderr(&o).contains("it is a device"), "{}", stderr(&o));
 }
+
+/// `--reltol 1` was accepted without a word (a damped pendulum ended at
+/// 69 rad instead of -1.68); `--abstol 1e-300` too. Both run, with a
+/// warning that says what they do to the result; `check` warns about an
+/// analysis's own.
+#[test]
+fn tolerances_that_spoil_the_result_are_warned_about() {
+    let dir = scratch("tolerance-warnings");
+    let pendulum = example("pendulum.dyad");
+    let o = multibody(&dir, &["run", &pendulum, "--stop", "0.5", "--reltol", "1"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("warning: --reltol 1: `reltol` = 1 lets each step err by 100% of the state"), "{err}");
+    assert!(err.contains("far from the true motion"), "{err}");
+    let o = multibody(&dir, &["run", &pendulum, "--stop", "0.2", "--abstol", "1e-300", "--reltol", "1e-14"]);
+    let err = stderr(&o);
+    assert!(
+        err.contains("warning: --abstol 1e-300: `abstol` = 1e-300 is below what double precision resolves"),
+        "{err}"
+    );
+    if code(&o) == 3 {
+        assert!(err.contains("the tolerances warned about above may be why"), "{err}");
+    }
+    // The defaults and ordinary choices say nothing.
+    let o = multibody(&dir, &["run", &pendulum, "--stop", "0.2", "--reltol", "1e-3", "--abstol", "1e-10"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
+    // An analysis's own loose tolerance, in `check`.
+    let text = std::fs::read_to_string(&pendulum).unwrap().replace("stop = 5", "stop = 5, reltol = 0.1");
+    std::fs::write(dir.join("loose.dyad"), text).unwrap();
+    let o = multibody(&dir, &["check", "loose.dyad"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("`reltol` = 0.1 lets each step err by 10% of the state"), "{out}");
+}
