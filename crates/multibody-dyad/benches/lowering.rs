@@ -31,7 +31,8 @@ fn check(text: &str) -> usize {
 }
 
 fn sizes(c: &mut Criterion) {
-    let cases: [(&str, fn(usize) -> String); 2] = [("chained_parameters", chained_parameters), ("for_loop", for_loop)];
+    type Model = fn(usize) -> String;
+    let cases: [(&str, Model); 2] = [("chained_parameters", chained_parameters), ("for_loop", for_loop)];
     for (name, model) in cases {
         let mut group = c.benchmark_group(name);
         group.sample_size(10);
