@@ -215,3 +215,31 @@ fn tolerances_that_spoil_the_result_are_warned_about() {
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(out.contains("`reltol` = 0.1 lets each step err by 10% of the state"), "{out}");
 }
+
+/// A model "file" that is a FIFO nobody writes to blocked for ever; a
+/// device (`/dev/zero`) was read without end. The FIFO is given up after a
+/// few seconds with a message, the device refused; a FIFO that is written
+/// (`<(...)`, a pipe) still reads.
+#[test]
+fn a_model_from_a_fifo_without_writer_or_a_device_is_refused() {
+    let dir = scratch("fifo-input");
+    let fifo = dir.join("model.dyad");
+    assert!(Command::new("mkfifo").arg(&fifo).status().expect("mkfifo runs").success());
+    let started = std::time::Instant::now();
+    let o = multibody(&dir, &["check", "model.dyad"]);
+    assert_eq!(code(&o), 4, "{}", stderr(&o));
+    assert!(stderr(&o).contains("nothing writes to the FIFO model.dyad (waited 5 s)"), "{}", stderr(&o));
+    assert!(started.elapsed().as_secs() < 60, "gave up in {:?}", started.elapsed());
+    for device in ["/dev/zero", "/dev/urandom"] {
+        let o = multibody(&dir, &["run", device]);
+        assert_eq!(code(&o), 2, "{}", stderr(&o));
+        assert!(stderr(&o).contains(&format!("{device} is a device, not a model file")), "{}", stderr(&o));
+    }
+    // A writer: the model reads as from a file.
+    let text = std::fs::read(example("pendulum.dyad")).unwrap();
+    let writer = std::thread::spawn(move || std::fs::write(fifo, text));
+    let o = multibody(&dir, &["check", "model.dyad"]);
+    writer.join().unwrap().unwrap();
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("analysis PendulumSimulation"));
+}
