@@ -40,6 +40,8 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         say!("warning: {w}");
     }
 
+    // Before the temporary file exists: a signal from here on keeps what was computed and removes it.
+    let interrupted = on_interrupt();
     let mut csv = StreamingCsv::create(&files.csv, &mechanism, &signals, views.then_some(budget.memory))?;
 
     let what = match &target {
@@ -55,13 +57,12 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         method(&options)
     );
 
-    let interrupted = on_ctrl_c();
     let started = Instant::now();
     let mut progress = Progress::new(options.start, options.stop);
     let mut on_step = |t: f64| {
         progress.update(t);
         if interrupted.load(Ordering::Relaxed) {
-            Err("interrupted (Ctrl-C)".to_string())
+            Err("interrupted (Ctrl-C, SIGTERM or SIGHUP)".to_string())
         } else {
             Ok(())
         }
@@ -151,9 +152,11 @@ pub fn tolerance_warnings(args: &OptionArgs, options: &SimulationOptions) -> Vec
         .collect()
 }
 
-/// A flag that Ctrl-C raises: the run stops after its current step and
-/// keeps what it computed. A second Ctrl-C ends the command at once.
-fn on_ctrl_c() -> Arc<AtomicBool> {
+/// A flag that Ctrl-C raises, and so do SIGTERM and SIGHUP (a closed
+/// terminal, `kill`, a job scheduler's time limit): the run stops after its
+/// current step and keeps what it computed, and no temporary file is left.
+/// A second signal ends the command at once.
+pub fn on_interrupt() -> Arc<AtomicBool> {
     let flag = Arc::new(AtomicBool::new(false));
     let raised = flag.clone();
     let installed = ctrlc::set_handler(move || {

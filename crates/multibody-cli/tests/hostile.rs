@@ -216,6 +216,23 @@ fn tolerances_that_spoil_the_result_are_warned_about() {
     assert!(out.contains("`reltol` = 0.1 lets each step err by 10% of the state"), "{out}");
 }
 
+/// `sweep --jobs 100000` started a thread per job asked for. Threads are
+/// capped by the runs and the cores, and the command says so.
+#[test]
+fn sweep_threads_are_capped_by_runs_and_cores() {
+    let dir = scratch("sweep-jobs");
+    let pendulum = example("pendulum.dyad");
+    let o = multibody(&dir, &["sweep", &pendulum, "--param", "body.m=1,2,3", "--stop", "0.2", "--jobs", "100000"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let threads = cores.min(3);
+    let err = stderr(&o);
+    let on = if threads == 1 { "on 1 thread".to_string() } else { format!("on {threads} threads") };
+    assert!(err.contains(&on), "{err}");
+    assert!(err.contains("(--jobs 100000: more threads than runs or cores would only share them)"), "{err}");
+    assert!(err.contains("3 runs of 3 ran"), "{err}");
+}
+
 /// A model "file" that is a FIFO nobody writes to blocked for ever; a
 /// device (`/dev/zero`) was read without end. The FIFO is given up after a
 /// few seconds with a message, the device refused; a FIFO that is written
@@ -242,4 +259,95 @@ fn a_model_from_a_fifo_without_writer_or_a_device_is_refused() {
     writer.join().unwrap().unwrap();
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     assert!(String::from_utf8_lossy(&o.stdout).contains("analysis PendulumSimulation"));
+}
+
+/// Starts `multibody` with `args` in `dir` and waits until its stderr has
+/// said `ready`; gives the child and the rest of its stderr to read.
+fn start_until(
+    dir: &Path,
+    args: &[&str],
+    ready: &str,
+) -> (std::process::Child, std::io::BufReader<std::process::ChildStderr>) {
+    use std::io::BufRead;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_multibody"))
+        .args(args)
+        .current_dir(dir)
+        .env("NO_COLOR", "1")
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stderr = std::io::BufReader::new(child.stderr.take().unwrap());
+    let mut line = String::new();
+    while !line.contains(ready) {
+        line.clear();
+        assert!(stderr.read_line(&mut line).unwrap() > 0, "ended before `{ready}`");
+    }
+    (child, stderr)
+}
+
+fn signal(child: &std::process::Child, signal: i32) {
+    // SAFETY: kill() with the id of a child of ours that has not been waited for.
+    let sent = unsafe { libc::kill(child.id() as i32, signal) };
+    assert_eq!(sent, 0, "kill");
+}
+
+fn no_temporary_files(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".tmp"))
+        .collect()
+}
+
+/// SIGTERM and SIGHUP (a closed terminal, `kill`, a scheduler's time
+/// limit) ended a run with nothing kept and a `.tmp` file left. They are
+/// handled like Ctrl-C: what was computed is kept as partial, exit 130.
+#[test]
+fn sigterm_and_sighup_keep_partial_results_like_ctrl_c() {
+    let pendulum = example("pendulum.dyad");
+    for (name, number) in [("term", libc::SIGTERM), ("hup", libc::SIGHUP)] {
+        let dir = scratch(&format!("signal-{name}"));
+        let args = ["run", &pendulum, "--stop", "1e9", "--saveat", "0", "--signals", "rev.phi", "--out", "endless.csv"];
+        let (mut child, mut stderr) = start_until(&dir, &args, "degree");
+        std::thread::sleep(std::time::Duration::from_millis(300));
+        signal(&child, number);
+        let mut rest = String::new();
+        std::io::Read::read_to_string(&mut stderr, &mut rest).unwrap();
+        let status = child.wait().unwrap();
+        assert_eq!(status.code(), Some(130), "SIG{name}: {status:?} {rest}");
+        assert!(rest.contains("interrupted (Ctrl-C, SIGTERM or SIGHUP)"), "{rest}");
+        let kept = std::fs::read_to_string(dir.join("endless.partial.csv")).expect("the partial CSV");
+        assert!(kept.lines().count() > 10, "SIG{name}: {} lines kept", kept.lines().count());
+        assert!(no_temporary_files(&dir).is_empty(), "SIG{name}: {:?}", no_temporary_files(&dir));
+    }
+}
+
+/// Ctrl-C during a sweep lost every finished run with no message. The
+/// runs under way stop, the finished ones are kept as partial, and the
+/// command says how many.
+#[test]
+fn ctrl_c_during_a_sweep_keeps_the_finished_runs() {
+    let dir = scratch("sweep-ctrl-c");
+    // With c = 1 a run takes milliseconds; with c = 1e12 the explicit method takes steps of about a
+    // microsecond for 100 s: it does not end before the signal.
+    let model = "example component Osc\n  wall = TranslationalComponents.Fixed()\n  spring = TranslationalComponents.SpringDamper(c = 1, d = 0)\n  slider = TranslationalComponents.Mass(m = 1, s(initial = 0.1), v(initial = 0))\nrelations\n  connect(wall.flange, spring.flange_a)\n  connect(spring.flange_b, slider.flange_a)\nend\n\nanalysis OscSimulation\n  extends TransientAnalysis(stop = 100, saveat = 1)\n  model = Osc()\nend\n";
+    std::fs::write(dir.join("osc.dyad"), model).unwrap();
+    let args = ["sweep", "osc.dyad", "--param", "spring.c=1,1,1,1,1e12,1e12", "--jobs", "2", "--out", "s.csv"];
+    let (mut child, mut stderr) = start_until(&dir, &args, "Sweeping");
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    signal(&child, libc::SIGINT);
+    let mut rest = String::new();
+    std::io::Read::read_to_string(&mut stderr, &mut rest).unwrap();
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130), "{rest}");
+    assert!(rest.contains("interrupted (Ctrl-C, SIGTERM or SIGHUP): 4 runs of 6 finished"), "{rest}");
+    assert!(rest.contains("s.partial.csv"), "{rest}");
+    let kept = std::fs::read_to_string(dir.join("s.partial.csv")).expect("the partial table");
+    let mut runs: Vec<&str> = kept.lines().skip(1).map(|l| l.split(',').next().unwrap()).collect();
+    runs.dedup();
+    assert_eq!(runs, ["1", "2", "3", "4"], "the finished runs, whole");
+    assert_eq!(kept.lines().count(), 1 + 4 * 101);
+    assert!(!dir.join("s.csv").exists());
+    assert!(no_temporary_files(&dir).is_empty(), "{:?}", no_temporary_files(&dir));
 }
