@@ -189,10 +189,42 @@ pub fn lower(package: &Package, target: &Target, overrides: &[Override]) -> Resu
             Ok(l)
         }
         Err(d) => {
+            if let Some(failure) = blame_an_override(package, target, overrides) {
+                return Err(failure);
+            }
             print_diagnostics(package, &[d]);
             Err(Failure::Model)
         }
     }
+}
+
+/// When the model lowers without the command line's values and not with
+/// one of them, that value is the mistake: it is reported as the option
+/// the user typed (`--param rev.phi=1`), not at a line of the files that
+/// the user did not write it in.
+pub fn blame_an_override(package: &Package, target: &Target, overrides: &[Override]) -> Option<Failure> {
+    let assembled = |overrides: &[Override]| package.lower_target(target, overrides)?.assemble().map(|_| ());
+    if overrides.is_empty() || assembled(&[]).is_err() {
+        return None;
+    }
+    overrides.iter().find_map(|o| {
+        let d = assembled(std::slice::from_ref(o)).err()?;
+        let option = if o.initial { "--initial" } else { "--param" };
+        let value = match &o.value {
+            multibody_dyad::eval::Val::Number(x) => crate::run::number(*x),
+            other => other.describe(),
+        };
+        // One line: the message, then what to do and the facts, each after `; `.
+        let mut message = format!("`{option} {}={value}`: {}", o.path, d.message.trim_end_matches('.'));
+        for more in d.help.iter().chain(&d.notes) {
+            let more = more.trim_end_matches('.');
+            let mut chars = more.chars();
+            let lower = chars.next().map(|c| c.to_lowercase().chain(chars).collect::<String>()).unwrap_or_default();
+            message.push_str(if message.ends_with('?') { " " } else { "; " });
+            message.push_str(&lower);
+        }
+        Some(Failure::Usage(message))
+    })
 }
 
 /// `--param NAME=VALUE` and `--initial NAME=VALUE` as overrides, each value

@@ -1,7 +1,7 @@
 //! `multibody run`: simulate and write a CSV.
 
 use crate::exit::{error_word, Failure};
-use crate::load::{choose, file_of, lower, overrides, print_diagnostics, read_package, Target};
+use crate::load::{blame_an_override, choose, file_of, lower, overrides, print_diagnostics, read_package, Target};
 use crate::output::{self, Budget, ResultFiles, StreamingCsv};
 use crate::progress::Progress;
 use crate::{OptionArgs, RunArgs};
@@ -24,6 +24,9 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("{}.csv", lowered.name)));
     let files = ResultFiles::new(&args.selection.files, &out, args.animate.as_deref(), args.plot.as_deref())?;
     let mechanism = lowered.assemble().map_err(|d| {
+        if let Some(failure) = blame_an_override(&package, &target, &overrides) {
+            return failure;
+        }
         print_diagnostics(&package, &[d]);
         Failure::Model
     })?;

@@ -351,3 +351,23 @@ fn ctrl_c_during_a_sweep_keeps_the_finished_runs() {
     assert!(!dir.join("s.csv").exists());
     assert!(no_temporary_files(&dir).is_empty(), "{:?}", no_temporary_files(&dir));
 }
+
+/// `--param rev.phi=1` said "`phi(...) = value` is not supported yet" with
+/// the caret on the analysis line, which the user did not write it in. A
+/// value from the command line that breaks the model is reported as the
+/// option typed, with the true cause and what to type instead.
+#[test]
+fn a_bad_command_line_value_is_blamed_on_its_option() {
+    let dir = scratch("blame-option");
+    let pendulum = example("pendulum.dyad");
+    for (name, option, value) in [
+        ("param_of_a_state", "--param", "rev.phi=1"),
+        ("param_of_a_variable", "--param", "body.r_0=1"),
+        ("param_misspelt", "--param", "body.mm=2"),
+        ("initial_misspelt", "--initial", "rev.phii=0.3"),
+    ] {
+        let o = multibody(&dir, &["run", &pendulum, "--stop", "0.1", "--param", "body.m=2", option, value]);
+        assert_eq!(code(&o), 2, "{name}: {}", stderr(&o));
+        insta::assert_snapshot!(name, stderr(&o));
+    }
+}
