@@ -7,14 +7,15 @@ use multibody::components::{lookup, registry, ComponentSpec, Shape};
 pub fn list() -> Result<(), Failure> {
     let written = multibody_dyad::catalog::components();
     let width = registry().iter().map(|s| s.kind.len()).chain(written.iter().map(|(n, _)| n.len())).max().unwrap_or(0);
+    let mut out = String::new();
     for spec in registry() {
-        println!("{:width$}  {}", spec.kind, first_sentence(spec.doc));
+        put!(out, "{:width$}  {}", spec.kind, first_sentence(spec.doc));
     }
     for (name, doc) in &written {
         let doc = doc.split_whitespace().collect::<Vec<_>>().join(" ");
-        println!("{name:width$}  {} (written in Dyad)", first_sentence(&doc));
+        put!(out, "{name:width$}  {} (written in Dyad)", first_sentence(&doc));
     }
-    Ok(())
+    crate::console::answer(&out)
 }
 
 pub fn describe(kind: &str) -> Result<(), Failure> {
@@ -28,8 +29,7 @@ pub fn describe(kind: &str) -> Result<(), Failure> {
             .collect();
         let full = if in_libraries.len() == 1 { in_libraries.pop().unwrap() } else { kind.to_string() };
         if let Some(d) = multibody_dyad::catalog::describe(&full) {
-            print!("{}", written_description(&d));
-            return Ok(());
+            return crate::console::answer(&written_description(&d));
         }
     }
     let Some(spec) = lookup(kind) else {
@@ -44,8 +44,7 @@ pub fn describe(kind: &str) -> Result<(), Failure> {
         };
         return Err(Failure::Usage(format!("there is no component kind `{kind}`; {hint}")));
     };
-    print!("{}", description(spec));
-    Ok(())
+    crate::console::answer(&description(spec))
 }
 
 fn description(spec: &ComponentSpec) -> String {

@@ -17,28 +17,30 @@ pub fn check(selection: &Selection) -> Result<(), Failure> {
         Target::Analysis(name) => format!("analysis {name}, model {}", lowered.model.name),
         Target::Component(name) => format!("component {name}"),
     };
-    println!("{what} ({})", file_of(&package, &lowered.name));
-    println!("  components: {}", lowered.model.components.len());
+    let mut out = String::new();
+    put!(out, "{what} ({})", file_of(&package, &lowered.name));
+    put!(out, "  components: {}", lowered.model.components.len());
     let dof = mechanism.degrees_of_freedom();
-    println!("  degrees of freedom: {dof}");
+    put!(out, "  degrees of freedom: {dof}");
     let states = mechanism.states();
     if states.names.is_empty() {
-        println!("  states: none");
+        put!(out, "  states: none");
     } else {
-        println!("  states, with start values:");
+        put!(out, "  states, with start values:");
         let width = states.names.iter().map(|n| n.chars().count()).max().unwrap_or(0);
         for (name, start) in states.names.iter().zip(&states.start) {
-            println!("    {name:width$}  {}", number(*start));
+            put!(out, "    {name:width$}  {}", number(*start));
         }
     }
     let loops = mechanism.loops();
     if !loops.is_empty() {
         let contacts = loops.iter().filter(|l| l.wheel_contact.is_some()).count();
         if contacts < loops.len() {
-            println!("  kinematic loops: {}", loops.len() - contacts);
+            put!(out, "  kinematic loops: {}", loops.len() - contacts);
         }
         for l in loops.iter().filter(|l| l.wheel_contact.is_none()) {
-            println!(
+            put!(
+                out,
                 "    through {}: cut at {}, {} constraint equations, {} of them redundant",
                 l.joints.join(", "),
                 l.cut,
@@ -47,36 +49,41 @@ pub fn check(selection: &Selection) -> Result<(), Failure> {
             );
         }
         if contacts > 0 {
-            println!("  wheel contacts: {contacts}");
+            put!(out, "  wheel contacts: {contacts}");
         }
         for l in loops.iter().filter(|l| l.wheel_contact.is_some()) {
             let on_velocities = l.wheel_contact.unwrap_or(0);
-            println!(
+            put!(
+                out,
                 "    {} on the ground: {} constraint equations ({} of them on velocities), {} of them redundant",
-                l.cut, l.equations, on_velocities, l.redundant
+                l.cut,
+                l.equations,
+                on_velocities,
+                l.redundant
             );
         }
     }
     let owners = mechanism.orientation_owners();
     if owners.is_empty() {
-        println!("  orientation: every part is positioned from the World through joints and fixed parts");
+        put!(out, "  orientation: every part is positioned from the World through joints and fixed parts");
     } else {
-        println!("  orientation owners (free parts):");
+        put!(out, "  orientation owners (free parts):");
         for (owner, how) in owners {
-            println!("    {owner}: {how}");
+            put!(out, "    {owner}: {how}");
         }
     }
-    let warnings = mechanism.warnings();
+    let mut warnings = mechanism.warnings().to_vec();
+    warnings.extend(lowered.options.warnings().into_iter().map(|(_, w)| w));
     if warnings.is_empty() && lowered.warnings.is_empty() {
-        println!("  warnings: none");
+        put!(out, "  warnings: none");
     } else {
-        println!("  warnings: {}", warnings.len() + lowered.warnings.len());
+        put!(out, "  warnings: {}", warnings.len() + lowered.warnings.len());
         for w in &lowered.warnings {
-            println!("    {}", w.message);
+            put!(out, "    {}", w.message);
         }
         for w in warnings {
-            println!("    {w}");
+            put!(out, "    {w}");
         }
     }
-    Ok(())
+    crate::console::answer(&out)
 }

@@ -46,7 +46,7 @@ impl Failure {
     /// Prints the message (if not printed yet) and gives the exit code.
     pub fn report(self) -> ExitCode {
         match &self {
-            Failure::Usage(message) | Failure::Io(message) => eprintln!("{}: {message}", error_word()),
+            Failure::Usage(message) | Failure::Io(message) => say!("{}: {message}", error_word()),
             Failure::Model | Failure::Simulation | Failure::Interrupted => {}
         }
         ExitCode::from(self.code())

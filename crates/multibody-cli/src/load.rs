@@ -4,6 +4,7 @@ use crate::exit::{color, Failure};
 use crate::Selection;
 use multibody_dyad::{diagnostics::did_you_mean, DefinitionKind, Diagnostic, Lowered, Override, Package};
 use std::path::{Path, PathBuf};
+use std::time::Duration;
 
 pub use multibody_dyad::Target;
 
@@ -25,7 +26,7 @@ pub fn read_package(paths: &[PathBuf]) -> Result<Package, Failure> {
     let mut package = Package::new();
     let mut errors = Vec::new();
     for file in &files {
-        let bytes = std::fs::read(file).map_err(|e| Failure::Io(format!("cannot read {}: {e}", file.display())))?;
+        let bytes = read_model_file(file)?;
         // Bytes that are not UTF-8 text are reported at their place, like syntax errors.
         if let Err(d) = package.add_source_bytes(file.display().to_string(), bytes) {
             errors.push(d);
@@ -36,6 +37,82 @@ pub fn read_package(paths: &[PathBuf]) -> Result<Package, Failure> {
         return Err(Failure::Model);
     }
     Ok(package)
+}
+
+/// How long a FIFO (a named pipe, `/dev/stdin` from a pipe, `<(...)`) may
+/// wait for the program that writes to it.
+const FIFO_WAIT: Duration = Duration::from_secs(5);
+/// The most a FIFO may give: a model file is text, far smaller.
+const FIFO_MAX_BYTES: u64 = 256 << 20;
+
+/// The bytes of a model file. A regular file is read; a FIFO is read once
+/// something writes to it, within `FIFO_WAIT` (with no writer, opening it
+/// blocks for ever) and up to `FIFO_MAX_BYTES`; a device (`/dev/zero`, a
+/// terminal) or a socket is refused, for it would block or never end.
+fn read_model_file(path: &Path) -> Result<Vec<u8>, Failure> {
+    let cannot = |e: std::io::Error| Failure::Io(format!("cannot read {}: {e}", path.display()));
+    let meta = std::fs::metadata(path).map_err(cannot)?;
+    if meta.is_file() {
+        return std::fs::read(path).map_err(cannot);
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        let ty = meta.file_type();
+        if ty.is_fifo() {
+            return read_fifo(path);
+        }
+        let what = if ty.is_char_device() || ty.is_block_device() {
+            "a device"
+        } else if ty.is_socket() {
+            "a socket"
+        } else {
+            "not a file"
+        };
+        Err(Failure::Usage(format!("{} is {what}, not a model file; give the path of a .dyad file", path.display())))
+    }
+    #[cfg(not(unix))]
+    std::fs::read(path).map_err(cannot)
+}
+
+/// Reads a FIFO on a thread of its own, so that a FIFO nobody writes to
+/// is given up after `FIFO_WAIT` instead of blocking the command for ever.
+fn read_fifo(path: &Path) -> Result<Vec<u8>, Failure> {
+    use std::io::Read;
+    use std::sync::mpsc;
+    let (opened, opened_here) = mpsc::channel();
+    let (read, read_here) = mpsc::channel();
+    let reading = path.to_path_buf();
+    std::thread::spawn(move || {
+        let file = std::fs::File::open(&reading);
+        let _ = opened.send(());
+        let bytes = file.and_then(|f| {
+            let mut bytes = Vec::new();
+            f.take(FIFO_MAX_BYTES + 1).read_to_end(&mut bytes).map(|_| bytes)
+        });
+        let _ = read.send(bytes);
+    });
+    if opened_here.recv_timeout(FIFO_WAIT).is_err() {
+        // The thread stays blocked in open(); it ends with the command.
+        return Err(Failure::Io(format!(
+            "nothing writes to the FIFO {} (waited {} s); start the program that writes the model first, or give \
+             the path of a .dyad file",
+            path.display(),
+            FIFO_WAIT.as_secs()
+        )));
+    }
+    let bytes = read_here
+        .recv()
+        .unwrap_or_else(|_| Err(std::io::Error::other("the reading thread ended")))
+        .map_err(|e| Failure::Io(format!("cannot read {}: {e}", path.display())))?;
+    if bytes.len() as u64 > FIFO_MAX_BYTES {
+        return Err(Failure::Usage(format!(
+            "{} gave more than {} MB, far more than a model file; give the path of a .dyad file",
+            path.display(),
+            FIFO_MAX_BYTES >> 20
+        )));
+    }
+    Ok(bytes)
 }
 
 fn collect_dyad_files(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), Failure> {
@@ -112,10 +189,42 @@ pub fn lower(package: &Package, target: &Target, overrides: &[Override]) -> Resu
             Ok(l)
         }
         Err(d) => {
+            if let Some(failure) = blame_an_override(package, target, overrides) {
+                return Err(failure);
+            }
             print_diagnostics(package, &[d]);
             Err(Failure::Model)
         }
     }
+}
+
+/// When the model lowers without the command line's values and not with
+/// one of them, that value is the mistake: it is reported as the option
+/// the user typed (`--param rev.phi=1`), not at a line of the files that
+/// the user did not write it in.
+pub fn blame_an_override(package: &Package, target: &Target, overrides: &[Override]) -> Option<Failure> {
+    let assembled = |overrides: &[Override]| package.lower_target(target, overrides)?.assemble().map(|_| ());
+    if overrides.is_empty() || assembled(&[]).is_err() {
+        return None;
+    }
+    overrides.iter().find_map(|o| {
+        let d = assembled(std::slice::from_ref(o)).err()?;
+        let option = if o.initial { "--initial" } else { "--param" };
+        let value = match &o.value {
+            multibody_dyad::eval::Val::Number(x) => crate::run::number(*x),
+            other => other.describe(),
+        };
+        // One line: the message, then what to do and the facts, each after `; `.
+        let mut message = format!("`{option} {}={value}`: {}", o.path, d.message.trim_end_matches('.'));
+        for more in d.help.iter().chain(&d.notes) {
+            let more = more.trim_end_matches('.');
+            let mut chars = more.chars();
+            let lower = chars.next().map(|c| c.to_lowercase().chain(chars).collect::<String>()).unwrap_or_default();
+            message.push_str(if message.ends_with('?') { " " } else { "; " });
+            message.push_str(&lower);
+        }
+        Some(Failure::Usage(message))
+    })
 }
 
 /// `--param NAME=VALUE` and `--initial NAME=VALUE` as overrides, each value
@@ -144,7 +253,7 @@ pub fn assignment<'t>(option: &str, text: &'t str) -> Result<(&'t str, &'t str),
 
 pub fn print_diagnostics(package: &Package, diagnostics: &[Diagnostic]) {
     for d in diagnostics {
-        eprint!("{}", d.render(package.sources(), color()));
+        crate::console::say_text(&d.render(package.sources(), color()));
     }
 }
 

@@ -1,5 +1,7 @@
 //! The `multibody` command: run, check and describe Dyad multibody models.
 
+#[macro_use]
+mod console;
 mod catalog;
 mod check;
 mod exit;
@@ -21,7 +23,8 @@ Exit codes:
   2  usage error: bad arguments, or an analysis, model or component kind that does not exist
   3  the simulation failed part way; what it computed was written as NAME.partial.csv
   4  input/output error: a file could not be read or written
-  130  stopped by Ctrl-C; what was computed was written as NAME.partial.csv (a second Ctrl-C ends at once)
+  130  stopped by Ctrl-C, SIGTERM or SIGHUP; what was computed was written as NAME.partial.csv (a second
+       signal ends at once)
 
 Examples:
   multibody run examples/pendulum.dyad

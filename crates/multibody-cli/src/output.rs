@@ -271,9 +271,13 @@ impl SampleSink for StreamingCsv {
 }
 
 /// Refuses, before anything is computed, an output that would write over
-/// one of the model files read or over another output of the same run.
-/// Only `.dyad` files in an input folder count as inputs: a rerun in a
-/// model folder may replace its own earlier results.
+/// one of the model files read or over another output of the same run,
+/// under its own name or under the `.partial` name a run that stops part
+/// way writes (`--out r.dyad` would keep a failed run as `r.partial.dyad`);
+/// and an output that names something other than a regular file (a
+/// folder, a device such as `/dev/null`, a FIFO), which a result renamed
+/// into place would replace. Only `.dyad` files in an input folder count
+/// as inputs: a rerun in a model folder may replace its own earlier results.
 fn outputs_are_safe(inputs: &[PathBuf], outputs: &[(&str, Option<&Path>)]) -> Result<(), Failure> {
     let mut read = Vec::new();
     for input in inputs {
@@ -285,26 +289,84 @@ fn outputs_are_safe(inputs: &[PathBuf], outputs: &[(&str, Option<&Path>)]) -> Re
             Err(_) => read.push(input.clone()),
         }
     }
-    let mut written: Vec<(&str, PathBuf)> = Vec::new();
+    let read: Vec<(PathBuf, &PathBuf)> = read.iter().map(|i| (comparable(i), i)).collect();
+    // Every name each output may be written under: its own, then its partial one.
+    let mut written: Vec<(&str, &Path, PathBuf)> = Vec::new();
     for &(option, path) in outputs {
         let Some(path) = path else { continue };
-        let key = comparable(path);
-        if let Some(input) = read.iter().find(|i| comparable(i) == key) {
-            return Err(Failure::Usage(format!(
-                "`{option} {}` would write over the model file {}; choose another path for the output",
-                path.display(),
-                input.display()
-            )));
+        for (k, name) in [path.to_path_buf(), partial_path(path)].into_iter().enumerate() {
+            let partial = k == 1;
+            let how = if partial {
+                format!("a run that stops part way would keep its results as {}, which", name.display())
+            } else {
+                "it".to_string()
+            };
+            not_a_special_file(option, path, &name, &how)?;
+            let key = comparable(&name);
+            if let Some((_, input)) = read.iter().find(|(i, _)| *i == key) {
+                let what = if partial {
+                    format!("{how} is the model file {}", input.display())
+                } else {
+                    format!("it would write over the model file {}", input.display())
+                };
+                return Err(Failure::Usage(format!(
+                    "`{option} {}`: {what}; choose another path for the output",
+                    path.display()
+                )));
+            }
+            if let Some((other, other_path, _)) = written.iter().find(|(_, _, w)| *w == key) {
+                return Err(Failure::Usage(if partial || *other_path != path {
+                    format!(
+                        "`{other} {}` and `{option} {}` may both write {}; give each output a name of its own",
+                        other_path.display(),
+                        path.display(),
+                        name.display()
+                    )
+                } else {
+                    format!("`{other}` and `{option}` both name {}; give each output a path of its own", path.display())
+                }));
+            }
+            written.push((option, path, key));
         }
-        if let Some((other, _)) = written.iter().find(|(_, w)| *w == key) {
-            return Err(Failure::Usage(format!(
-                "`{other}` and `{option}` both name {}; give each output a path of its own",
-                path.display()
-            )));
-        }
-        written.push((option, key));
     }
     Ok(())
+}
+
+/// Refuses an output name that exists and is not a regular file: a folder,
+/// a device node (`/dev/null`, `/dev/full`, or a copy of one), a FIFO or a
+/// socket (links are followed). Writing a result renames a new file over
+/// the name, which would replace the node itself.
+fn not_a_special_file(option: &str, given: &Path, name: &Path, how: &str) -> Result<(), Failure> {
+    let Ok(meta) = std::fs::metadata(name) else { return Ok(()) };
+    if meta.is_file() {
+        return Ok(());
+    }
+    let kind = special_kind(&meta);
+    Err(Failure::Usage(format!(
+        "`{option} {}`: {how} is {kind}, not a regular file; results are written as new files and renamed into          place, which would replace it; give the path of a file (new or earlier results)",
+        given.display()
+    )))
+}
+
+fn special_kind(meta: &std::fs::Metadata) -> &'static str {
+    if meta.is_dir() {
+        return "a folder";
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        let ty = meta.file_type();
+        if ty.is_char_device() || ty.is_block_device() {
+            return "a device";
+        }
+        if ty.is_fifo() {
+            return "a FIFO (named pipe)";
+        }
+        if ty.is_socket() {
+            return "a socket";
+        }
+    }
+    "a special file"
 }
 
 /// The absolute form of a path, through links, for comparing files that

@@ -1,7 +1,7 @@
 //! `multibody run`: simulate and write a CSV.
 
 use crate::exit::{error_word, Failure};
-use crate::load::{choose, file_of, lower, overrides, print_diagnostics, read_package, Target};
+use crate::load::{blame_an_override, choose, file_of, lower, overrides, print_diagnostics, read_package, Target};
 use crate::output::{self, Budget, ResultFiles, StreamingCsv};
 use crate::progress::Progress;
 use crate::{OptionArgs, RunArgs};
@@ -24,25 +24,35 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("{}.csv", lowered.name)));
     let files = ResultFiles::new(&args.selection.files, &out, args.animate.as_deref(), args.plot.as_deref())?;
     let mechanism = lowered.assemble().map_err(|d| {
+        if let Some(failure) = blame_an_override(&package, &target, &overrides) {
+            return failure;
+        }
         print_diagnostics(&package, &[d]);
         Failure::Model
     })?;
     for w in mechanism.warnings() {
-        eprintln!("warning: {w}");
+        say!("warning: {w}");
     }
     let signals = chosen_signals(&mechanism, &args.signals)?;
     let views = args.animate.is_some() || args.plot.is_some();
     let budget = Budget::of_this_machine();
     budget.check(&options, mechanism.signals().len(), signals.len(), views, &out)?;
 
+    let tolerance_warnings = tolerance_warnings(&args.options, &options);
+    for w in &tolerance_warnings {
+        say!("warning: {w}");
+    }
+
+    // Before the temporary file exists: a signal from here on keeps what was computed and removes it.
+    let interrupted = on_interrupt();
     let mut csv = StreamingCsv::create(&files.csv, &mechanism, &signals, views.then_some(budget.memory))?;
 
     let what = match &target {
         Target::Analysis(name) => format!("analysis {name} (model {})", lowered.model.name),
         Target::Component(name) => format!("component {name} with default options"),
     };
-    eprintln!("Simulating {what} from {}", file_of(&package, &lowered.name));
-    eprintln!(
+    say!("Simulating {what} from {}", file_of(&package, &lowered.name));
+    say!(
         "  {} of freedom, t = {} … {} s, {}",
         plural(mechanism.degrees_of_freedom(), "degree"),
         number(options.start),
@@ -50,13 +60,12 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         method(&options)
     );
 
-    let interrupted = on_ctrl_c();
     let started = Instant::now();
     let mut progress = Progress::new(options.start, options.stop);
     let mut on_step = |t: f64| {
         progress.update(t);
         if interrupted.load(Ordering::Relaxed) {
-            Err("interrupted (Ctrl-C)".to_string())
+            Err("interrupted (Ctrl-C, SIGTERM or SIGHUP)".to_string())
         } else {
             Ok(())
         }
@@ -67,7 +76,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     match result {
         Ok(report) => {
             let kept = csv.finish(&out)?;
-            eprintln!(
+            say!(
                 "  {} × {} → {} ({elapsed:.0?})",
                 plural(kept.samples, "sample"),
                 plural(signals.len(), "signal"),
@@ -77,20 +86,20 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
                 write_views(args, &files, false, &lowered.name, &mechanism, solution)?;
             }
             for w in &report.warnings {
-                eprintln!("warning: {w}");
+                say!("warning: {w}");
             }
             print_final_states(&mechanism, &kept);
             Ok(())
         }
         Err(stopped) => {
             let partial_csv = output::partial_path(&out);
-            eprintln!("{}: the simulation stopped at t = {}: {}", error_word(), number(stopped.time), stopped.reason);
+            say!("{}: the simulation stopped at t = {}: {}", error_word(), number(stopped.time), stopped.reason);
             let kept = csv.finish(&partial_csv)?;
             if let Some(solution) = kept.solution.as_ref().filter(|s| !s.is_empty()) {
                 write_views(args, &files, true, &lowered.name, &mechanism, solution)?;
             }
             match kept.span {
-                Some((first, last)) => eprintln!(
+                Some((first, last)) => say!(
                     "  wrote what was computed: {} (t = {} … {} s) × {} → {}",
                     plural(kept.samples, "sample"),
                     number(first),
@@ -98,7 +107,10 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
                     plural(signals.len(), "signal"),
                     partial_csv.display()
                 ),
-                None => eprintln!("  nothing was computed; wrote the header to {}", partial_csv.display()),
+                None => say!("  nothing was computed; wrote the header to {}", partial_csv.display()),
+            }
+            if !tolerance_warnings.is_empty() && !stopped.by_caller {
+                say!("  the tolerances warned about above may be why; rerun with the defaults (leave out --abstol and --reltol)");
             }
             if stopped.by_caller && interrupted.load(Ordering::Relaxed) {
                 Err(Failure::Interrupted)
@@ -122,9 +134,32 @@ pub fn command_line_options(args: &OptionArgs, analysis: &SimulationOptions) -> 
     })
 }
 
-/// A flag that Ctrl-C raises: the run stops after its current step and
-/// keeps what it computed. A second Ctrl-C ends the command at once.
-fn on_ctrl_c() -> Arc<AtomicBool> {
+/// The warnings of valid options that spoil the result (a loose `reltol`,
+/// an `abstol` below rounding), naming the command-line option that gave
+/// the value.
+pub fn tolerance_warnings(args: &OptionArgs, options: &SimulationOptions) -> Vec<String> {
+    options
+        .warnings()
+        .into_iter()
+        .map(|(option, message)| {
+            let given = match option {
+                "reltol" => args.reltol,
+                "abstol" => args.abstol,
+                _ => None,
+            };
+            match given {
+                Some(x) => format!("--{option} {}: {message}", number(x)),
+                None => message,
+            }
+        })
+        .collect()
+}
+
+/// A flag that Ctrl-C raises, and so do SIGTERM and SIGHUP (a closed
+/// terminal, `kill`, a job scheduler's time limit): the run stops after its
+/// current step and keeps what it computed, and no temporary file is left.
+/// A second signal ends the command at once.
+pub fn on_interrupt() -> Arc<AtomicBool> {
     let flag = Arc::new(AtomicBool::new(false));
     let raised = flag.clone();
     let installed = ctrlc::set_handler(move || {
@@ -133,7 +168,7 @@ fn on_ctrl_c() -> Arc<AtomicBool> {
         }
     });
     if let Err(e) = installed {
-        eprintln!("warning: Ctrl-C will end the run without keeping its results ({e})");
+        say!("warning: Ctrl-C will end the run without keeping its results ({e})");
     }
     flag
 }
@@ -177,7 +212,7 @@ fn write_views(
         let page =
             multibody_view::animation_html(title, &mechanism.shapes(), solution, &options).map_err(view_error)?;
         output::write_atomically(&path, |w| w.write_all(page.html.as_bytes()))?;
-        eprintln!(
+        say!(
             "  animation: {} frames of {} shapes → {} ({})",
             page.summary.frames,
             page.summary.shapes,
@@ -197,12 +232,7 @@ fn write_views(
         .map_err(view_error)?;
         output::write_atomically(&path, |w| w.write_all(&image))?;
         let signals: usize = summary.panels.iter().map(|(_, s)| s.len()).sum();
-        eprintln!(
-            "  plot: {} in {} → {}",
-            plural(signals, "signal"),
-            plural(summary.panels.len(), "panel"),
-            path.display()
-        );
+        say!("  plot: {} in {} → {}", plural(signals, "signal"), plural(summary.panels.len(), "panel"), path.display());
     }
     Ok(())
 }
@@ -228,16 +258,16 @@ fn print_final_states(mechanism: &Mechanism, kept: &output::Kept) {
     if groups.is_empty() {
         return;
     }
-    eprintln!("  final state at t = {}:", number(t));
+    say!("  final state at t = {}:", number(t));
     for (name, values) in groups.iter().take(SUMMARY_STATES) {
         let shown: Vec<String> = values.iter().map(|x| number(*x)).collect();
         match shown.as_slice() {
-            [one] => eprintln!("    {name} = {one}"),
-            many => eprintln!("    {name} = [{}]", many.join(", ")),
+            [one] => say!("    {name} = {one}"),
+            many => say!("    {name} = [{}]", many.join(", ")),
         }
     }
     if groups.len() > SUMMARY_STATES {
-        eprintln!("    ... and {} more in the CSV", groups.len() - SUMMARY_STATES);
+        say!("    ... and {} more in the CSV", groups.len() - SUMMARY_STATES);
     }
 }
 

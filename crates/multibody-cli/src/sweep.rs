@@ -16,6 +16,7 @@ use multibody_dyad::{Override, RunError, Samples, Target};
 use rayon::prelude::*;
 use std::io::IsTerminal;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// More runs than this is most likely a mistyped range.
@@ -40,7 +41,10 @@ pub fn sweep(args: &SweepArgs) -> Result<(), Failure> {
         return Err(Failure::Model);
     };
     // Bad options are refused once, before the runs.
-    command_line_options(&args.options, &first.options)?;
+    let options = command_line_options(&args.options, &first.options)?;
+    for w in crate::run::tolerance_warnings(&args.options, &options) {
+        say!("warning: {w}");
+    }
     let patterns = if args.signals.is_empty() { mechanism.states().names.clone() } else { args.signals.clone() };
     let signals = chosen_signals(&mechanism, &patterns)?;
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("{}_sweep.csv", first.name)));
@@ -48,8 +52,8 @@ pub fn sweep(args: &SweepArgs) -> Result<(), Failure> {
     crate::output::ResultFiles::new(&inputs, &out, None, None)?;
     drop(mechanism);
 
-    let jobs = args.jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1);
-    eprintln!(
+    let jobs = multibody_dyad::study::threads_for(sets.len(), args.jobs);
+    say!(
         "Sweeping {} from {}: {} × {}, on {}",
         first.name,
         file_of(&package, &first.name),
@@ -57,35 +61,47 @@ pub fn sweep(args: &SweepArgs) -> Result<(), Failure> {
         plural(signals.len(), "signal"),
         plural(jobs, "thread")
     );
+    if let Some(asked) = args.jobs.filter(|&asked| asked > jobs) {
+        say!("  (--jobs {asked}: more threads than runs or cores would only share them)");
+    }
     let bar = progress_bar(sets.len());
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(jobs)
         .build()
         .map_err(|e| Failure::Usage(format!("--jobs {jobs}: {e}")))?;
+    // Ctrl-C (or SIGTERM, SIGHUP): the runs under way finish, no new one starts, and the finished
+    // ones are kept.
+    let interrupted = crate::run::on_interrupt();
     let started = Instant::now();
-    let runs: Vec<Result<Samples, String>> = pool.install(|| {
+    let runs: Vec<Option<Result<Samples, String>>> = pool.install(|| {
         sets.par_iter()
             .map(|set| {
-                let run = simulate(&package, &target, set, &args.options, &signals);
+                if interrupted.load(Ordering::Relaxed) {
+                    return None;
+                }
+                let run = simulate(&package, &target, set, &args.options, &signals, &interrupted)?;
                 bar.inc(1);
-                run
+                Some(run)
             })
             .collect()
     });
     bar.finish_and_clear();
     let elapsed = started.elapsed();
+    let stopped = interrupted.load(Ordering::Relaxed);
 
-    let failed = runs.iter().filter(|r| r.is_err()).count();
+    let finished = runs.iter().filter(|r| r.is_some()).count();
+    let failed = runs.iter().filter(|r| matches!(r, Some(Err(_)))).count();
     for (k, (set, run)) in sets.iter().zip(&runs).enumerate() {
-        if let Err(reason) = run {
-            eprintln!("{}: run {} ({}): {reason}", error_word(), k + 1, describe(set));
+        if let Some(Err(reason)) = run {
+            say!("{}: run {} ({}): {reason}", error_word(), k + 1, describe(set));
         }
     }
+    let out = if stopped { crate::output::partial_path(&out) } else { out };
     let keys: Vec<&str> = std::iter::once("run").chain(axes.iter().map(|a| a.name.as_str())).collect();
     let signal_names: Vec<&str> = signals.iter().map(String::as_str).collect();
     write_table_atomically(&out, &keys, &signal_names, |table| {
         for (k, (set, run)) in sets.iter().zip(&runs).enumerate() {
-            let Ok(run) = run else { continue };
+            let Some(Ok(run)) = run else { continue };
             let key_values: Vec<f64> = std::iter::once((k + 1) as f64).chain(set.iter().map(number_of)).collect();
             for (t, row) in run.time.iter().zip(run.values.chunks_exact(signals.len().max(1))) {
                 table.row(&key_values, *t, row)?;
@@ -93,8 +109,19 @@ pub fn sweep(args: &SweepArgs) -> Result<(), Failure> {
         }
         Ok(())
     })?;
-    let samples: usize = runs.iter().flatten().map(|r| r.time.len()).sum();
-    eprintln!(
+    let samples: usize = runs.iter().flatten().flatten().map(|r| r.time.len()).sum();
+    if stopped {
+        say!(
+            "{}: interrupted (Ctrl-C, SIGTERM or SIGHUP): {} of {} finished (the others were stopped or not \
+             started); kept the finished ones ({samples} samples in all, {elapsed:.1?}) → {}",
+            error_word(),
+            plural(finished, "run"),
+            sets.len(),
+            out.display()
+        );
+        return Err(Failure::Interrupted);
+    }
+    say!(
         "  {} of {} ran ({} samples in all, {elapsed:.1?}) → {}",
         plural(sets.len() - failed, "run"),
         sets.len(),
@@ -102,7 +129,7 @@ pub fn sweep(args: &SweepArgs) -> Result<(), Failure> {
         out.display()
     );
     if failed > 0 {
-        eprintln!("  {} failed (above); the table holds the others", plural(failed, "run"));
+        say!("  {} failed (above); the table holds the others", plural(failed, "run"));
         return Err(Failure::Simulation);
     }
     Ok(())
@@ -185,20 +212,24 @@ fn grid(axes: &[Axis]) -> Result<Vec<Vec<Override>>, Failure> {
     Ok(sets)
 }
 
-/// One run of the sweep, on the calling thread.
+/// One run of the sweep, on the calling thread; `None` when a signal
+/// stopped it part way (it did not finish, and is not kept).
 fn simulate(
     package: &multibody_dyad::Package,
     target: &Target,
     set: &[Override],
     given: &crate::OptionArgs,
     signals: &[String],
-) -> Result<Samples, String> {
+    interrupted: &AtomicBool,
+) -> Option<Result<Samples, String>> {
     let options = |analysis: &SimulationOptions| command_line_options(given, analysis).map_err(|f| f.message());
-    package.run(target, set, options, signals).map_err(|e| match e {
-        RunError::Model(d) => d.message,
-        RunError::Options(why) => why,
-        RunError::Stopped { time, reason, .. } => format!("stopped at t = {}: {reason}", number(time)),
-    })
+    match package.run_until(target, set, options, signals, Some(interrupted)) {
+        Ok(samples) => Some(Ok(samples)),
+        Err(RunError::Stopped { .. }) if interrupted.load(Ordering::Relaxed) => None,
+        Err(RunError::Model(d)) => Some(Err(d.message)),
+        Err(RunError::Options(why)) => Some(Err(why)),
+        Err(RunError::Stopped { time, reason, .. }) => Some(Err(format!("stopped at t = {}: {reason}", number(time)))),
+    }
 }
 
 fn describe(set: &[Override]) -> String {

@@ -998,6 +998,11 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             {
                 return Err(start_value_of_parameter(spec, decl, &m));
             }
+            if let Some((_, span)) = &m.value {
+                if spec.param(&m.name.name).is_none() && spec.variables.iter().any(|v| v.name == m.name.name) {
+                    return Err(value_of_variable(spec, name, &m.name, *span));
+                }
+            }
             match (m.value, m.has_nested) {
                 (Some((value, span)), false) => {
                     params.push((m.name.name.clone(), engine_value(&value, span, &m.name.name)?));
@@ -1180,6 +1185,20 @@ fn start_value_of_parameter(spec: &ComponentSpec, decl: &ComponentDecl, m: &Mod)
         d = d.note(format!("the variables of {} are: {}", spec.kind, states.join(", ")));
     }
     d
+}
+
+/// `rev(phi = 1)`: a value for a variable of a library component, which
+/// the simulation computes; what the user may mean is its start value.
+fn value_of_variable(spec: &ComponentSpec, component: &str, variable: &Ident, span: Span) -> Diagnostic {
+    let v = &variable.name;
+    Diagnostic::error(format!(
+        "`{v}` of `{component}` is a variable of {}, not a parameter: the simulation computes it",
+        spec.kind
+    ))
+    .primary(span, "a value for a variable")
+    .help(format!(
+        "to start it at a value, give `{v}(initial = ...)` (on the command line: --initial {component}.{v}=...)"
+    ))
 }
 
 fn unknown_attribute(attribute: &str, m: &Mod, variable: &str) -> Diagnostic {

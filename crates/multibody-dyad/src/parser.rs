@@ -72,6 +72,31 @@ impl<'a> Parser<'a> {
         }
     }
 
+    /// Whether the next tokens start a definition on a line of their own
+    /// (`analysis Name`, `example component Name`, ...): where a block whose
+    /// `end` was deleted stops, so that the message is about the `end`.
+    fn at_definition(&self) -> bool {
+        let previous = self.prev_span();
+        let between = self.text.get(previous.end..self.span().start).unwrap_or("");
+        if self.pos > 0 && !between.contains('\n') {
+            return false;
+        }
+        // Doc strings before the definition are its own.
+        let mut docs = 0;
+        while matches!(self.nth(docs), TokenKind::Str(_) | TokenKind::TripleStr(_)) {
+            docs += 1;
+        }
+        let word = |k: usize| match self.nth(docs + k) {
+            TokenKind::Ident(w) => Some(w.as_str()),
+            _ => None,
+        };
+        match (word(0), word(1)) {
+            (Some("component" | "analysis" | "connector"), Some(_)) => true,
+            (Some("example" | "partial" | "test"), Some("component" | "analysis")) => word(2).is_some(),
+            _ => false,
+        }
+    }
+
     fn bump(&mut self) -> Token {
         let token = self.peek().clone();
         if token.kind != TokenKind::Eof {
@@ -348,7 +373,13 @@ impl<'a> Parser<'a> {
         loop {
             self.skip_semicolons();
             let doc_span = self.span();
+            let before_doc = self.pos;
             let doc = self.doc();
+            if self.at_definition() {
+                // A doc string there is the next definition's.
+                self.pos = before_doc;
+                break;
+            }
             if self.word().is_some_and(|w| SECTION_WORDS.contains(&w)) || self.at(&TokenKind::Eof) {
                 if doc.is_some() {
                     return Err(Diagnostic::error("a doc string must be followed by what it documents")
@@ -370,6 +401,10 @@ impl<'a> Parser<'a> {
             let mut d = self.expected("`end`");
             if self.at(&TokenKind::Eof) {
                 d = d.secondary(header, "this component is not closed").help("end the component with `end`");
+            } else if self.at_definition() {
+                d = d
+                    .secondary(header, "this component is not closed")
+                    .help("end the component with `end` before the next definition");
             }
             return Err(d);
         }
@@ -613,7 +648,13 @@ impl<'a> Parser<'a> {
         loop {
             self.skip_semicolons();
             let doc_span = self.span();
+            let before_doc = self.pos;
             let doc = self.doc();
+            if self.at_definition() {
+                // A doc string there is the next definition's.
+                self.pos = before_doc;
+                return Ok(relations);
+            }
             if self.word().is_some_and(|w| stops.contains(&w)) || self.at(&TokenKind::Eof) {
                 if doc.is_some() {
                     return Err(Diagnostic::error("a doc string must be followed by what it documents")
@@ -802,7 +843,7 @@ impl<'a> Parser<'a> {
             return Ok(());
         }
         let mut d = self.expected("`end`");
-        if self.at(&TokenKind::Eof) {
+        if self.at(&TokenKind::Eof) || self.at_definition() {
             d = d
                 .secondary(start, format!("this `{what}` is not closed"))
                 .help(format!("close the `{what}` with `end`"));

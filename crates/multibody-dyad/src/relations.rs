@@ -494,8 +494,12 @@ pub fn flatten_val(v: &Val, out: &mut Vec<f64>) {
     }
 }
 
-/// Scalar variables with the names of `base` and sizes `dims`, as a value.
-fn variables(base: &str, dims: &[usize]) -> Sym {
+/// The scalar variables named after `base` (of sizes `dims`) that the
+/// 1-based `index` selects, as a value: `x[i]` of `x::Real[n]` is one
+/// variable. Only the selected ones are built, so a reference costs the
+/// same whatever the size of the array (a `for` over n elements stays
+/// linear in n). Errors as [`select`] gives them.
+fn selected_variables(base: &str, dims: &[usize], index: &[usize], span: Span, what: &str) -> Result<Sym, Diagnostic> {
     fn build(base: &str, dims: &[usize], index: &mut Vec<usize>) -> Sym {
         match dims.split_first() {
             None => Sym::Scalar(E::var(with_index(base, index))),
@@ -511,7 +515,21 @@ fn variables(base: &str, dims: &[usize]) -> Sym {
             ),
         }
     }
-    build(base, dims, &mut Vec::new())
+    let mut prefix = Vec::with_capacity(dims.len());
+    for (depth, &k) in index.iter().enumerate() {
+        match dims.get(depth) {
+            Some(&n) if (1..=n).contains(&k) => prefix.push(k),
+            Some(&n) => {
+                return Err(Diagnostic::error(format!("index {k} is out of range for `{what}`"))
+                    .primary(span, format!("must be from 1 to {n}")))
+            }
+            None => {
+                return Err(Diagnostic::error(format!("`{what}` is a scalar and cannot be indexed"))
+                    .primary(span, "not an array"))
+            }
+        }
+    }
+    Ok(build(base, &dims[index.len()..], &mut prefix))
 }
 
 /// Selects elements of `value` by 1-based `index`.
@@ -620,7 +638,7 @@ impl Names for Resolver<'_, '_, '_, '_, '_, '_, '_, '_> {
                         return Err(Diagnostic::error(format!("the variable `{name}` has no fields"))
                             .primary(expr.span, "no fields"));
                     }
-                    return Ok(Some(select(variables(&name, &dims), &index, expr.span, &name)?));
+                    return Ok(Some(selected_variables(&name, &dims, &index, expr.span, &name)?));
                 }
                 Entity::Connector(ty) => return connector_quantity(ctx, &name, ty, rest, expr.span, true).map(Some),
                 Entity::Library(spec) => {
@@ -649,7 +667,7 @@ impl Names for Resolver<'_, '_, '_, '_, '_, '_, '_, '_> {
                             multibody::components::Shape::Matrix(r, c) => vec![r, c],
                         };
                         let full = format!("{name}.{}", member.name);
-                        return Ok(Some(select(variables(&full, &dims), member_index, expr.span, &full)?));
+                        return Ok(Some(selected_variables(&full, &dims, member_index, expr.span, &full)?));
                     }
                     let mut names: Vec<&str> = spec.public_connectors().map(|c| c.name).collect();
                     names.extend(spec.variables.iter().map(|v| v.name));
@@ -716,7 +734,7 @@ fn connector_quantity(
         ctx.lowerer.use_connector(connector, ty, Some(name));
     }
     let full = format!("{connector}.{name}");
-    select(variables(&full, dims), index, span, &full)
+    selected_variables(&full, dims, index, span, &full)
 }
 
 impl Context<'_, '_, '_, '_, '_, '_, '_> {

@@ -6,7 +6,7 @@ use crate::diagnostics::Diagnostic;
 use crate::eval::{eval, Scope, Val};
 use crate::source::Span;
 use crate::types::{self, BaseType};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 /// How deeply parameters may refer to parameters.
 const MAX_CHAIN: usize = 32;
@@ -14,14 +14,17 @@ const MAX_CHAIN: usize = 32;
 pub struct ParamScope<'a, 'i> {
     /// The component (or analysis) the parameters belong to, for messages.
     pub owner: String,
-    pub params: Vec<&'a ParameterDecl>,
+    params: Vec<&'a ParameterDecl>,
     /// Values given by modifiers: value and the span of its expression.
     pub overrides: HashMap<String, (Val, Span)>,
     /// Names of sub-components and connectors (not values).
-    pub components: Vec<String>,
+    components: HashSet<String>,
     /// Where this instance is declared, for "needs a value" messages.
     pub site: Span,
     pub aliases: &'i HashMap<&'a str, &'a TypeAlias>,
+    /// Where each parameter is in `params`, by name (the first of a name):
+    /// a lookup per use, so that a model's cost stays linear in its size.
+    by_name: HashMap<&'a str, usize>,
     values: HashMap<String, Option<Val>>,
     depth: usize,
 }
@@ -34,11 +37,16 @@ impl<'a, 'i> ParamScope<'a, 'i> {
         site: Span,
         aliases: &'i HashMap<&'a str, &'a TypeAlias>,
     ) -> Self {
+        let mut by_name = HashMap::with_capacity(params.len());
+        for (k, p) in params.iter().enumerate() {
+            by_name.entry(p.name.name.as_str()).or_insert(k);
+        }
         Self {
             owner: owner.to_string(),
             params,
             overrides: HashMap::new(),
-            components,
+            by_name,
+            components: components.into_iter().collect(),
             site,
             aliases,
             values: HashMap::new(),
@@ -193,7 +201,7 @@ impl<'a, 'i> ParamScope<'a, 'i> {
 
 impl Scope for ParamScope<'_, '_> {
     fn parameter(&mut self, name: &Ident) -> Result<Option<Val>, Diagnostic> {
-        let Some(decl) = self.params.iter().find(|p| p.name.name == name.name).copied() else {
+        let Some(decl) = self.by_name.get(name.name.as_str()).map(|&k| self.params[k]) else {
             return Ok(None);
         };
         self.resolve(decl, Some(name.span)).map(Some)
@@ -204,6 +212,6 @@ impl Scope for ParamScope<'_, '_> {
     }
 
     fn is_component(&self, name: &str) -> bool {
-        self.components.iter().any(|c| c == name)
+        self.components.contains(name)
     }
 }

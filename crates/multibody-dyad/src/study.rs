@@ -4,6 +4,7 @@
 
 use crate::{Diagnostic, Lowered, Override, Package};
 use multibody::{SampleSink, SimulationOptions};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// What of the package to simulate.
 #[derive(Clone, Debug, PartialEq)]
@@ -31,6 +32,20 @@ impl Package {
         options: impl FnOnce(&SimulationOptions) -> Result<SimulationOptions, String>,
         signals: &[String],
     ) -> Result<Samples, RunError> {
+        self.run_until(target, overrides, options, signals, None)
+    }
+
+    /// As [`run`](Self::run), and the simulation ends after its current
+    /// step once `stop` is raised (Ctrl-C during a sweep), as
+    /// [`RunError::Stopped`] with what it computed.
+    pub fn run_until(
+        &self,
+        target: &Target,
+        overrides: &[Override],
+        options: impl FnOnce(&SimulationOptions) -> Result<SimulationOptions, String>,
+        signals: &[String],
+        stop: Option<&AtomicBool>,
+    ) -> Result<Samples, RunError> {
         let lowered = self.lower_target(target, overrides).map_err(RunError::Model)?;
         let options = options(&lowered.options).map_err(RunError::Options)?;
         let mechanism = lowered.assemble().map_err(RunError::Model)?;
@@ -44,7 +59,13 @@ impl Package {
             }
         }
         let mut samples = Samples { names, time: Vec::new(), values: Vec::new(), picks, warnings: Vec::new() };
-        match mechanism.simulate_into(&mechanism.states().start, &options, &mut samples, None) {
+        let mut on_step = |_t: f64| match stop {
+            Some(flag) if flag.load(Ordering::Relaxed) => Err("interrupted".to_string()),
+            _ => Ok(()),
+        };
+        let progress: Option<&mut dyn FnMut(f64) -> Result<(), String>> =
+            if stop.is_some() { Some(&mut on_step) } else { None };
+        match mechanism.simulate_into(&mechanism.states().start, &options, &mut samples, progress) {
             Ok(report) => {
                 samples.warnings = report.warnings;
                 Ok(samples)
@@ -158,5 +179,31 @@ impl OptionOverrides {
             BadOption { given: given.iter().find(|(name, _)| named(name)).cloned(), message: e.message }
         })?;
         Ok(options)
+    }
+}
+
+/// How many threads a study of `runs` runs uses: as many as `asked` (all
+/// cores when not asked), but never more than the runs or the cores. The
+/// runs compute, so threads beyond the cores only share them, and a thread
+/// per job asked for (`--jobs 100000`) exhausts the machine before the
+/// first run starts.
+pub fn threads_for(runs: usize, asked: Option<usize>) -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    asked.unwrap_or(cores).min(cores).min(runs).max(1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::threads_for;
+
+    #[test]
+    fn threads_are_capped_by_runs_and_cores() {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        assert_eq!(threads_for(1_000, Some(100_000)), cores.min(1_000));
+        assert_eq!(threads_for(3, Some(100_000)), cores.min(3));
+        assert_eq!(threads_for(1_000, None), cores);
+        assert_eq!(threads_for(1_000, Some(1)), 1);
+        assert_eq!(threads_for(1_000, Some(0)), 1);
+        assert_eq!(threads_for(0, None), 1);
     }
 }

@@ -348,3 +348,37 @@ fn a_road_is_a_formula_of_x_and_z() {
     println!("{message}");
     assert!(message.contains("wheel.surface = "), "{message}");
 }
+
+/// `parameter p_k = p_(k-1) + 1`, 250,000 times: each use of a parameter
+/// is found by name in constant time (it was a scan of every parameter,
+/// quadratic in all: the model hung). The chain adds up. The time it takes
+/// is measured by `benches/lowering.rs`, not here.
+#[test]
+fn a_quarter_million_chained_parameters_lower() {
+    let n = 250_000;
+    let mut text = String::from("example component Chain\n  world = World()\n  parameter p_0::Real = 0\n");
+    for k in 1..n {
+        text.push_str(&format!("  parameter p_{k}::Real = p_{} + 1\n", k - 1));
+    }
+    text.push_str(&format!("relations\n  assert(p_{} == {}, \"the chain adds up\")\nend\n", n - 1, n - 1));
+    component(&text, "Chain");
+    let wrong = text.replace(&format!("== {}", n - 1), &format!("== {n}"));
+    assert!(error(&wrong, "Chain").contains("the chain adds up"));
+}
+
+/// A `for` over the 50,000 elements of a variable: `x[i]` names one
+/// variable (it built the whole array of `x` at every use, quadratic in
+/// all: 10,000 elements took 10 s). Every element is an equation of its own.
+#[test]
+fn a_for_over_fifty_thousand_elements_lowers() {
+    let n = 50_000;
+    let text = format!(
+        "example component Loop\n  world = World()\n  parameter n::Integer = {n}\n  variable x::Real[n]\nrelations\n  for i in 1:n\n    x[i] = i * time\n  end\nend\n"
+    );
+    let mechanism = component(&text, "Loop").assemble().unwrap();
+    let names: Vec<String> = mechanism.signals().into_iter().map(|s| s.name).collect();
+    assert!(names.iter().any(|s| s == "x[1]") && names.iter().any(|s| s == &format!("x[{n}]")), "{:?}", &names[..5]);
+    // Out of range is still caught where it is written.
+    let e = error(&text.replace("x[i] = i", "x[i + 1] = i"), "Loop");
+    assert!(e.contains("index 50001 is out of range for `x`") && e.contains("must be from 1 to 50000"), "{e}");
+}

@@ -208,7 +208,8 @@ impl Model {
     ) -> PyResult<Vec<Bound<'py, PyAny>>> {
         let given = OptionOverrides { stop, saveat, abstol, reltol, alg };
         let sets: Vec<Vec<Override>> = sets.into_iter().map(|(p, i)| overrides(p, i)).collect();
-        let threads = threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1);
+        // Never more threads than sets or cores (threads=100000 started a thread each).
+        let threads = multibody_dyad::study::threads_for(sets.len(), threads);
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()

@@ -124,6 +124,31 @@ def test_a_sweep_gives_each_set_its_result_or_its_error():
             assert np.array_equal(run.values, alone.values)
 
 
+def test_a_sweep_never_starts_more_threads_than_sets_or_cores():
+    """threads=100000 started a thread per job asked for (issue 26)."""
+    model = multibody.load(EXAMPLES / "pendulum.dyad")
+    tasks = Path("/proc/self/task")
+    before = len(list(tasks.iterdir()))
+    most = [before]
+    done = threading.Event()
+
+    def watch():
+        while not done.is_set():
+            most.append(len(list(tasks.iterdir())))
+            time.sleep(0.001)
+
+    watcher = threading.Thread(target=watch)
+    watcher.start()
+    try:
+        runs = model.sweep([{"body.m": m} for m in (1.0, 2.0, 3.0)], stop=2.0, threads=100000)
+    finally:
+        done.set()
+        watcher.join()
+    assert all(isinstance(r, multibody.Result) for r in runs)
+    # The watcher itself, and at most one thread per set.
+    assert max(most) <= before + 1 + 3, f"{max(most)} threads, {before} before"
+
+
 def test_a_grid_gives_every_combination_the_first_path_slowest():
     sets = multibody.grid({"body.m": [1, 2], "damper.d": [0.0, 0.1, 0.2]})
     assert len(sets) == 6

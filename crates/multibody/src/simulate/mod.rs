@@ -128,6 +128,43 @@ impl SimulationOptions {
         }
         Ok(())
     }
+
+    /// Options that are valid but make the result untrustworthy, each with
+    /// what it does to the result and what to use instead, by the option's
+    /// analysis name. A loose `reltol` lets every step err by that fraction
+    /// of the state (a run can end far from the true motion and report
+    /// success); an `abstol` below rounding asks for accuracy no step can
+    /// give where a state passes near zero. Fixed-step RK4 has no
+    /// tolerances, so nothing is said for it.
+    pub fn warnings(&self) -> Vec<(&'static str, String)> {
+        if matches!(self.method, Method::Rk4 { .. }) {
+            return Vec::new();
+        }
+        let mut out = Vec::new();
+        if self.reltol > 1e-2 {
+            out.push((
+                "reltol",
+                format!(
+                    "`reltol` = {} lets each step err by {:.0}% of the state, so the result may be far from the \
+                     true motion with no sign of it; use 1e-3 or tighter (the default is 1e-6)",
+                    self.reltol,
+                    100.0 * self.reltol
+                ),
+            ));
+        }
+        if self.abstol < 1e-14 {
+            out.push((
+                "abstol",
+                format!(
+                    "`abstol` = {:e} is below what double precision resolves: where a state passes near zero \
+                     the integrator must shrink its steps towards rounding, and the run crawls or stops; use \
+                     1e-12 or looser (the default is 1e-6)",
+                    self.abstol
+                ),
+            ));
+        }
+        out
+    }
 }
 
 /// A simulation option that cannot be used.

@@ -1,0 +1,373 @@
+//! Hostile surroundings, third round (issue 26): closed and full consoles,
+//! outputs that are not files, huge thread counts, signals, and the
+//! messages of the mistakes a new user makes. Each case failed once.
+
+mod common;
+
+use common::{crate_path, scratch};
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+
+fn example(name: &str) -> String {
+    crate_path(&format!("../../examples/{name}"))
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn code(o: &Output) -> i32 {
+    o.status.code().expect("exited normally")
+}
+
+/// `multibody` with `args` in `dir`, its stdout and stderr as given.
+fn multibody_with(dir: &Path, args: &[&str], stdout: Stdio, stderr: Stdio) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_multibody"))
+        .args(args)
+        .current_dir(dir)
+        .env("NO_COLOR", "1")
+        .stdin(Stdio::null())
+        .stdout(stdout)
+        .stderr(stderr)
+        .output()
+        .expect("the multibody binary runs")
+}
+
+/// The write end of a pipe whose reader has gone (`| head -1` after its
+/// line, `| true`): every write to it fails.
+fn closed_pipe() -> Stdio {
+    let (reader, writer) = std::io::pipe().expect("a pipe");
+    drop(reader);
+    writer.into()
+}
+
+/// A stream on which every write fails with "no space left on device".
+fn full_device() -> Stdio {
+    std::fs::OpenOptions::new().write(true).open("/dev/full").expect("/dev/full").into()
+}
+
+/// `list | head -1`, `check model | head -1`: the reader went away, the
+/// command ends quietly with success (it used to panic, exit 101).
+#[test]
+fn a_closed_stdout_ends_the_command_quietly() {
+    let dir = scratch("closed-stdout");
+    let pendulum = example("pendulum.dyad");
+    let cases: [&[&str]; 3] = [&["list"], &["check", &pendulum], &["describe", "Body"]];
+    for args in cases {
+        let o = multibody_with(&dir, args, closed_pipe(), Stdio::piped());
+        assert_eq!(code(&o), 0, "{args:?}: {}", stderr(&o));
+        assert!(!stderr(&o).contains("panicked"), "{args:?}: {}", stderr(&o));
+    }
+}
+
+/// `list > /dev/full`: an input/output error that says so, not a panic.
+#[test]
+fn a_full_stdout_is_an_io_error() {
+    let dir = scratch("full-stdout");
+    let o = multibody_with(&dir, &["list"], full_device(), Stdio::piped());
+    assert_eq!(code(&o), 4, "{}", stderr(&o));
+    assert!(stderr(&o).contains("cannot write to standard output"), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+}
+
+/// `run model 2> /dev/full` and `run model 2>&1 | true`: the console is
+/// commentary; the run ends normally and its CSV is written.
+#[test]
+fn a_run_writes_its_results_whatever_happens_to_its_console() {
+    let pendulum = example("pendulum.dyad");
+    let args = ["run", pendulum.as_str(), "--stop", "0.5", "--out", "r.csv"];
+    type Console = fn() -> Stdio;
+    let consoles: [(&str, Console, Console); 3] = [
+        ("stderr full", Stdio::null, full_device),
+        ("both closed", closed_pipe, closed_pipe),
+        ("stdout full, stderr closed", full_device, closed_pipe),
+    ];
+    for (name, out, err) in consoles {
+        let dir = scratch(&format!("console-{}", name.replace([' ', ','], "-")));
+        let o = multibody_with(&dir, &args, out(), err());
+        assert_eq!(code(&o), 0, "{name}");
+        let csv = std::fs::read_to_string(dir.join("r.csv")).expect("the CSV is written");
+        assert_eq!(csv.lines().count(), 52, "{name}: a header and 51 samples");
+    }
+    // A failing run keeps its partial result too, and says so by its exit code.
+    let dir = scratch("console-failing");
+    let model = crate_path("tests/models/EulerSingularity.dyad");
+    let o = multibody_with(&dir, &["run", &model, "--out", "r.csv"], closed_pipe(), closed_pipe());
+    assert_eq!(code(&o), 3);
+    assert!(dir.join("r.partial.csv").exists());
+}
+
+/// `multibody` with `args` in `dir`, its output captured.
+fn multibody(dir: &Path, args: &[&str]) -> Output {
+    multibody_with(dir, args, Stdio::piped(), Stdio::piped())
+}
+
+/// A model file `r.partial.dyad` and `--out r.dyad`: a failing run would
+/// keep its partial CSV as `r.partial.dyad`, over the model. Refused before
+/// the run; the model file stays.
+#[test]
+fn a_partial_name_never_replaces_a_model_file() {
+    let dir = scratch("partial-collision");
+    let model = dir.join("r.partial.dyad");
+    std::fs::copy(crate_path("tests/models/EulerSingularity.dyad"), &model).unwrap();
+    let text = std::fs::read_to_string(&model).unwrap();
+    let o = multibody(&dir, &["run", "r.partial.dyad", "--out", "r.dyad"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("`--out r.dyad`: a run that stops part way would keep its results as r.partial.dyad"),
+        "{err}"
+    );
+    assert!(err.contains("is the model file r.partial.dyad"), "{err}");
+    assert!(!err.contains("Simulating"), "refused before the run: {err}");
+    assert_eq!(std::fs::read_to_string(&model).unwrap(), text, "the model file is untouched");
+    // The views' partial names count too, and so do a sweep's.
+    let o = multibody(&dir, &["run", "r.partial.dyad", "--plot", "r.svg", "--out", "r.partial.svg"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("may both write r.partial.svg"), "{}", stderr(&o));
+    let o = multibody(&dir, &["sweep", "r.partial.dyad", "--param", "body.m=1,2", "--out", "r.dyad"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(&model).unwrap(), text);
+}
+
+/// `--out /dev/null` used to replace the device node by a regular file
+/// (as root, the real `/dev/null`). Devices, FIFOs and folders are refused
+/// before anything runs, under their own name or a link to them. The test
+/// names devices only through links and copies in its own folder: should
+/// the refusal ever break, a link or a copy is replaced, never /dev/null.
+#[test]
+fn outputs_must_be_regular_files_or_new_paths() {
+    let dir = scratch("special-outputs");
+    let pendulum = example("pendulum.dyad");
+    let fifo = dir.join("fifo.csv");
+    let made = Command::new("mkfifo").arg(&fifo).status().expect("mkfifo runs");
+    assert!(made.success());
+    std::os::unix::fs::symlink("/dev/null", dir.join("null-link.csv")).unwrap();
+    std::os::unix::fs::symlink("/dev/full", dir.join("full-link.svg")).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", dir.join("zero-link.html")).unwrap();
+    std::fs::create_dir(dir.join("folder.csv")).unwrap();
+    let mut cases: Vec<(&[&str], &str)> = vec![
+        (&["--out", "null-link.csv"], "`--out null-link.csv`: it is a device, not a regular file"),
+        (&["--out", "fifo.csv"], "it is a FIFO (named pipe)"),
+        (&["--out", "folder.csv"], "it is a folder"),
+        (&["--plot", "full-link.svg"], "`--plot full-link.svg`: it is a device"),
+        (&["--animate", "zero-link.html"], "`--animate zero-link.html`: it is a device"),
+    ];
+    // A copy of /dev/null (a device node of its own) where the test may make one (as root).
+    let copied = Command::new("mknod").arg(dir.join("null-copy.csv")).args(["c", "1", "3"]).status();
+    if copied.is_ok_and(|s| s.success()) {
+        cases.push((&["--out", "null-copy.csv"], "`--out null-copy.csv`: it is a device"));
+    }
+    for (options, message) in cases {
+        let mut args = vec!["run", pendulum.as_str(), "--stop", "0.1"];
+        args.extend_from_slice(options);
+        let o = multibody(&dir, &args);
+        assert_eq!(code(&o), 2, "{options:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(message), "{options:?}: {}", stderr(&o));
+        assert!(!stderr(&o).contains("Simulating"), "{options:?}: refused before the run");
+    }
+    use std::os::unix::fs::FileTypeExt;
+    assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo(), "the FIFO stays");
+    assert!(std::fs::symlink_metadata(dir.join("null-link.csv")).unwrap().file_type().is_symlink());
+    // The partial name is checked too: a FIFO there would be replaced by a failing run.
+    let made = Command::new("mkfifo").arg(dir.join("r.partial.csv")).status().expect("mkfifo runs");
+    assert!(made.success());
+    let o = multibody(&dir, &["run", &pendulum, "--stop", "0.1", "--out", "r.csv"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("would keep its results as r.partial.csv, which is a FIFO"), "{}", stderr(&o));
+    // A sweep's output too.
+    let o = multibody(&dir, &["sweep", &pendulum, "--param", "body.m=1,2", "--out", "null-link.csv"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("it is a device"), "{}", stderr(&o));
+}
+
+/// `--reltol 1` was accepted without a word (a damped pendulum ended at
+/// 69 rad instead of -1.68); `--abstol 1e-300` too. Both run, with a
+/// warning that says what they do to the result; `check` warns about an
+/// analysis's own.
+#[test]
+fn tolerances_that_spoil_the_result_are_warned_about() {
+    let dir = scratch("tolerance-warnings");
+    let pendulum = example("pendulum.dyad");
+    let o = multibody(&dir, &["run", &pendulum, "--stop", "0.5", "--reltol", "1"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("warning: --reltol 1: `reltol` = 1 lets each step err by 100% of the state"), "{err}");
+    assert!(err.contains("far from the true motion"), "{err}");
+    let o = multibody(&dir, &["run", &pendulum, "--stop", "0.2", "--abstol", "1e-300", "--reltol", "1e-14"]);
+    let err = stderr(&o);
+    assert!(
+        err.contains("warning: --abstol 1e-300: `abstol` = 1e-300 is below what double precision resolves"),
+        "{err}"
+    );
+    if code(&o) == 3 {
+        assert!(err.contains("the tolerances warned about above may be why"), "{err}");
+    }
+    // The defaults and ordinary choices say nothing.
+    let o = multibody(&dir, &["run", &pendulum, "--stop", "0.2", "--reltol", "1e-3", "--abstol", "1e-10"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
+    // An analysis's own loose tolerance, in `check`.
+    let text = std::fs::read_to_string(&pendulum).unwrap().replace("stop = 5", "stop = 5, reltol = 0.1");
+    std::fs::write(dir.join("loose.dyad"), text).unwrap();
+    let o = multibody(&dir, &["check", "loose.dyad"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("`reltol` = 0.1 lets each step err by 10% of the state"), "{out}");
+}
+
+/// `sweep --jobs 100000` started a thread per job asked for. Threads are
+/// capped by the runs and the cores, and the command says so.
+#[test]
+fn sweep_threads_are_capped_by_runs_and_cores() {
+    let dir = scratch("sweep-jobs");
+    let pendulum = example("pendulum.dyad");
+    let o = multibody(&dir, &["sweep", &pendulum, "--param", "body.m=1,2,3", "--stop", "0.2", "--jobs", "100000"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let threads = cores.min(3);
+    let err = stderr(&o);
+    let on = if threads == 1 { "on 1 thread".to_string() } else { format!("on {threads} threads") };
+    assert!(err.contains(&on), "{err}");
+    assert!(err.contains("(--jobs 100000: more threads than runs or cores would only share them)"), "{err}");
+    assert!(err.contains("3 runs of 3 ran"), "{err}");
+}
+
+/// A model "file" that is a FIFO nobody writes to blocked for ever; a
+/// device (`/dev/zero`) was read without end. The FIFO is given up after a
+/// few seconds with a message, the device refused; a FIFO that is written
+/// (`<(...)`, a pipe) still reads.
+#[test]
+fn a_model_from_a_fifo_without_writer_or_a_device_is_refused() {
+    let dir = scratch("fifo-input");
+    let fifo = dir.join("model.dyad");
+    assert!(Command::new("mkfifo").arg(&fifo).status().expect("mkfifo runs").success());
+    let started = std::time::Instant::now();
+    let o = multibody(&dir, &["check", "model.dyad"]);
+    assert_eq!(code(&o), 4, "{}", stderr(&o));
+    assert!(stderr(&o).contains("nothing writes to the FIFO model.dyad (waited 5 s)"), "{}", stderr(&o));
+    assert!(started.elapsed().as_secs() < 60, "gave up in {:?}", started.elapsed());
+    for device in ["/dev/zero", "/dev/urandom"] {
+        let o = multibody(&dir, &["run", device]);
+        assert_eq!(code(&o), 2, "{}", stderr(&o));
+        assert!(stderr(&o).contains(&format!("{device} is a device, not a model file")), "{}", stderr(&o));
+    }
+    // A writer: the model reads as from a file.
+    let text = std::fs::read(example("pendulum.dyad")).unwrap();
+    let writer = std::thread::spawn(move || std::fs::write(fifo, text));
+    let o = multibody(&dir, &["check", "model.dyad"]);
+    writer.join().unwrap().unwrap();
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("analysis PendulumSimulation"));
+}
+
+/// Starts `multibody` with `args` in `dir` and waits until its stderr has
+/// said `ready`; gives the child and the rest of its stderr to read.
+fn start_until(
+    dir: &Path,
+    args: &[&str],
+    ready: &str,
+) -> (std::process::Child, std::io::BufReader<std::process::ChildStderr>) {
+    use std::io::BufRead;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_multibody"))
+        .args(args)
+        .current_dir(dir)
+        .env("NO_COLOR", "1")
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stderr = std::io::BufReader::new(child.stderr.take().unwrap());
+    let mut line = String::new();
+    while !line.contains(ready) {
+        line.clear();
+        assert!(stderr.read_line(&mut line).unwrap() > 0, "ended before `{ready}`");
+    }
+    (child, stderr)
+}
+
+fn signal(child: &std::process::Child, signal: i32) {
+    // SAFETY: kill() with the id of a child of ours that has not been waited for.
+    let sent = unsafe { libc::kill(child.id() as i32, signal) };
+    assert_eq!(sent, 0, "kill");
+}
+
+fn no_temporary_files(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".tmp"))
+        .collect()
+}
+
+/// SIGTERM and SIGHUP (a closed terminal, `kill`, a scheduler's time
+/// limit) ended a run with nothing kept and a `.tmp` file left. They are
+/// handled like Ctrl-C: what was computed is kept as partial, exit 130.
+#[test]
+fn sigterm_and_sighup_keep_partial_results_like_ctrl_c() {
+    let pendulum = example("pendulum.dyad");
+    for (name, number) in [("term", libc::SIGTERM), ("hup", libc::SIGHUP)] {
+        let dir = scratch(&format!("signal-{name}"));
+        let args = ["run", &pendulum, "--stop", "1e9", "--saveat", "0", "--signals", "rev.phi", "--out", "endless.csv"];
+        let (mut child, mut stderr) = start_until(&dir, &args, "degree");
+        std::thread::sleep(std::time::Duration::from_millis(300));
+        signal(&child, number);
+        let mut rest = String::new();
+        std::io::Read::read_to_string(&mut stderr, &mut rest).unwrap();
+        let status = child.wait().unwrap();
+        assert_eq!(status.code(), Some(130), "SIG{name}: {status:?} {rest}");
+        assert!(rest.contains("interrupted (Ctrl-C, SIGTERM or SIGHUP)"), "{rest}");
+        let kept = std::fs::read_to_string(dir.join("endless.partial.csv")).expect("the partial CSV");
+        assert!(kept.lines().count() > 10, "SIG{name}: {} lines kept", kept.lines().count());
+        assert!(no_temporary_files(&dir).is_empty(), "SIG{name}: {:?}", no_temporary_files(&dir));
+    }
+}
+
+/// Ctrl-C during a sweep lost every finished run with no message. The
+/// runs under way stop, the finished ones are kept as partial, and the
+/// command says how many.
+#[test]
+fn ctrl_c_during_a_sweep_keeps_the_finished_runs() {
+    let dir = scratch("sweep-ctrl-c");
+    // With c = 1 a run takes milliseconds; with c = 1e12 the explicit method takes steps of about a
+    // microsecond for 100 s: it does not end before the signal.
+    let model = "example component Osc\n  wall = TranslationalComponents.Fixed()\n  spring = TranslationalComponents.SpringDamper(c = 1, d = 0)\n  slider = TranslationalComponents.Mass(m = 1, s(initial = 0.1), v(initial = 0))\nrelations\n  connect(wall.flange, spring.flange_a)\n  connect(spring.flange_b, slider.flange_a)\nend\n\nanalysis OscSimulation\n  extends TransientAnalysis(stop = 100, saveat = 1)\n  model = Osc()\nend\n";
+    std::fs::write(dir.join("osc.dyad"), model).unwrap();
+    let args = ["sweep", "osc.dyad", "--param", "spring.c=1,1,1,1,1e12,1e12", "--jobs", "2", "--out", "s.csv"];
+    let (mut child, mut stderr) = start_until(&dir, &args, "Sweeping");
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    signal(&child, libc::SIGINT);
+    let mut rest = String::new();
+    std::io::Read::read_to_string(&mut stderr, &mut rest).unwrap();
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130), "{rest}");
+    assert!(rest.contains("interrupted (Ctrl-C, SIGTERM or SIGHUP): 4 runs of 6 finished"), "{rest}");
+    assert!(rest.contains("s.partial.csv"), "{rest}");
+    let kept = std::fs::read_to_string(dir.join("s.partial.csv")).expect("the partial table");
+    let mut runs: Vec<&str> = kept.lines().skip(1).map(|l| l.split(',').next().unwrap()).collect();
+    runs.dedup();
+    assert_eq!(runs, ["1", "2", "3", "4"], "the finished runs, whole");
+    assert_eq!(kept.lines().count(), 1 + 4 * 101);
+    assert!(!dir.join("s.csv").exists());
+    assert!(no_temporary_files(&dir).is_empty(), "{:?}", no_temporary_files(&dir));
+}
+
+/// `--param rev.phi=1` said "`phi(...) = value` is not supported yet" with
+/// the caret on the analysis line, which the user did not write it in. A
+/// value from the command line that breaks the model is reported as the
+/// option typed, with the true cause and what to type instead.
+#[test]
+fn a_bad_command_line_value_is_blamed_on_its_option() {
+    let dir = scratch("blame-option");
+    let pendulum = example("pendulum.dyad");
+    for (name, option, value) in [
+        ("param_of_a_state", "--param", "rev.phi=1"),
+        ("param_of_a_variable", "--param", "body.r_0=1"),
+        ("param_misspelt", "--param", "body.mm=2"),
+        ("initial_misspelt", "--initial", "rev.phii=0.3"),
+    ] {
+        let o = multibody(&dir, &["run", &pendulum, "--stop", "0.1", "--param", "body.m=2", option, value]);
+        assert_eq!(code(&o), 2, "{name}: {}", stderr(&o));
+        insta::assert_snapshot!(name, stderr(&o));
+    }
+}
