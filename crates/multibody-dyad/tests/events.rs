@@ -78,3 +78,88 @@ fn a_bouncing_ball_hits_the_ground_at_the_closed_form_times() {
     println!("bouncing ball: worst height error {worst_h:.2e} m = {:.2e} of 1e-9", worst_h / 1e-9);
     assert!(worst_h <= 1e-9);
 }
+
+/// A mass that meets a spring which only pushes (`f = -c x` for `x < 0`),
+/// arriving at speed `v0`: it moves freely to `x = 0` at `t1 = x0 / v0`,
+/// half an oscillation on the spring, and leaves at `t2 = t1 + pi / w`
+/// with the speed reversed. `relation` is how the force is written.
+fn contact(relation: &str, abstol: f64) -> String {
+    format!(
+        r#"
+example component Contact
+  parameter m::Real = 2
+  parameter c::Real = 800
+  variable x::Real = initial 0.5
+  variable v::Real = initial -1
+  variable f::Real
+relations
+  der(x) = v
+  m * der(v) = f
+  f = {relation}
+end
+
+analysis ContactRun
+  extends TransientAnalysis(stop = 1.5, saveat = 0.001, abstol = {abstol}, reltol = {abstol})
+  model = Contact()
+end
+"#
+    )
+}
+
+/// The closed form of `contact`.
+fn contact_position(t: f64) -> f64 {
+    let (m, c, x0, v0) = (2.0f64, 800.0f64, 0.5f64, 1.0f64);
+    let w = (c / m).sqrt();
+    let t1 = x0 / v0;
+    let t2 = t1 + std::f64::consts::PI / w;
+    if t <= t1 {
+        x0 - v0 * t
+    } else if t <= t2 {
+        -(v0 / w) * (w * (t - t1)).sin()
+    } else {
+        v0 * (t - t2)
+    }
+}
+
+/// The worst position error of a run of `text` against the closed form, and its number of events.
+fn contact_error(text: &str) -> (f64, usize) {
+    let (mechanism, options) = load("contact.dyad", text);
+    let mut sim = Simulator::new(&mechanism, &options).unwrap();
+    sim.step_until(options.stop).unwrap();
+    let solution = sim.solution();
+    let x = solution.get("x").unwrap();
+    let worst = solution.time().iter().zip(x).map(|(&t, &x)| (x - contact_position(t)).abs()).fold(0.0, f64::max);
+    (worst, sim.event_count())
+}
+
+#[test]
+fn a_spring_that_only_pushes_switches_at_the_located_event() {
+    let tolerance = 1e-7;
+    for (written, relation) in [
+        ("if x < 0 then -c * x else 0", "if x < 0 then -c * x else 0"),
+        ("x > 0 ? 0 : -c * x", "x > 0 ? 0 : -c * x"),
+        ("ifelse(x >= 0, 0, -c * x)", "ifelse(x >= 0, 0, -c * x)"),
+    ] {
+        let (worst, events) = contact_error(&contact(relation, 1e-8));
+        let (stepped_over, none) = contact_error(&contact(&format!("noEvent({relation})"), 1e-8));
+        println!(
+            "contact `{written}`: worst error {worst:.2e} m = {:.2e} of {tolerance:.0e} with {events} events; \
+             {stepped_over:.2e} m ({:.0}x) stepping over the switch with noEvent",
+            worst / tolerance,
+            stepped_over / worst.max(f64::MIN_POSITIVE)
+        );
+        assert!(worst <= tolerance, "{written}: {worst:e}");
+        assert_eq!(events, 2, "{written}: the mass meets the spring and leaves it");
+        assert_eq!(none, 0, "{written}: noEvent makes no events");
+        assert!(stepped_over > 10.0 * worst, "{written}: locating the switch should matter");
+    }
+}
+
+#[test]
+fn relations_on_parameters_make_no_indicators() {
+    let text = contact("if c > 0 then -c * x else 0", 1e-8);
+    let (mechanism, options) = load("contact.dyad", &text);
+    let mut sim = Simulator::new(&mechanism, &options).unwrap();
+    sim.step_until(options.stop).unwrap();
+    assert_eq!(sim.event_count(), 0);
+}
