@@ -163,3 +163,94 @@ fn relations_on_parameters_make_no_indicators() {
     sim.step_until(options.stop).unwrap();
     assert_eq!(sim.event_count(), 0);
 }
+
+/// The value of `name` at the end of the run of `text`, and the number of events.
+fn final_values(text: &str, names: &[&str]) -> (Vec<f64>, usize) {
+    let (mechanism, options) = load("model.dyad", text);
+    let mut sim = Simulator::new(&mechanism, &options).unwrap();
+    sim.step_until(options.stop).unwrap();
+    let solution = sim.solution();
+    (names.iter().map(|n| *solution.get(n).unwrap().last().unwrap()).collect(), sim.event_count())
+}
+
+#[test]
+fn elsewhen_initial_and_change_follow_modelica() {
+    let text = r#"
+example component Modes
+  variable x::Real = initial 0
+  variable mode::Real = initial 0
+  variable n::Real = initial 0
+  variable changes::Real = initial 0
+relations
+  der(x) = 1
+  when initial()
+    mode = 5
+  elsewhen x > 1
+    mode = pre(mode) + 1
+  end
+  when x > 2
+    n = pre(n) + 1
+  elsewhen x > 2.5
+    n = 100
+  end
+  when change(mode)
+    changes = pre(changes) + 1
+  end
+end
+
+analysis ModesRun
+  extends TransientAnalysis(stop = 3, saveat = 0.5)
+  model = Modes()
+end
+"#;
+    let (values, events) = final_values(text, &["mode", "n", "changes"]);
+    // mode: 5 at the start, 6 at x = 1; n: 1 at x = 2, then the second
+    // branch at x = 2.5 (the first one's condition is still true: it does
+    // not fire again); change(mode) is false at the start.
+    assert_eq!(values, vec![6.0, 100.0, 1.0]);
+    assert_eq!(events, 3);
+}
+
+#[test]
+fn reinit_of_a_state_of_the_mechanics() {
+    // A pendulum falling from the horizontal bounces elastically off a stop
+    // at -0.5 rad: it swings back up to the horizontal (energy is kept).
+    let text = r#"
+example component Stop
+  world = MultibodyComponents.World()
+  rev = MultibodyComponents.Revolute(n = [0, 0, 1], phi(initial = 0), w(initial = 0))
+  body = MultibodyComponents.Body(m = 1, r_cm = [0.5, 0, 0])
+relations
+  connect(world.frame_b, rev.frame_a)
+  connect(rev.frame_b, body.frame_a)
+  when rev.phi < -0.5
+    reinit(rev.w, -pre(rev.w))
+  end
+end
+
+analysis StopRun
+  extends TransientAnalysis(stop = 1.5, saveat = 0.001, abstol = 1e-10, reltol = 1e-10)
+  model = Stop()
+end
+"#;
+    let (mechanism, options) = load("stop.dyad", text);
+    let mut sim = Simulator::new(&mechanism, &options).unwrap();
+    sim.step_until(options.stop).unwrap();
+    let phi = sim.solution().get("rev.phi").unwrap();
+    let lowest = phi.iter().copied().fold(f64::INFINITY, f64::min);
+    let highest_after = phi[phi.len() / 2..].iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    // Never above the horizontal, and back to it (to what the 1 ms grid
+    // shows of the turning point: 0.5 (g / r) (0.5 ms)^2 = 2.5e-6 rad).
+    let tolerance = 1e-8;
+    let (through, above) = ((-0.5 - lowest).max(0.0), highest_after.max(0.0));
+    println!(
+        "pendulum on a stop: through the stop by {through:.2e} rad = {:.2e} of {tolerance:.0e}, above the start by \
+         {above:.2e} rad = {:.2e} of {tolerance:.0e}; back up to {highest_after:.2e}; {} events",
+        through / tolerance,
+        above / tolerance,
+        sim.event_count()
+    );
+    assert!(through <= tolerance, "it goes through the stop: {lowest}");
+    assert!(above <= tolerance && highest_after >= -1e-5, "it swings back up to {highest_after}");
+    assert!(sim.event_count() >= 2);
+}
