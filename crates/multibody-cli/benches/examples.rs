@@ -172,16 +172,17 @@ fn equations(c: &mut Criterion) {
 /// right-hand side and per simulation (the target: within 1.2x).
 fn idle_indicators(watched: bool) -> String {
     let relation = if watched { "rev.phi < 10 + i" } else { "noEvent(rev.phi < 10 + i)" };
-    pd_pendulum(true).replace(
-        "  connect(world.frame_b, rev.frame_a)",
-        &format!(
-            "  for i in 1:100
+    pd_pendulum(true)
+        .replace(
+            "  connect(world.frame_b, rev.frame_a)",
+            &format!(
+                "  for i in 1:100
     z[i] = if {relation} then rev.phi else 0
   end
   connect(world.frame_b, rev.frame_a)"
-        ),
-    )
-    .replace("  controller = PD(", "  variable z::Real[100]\n  controller = PD(")
+            ),
+        )
+        .replace("  controller = PD(", "  variable z::Real[100]\n  controller = PD(")
 }
 
 fn indicators(c: &mut Criterion) {

@@ -60,8 +60,11 @@ fn run(ops: &[Op], r: &mut [f64], signals: &mut [f64], ev: &mut Events) {
             Op::Store(slot, a) => signals[slot] = r[a as usize],
             Op::Relation { cmp, dst, a, b, indicator, slot } => {
                 let (x, y) = (r[a as usize], r[b as usize]);
+                // Positive where `>` and `<` hold, and where `>=` and `<=`
+                // fail, so that the relation's value is the indicator's
+                // sign (`g > 0`) exactly, zero included.
                 ev.indicators[indicator as usize] = match cmp {
-                    Cmp::Gt | Cmp::Ge => x - y,
+                    Cmp::Gt | Cmp::Le => x - y,
                     _ => y - x,
                 };
                 if ev.at_event {

@@ -43,8 +43,10 @@ pub enum Op {
     Store(usize, Reg),
     /// A relation that makes events: between events `dst` is the value it
     /// had at the last event (`discrete[slot]`); at events it is evaluated
-    /// and kept there. Either way `indicators[indicator]` is set to a value
-    /// positive exactly where the relation holds (`a - b` for `a > b`).
+    /// and kept there. Either way `indicators[indicator]` is set: positive
+    /// exactly where `a > b` or `a < b` holds (`a - b`, `b - a`), and where
+    /// `a >= b` or `a <= b` fails (`b - a`, `a - b`), so that the value
+    /// changes exactly where the indicator's sign does, at zero too.
     Relation {
         cmp: Cmp,
         dst: Reg,
