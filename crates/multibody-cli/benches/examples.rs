@@ -166,5 +166,45 @@ fn equations(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, compile, simulate, stiff, equations);
+/// The PD pendulum with 100 relations on its angle that never change
+/// (`rev.phi < 10 + i`): each an event indicator, or with `noEvent` the
+/// same arithmetic without one. What watching idle indicators costs, per
+/// right-hand side and per simulation (the target: within 1.2x).
+fn idle_indicators(watched: bool) -> String {
+    let relation = if watched { "rev.phi < 10 + i" } else { "noEvent(rev.phi < 10 + i)" };
+    pd_pendulum(true)
+        .replace(
+            "  connect(world.frame_b, rev.frame_a)",
+            &format!(
+                "  for i in 1:100
+    z[i] = if {relation} then rev.phi else 0
+  end
+  connect(world.frame_b, rev.frame_a)"
+            ),
+        )
+        .replace("  controller = PD(", "  variable z::Real[100]\n  controller = PD(")
+}
+
+fn indicators(c: &mut Criterion) {
+    let mut group = c.benchmark_group("equations");
+    group.sample_size(20);
+    for (name, watched) in [("idle_indicators_100", true), ("idle_indicators_100_noevent", false)] {
+        let mut package = Package::new();
+        package.add_source("idle.dyad", idle_indicators(watched)).unwrap();
+        let mechanism = package.lower_component("Held").unwrap().assemble().unwrap();
+        let mut ws = mechanism.workspace();
+        let mut y = mechanism.states().start.clone();
+        y[0] = 0.3;
+        y[1] = -0.7;
+        let mut dy = vec![0.0; y.len()];
+        group.bench_function(format!("rhs_{name}"), |b| {
+            b.iter(|| mechanism.rhs(&mut ws, std::hint::black_box(0.1), std::hint::black_box(&y), &mut dy).unwrap())
+        });
+        let options = SimulationOptions { stop: 2.0, saveat: 0.01, ..SimulationOptions::default() };
+        group.bench_function(format!("simulate_{name}"), |b| b.iter(|| mechanism.simulate(&options).unwrap()));
+    }
+    group.finish();
+}
+
+criterion_group!(benches, compile, simulate, stiff, equations, indicators);
 criterion_main!(benches);

@@ -203,6 +203,11 @@ pub enum Relation {
     Switch { subject: Expr, cases: Vec<(Path, Vec<Relation>)>, default: Option<Vec<Relation>>, span: Span },
     /// `assert(condition, "message")`.
     Assert { condition: Expr, message: String, span: Span },
+    /// `when c1 ... elsewhen c2 ... end`: what happens at the events where
+    /// a condition becomes true.
+    When { branches: Vec<(Expr, Vec<Relation>)>, span: Span },
+    /// `reinit(x, value)`: a state jumps (inside `when`).
+    Reinit { state: Expr, value: Expr, span: Span },
 }
 
 #[derive(Clone, Debug, PartialEq)]

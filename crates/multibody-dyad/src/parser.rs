@@ -688,7 +688,9 @@ impl<'a> Parser<'a> {
             "if" => return self.if_relation(),
             "for" => return self.for_relation(),
             "switch" => return self.switch_relation(),
-            "when" | "transition" | "continuity" | "analysis_point" | "state" => {
+            "when" => return self.when_relation(),
+            "reinit" if call => return self.reinit(),
+            "transition" | "continuity" | "analysis_point" | "state" => {
                 return Err(unsupported(&format!("`{word}` is"), start))
             }
             _ => {}
@@ -791,6 +793,40 @@ impl<'a> Parser<'a> {
         self.close_block(start, "if")?;
         self.leave(1);
         Ok(Relation::If { branches, otherwise, span: start.to(self.prev_span()) })
+    }
+
+    /// `when c ... elsewhen c ... end`.
+    fn when_relation(&mut self) -> PResult<Relation> {
+        let start = self.expect_word("when")?;
+        self.enter()?;
+        let mut branches = Vec::new();
+        let condition = self.expr()?;
+        let body = self.block(&["elsewhen", "end"])?;
+        branches.push((condition, body));
+        while self.eat_word("elsewhen") {
+            let condition = self.expr()?;
+            let body = self.block(&["elsewhen", "end"])?;
+            branches.push((condition, body));
+        }
+        if self.at_word("else") || self.at_word("elseif") {
+            return Err(self
+                .expected("`elsewhen` or `end`")
+                .help("a `when` has no `else`: its branches are `when c1 ... elsewhen c2 ... end`"));
+        }
+        self.close_block(start, "when")?;
+        self.leave(1);
+        Ok(Relation::When { branches, span: start.to(self.prev_span()) })
+    }
+
+    /// `reinit(state, value)`.
+    fn reinit(&mut self) -> PResult<Relation> {
+        let start = self.expect_word("reinit")?;
+        self.expect(TokenKind::LParen, "`(`")?;
+        let state = self.expr()?;
+        self.expect(TokenKind::Comma, "`,` and the new value")?;
+        let value = self.expr()?;
+        self.expect(TokenKind::RParen, "`)`")?;
+        Ok(Relation::Reinit { state, value, span: start.to(self.prev_span()) })
     }
 
     /// `for i in range ... end`.

@@ -165,6 +165,12 @@ pub enum Flat<'r> {
         span: Span,
         env: Env,
     },
+    /// A `when` clause: each branch's condition and what it does.
+    When {
+        branches: Vec<(&'r Expr, Vec<&'r Relation>)>,
+        span: Span,
+        env: Env,
+    },
     /// An `if` whose conditions change during the simulation.
     Conditional {
         branches: Vec<(&'r Expr, Vec<Flat<'r>>)>,
@@ -188,7 +194,10 @@ pub fn is_runtime(expr: &Expr, runtime: &[String]) -> bool {
             let first = &p.parts[0].name;
             first == "time" || runtime.iter().any(|r| r == first)
         }
-        ExprKind::Call { callee, args } => callee.last().name == "der" || args.iter().any(|a| is_runtime(a, runtime)),
+        ExprKind::Call { callee, args } => {
+            matches!(callee.last().name.as_str(), "der" | "pre" | "initial" | "edge" | "change")
+                || args.iter().any(|a| is_runtime(a, runtime))
+        }
         ExprKind::Array(items) => items.iter().any(|i| is_runtime(i, runtime)),
         ExprKind::Index { base, indices } => {
             is_runtime(base, runtime) || indices.iter().any(|i| is_runtime(i, runtime))
@@ -243,8 +252,49 @@ fn expand_into<'r>(
             Relation::Assert { condition, message, span } => {
                 out.push(Flat::Assert { condition, message, span: *span, env: env.clone() })
             }
+            Relation::When { branches, span } => {
+                let mut flat = Vec::with_capacity(branches.len());
+                for (condition, body) in branches {
+                    let mut actions = Vec::with_capacity(body.len());
+                    for r in body {
+                        match r {
+                            Relation::Equation { .. } | Relation::Reinit { .. } => actions.push(r),
+                            Relation::When { span: inner, .. } => {
+                                return Err(Diagnostic::error("a `when` cannot be inside another `when`")
+                                    .primary(*inner, "nested `when`")
+                                    .secondary(*span, "inside this `when`")
+                                    .help("add a branch with `elsewhen`, or combine the conditions with `and`"))
+                            }
+                            other => {
+                                return Err(Diagnostic::error(
+                                    "a `when` holds assignments `x = value` and `reinit(x, value)` only",
+                                )
+                                .primary(relation_span(other), "not allowed in a `when`")
+                                .help("move it out of the `when`"))
+                            }
+                        }
+                    }
+                    flat.push((condition, actions));
+                }
+                out.push(Flat::When { branches: flat, span: *span, env: env.clone() });
+            }
+            Relation::Reinit { span, .. } => {
+                return Err(Diagnostic::error("`reinit` outside a `when`")
+                    .primary(*span, "not inside a `when`")
+                    .help("a state jumps at an event: `when h < 0` then `reinit(v, -e * pre(v))` then `end`"))
+            }
             Relation::If { branches, otherwise, span } => {
                 if branches.iter().any(|(c, _)| is_runtime(c, runtime)) {
+                    let bodies = branches.iter().map(|(_, b)| b).chain(otherwise.iter());
+                    if let Some(when) = bodies.flat_map(|b| b.iter()).find_map(first_when) {
+                        let condition = branches.iter().map(|(c, _)| c).find(|c| is_runtime(c, runtime));
+                        return Err(Diagnostic::error("a `when` inside an `if` on values that change")
+                            .primary(when, "a `when` here")
+                            .secondary(condition.map_or(*span, |c| c.span), "this condition changes")
+                            .help(
+                                "put the `when` outside the `if`, and its condition in the `when`: `when c and h < 0`",
+                            ));
+                    }
                     let mut expanded = Vec::new();
                     for (c, body) in branches {
                         let mut inner = Vec::new();
@@ -313,6 +363,37 @@ fn expand_into<'r>(
         }
     }
     Ok(())
+}
+
+/// Where a relation was written.
+fn relation_span(r: &Relation) -> Span {
+    match r {
+        Relation::Connect { ends, .. } => ends[0].span,
+        Relation::Initial { span, .. }
+        | Relation::Guess { span, .. }
+        | Relation::Equation { span, .. }
+        | Relation::If { span, .. }
+        | Relation::For { span, .. }
+        | Relation::Switch { span, .. }
+        | Relation::Assert { span, .. }
+        | Relation::When { span, .. }
+        | Relation::Reinit { span, .. } => *span,
+    }
+}
+
+/// The span of the first `when` in `r` (nested in loops and branches too).
+fn first_when(r: &Relation) -> Option<Span> {
+    match r {
+        Relation::When { span, .. } => Some(*span),
+        Relation::If { branches, otherwise, .. } => {
+            branches.iter().flat_map(|(_, b)| b).chain(otherwise.iter().flatten()).find_map(first_when)
+        }
+        Relation::For { body, .. } => body.iter().find_map(first_when),
+        Relation::Switch { cases, default, .. } => {
+            cases.iter().flat_map(|(_, b)| b).chain(default.iter().flatten()).find_map(first_when)
+        }
+        _ => None,
+    }
 }
 
 /// A condition on parameters: true or false.
@@ -837,6 +918,24 @@ impl Context<'_, '_, '_, '_, '_, '_, '_> {
                     .help("assert on parameters, or watch the value in the results")),
                 }
             }
+            Flat::When { branches, span, env } => {
+                let mut when = multibody::When { branches: Vec::new(), origin: self.lowerer.origin(*span) };
+                for (condition, body) in branches {
+                    let c = self.eval(condition, env)?;
+                    let Sym::Scalar(c) = c else {
+                        return Err(
+                            Diagnostic::error("a condition must be a scalar").primary(condition.span, "not a scalar")
+                        );
+                    };
+                    let mut actions = Vec::new();
+                    for r in body {
+                        self.when_action(r, env, &mut actions)?;
+                    }
+                    when.branches.push((c, actions));
+                }
+                self.lowerer.model.equations.whens.push(when);
+                Ok(())
+            }
             Flat::Conditional { branches, otherwise, span, env } => {
                 let Some(otherwise) = otherwise else {
                     return Err(Diagnostic::error("an `if` on values that change during the simulation needs an `else`")
@@ -878,6 +977,41 @@ impl Context<'_, '_, '_, '_, '_, '_, '_> {
         }
     }
 
+    /// What one relation inside a `when` does: `x = value` assigns (each
+    /// element of an array), `reinit(x, value)` makes a state jump.
+    fn when_action(
+        &mut self,
+        r: &Relation,
+        env: &[(String, f64)],
+        actions: &mut Vec<multibody::WhenAction>,
+    ) -> Result<(), Diagnostic> {
+        let (target, value, span, reinit) = match r {
+            Relation::Equation { lhs, rhs, span } => (lhs, rhs, *span, false),
+            Relation::Reinit { state, value, span } => (state, value, *span, true),
+            _ => unreachable!("only assignments and reinit get here"),
+        };
+        let origin = self.lowerer.origin(span);
+        let pairs = self.residuals(target, value, span, env)?;
+        for (t, v) in pairs {
+            let E::Var(name) = t else {
+                let what = if reinit { "`reinit` takes a state first" } else { "a `when` assigns a variable" };
+                return Err(Diagnostic::error(format!("{what}, not an expression"))
+                    .primary(target.span, "not a variable")
+                    .help(if reinit {
+                        "write `reinit(x, value)` with a state `x` (a variable whose `der` appears, or `rev.w`)"
+                    } else {
+                        "write `x = value` with a variable `x` on the left"
+                    }));
+            };
+            actions.push(if reinit {
+                multibody::WhenAction::Reinit { state: name, value: v, origin: origin.clone() }
+            } else {
+                multibody::WhenAction::Assign { variable: name, value: v, origin: origin.clone() }
+            });
+        }
+        Ok(())
+    }
+
     /// The residuals of a branch of a conditional `if`: equations only.
     fn branch(&mut self, body: &[Flat]) -> Result<Vec<E>, Diagnostic> {
         let mut out = Vec::new();
@@ -889,6 +1023,7 @@ impl Context<'_, '_, '_, '_, '_, '_, '_> {
                     }
                 }
                 Flat::Conditional { span, .. }
+                | Flat::When { span, .. }
                 | Flat::Initial { span, .. }
                 | Flat::Guess { span, .. }
                 | Flat::Assert { span, .. } => {

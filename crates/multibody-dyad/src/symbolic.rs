@@ -460,6 +460,11 @@ pub const FUNCTIONS: &[&str] = &[
     "clamp",
     "ifelse",
     "der",
+    "pre",
+    "noEvent",
+    "initial",
+    "edge",
+    "change",
     "norm",
     "dot",
     "cross",
@@ -550,6 +555,46 @@ fn function(callee: &Path, args: &[Expr], span: Span, names: &mut dyn Names) -> 
         }
     };
     match bare {
+        "noEvent" => {
+            arity(1)?;
+            Ok(arg(0, names)?.map(&|e| match e {
+                E::Const(_) => e.clone(),
+                other => E::NoEvent(Box::new(other.clone())),
+            }))
+        }
+        "initial" => {
+            arity(0)?;
+            Ok(Sym::Scalar(E::Initial))
+        }
+        "pre" => {
+            arity(1)?;
+            let not_a_variable = || {
+                Diagnostic::error("`pre` takes a variable, not an expression")
+                    .primary(args[0].span, "not a variable")
+                    .help("write `pre` of each variable: `pre(x) + pre(y)`, not `pre(x + y)`")
+            };
+            if !matches!(args[0].kind, ExprKind::Name(_) | ExprKind::Index { .. } | ExprKind::Field { .. }) {
+                return Err(not_a_variable());
+            }
+            let v = arg(0, names)?;
+            let mut all = Vec::new();
+            v.clone().flatten(&mut all);
+            if !all.iter().all(|e| matches!(e, E::Var(_))) {
+                return Err(Diagnostic::error("`pre` takes a variable, and this is a parameter or a constant")
+                    .primary(args[0].span, "does not change")
+                    .help("a parameter is the same before an event: write it without `pre`"));
+            }
+            Ok(v.map(&|e| match e {
+                E::Var(name) => E::Pre(name.clone()),
+                other => other.clone(),
+            }))
+        }
+        "edge" | "change" => {
+            arity(1)?;
+            let v = arg(0, names)?;
+            let v = scalar(&v, args[0].span, &format!("`{fname}`"))?;
+            Ok(Sym::Scalar(if fname == "edge" { E::Edge(Box::new(v)) } else { E::Change(Box::new(v)) }))
+        }
         "der" => {
             arity(1)?;
             let v = arg(0, names)?;

@@ -41,7 +41,10 @@ pub use assembly::{LoopInfo, Mechanism};
 pub use dynamics::{DynamicsError, Workspace};
 pub use error::{closest, Error};
 pub use math::expr::{Cmp, Expr, Func, Func2, TimeExpr};
-pub use model::{ComponentInstance, Connection, Equation, Equations, Flow, Model, OrientationState, Value, Variable};
+pub use model::{
+    ComponentInstance, Connection, Equation, Equations, Flow, Model, OrientationState, Value, Variable, When,
+    WhenAction,
+};
 pub use simulate::{
     Method, OptionError, RunReport, SampleSink, SimulationError, SimulationOptions, Simulator, Solution, Stopped,
 };

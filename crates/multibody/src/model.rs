@@ -236,6 +236,27 @@ impl Variable {
     }
 }
 
+/// A `when` clause: its branches (`when c1 ... elsewhen c2 ...`), each a
+/// condition and what happens at the event where it becomes true (the
+/// first branch whose condition became true, only).
+#[derive(Clone, Debug, PartialEq)]
+pub struct When {
+    pub branches: Vec<(Expr, Vec<WhenAction>)>,
+    /// Where it was written, for messages.
+    pub origin: String,
+}
+
+/// What a `when` does when it fires.
+#[derive(Clone, Debug, PartialEq)]
+pub enum WhenAction {
+    /// `x = value`: the variable `x` becomes discrete (it holds between
+    /// events) and takes `value`.
+    Assign { variable: String, value: Expr, origin: String },
+    /// `reinit(state, value)`: the state (of the equations, `h`, or of the
+    /// mechanics, `rev.w`) jumps to `value`.
+    Reinit { state: String, value: Expr, origin: String },
+}
+
 /// The flows a component of the model's equations gives a connector that
 /// the mechanics moves: the names of the variables that hold them. The
 /// flows act on that component, so the connector's node receives their
@@ -263,11 +284,17 @@ pub struct Equations {
     /// Equations that hold at the start only.
     pub initial: Vec<Equation>,
     pub flows: Vec<Flow>,
+    /// `when` clauses, in the order written.
+    pub whens: Vec<When>,
 }
 
 impl Equations {
     pub fn is_empty(&self) -> bool {
-        self.variables.is_empty() && self.equations.is_empty() && self.initial.is_empty() && self.flows.is_empty()
+        self.variables.is_empty()
+            && self.equations.is_empty()
+            && self.initial.is_empty()
+            && self.flows.is_empty()
+            && self.whens.is_empty()
     }
 }
 

@@ -139,7 +139,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         places: &drive.places,
         links: &tree.links,
     };
-    let (program, initial_of_equations) = plan.compile(&context, &mut signals, &mut states)?;
+    let (program, initial_of_equations) = plan.compile(&context, &mut signals, &mut states, &mut events)?;
     checks::inertia_behind_every_joint(&components, &conn, &tree, &states.start[..states.nq])?;
 
     // Start each massless group at the centre of the frames that hold it.

@@ -5,15 +5,41 @@
 
 use super::{DynamicsError, Workspace};
 use crate::math::dense::{lu, lu_solve};
+use crate::math::expr::Cmp;
 use crate::math::{skew, Vec3};
 use crate::system::equations::{
     EquationProgram, FrameQuantity, Gather, Op, Solve, NEWTON_ITERATIONS, NEWTON_TOLERANCE, TIME,
 };
 use crate::system::System;
 
+/// What the ops of events read and write besides registers and signals:
+/// the workspace's discrete part, borrowed apart from the registers.
+struct Events<'w> {
+    indicators: &'w mut [f64],
+    discrete: &'w mut [f64],
+    pre: &'w [f64],
+    reinits: &'w mut Vec<(usize, f64)>,
+    at_event: bool,
+    initial: bool,
+}
+
+/// Runs `ops` on the workspace's registers and signal slots.
+#[inline]
+fn run_ops(ops: &[Op], ws: &mut Workspace) {
+    let mut events = Events {
+        indicators: &mut ws.indicators,
+        discrete: &mut ws.discrete,
+        pre: &ws.discrete_pre,
+        reinits: &mut ws.reinits,
+        at_event: ws.at_event,
+        initial: ws.initial,
+    };
+    run(ops, &mut ws.registers, &mut ws.signals, &mut events);
+}
+
 /// Runs `ops` on the registers and signal slots.
 #[inline]
-fn run(ops: &[Op], r: &mut [f64], signals: &mut [f64]) {
+fn run(ops: &[Op], r: &mut [f64], signals: &mut [f64], ev: &mut Events) {
     for op in ops {
         match *op {
             Op::Copy(d, a) => r[d as usize] = r[a as usize],
@@ -32,6 +58,53 @@ fn run(ops: &[Op], r: &mut [f64], signals: &mut [f64]) {
             Op::Select(d, c, a, b) => r[d as usize] = if r[c as usize] != 0.0 { r[a as usize] } else { r[b as usize] },
             Op::Load(d, slot) => r[d as usize] = signals[slot],
             Op::Store(slot, a) => signals[slot] = r[a as usize],
+            Op::Relation { cmp, dst, a, b, indicator, slot } => {
+                let (x, y) = (r[a as usize], r[b as usize]);
+                // Positive where `>` and `<` hold, and where `>=` and `<=`
+                // fail, so that the relation's value is the indicator's
+                // sign (`g > 0`) exactly, zero included.
+                ev.indicators[indicator as usize] = match cmp {
+                    Cmp::Gt | Cmp::Le => x - y,
+                    _ => y - x,
+                };
+                if ev.at_event {
+                    ev.discrete[slot as usize] = cmp.apply(x, y);
+                }
+                r[dst as usize] = ev.discrete[slot as usize];
+            }
+            Op::Initial(d) => r[d as usize] = truth(ev.initial),
+            Op::LoadPre(d, slot) => r[d as usize] = ev.pre[slot as usize],
+            Op::Fire { dst, cond, slot, at_start } => {
+                let fired = if ev.at_event {
+                    let now = r[cond as usize] != 0.0;
+                    let before = ev.pre[slot as usize] != 0.0;
+                    ev.discrete[slot as usize] = truth(now);
+                    now && !before && (at_start || !ev.initial)
+                } else {
+                    false
+                };
+                r[dst as usize] = truth(fired);
+            }
+            Op::Change { dst, value, slot } => {
+                let changed = if ev.at_event {
+                    let now = r[value as usize];
+                    ev.discrete[slot as usize] = now;
+                    now != ev.pre[slot as usize] && !ev.initial
+                } else {
+                    false
+                };
+                r[dst as usize] = truth(changed);
+            }
+            Op::Assign { slot, src, fire } => {
+                if r[fire as usize] != 0.0 {
+                    ev.discrete[slot as usize] = r[src as usize];
+                }
+            }
+            Op::Reinit { state, src, fire } => {
+                if r[fire as usize] != 0.0 {
+                    ev.reinits.push((state as usize, r[src as usize]));
+                }
+            }
         }
     }
 }
@@ -93,6 +166,7 @@ impl System {
                     let nq = q.len();
                     ws.registers[*register as usize] = if *index < nq { q[*index] } else { u[*index - nq] };
                 }
+                Gather::Discrete { slot, register } => ws.registers[*register as usize] = ws.discrete[*slot],
             }
         }
     }
@@ -101,13 +175,13 @@ impl System {
     pub(crate) fn run_equation_block(&self, ws: &mut Workspace, b: usize) -> Result<(), DynamicsError> {
         let program: &EquationProgram = &self.equations;
         let block = &program.blocks[b];
-        run(&program.ops[block.before.clone()], &mut ws.registers, &mut ws.signals);
+        run_ops(&program.ops[block.before.clone()], ws);
         if let Solve::Newton { unknowns, residuals, jacobian, residual_ops, jacobian_ops, linear } = &block.solve {
             let n = unknowns.len();
             let mut converged = false;
             for iteration in 0..NEWTON_ITERATIONS {
-                run(&program.ops[residual_ops.clone()], &mut ws.registers, &mut ws.signals);
-                run(&program.ops[jacobian_ops.clone()], &mut ws.registers, &mut ws.signals);
+                run_ops(&program.ops[residual_ops.clone()], ws);
+                run_ops(&program.ops[jacobian_ops.clone()], ws);
                 let (matrix, rest) = ws.newton.split_at_mut(n * n);
                 let (step, work) = rest.split_at_mut(n);
                 for (m, &reg) in matrix.iter_mut().zip(jacobian) {
@@ -138,8 +212,18 @@ impl System {
                 return Err(DynamicsError::EquationsDiverged { block: b });
             }
         }
-        run(&program.ops[block.after.clone()], &mut ws.registers, &mut ws.signals);
+        run_ops(&program.ops[block.after.clone()], ws);
         Ok(())
+    }
+
+    /// The `when` clauses, after every block: their conditions (which
+    /// watch for events), and at events what they do.
+    pub(crate) fn run_when_clauses(&self, ws: &mut Workspace) {
+        let program: &EquationProgram = &self.equations;
+        run_ops(&program.ops[program.when_conditions.clone()], ws);
+        if ws.at_event {
+            run_ops(&program.ops[program.when_actions.clone()], ws);
+        }
     }
 
     /// Copies the equations' states from `x` into their registers.

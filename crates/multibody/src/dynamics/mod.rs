@@ -189,7 +189,7 @@ impl Workspace {
             discrete_pre: system.events.discrete_start.clone(),
             at_event: false,
             initial: false,
-            reinits: Vec::with_capacity(system.states.start.len()),
+            reinits: Vec::with_capacity(system.states.start.len() + system.equations.reinits),
             left_limit_at: f64::NAN,
             friction: vec![Default::default(); system.frictions.len()],
         }

@@ -96,6 +96,9 @@ impl System {
             self.run_equation_block(ws, next)?;
             next += 1;
         }
+        if !self.equations.when_conditions.is_empty() || !self.equations.when_actions.is_empty() {
+            self.run_when_clauses(ws);
+        }
         Ok(())
     }
 

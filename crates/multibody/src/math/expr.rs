@@ -33,6 +33,18 @@ pub enum Expr {
     Not(Box<Expr>),
     /// `if condition then a else b`.
     If(Box<Expr>, Box<Expr>, Box<Expr>),
+    /// `noEvent(e)`: the relations inside are evaluated as they are,
+    /// without events.
+    NoEvent(Box<Expr>),
+    /// `pre(x)`: the value of the variable `x` before the current event
+    /// (its left limit); only in `when` clauses.
+    Pre(String),
+    /// `initial()`: true during the event iteration at the start.
+    Initial,
+    /// `edge(b)`: true at the event where `b` became true.
+    Edge(Box<Expr>),
+    /// `change(v)`: true at the event where `v` changed.
+    Change(Box<Expr>),
 }
 
 /// The name formulas of time had before equations could name variables.
@@ -280,8 +292,14 @@ impl Expr {
     pub fn visit<'a>(&'a self, f: &mut impl FnMut(&'a Expr)) {
         f(self);
         match self {
-            Expr::Const(_) | Expr::Time | Expr::Var(_) => {}
-            Expr::Der(a) | Expr::Neg(a) | Expr::Call(_, a) | Expr::Not(a) => a.visit(f),
+            Expr::Const(_) | Expr::Time | Expr::Var(_) | Expr::Initial | Expr::Pre(_) => {}
+            Expr::Der(a)
+            | Expr::Neg(a)
+            | Expr::Call(_, a)
+            | Expr::Not(a)
+            | Expr::NoEvent(a)
+            | Expr::Edge(a)
+            | Expr::Change(a) => a.visit(f),
             Expr::Add(x, y)
             | Expr::Sub(x, y)
             | Expr::Mul(x, y)
@@ -453,6 +471,12 @@ fn compile(expr: &Expr, ops: &mut Vec<Op>) -> Result<usize, String> {
         }
         Expr::Var(name) => return Err(format!("`{name}` is not a function of time alone")),
         Expr::Der(_) => return Err("`der` of a formula of time is not supported; differentiate it by hand".into()),
+        Expr::NoEvent(a) => compile(a, ops)?,
+        Expr::Pre(_) | Expr::Initial | Expr::Edge(_) | Expr::Change(_) => {
+            return Err(
+                "`pre`, `initial`, `edge` and `change` belong in `when` clauses, not in a formula of time".into()
+            )
+        }
         Expr::Neg(a) | Expr::Not(a) | Expr::Call(_, a) => {
             let d = compile(a, ops)?;
             ops.push(match expr {

@@ -26,6 +26,17 @@ pub enum Sym {
     Or(Rc<Sym>, Rc<Sym>),
     Not(Rc<Sym>),
     If(Rc<Sym>, Rc<Sym>, Rc<Sym>),
+    /// Relations inside are evaluated as they are, without events.
+    NoEvent(Rc<Sym>),
+    /// The value of a variable before the current event (not a dependence
+    /// on its present value).
+    Pre(usize),
+    /// True during the event iteration at the start.
+    Initial,
+    /// True at the event where the argument became true.
+    Edge(Rc<Sym>),
+    /// True at the event where the argument changed.
+    Change(Rc<Sym>),
 }
 
 pub type S = Rc<Sym>;
@@ -57,9 +68,11 @@ impl Sym {
     /// Calls `f` for every variable occurrence.
     pub fn each_var(&self, f: &mut impl FnMut(usize)) {
         match self {
-            Sym::Const(_) | Sym::Time => {}
+            Sym::Const(_) | Sym::Time | Sym::Pre(_) | Sym::Initial => {}
             Sym::Var(v) => f(*v),
-            Sym::Neg(a) | Sym::Call(_, a) | Sym::Not(a) => a.each_var(f),
+            Sym::Neg(a) | Sym::Call(_, a) | Sym::Not(a) | Sym::NoEvent(a) | Sym::Edge(a) | Sym::Change(a) => {
+                a.each_var(f)
+            }
             Sym::Add(a, b)
             | Sym::Sub(a, b)
             | Sym::Mul(a, b)
@@ -84,8 +97,10 @@ impl Sym {
     pub fn mentions_time(&self) -> bool {
         match self {
             Sym::Time => true,
-            Sym::Const(_) | Sym::Var(_) => false,
-            Sym::Neg(a) | Sym::Call(_, a) | Sym::Not(a) => a.mentions_time(),
+            Sym::Const(_) | Sym::Var(_) | Sym::Pre(_) | Sym::Initial => false,
+            Sym::Neg(a) | Sym::Call(_, a) | Sym::Not(a) | Sym::NoEvent(a) | Sym::Edge(a) | Sym::Change(a) => {
+                a.mentions_time()
+            }
             Sym::Add(a, b)
             | Sym::Sub(a, b)
             | Sym::Mul(a, b)
@@ -210,6 +225,14 @@ pub fn not(a: S) -> S {
     }
 }
 
+/// `noEvent(a)`; a constant needs none.
+pub fn no_event(a: S) -> S {
+    match &*a {
+        Sym::Const(_) | Sym::Time | Sym::Var(_) | Sym::NoEvent(_) => a,
+        _ => Rc::new(Sym::NoEvent(a)),
+    }
+}
+
 pub fn if_else(c: S, a: S, b: S) -> S {
     match c.as_const() {
         Some(x) if x != 0.0 => a,
@@ -273,8 +296,16 @@ fn differentiate(e: &S, leaf: &mut impl FnMut(&Sym) -> Option<S>) -> S {
                 div(sub(mul(b.clone(), d(a)), mul(a.clone(), d(b))), r)
             }
         },
-        Sym::Compare(..) | Sym::And(..) | Sym::Or(..) | Sym::Not(_) => constant(0.0),
+        Sym::Compare(..)
+        | Sym::And(..)
+        | Sym::Or(..)
+        | Sym::Not(_)
+        | Sym::Pre(_)
+        | Sym::Initial
+        | Sym::Edge(_)
+        | Sym::Change(_) => constant(0.0),
         Sym::If(c, a, b) => if_else(c.clone(), d(a), d(b)),
+        Sym::NoEvent(a) => no_event(d(a)),
     }
 }
 
@@ -313,7 +344,10 @@ pub fn substitute_all(e: &S, by: &dyn Fn(usize) -> Option<S>) -> S {
     let s = |x: &S| substitute_all(x, by);
     match &**e {
         Sym::Var(w) => by(*w).unwrap_or_else(|| e.clone()),
-        Sym::Const(_) | Sym::Time => e.clone(),
+        Sym::Const(_) | Sym::Time | Sym::Pre(_) | Sym::Initial => e.clone(),
+        Sym::NoEvent(a) => no_event(s(a)),
+        Sym::Edge(a) => Rc::new(Sym::Edge(s(a))),
+        Sym::Change(a) => Rc::new(Sym::Change(s(a))),
         Sym::Neg(a) => neg(s(a)),
         Sym::Add(a, b) => add(s(a), s(b)),
         Sym::Sub(a, b) => sub(s(a), s(b)),
@@ -352,8 +386,9 @@ pub fn affine_in(e: &S, v: usize) -> Option<(S, S)> {
 /// (where the derivative hides it).
 fn has_condition_on(e: &S, v: usize) -> bool {
     match &**e {
-        Sym::Const(_) | Sym::Time | Sym::Var(_) => false,
-        Sym::Compare(..) | Sym::And(..) | Sym::Or(..) | Sym::Not(_) => e.depends_on(v),
+        Sym::Const(_) | Sym::Time | Sym::Var(_) | Sym::Pre(_) | Sym::Initial => false,
+        Sym::Compare(..) | Sym::And(..) | Sym::Or(..) | Sym::Not(_) | Sym::Edge(_) | Sym::Change(_) => e.depends_on(v),
+        Sym::NoEvent(a) => has_condition_on(a, v),
         Sym::Call(Func::Sign | Func::Floor | Func::Ceil | Func::Abs, a) => a.depends_on(v),
         Sym::Call2(Func2::Min | Func2::Max, a, b) => a.depends_on(v) || b.depends_on(v),
         Sym::If(c, a, b) => c.depends_on(v) || has_condition_on(a, v) || has_condition_on(b, v),
@@ -372,6 +407,10 @@ pub fn evaluate(e: &Sym, t: f64, vars: &dyn Fn(usize) -> f64) -> f64 {
         Sym::Const(x) => *x,
         Sym::Time => t,
         Sym::Var(v) => vars(*v),
+        // Outside events: the value as it is, no edge, no change.
+        Sym::Pre(v) => vars(*v),
+        Sym::Initial | Sym::Edge(_) | Sym::Change(_) => 0.0,
+        Sym::NoEvent(a) => ev(a),
         Sym::Neg(a) => -ev(a),
         Sym::Add(a, b) => ev(a) + ev(b),
         Sym::Sub(a, b) => ev(a) - ev(b),

@@ -442,6 +442,17 @@ impl<'m> Simulator<'m> {
             return Err(fail(e.message));
         }
         let n = mechanism.system.states.start.len();
+        // Without states nothing bounds the steps, and a relation of the
+        // signals could change and change back inside one: steps no longer
+        // than the output interval then.
+        let bounded;
+        let options = if n == 0 && !mechanism.system.events.indicators.is_empty() && options.saveat > 0.0 {
+            let dtmax = if options.dtmax > 0.0 { options.dtmax.min(options.saveat) } else { options.saveat };
+            bounded = SimulationOptions { dtmax, ..options.clone() };
+            &bounded
+        } else {
+            options
+        };
         if y0.len() != n {
             return Err(fail(format!("the start state has {} values, the mechanism {n} states", y0.len())));
         }

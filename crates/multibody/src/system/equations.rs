@@ -41,6 +41,52 @@ pub enum Op {
     Load(Reg, usize),
     /// `signals[slot] = src`.
     Store(usize, Reg),
+    /// A relation that makes events: between events `dst` is the value it
+    /// had at the last event (`discrete[slot]`); at events it is evaluated
+    /// and kept there. Either way `indicators[indicator]` is set: positive
+    /// exactly where `a > b` or `a < b` holds (`a - b`, `b - a`), and where
+    /// `a >= b` or `a <= b` fails (`b - a`, `a - b`), so that the value
+    /// changes exactly where the indicator's sign does, at zero too.
+    Relation {
+        cmp: Cmp,
+        dst: Reg,
+        a: Reg,
+        b: Reg,
+        indicator: u32,
+        slot: u32,
+    },
+    /// `dst = initial()`.
+    Initial(Reg),
+    /// `dst = pre(discrete[slot])`: its value before the event pass.
+    LoadPre(Reg, u32),
+    /// At events: whether `cond` became true (`discrete[slot]` keeps its
+    /// value; at the start only with `at_start`, for `initial()`); between
+    /// events false.
+    Fire {
+        dst: Reg,
+        cond: Reg,
+        slot: u32,
+        at_start: bool,
+    },
+    /// At events: whether `value` changed (`discrete[slot]` keeps it); false
+    /// at the start and between events.
+    Change {
+        dst: Reg,
+        value: Reg,
+        slot: u32,
+    },
+    /// `discrete[slot] = src` if `fire` holds (a `when` assigns).
+    Assign {
+        slot: u32,
+        src: Reg,
+        fire: Reg,
+    },
+    /// `reinit` of state `y[state]` to `src` if `fire` holds.
+    Reinit {
+        state: u32,
+        src: Reg,
+        fire: Reg,
+    },
 }
 
 /// A potential of the mechanics the equations read.
@@ -69,6 +115,8 @@ pub enum Gather {
     Flange { at: FlangeRef, speed: bool, register: Reg },
     /// `y[index]`: a joint coordinate or rate of the mechanics.
     State { index: usize, register: Reg },
+    /// A discrete variable (assigned in `when` clauses): `discrete[slot]`.
+    Discrete { slot: usize, register: Reg },
 }
 
 /// How a block of equations is solved.
@@ -128,10 +176,17 @@ pub struct EquationProgram {
     pub outputs: Vec<(String, Reg)>,
     /// Whether a gather reads frames (the kinematics then computes world poses).
     pub reads_frames: bool,
+    /// The conditions of `when` clauses: run after every block, on every
+    /// evaluation (their relations watch for events).
+    pub when_conditions: Range<usize>,
+    /// What `when` clauses do: run after the conditions, at events only.
+    pub when_actions: Range<usize>,
+    /// How many `reinit`s the `when` clauses hold (room for them).
+    pub reinits: usize,
 }
 
 impl EquationProgram {
     pub fn is_empty(&self) -> bool {
-        self.blocks.is_empty() && self.rates.is_empty()
+        self.blocks.is_empty() && self.rates.is_empty() && self.when_conditions.is_empty()
     }
 }

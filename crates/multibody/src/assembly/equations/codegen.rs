@@ -4,13 +4,15 @@
 //! and flows it writes; and the blocks' places among the signal blocks.
 
 use super::sort::{is_unknown, Sorted};
-use super::{problem, Context, Pending, Role, Source};
+use super::{problem, Context, Pending, PendingAction, Read, Role, Source};
 use crate::assembly::signals::Signals;
+use crate::math::expr::Cmp;
 use crate::math::symbolic::{self as sym, Sym, S};
 use crate::system::equations::{EquationBlock, EquationProgram, Gather, Op, Reg, Solve, TIME};
-use crate::system::{Attachment, SignalLaw, StateLayout};
+use crate::system::{Attachment, EventLayout, SignalLaw, StateLayout};
 use crate::Error;
 use std::collections::{BinaryHeap, HashMap};
+use std::ops::Range;
 
 /// Registers and ops being written.
 struct Emitter {
@@ -23,6 +25,19 @@ struct Emitter {
     /// address is reused while the block is written.
     memo: HashMap<*const Sym, Reg>,
     keep: Vec<S>,
+    /// Whether relations are emitted without events (inside `noEvent`,
+    /// and in what `when` clauses do, which runs at events only).
+    live: bool,
+    /// What the equations add to the indicators and the discrete state:
+    /// where their numbers start, and each one's name and start value.
+    first_indicator: usize,
+    first_discrete: usize,
+    indicators: Vec<String>,
+    discrete: Vec<f64>,
+    /// The discrete slot of each variable that has one.
+    discrete_of: Vec<Option<usize>>,
+    /// The equations being written, to name their indicators.
+    label: String,
 }
 
 impl Emitter {
@@ -50,6 +65,48 @@ impl Emitter {
             Sym::Const(x) => return self.constant(*x),
             Sym::Time => return TIME,
             Sym::Var(v) => return vars[*v],
+            // Before the event: a discrete variable's value at the start
+            // of the pass; any other's is its left limit, the value now.
+            Sym::Pre(v) => match self.discrete_of[*v] {
+                Some(slot) => {
+                    let d = self.register();
+                    self.ops.push(Op::LoadPre(d, slot as u32));
+                    d
+                }
+                None => return vars[*v],
+            },
+            Sym::Initial => {
+                let d = self.register();
+                self.ops.push(Op::Initial(d));
+                d
+            }
+            Sym::NoEvent(a) => {
+                let was = std::mem::replace(&mut self.live, true);
+                let r = self.emit(a, vars);
+                self.live = was;
+                return r;
+            }
+            Sym::Edge(a) => {
+                let cond = self.emit(a, vars);
+                let (dst, slot) = (self.register(), self.discrete_slot(0.0));
+                self.ops.push(Op::Fire { dst, cond, slot, at_start: false });
+                dst
+            }
+            Sym::Change(a) => {
+                let value = self.emit(a, vars);
+                let (dst, slot) = (self.register(), self.discrete_slot(0.0));
+                self.ops.push(Op::Change { dst, value, slot });
+                dst
+            }
+            Sym::Compare(cmp @ (Cmp::Lt | Cmp::Le | Cmp::Gt | Cmp::Ge), a, b) if !self.live => {
+                let (a, b) = (self.emit(a, vars), self.emit(b, vars));
+                let dst = self.register();
+                let indicator = (self.first_indicator + self.indicators.len()) as u32;
+                self.indicators.push(format!("the relation in `{}`", self.label));
+                let slot = self.discrete_slot(0.0);
+                self.ops.push(Op::Relation { cmp: *cmp, dst, a, b, indicator, slot });
+                dst
+            }
             Sym::Neg(a) | Sym::Call(_, a) | Sym::Not(a) => {
                 let a = self.emit(a, vars);
                 let d = self.register();
@@ -112,6 +169,12 @@ impl Emitter {
         }
     }
 
+    /// A new slot of the discrete state with its start value.
+    fn discrete_slot(&mut self, start: f64) -> u32 {
+        self.discrete.push(start);
+        (self.first_discrete + self.discrete.len() - 1) as u32
+    }
+
     fn new_block(&mut self) {
         self.memo.clear();
         self.keep.clear();
@@ -140,8 +203,13 @@ fn result_mut(op: &mut Op) -> Option<&mut Reg> {
         | Op::Or(d, ..)
         | Op::Not(d, _)
         | Op::Select(d, ..)
-        | Op::Load(d, _) => Some(d),
-        Op::Store(..) => None,
+        | Op::Load(d, _)
+        | Op::Relation { dst: d, .. }
+        | Op::Initial(d)
+        | Op::LoadPre(d, _)
+        | Op::Fire { dst: d, .. }
+        | Op::Change { dst: d, .. } => Some(d),
+        Op::Store(..) | Op::Assign { .. } | Op::Reinit { .. } => None,
     }
 }
 
@@ -158,8 +226,13 @@ pub(super) fn generate(
     ctx: &Context,
     signals: &mut Signals,
     states: &mut StateLayout,
+    events: &mut EventLayout,
 ) -> Result<(EquationProgram, Vec<Reg>), Error> {
     let n = pending.vars.len();
+    let mut discrete_of = vec![None; n];
+    for (k, &v) in pending.discrete.iter().enumerate() {
+        discrete_of[v] = Some(events.discrete_start.len() + k);
+    }
     let mut em = Emitter {
         registers: 1,
         constants: HashMap::new(),
@@ -167,6 +240,20 @@ pub(super) fn generate(
         ops: Vec::new(),
         memo: HashMap::new(),
         keep: Vec::new(),
+        live: false,
+        first_indicator: events.indicators.len(),
+        first_discrete: events.discrete_start.len(),
+        indicators: Vec::new(),
+        discrete: pending
+            .discrete
+            .iter()
+            .map(|&v| match pending.vars[v].role {
+                Role::Declared(d) => pending.declared[d].start.unwrap_or(0.0),
+                _ => 0.0,
+            })
+            .collect(),
+        discrete_of,
+        label: String::new(),
     };
     let mut reg = vec![Reg::MAX; n];
     let mut slot_reads: Vec<Option<usize>> = vec![None; n];
@@ -185,6 +272,7 @@ pub(super) fn generate(
                 gathers.push(Gather::Flange { at: *flange, speed: *speed, register: reg[v] })
             }
             Source::State(index) => gathers.push(Gather::State { index: *index, register: reg[v] }),
+            Source::Discrete(k) => gathers.push(Gather::Discrete { slot: em.first_discrete + k, register: reg[v] }),
         }
     }
     let reads_frames = !frames.is_empty();
@@ -286,6 +374,7 @@ pub(super) fn generate(
         }
         let label: Vec<&str> = rows.iter().map(|&r| pending.origins[sorted.source[r]].as_str()).collect();
         let label = label.join("; ");
+        em.label.clone_from(&label);
         let solve = match (residuals.as_slice(), unknowns.as_slice()) {
             ([r], [x]) if explicit(r, *x).is_some() => {
                 let value = explicit(r, *x).expect("checked");
@@ -343,6 +432,7 @@ pub(super) fn generate(
     }
 
     let positions = place(&mut blocks, &block_reads, &block_writes, &block_deps, signals, ctx, pending, sorted)?;
+    let (when_conditions, when_actions, reinits) = when_clauses(&mut em, pending, reads, sorted, &reg, states)?;
 
     // The states of the equations join the state vector.
     for &s in &sorted.states {
@@ -373,8 +463,125 @@ pub(super) fn generate(
         largest_block,
         outputs,
         reads_frames,
+        when_conditions,
+        when_actions,
+        reinits,
     };
+    events.indicators.append(&mut em.indicators);
+    events.discrete_start.append(&mut em.discrete);
     Ok((program, reg))
+}
+
+/// The code of the `when` clauses: their conditions (ops run on every
+/// evaluation, whose relations make events), then at events which branch
+/// fires and what it does. Returns the two ranges of ops and the number
+/// of `reinit`s.
+fn when_clauses(
+    em: &mut Emitter,
+    pending: &Pending,
+    reads: &[Option<Source>],
+    sorted: &Sorted,
+    reg: &[Reg],
+    states: &StateLayout,
+) -> Result<(Range<usize>, Range<usize>, usize), Error> {
+    em.new_block();
+    let start = em.ops.len();
+    let mut conditions = Vec::with_capacity(pending.whens.len());
+    for w in &pending.whens {
+        em.label.clone_from(&w.origin);
+        conditions.push(w.branches.iter().map(|(c, _)| em.emit(c, reg)).collect::<Vec<Reg>>());
+    }
+    let conditions_end = em.ops.len();
+    let mut reinits = 0;
+    em.live = true;
+    for (w, regs) in pending.whens.iter().zip(&conditions) {
+        // The first branch whose condition became true, only.
+        let mut taken: Option<Reg> = None;
+        for ((condition, actions), &cond) in w.branches.iter().zip(regs) {
+            let fired = em.register();
+            let slot = em.discrete_slot(0.0);
+            em.ops.push(Op::Fire { dst: fired, cond, slot, at_start: mentions_initial(condition) });
+            let fire = match taken {
+                None => {
+                    taken = Some(fired);
+                    fired
+                }
+                Some(before) => {
+                    let (not_before, fire, now_taken) = (em.register(), em.register(), em.register());
+                    em.ops.push(Op::Not(not_before, before));
+                    em.ops.push(Op::And(fire, fired, not_before));
+                    em.ops.push(Op::Or(now_taken, before, fired));
+                    taken = Some(now_taken);
+                    fire
+                }
+            };
+            for action in actions {
+                match action {
+                    PendingAction::Assign { slot, value } => {
+                        let src = em.emit(value, reg);
+                        em.ops.push(Op::Assign { slot: (em.first_discrete + slot) as u32, src, fire });
+                    }
+                    PendingAction::Reinit { variable, value, origin } => {
+                        let state = reinit_target(pending, reads, sorted, states, *variable, origin)?;
+                        let src = em.emit(value, reg);
+                        em.ops.push(Op::Reinit { state: state as u32, src, fire });
+                        reinits += 1;
+                    }
+                }
+            }
+        }
+    }
+    em.live = false;
+    Ok((start..conditions_end, conditions_end..em.ops.len(), reinits))
+}
+
+fn mentions_initial(e: &S) -> bool {
+    match &**e {
+        Sym::Initial => true,
+        Sym::Not(a) | Sym::NoEvent(a) => mentions_initial(a),
+        Sym::And(a, b) | Sym::Or(a, b) => mentions_initial(a) || mentions_initial(b),
+        _ => false,
+    }
+}
+
+/// The index in the state of what `reinit` sets: a state of the equations
+/// or of the mechanics.
+fn reinit_target(
+    pending: &Pending,
+    reads: &[Option<Source>],
+    sorted: &Sorted,
+    states: &StateLayout,
+    v: usize,
+    origin: &str,
+) -> Result<usize, Error> {
+    if let Some(k) = sorted.states.iter().position(|&s| s == v) {
+        return Ok(states.nq + states.nv + k);
+    }
+    if let (Some(Source::State(index)), Role::Read(Read::State { rate: false, .. })) =
+        (&reads[v], &pending.vars[v].role)
+    {
+        return Ok(*index);
+    }
+    let name = &pending.vars[v].name;
+    let what = match &pending.vars[v].role {
+        Role::Declared(_) if pending.discrete_slot(v).is_some() => "a variable that a `when` assigns",
+        Role::Declared(_) => "a variable the equations solve for, not a state (its `der` appears nowhere)",
+        Role::Derivative { .. } | Role::Read(Read::State { rate: true, .. }) => "a derivative",
+        Role::Read(Read::Signal { .. }) | Role::Written { .. } => "a signal",
+        Role::Read(Read::Frame { .. } | Read::Axis { .. }) => "a quantity of a connector that the mechanics decides",
+        Role::Read(Read::State { .. }) => "not a state",
+    };
+    let mut names: Vec<&str> = sorted.states.iter().map(|&s| pending.vars[s].name.as_str()).collect();
+    names.extend(states.names[..states.nq + states.nv].iter().map(String::as_str));
+    Err(problem(
+        format!("`reinit` of `{name}`, which is {what}: only states jump"),
+        vec![origin.to_string()],
+        vec![name.clone()],
+        format!(
+            "reinit a state: a variable whose `der` appears in the equations, or a state of the mechanics{}",
+            if names.is_empty() { String::new() } else { format!(" ({})", names.join(", ")) }
+        ),
+    ))
 }
 
 /// The closed form of unknown `x` from residual `r = 0`, if `r` is

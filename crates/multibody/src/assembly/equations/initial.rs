@@ -29,7 +29,12 @@ pub(crate) struct Initial {
 fn residuals(m: &Mechanism, ws: &mut Workspace, init: &Initial, y: &[f64], out: &mut [f64]) -> Result<(), Error> {
     let mut dy = vec![0.0; y.len()];
     let t0 = 0.0;
-    m.rhs(ws, t0, y, &mut dy).map_err(|e| {
+    // At the start relations hold as they are (as in the first event iteration).
+    ws.at_event = true;
+    ws.initial = true;
+    let evaluated = m.rhs(ws, t0, y, &mut dy);
+    ws.reinits.clear();
+    evaluated.map_err(|e| {
         problem(
             format!("the start cannot be evaluated: {}", m.describe(&e)),
             init.origins.clone(),

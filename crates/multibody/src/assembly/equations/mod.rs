@@ -29,11 +29,11 @@ use crate::components::blocks::equation::EquationPart;
 use crate::components::{lookup, ComponentSpec, ConnectorType};
 use crate::error::closest;
 use crate::math::expr::{Expr, TimeFunction};
-use crate::math::symbolic::{self as sym, S};
+use crate::math::symbolic::{self as sym, Sym, S};
 use crate::math::union_find::UnionFind;
 use crate::model::Flow;
 use crate::system::equations::{EquationProgram, FrameQuantity};
-use crate::system::{Link, StateLayout};
+use crate::system::{EventLayout, Link, StateLayout};
 use crate::{Error, Model};
 use std::collections::HashMap;
 
@@ -106,6 +106,30 @@ struct Pending {
     /// (variable, extra, its output connector).
     stores: Vec<(usize, String, &'static str)>,
     declared: Vec<crate::model::Variable>,
+    /// The `when` clauses.
+    whens: Vec<PendingWhen>,
+    /// The discrete variables (assigned in `when` clauses), by their slot.
+    discrete: Vec<usize>,
+}
+
+impl Pending {
+    /// The slot of variable `v` among the discrete variables, if it is one.
+    fn discrete_slot(&self, v: usize) -> Option<usize> {
+        self.discrete.iter().position(|&d| d == v)
+    }
+}
+
+/// A `when` clause over numbered variables.
+struct PendingWhen {
+    branches: Vec<(S, Vec<PendingAction>)>,
+    origin: String,
+}
+
+enum PendingAction {
+    /// Discrete variable number `slot` takes `value`.
+    Assign { slot: usize, value: S },
+    /// Variable `variable` (a state) jumps to `value`.
+    Reinit { variable: usize, value: S, origin: String },
 }
 
 /// The library connector types of the model's components, and which
@@ -314,6 +338,76 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
         initial_origins.push(e.origin.clone());
     }
 
+    // `when` clauses: the variables they assign become discrete.
+    let mut discrete: Vec<usize> = Vec::new();
+    let mut whens = Vec::with_capacity(eqs.whens.len());
+    for w in &eqs.whens {
+        let mut branches = Vec::with_capacity(w.branches.len());
+        for (condition, actions) in &w.branches {
+            let condition = to_sym(condition, &mut table, &mut classify, &mut extras, &w.origin)?;
+            let mut pending_actions = Vec::with_capacity(actions.len());
+            for action in actions {
+                pending_actions.push(match action {
+                    crate::model::WhenAction::Assign { variable, value, origin } => {
+                        let Some(&d) = declared.get(variable.as_str()) else {
+                            return Err(problem(
+                                format!("`{variable}` is assigned in a `when` but is not a variable of the equations"),
+                                vec![origin.clone()],
+                                vec![variable.clone()],
+                                "declare it (`variable x::Real`); a `when` sets variables that hold between events, \
+                                 and `reinit` sets states",
+                            ));
+                        };
+                        let v = table.by_name[eqs.variables[d].name.as_str()];
+                        let slot = match discrete.iter().position(|&x| x == v) {
+                            Some(k) => k,
+                            None => {
+                                discrete.push(v);
+                                discrete.len() - 1
+                            }
+                        };
+                        let value = to_sym(value, &mut table, &mut classify, &mut extras, origin)?;
+                        PendingAction::Assign { slot, value }
+                    }
+                    crate::model::WhenAction::Reinit { state, value, origin } => {
+                        let variable =
+                            to_sym(&Expr::Var(state.clone()), &mut table, &mut classify, &mut extras, origin)?;
+                        let Sym::Var(variable) = &*variable else { unreachable!("a name is a variable") };
+                        let value = to_sym(value, &mut table, &mut classify, &mut extras, origin)?;
+                        PendingAction::Reinit { variable: *variable, value, origin: origin.clone() }
+                    }
+                });
+            }
+            branches.push((condition, pending_actions));
+        }
+        whens.push(PendingWhen { branches, origin: w.origin.clone() });
+    }
+    for &v in &discrete {
+        if table.by_name.contains_key(&format!("der({})", table.vars[v].name)) {
+            let name = table.vars[v].name.clone();
+            return Err(problem(
+                format!("`{name}` is assigned in a `when`, so it holds between events, but `der({name})` appears too"),
+                vec![],
+                vec![name],
+                "a state jumps with `reinit(x, value)` inside the `when`",
+            ));
+        }
+    }
+    // `pre` outside `when` clauses: of discrete variables only.
+    for (r, origin) in residuals.iter().zip(&origins) {
+        if let Some(v) = pre_of_continuous(r, &discrete) {
+            return Err(problem(
+                format!(
+                    "`pre({})` outside a `when` clause, of a variable that changes continuously",
+                    table.vars[v].name
+                ),
+                vec![origin.clone()],
+                vec![table.vars[v].name.clone()],
+                "use `pre` inside `when` clauses, or of variables that a `when` assigns",
+            ));
+        }
+    }
+
     // Flows: a hidden load on the connector, fed by the declared variables.
     let mut stores = Vec::new();
     for (k, flow) in eqs.flows.iter().enumerate() {
@@ -379,8 +473,33 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
             initial_origins,
             stores,
             declared: eqs.variables.clone(),
+            whens,
+            discrete,
         }),
     })
+}
+
+/// A variable that `pre` is taken of in `e` and that is not discrete.
+fn pre_of_continuous(e: &S, discrete: &[usize]) -> Option<usize> {
+    match &**e {
+        Sym::Pre(v) if !discrete.contains(v) => Some(*v),
+        Sym::Const(_) | Sym::Time | Sym::Var(_) | Sym::Pre(_) | Sym::Initial => None,
+        Sym::Neg(a) | Sym::Call(_, a) | Sym::Not(a) | Sym::NoEvent(a) | Sym::Edge(a) | Sym::Change(a) => {
+            pre_of_continuous(a, discrete)
+        }
+        Sym::Add(a, b)
+        | Sym::Sub(a, b)
+        | Sym::Mul(a, b)
+        | Sym::Div(a, b)
+        | Sym::Pow(a, b)
+        | Sym::Call2(_, a, b)
+        | Sym::Compare(_, a, b)
+        | Sym::And(a, b)
+        | Sym::Or(a, b) => pre_of_continuous(a, discrete).or_else(|| pre_of_continuous(b, discrete)),
+        Sym::If(c, a, b) => pre_of_continuous(c, discrete)
+            .or_else(|| pre_of_continuous(a, discrete))
+            .or_else(|| pre_of_continuous(b, discrete)),
+    }
 }
 
 /// The interned variables.
@@ -599,6 +718,13 @@ fn to_sym(
         Expr::Or(a, b) => sym::or(go(a, table)?, go(b, table)?),
         Expr::Not(a) => sym::not(go(a, table)?),
         Expr::If(c, a, b) => sym::if_else(go(c, table)?, go(a, table)?, go(b, table)?),
+        Expr::NoEvent(a) => sym::no_event(go(a, table)?),
+        Expr::Pre(name) => {
+            std::rc::Rc::new(Sym::Pre(classify(name, table, extras).map_err(|e| with_origin(e, origin))?))
+        }
+        Expr::Initial => std::rc::Rc::new(Sym::Initial),
+        Expr::Edge(a) => std::rc::Rc::new(Sym::Edge(go(a, table)?)),
+        Expr::Change(a) => std::rc::Rc::new(Sym::Change(go(a, table)?)),
     })
 }
 
@@ -629,6 +755,7 @@ impl Plan {
         ctx: &Context,
         signals: &mut Signals,
         states: &mut StateLayout,
+        events: &mut EventLayout,
     ) -> Result<(EquationProgram, Option<Initial>), Error> {
         let Some(pending) = self.equations else {
             return Ok((EquationProgram::default(), None));
@@ -636,7 +763,7 @@ impl Plan {
         let reads = resolve_reads(&pending, ctx, signals, states)?;
         let sorted = sort::sort(&pending, &reads)?;
         let (nq, nv) = (states.nq, states.nv);
-        let (program, registers) = codegen::generate(&pending, &reads, &sorted, ctx, signals, states)?;
+        let (program, registers) = codegen::generate(&pending, &reads, &sorted, ctx, signals, states, events)?;
         let free: Vec<(usize, String)> = sorted
             .states
             .iter()
@@ -669,6 +796,8 @@ enum Source {
     },
     /// An index into the state `y` (coordinates then rates).
     State(usize),
+    /// A discrete variable, by its number among them.
+    Discrete(usize),
 }
 
 /// The global connector number of `component.connector`.
@@ -687,7 +816,11 @@ fn resolve_reads(
     states: &StateLayout,
 ) -> Result<Vec<Option<Source>>, Error> {
     let mut out = Vec::with_capacity(pending.vars.len());
-    for var in &pending.vars {
+    for (v, var) in pending.vars.iter().enumerate() {
+        if let Some(slot) = pending.discrete_slot(v) {
+            out.push(Some(Source::Discrete(slot)));
+            continue;
+        }
         let Role::Read(read) = &var.role else {
             out.push(None);
             continue;

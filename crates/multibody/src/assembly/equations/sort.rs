@@ -29,7 +29,7 @@ pub(super) struct Sorted {
 /// Whether variable `v` is an unknown the equations decide.
 pub(super) fn is_unknown(pending: &Pending, is_state: &[bool], v: usize) -> bool {
     match pending.vars[v].role {
-        Role::Declared(_) => !is_state[v],
+        Role::Declared(_) => !is_state[v] && pending.discrete_slot(v).is_none(),
         Role::Derivative { .. } | Role::Written { .. } => true,
         Role::Read(_) => false,
     }

@@ -1,0 +1,256 @@
+//! Events of the model's own equations: relations watched by indicators,
+//! `when` clauses with `reinit` and discrete variables, `noEvent`, each
+//! checked against closed forms. Each test prints its worst error as a
+//! fraction of its tolerance.
+
+use multibody::{Mechanism, SimulationOptions, Simulator};
+use multibody_dyad::{DefinitionKind, Package};
+use std::path::Path;
+
+/// The mechanism and options of the only analysis in `text`.
+fn load(name: &str, text: &str) -> (Mechanism, SimulationOptions) {
+    let mut package = Package::new();
+    if let Err(d) = package.add_source(name, text.to_string()) {
+        panic!("{}", d.render(package.sources(), false));
+    }
+    let analysis =
+        package.definitions().into_iter().find(|d| d.kind == DefinitionKind::Analysis).expect("an analysis").name;
+    let lowered =
+        package.lower_analysis(&analysis).unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false)));
+    let mechanism = lowered.assemble().unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false)));
+    (mechanism, lowered.options)
+}
+
+fn example(relative: &str) -> (Mechanism, SimulationOptions) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples").join(relative);
+    load(relative, &std::fs::read_to_string(path).unwrap())
+}
+
+#[test]
+fn a_bouncing_ball_hits_the_ground_at_the_closed_form_times() {
+    let (mechanism, options) = example("equations/bouncing_ball.dyad");
+    let (g, e, h0) = (9.81f64, 0.8f64, 1.0f64);
+    let mut sim = Simulator::new(&mechanism, &options).unwrap();
+    sim.step_until(options.stop).unwrap();
+    let solution = sim.solution();
+    // The impacts, from the discrete variables the model keeps.
+    let (count, last) = (solution.get("impacts").unwrap(), solution.get("last_impact").unwrap());
+    let mut times: Vec<f64> = Vec::new();
+    for (n, t) in count.iter().zip(last) {
+        if *n as usize > times.len() {
+            assert_eq!(*n as usize, times.len() + 1, "one impact at a time");
+            times.push(*t);
+        }
+    }
+    assert_eq!(times.len(), 10, "ten bounces before the stop");
+    // Closed form: the first fall, then flights of 2 e^k v1 / g.
+    let v1 = (2.0 * g * h0).sqrt();
+    let mut expected = v1 / g;
+    let tolerance = 1e-9;
+    let mut worst = 0.0f64;
+    for (k, &t) in times.iter().enumerate() {
+        if k > 0 {
+            expected += 2.0 * e.powi(k as i32) * v1 / g;
+        }
+        worst = worst.max((t - expected).abs());
+    }
+    // Each impact is two events: the ball goes below the ground, and
+    // (just after, rising) back above it.
+    println!(
+        "bouncing ball: worst impact time error {worst:.2e} s = {:.2e} of {tolerance:.0e}; {} events",
+        worst / tolerance,
+        sim.event_count()
+    );
+    assert!(worst <= tolerance, "impact times off by {worst:e}");
+    // Between impacts the motion is the free fall from the last one.
+    let (h, time) = (solution.get("h").unwrap(), solution.time());
+    let mut worst_h = 0.0f64;
+    for (i, &t) in time.iter().enumerate() {
+        let k = times.iter().take_while(|&&ti| ti <= t).count();
+        let expected = if k == 0 {
+            h0 - 0.5 * g * t * t
+        } else {
+            let (tk, vk) = (times[k - 1], e.powi(k as i32) * v1);
+            vk * (t - tk) - 0.5 * g * (t - tk) * (t - tk)
+        };
+        worst_h = worst_h.max((h[i] - expected).abs());
+    }
+    println!("bouncing ball: worst height error {worst_h:.2e} m = {:.2e} of 1e-9", worst_h / 1e-9);
+    assert!(worst_h <= 1e-9);
+}
+
+/// A mass that meets a spring which only pushes (`f = -c x` for `x < 0`),
+/// arriving at speed `v0`: it moves freely to `x = 0` at `t1 = x0 / v0`,
+/// half an oscillation on the spring, and leaves at `t2 = t1 + pi / w`
+/// with the speed reversed. `relation` is how the force is written.
+fn contact(relation: &str, abstol: f64) -> String {
+    format!(
+        r#"
+example component Contact
+  parameter m::Real = 2
+  parameter c::Real = 800
+  variable x::Real = initial 0.5
+  variable v::Real = initial -1
+  variable f::Real
+relations
+  der(x) = v
+  m * der(v) = f
+  f = {relation}
+end
+
+analysis ContactRun
+  extends TransientAnalysis(stop = 1.5, saveat = 0.001, abstol = {abstol}, reltol = {abstol})
+  model = Contact()
+end
+"#
+    )
+}
+
+/// The closed form of `contact`.
+fn contact_position(t: f64) -> f64 {
+    let (m, c, x0, v0) = (2.0f64, 800.0f64, 0.5f64, 1.0f64);
+    let w = (c / m).sqrt();
+    let t1 = x0 / v0;
+    let t2 = t1 + std::f64::consts::PI / w;
+    if t <= t1 {
+        x0 - v0 * t
+    } else if t <= t2 {
+        -(v0 / w) * (w * (t - t1)).sin()
+    } else {
+        v0 * (t - t2)
+    }
+}
+
+/// The worst position error of a run of `text` against the closed form, and its number of events.
+fn contact_error(text: &str) -> (f64, usize) {
+    let (mechanism, options) = load("contact.dyad", text);
+    let mut sim = Simulator::new(&mechanism, &options).unwrap();
+    sim.step_until(options.stop).unwrap();
+    let solution = sim.solution();
+    let x = solution.get("x").unwrap();
+    let worst = solution.time().iter().zip(x).map(|(&t, &x)| (x - contact_position(t)).abs()).fold(0.0, f64::max);
+    (worst, sim.event_count())
+}
+
+#[test]
+fn a_spring_that_only_pushes_switches_at_the_located_event() {
+    let tolerance = 1e-7;
+    for (written, relation) in [
+        ("if x < 0 then -c * x else 0", "if x < 0 then -c * x else 0"),
+        ("x > 0 ? 0 : -c * x", "x > 0 ? 0 : -c * x"),
+        ("ifelse(x >= 0, 0, -c * x)", "ifelse(x >= 0, 0, -c * x)"),
+    ] {
+        let (worst, events) = contact_error(&contact(relation, 1e-8));
+        let (stepped_over, none) = contact_error(&contact(&format!("noEvent({relation})"), 1e-8));
+        println!(
+            "contact `{written}`: worst error {worst:.2e} m = {:.2e} of {tolerance:.0e} with {events} events; \
+             {stepped_over:.2e} m ({:.0}x) stepping over the switch with noEvent",
+            worst / tolerance,
+            stepped_over / worst.max(f64::MIN_POSITIVE)
+        );
+        assert!(worst <= tolerance, "{written}: {worst:e}");
+        assert_eq!(events, 2, "{written}: the mass meets the spring and leaves it");
+        assert_eq!(none, 0, "{written}: noEvent makes no events");
+        assert!(stepped_over > 10.0 * worst, "{written}: locating the switch should matter");
+    }
+}
+
+#[test]
+fn relations_on_parameters_make_no_indicators() {
+    let text = contact("if c > 0 then -c * x else 0", 1e-8);
+    let (mechanism, options) = load("contact.dyad", &text);
+    let mut sim = Simulator::new(&mechanism, &options).unwrap();
+    sim.step_until(options.stop).unwrap();
+    assert_eq!(sim.event_count(), 0);
+}
+
+/// The value of `name` at the end of the run of `text`, and the number of events.
+fn final_values(text: &str, names: &[&str]) -> (Vec<f64>, usize) {
+    let (mechanism, options) = load("model.dyad", text);
+    let mut sim = Simulator::new(&mechanism, &options).unwrap();
+    sim.step_until(options.stop).unwrap();
+    let solution = sim.solution();
+    (names.iter().map(|n| *solution.get(n).unwrap().last().unwrap()).collect(), sim.event_count())
+}
+
+#[test]
+fn elsewhen_initial_and_change_follow_modelica() {
+    let text = r#"
+example component Modes
+  variable x::Real = initial 0
+  variable mode::Real = initial 0
+  variable n::Real = initial 0
+  variable changes::Real = initial 0
+relations
+  der(x) = 1
+  when initial()
+    mode = 5
+  elsewhen x > 1
+    mode = pre(mode) + 1
+  end
+  when x > 2
+    n = pre(n) + 1
+  elsewhen x > 2.5
+    n = 100
+  end
+  when change(mode)
+    changes = pre(changes) + 1
+  end
+end
+
+analysis ModesRun
+  extends TransientAnalysis(stop = 3, saveat = 0.5)
+  model = Modes()
+end
+"#;
+    let (values, events) = final_values(text, &["mode", "n", "changes"]);
+    // mode: 5 at the start, 6 at x = 1; n: 1 at x = 2, then the second
+    // branch at x = 2.5 (the first one's condition is still true: it does
+    // not fire again); change(mode) is false at the start.
+    assert_eq!(values, vec![6.0, 100.0, 1.0]);
+    assert_eq!(events, 3);
+}
+
+#[test]
+fn reinit_of_a_state_of_the_mechanics() {
+    // A pendulum falling from the horizontal bounces elastically off a stop
+    // at -0.5 rad: it swings back up to the horizontal (energy is kept).
+    let text = r#"
+example component Stop
+  world = MultibodyComponents.World()
+  rev = MultibodyComponents.Revolute(n = [0, 0, 1], phi(initial = 0), w(initial = 0))
+  body = MultibodyComponents.Body(m = 1, r_cm = [0.5, 0, 0])
+relations
+  connect(world.frame_b, rev.frame_a)
+  connect(rev.frame_b, body.frame_a)
+  when rev.phi < -0.5
+    reinit(rev.w, -pre(rev.w))
+  end
+end
+
+analysis StopRun
+  extends TransientAnalysis(stop = 1.5, saveat = 0.001, abstol = 1e-10, reltol = 1e-10)
+  model = Stop()
+end
+"#;
+    let (mechanism, options) = load("stop.dyad", text);
+    let mut sim = Simulator::new(&mechanism, &options).unwrap();
+    sim.step_until(options.stop).unwrap();
+    let phi = sim.solution().get("rev.phi").unwrap();
+    let lowest = phi.iter().copied().fold(f64::INFINITY, f64::min);
+    let highest_after = phi[phi.len() / 2..].iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    // Never above the horizontal, and back to it (to what the 1 ms grid
+    // shows of the turning point: 0.5 (g / r) (0.5 ms)^2 = 2.5e-6 rad).
+    let tolerance = 1e-8;
+    let (through, above) = ((-0.5 - lowest).max(0.0), highest_after.max(0.0));
+    println!(
+        "pendulum on a stop: through the stop by {through:.2e} rad = {:.2e} of {tolerance:.0e}, above the start by \
+         {above:.2e} rad = {:.2e} of {tolerance:.0e}; back up to {highest_after:.2e}; {} events",
+        through / tolerance,
+        above / tolerance,
+        sim.event_count()
+    );
+    assert!(through <= tolerance, "it goes through the stop: {lowest}");
+    assert!(above <= tolerance && highest_after >= -1e-5, "it swings back up to {highest_after}");
+    assert!(sim.event_count() >= 2);
+}
