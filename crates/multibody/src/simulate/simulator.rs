@@ -563,21 +563,42 @@ impl<'m> Simulator<'m> {
 
     /// The names of the model's inputs.
     pub fn input_names(&self) -> Vec<&str> {
-        self.mechanism.system.events.inputs.iter().map(|(n, _)| n.as_str()).collect()
+        self.mechanism.input_names()
     }
 
-    /// Sets an input; it holds this value until set again.
-    pub fn set_input(&mut self, name: &str, value: f64) -> Result<(), String> {
-        let inputs = &self.mechanism.system.events.inputs;
-        let Some(k) = inputs.iter().position(|(n, _)| n == name) else {
-            let names: Vec<&str> = inputs.iter().map(|(n, _)| n.as_str()).collect();
-            return Err(if names.is_empty() {
+    /// The value an input holds now.
+    pub fn input(&self, name: &str) -> Result<f64, String> {
+        let k = self.input_index(name)?;
+        Ok(self.ws.inputs[k])
+    }
+
+    fn input_index(&self, name: &str) -> Result<usize, String> {
+        let names = self.mechanism.input_names();
+        names.iter().position(|n| *n == name).ok_or_else(|| {
+            if names.is_empty() {
                 format!("the model has no inputs, so not `{name}`: declare one as a RealInput of the model")
             } else {
                 let hint = did_you_mean(name, names.iter().copied());
                 format!("`{name}` is not an input of the model{hint} (its inputs: {})", names.join(", "))
-            });
-        };
+            }
+        })
+    }
+
+    /// The names of the model's outputs.
+    pub fn output_names(&self) -> &[String] {
+        self.mechanism.output_names()
+    }
+
+    /// The model's outputs at the time and state reached, by name.
+    pub fn outputs(&mut self) -> Result<Vec<(String, f64)>, String> {
+        let names = self.mechanism.output_names().to_vec();
+        let values = self.values(&names)?;
+        Ok(names.into_iter().zip(values).collect())
+    }
+
+    /// Sets an input; it holds this value until set again.
+    pub fn set_input(&mut self, name: &str, value: f64) -> Result<(), String> {
+        let k = self.input_index(name)?;
         if !value.is_finite() {
             return Err(format!("the input `{name}` must be finite, not {value}"));
         }
@@ -593,20 +614,30 @@ impl<'m> Simulator<'m> {
     /// The value of any variable of the model (a column of the results)
     /// at the time and state reached.
     pub fn value(&mut self, name: &str) -> Result<f64, String> {
+        Ok(self.values(&[name])?[0])
+    }
+
+    /// The values of several variables at once (one evaluation).
+    pub fn values<S: AsRef<str>>(&mut self, names: &[S]) -> Result<Vec<f64>, String> {
         let table = self.mechanism.signal_table().clone();
-        let Some(k) = table.index(name) else {
-            let hint = did_you_mean(name, table.names().iter().map(String::as_str));
-            return Err(format!("the model has no variable `{name}`{hint}"));
-        };
+        let mut columns = Vec::with_capacity(names.len());
         let mut wanted = vec![false; self.mechanism.components.len()];
-        if let Some(owner) = table.owner(k) {
-            wanted[owner] = true;
+        for name in names {
+            let name = name.as_ref();
+            let Some(k) = table.index(name) else {
+                let hint = did_you_mean(name, table.names().iter().map(String::as_str));
+                return Err(format!("the model has no variable `{name}`{hint}"));
+            };
+            if let Some(owner) = table.owner(k) {
+                wanted[owner] = true;
+            }
+            columns.push(k);
         }
         let r = &mut self.recorder;
         self.mechanism
             .outputs_into(&mut r.ws, &mut r.scratch, self.t, &self.y, &mut r.row, Some(&wanted))
             .map_err(|e| self.mechanism.describe(&e))?;
-        Ok(r.row[k])
+        Ok(columns.iter().map(|&k| r.row[k]).collect())
     }
 
     /// The samples recorded so far on the output grid (every `saveat`
