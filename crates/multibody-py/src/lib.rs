@@ -291,8 +291,11 @@ fn columns_of<'py>(py: Python<'py>, solution: &Solution, names: &[String]) -> Py
     let rows = solution.len();
     let width = columns.len();
     let values = PyBytes::new_with(py, rows * width * 8, |buf| {
-        for (k, chunk) in buf.chunks_exact_mut(8).enumerate() {
-            chunk.copy_from_slice(&columns[k % width][k / width].to_ne_bytes());
+        // Row by row, straight into the Python object.
+        for (i, row) in buf.chunks_exact_mut(8 * width.max(1)).enumerate() {
+            for (chunk, column) in row.chunks_exact_mut(8).zip(&columns) {
+                chunk.copy_from_slice(&column[i].to_ne_bytes());
+            }
         }
         Ok(())
     })?;

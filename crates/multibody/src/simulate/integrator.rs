@@ -52,6 +52,9 @@ impl DenseStep for Truncated<'_> {
     }
 }
 
+/// What an integrator shows each accepted step to.
+pub type Observer<'a, E> = dyn FnMut(&dyn DenseStep) -> Result<(), E> + 'a;
+
 /// A solution between two accepted steps, as an observer sees it.
 pub trait DenseStep {
     /// Start and end time of the step.
