@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The Python package's tests: makes a virtual environment (target/python-venv,
-# kept between runs), installs pytest, pandas and matplotlib and the package
+# kept between runs), installs pytest, pandas, matplotlib and scipy (the closed
+# loop test integrates its reference with it) and the package
 # itself from crates/multibody-py (built by maturin with the release
 # profile, sharing the workspace's target folder), builds the `multibody`
 # command the tests compare with, and runs pytest on crates/multibody-py/tests.
@@ -13,7 +14,7 @@ if [ ! -x "$VENV/bin/python" ]; then
     "$PYTHON" -m venv "$VENV"
 fi
 "$VENV/bin/python" -m pip install -q --upgrade pip
-"$VENV/bin/python" -m pip install -q "maturin>=1.5,<2" numpy pytest pandas matplotlib pyarrow "dask[distributed]"
+"$VENV/bin/python" -m pip install -q "maturin>=1.5,<2" numpy scipy pytest pandas matplotlib pyarrow "dask[distributed]"
 "$VENV/bin/python" -m pip install -q ./crates/multibody-py
 cargo build --release -q -p multibody-cli
 "$VENV/bin/python" -m pytest -q crates/multibody-py/tests

@@ -5,6 +5,7 @@ mod console;
 mod catalog;
 mod check;
 mod exit;
+mod inputs;
 mod load;
 mod output;
 mod progress;
@@ -117,6 +118,10 @@ pub struct RunArgs {
     /// Set a start value, by its path: --initial rev.phi=0.3
     #[arg(long = "initial", value_name = "NAME=VALUE", allow_hyphen_values = true)]
     pub initials: Vec<String>,
+    /// Drive an input of the model (a top-level RealInput) from a CSV table of time and value, linearly
+    /// interpolated; the table must cover the run: --input tau=torque.csv
+    #[arg(long = "input", value_name = "NAME=FILE.csv")]
+    pub inputs: Vec<String>,
     /// Output file: CSV, or Parquet when named .parquet (default: NAME.csv in the current folder)
     #[arg(long, short, value_name = "FILE")]
     pub out: Option<PathBuf>,

@@ -19,8 +19,9 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     let package = read_package(&args.selection.files)?;
     let target = choose(&package, &args.selection)?;
     let overrides = overrides(&args.params, &args.initials)?;
-    let lowered = lower(&package, &target, &overrides)?;
+    let mut lowered = lower(&package, &target, &overrides)?;
     let options = command_line_options(&args.options, &lowered.options)?;
+    crate::inputs::drive(&mut lowered.model, &args.inputs, &options)?;
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("{}.csv", lowered.name)));
     let files = ResultFiles::new(&args.selection.files, &out, args.animate.as_deref(), args.plot.as_deref())?;
     let mechanism = lowered.assemble().map_err(|d| {

@@ -165,6 +165,8 @@ pub struct Lowerer<'a, 'i> {
     used_index: HashMap<String, usize>,
     /// Each definition with what it extends merged in, made once.
     effective: HashMap<*const ComponentDef, std::rc::Rc<relations::Effective>>,
+    /// The simulated component's own `RealOutput`s, with their declarations.
+    outputs: Vec<(String, Span)>,
 }
 
 fn flat(prefix: &str, name: &str) -> String {
@@ -190,10 +192,12 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             used: Vec::new(),
             used_index: HashMap::new(),
             effective: HashMap::new(),
+            outputs: Vec::new(),
         }
     }
 
     fn finish(mut self, name: &str, options: SimulationOptions, from_analysis: bool) -> Result<Lowered, Diagnostic> {
+        self.model_outputs();
         self.connector_equations()?;
         let used: Vec<String> = self.used.iter().map(|(n, _, _)| n.clone()).collect();
         let warnings = self.graph.finish(&mut self.model, &mut self.map, &used);
@@ -229,6 +233,23 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         if let Some(f) = field {
             if !entry.2.contains(&f) {
                 entry.2.push(f);
+            }
+        }
+    }
+
+    /// The model's outputs: each top-level `RealOutput` that equations set
+    /// or that is connected to a source becomes a variable, a column of the
+    /// results (one that nothing drives keeps its warning).
+    fn model_outputs(&mut self) {
+        let sets = self.graph.sets();
+        for (name, _) in std::mem::take(&mut self.outputs) {
+            let driven = self.used_index.contains_key(&name)
+                || sets
+                    .set_of(&name)
+                    .is_some_and(|set| sets.library(set).iter().any(|(_, t)| *t == Some(ConnectorType::RealOutput)));
+            if driven {
+                self.use_connector(&name, ConnectorType::RealOutput, None);
+                self.model.outputs.push(name);
             }
         }
     }
@@ -721,7 +742,10 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                         );
                     }
                     self.entities.insert(child.clone(), Entity::Connector(ty));
-                    self.graph.declare(child, ty, decl.span, name.to_string());
+                    self.graph.declare(child.clone(), ty, decl.span, name.to_string());
+                    if prefix.is_empty() && ty.is_signal() {
+                        self.boundary_signal(&child, ty, decl.span, 0.0)?;
+                    }
                 }
             }
         }
@@ -800,6 +824,22 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             let ty = if v.causality == Causality::Input { ConnectorType::RealInput } else { ConnectorType::RealOutput };
             self.entities.insert(full.clone(), Entity::Connector(ty));
             self.graph.declare(full.clone(), ty, v.span, owner.to_string());
+            if prefix.is_empty() {
+                let start = match &v.initial {
+                    Some(e) => match eval(e, scope)? {
+                        Val::Number(x) => x,
+                        other => {
+                            return Err(Diagnostic::error(format!(
+                                "the start value of the signal `{full}` must be a number, not {}",
+                                other.describe()
+                            ))
+                            .primary(e.span, "not a number"))
+                        }
+                    },
+                    None => 0.0,
+                };
+                self.boundary_signal(&full, ty, v.span, start)?;
+            }
         } else {
             self.entities.insert(full.clone(), Entity::Variable(dims.clone()));
         }
@@ -847,6 +887,23 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             var.origin = origin.clone();
         }
         Ok(())
+    }
+
+    /// A signal connector of the simulated component itself: an input
+    /// becomes an `Input` component of the same name, which the host sets
+    /// while the model runs (its start value, if declared, until then); an
+    /// output is one of the model's outputs.
+    fn boundary_signal(&mut self, name: &str, ty: ConnectorType, span: Span, start: f64) -> Result<(), Diagnostic> {
+        if ty == ConnectorType::RealOutput {
+            self.outputs.push((name.to_string(), span));
+            return Ok(());
+        }
+        self.model.add(name, "Input").set("start", start);
+        self.map.add_component(name, ComponentSite { declaration: span, within: Vec::new() });
+        // The input's signal is the library source the connector joins.
+        let source = End::Leaf { name: format!("{name}.y"), ty: Some(ConnectorType::RealOutput) };
+        let declared = End::Declared { name: name.to_string(), ty, declaration: span, owner: String::new() };
+        self.graph.connect(vec![(declared, span), (source, span)])
     }
 
     /// A name for `span` that engine messages carry back.

@@ -6,13 +6,15 @@
 //! The GIL is released while simulating, so that Python threads (and a
 //! Dask worker's other tasks) go on meanwhile.
 
-use multibody::SimulationOptions;
+use multibody::simulate::Shared;
+use multibody::{SimulationOptions, Solution};
 use multibody_dyad::{DefinitionKind, Diagnostic, OptionOverrides, Override, Package, RunError, Samples, Target};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 use rayon::prelude::*;
+use std::sync::Arc;
 
 create_exception!(_multibody, MultibodyError, PyException, "Base of the errors of this package.");
 create_exception!(
@@ -189,6 +191,35 @@ impl Model {
         run.map(|samples| samples.time.len()).map_err(|e| self.error(py, e))
     }
 
+    /// A simulator of the model with these values and options, at its
+    /// start: the host steps it, sets its inputs and reads its state.
+    #[pyo3(signature = (params, initial, stop = None, saveat = None, abstol = None, reltol = None, alg = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn simulator(
+        &self,
+        py: Python<'_>,
+        params: Values,
+        initial: Values,
+        stop: Option<f64>,
+        saveat: Option<f64>,
+        abstol: Option<f64>,
+        reltol: Option<f64>,
+        alg: Option<String>,
+    ) -> PyResult<Simulator> {
+        let given = OptionOverrides { stop, saveat, abstol, reltol, alg };
+        let overrides = overrides(params, initial);
+        let lowered =
+            self.package.lower_target(&self.target, &overrides).map_err(|d| model_error(&self.package, &d))?;
+        let options = given.over(&lowered.options).map_err(|e| PyValueError::new_err(e.describe()))?;
+        let mechanism = lowered.assemble().map_err(|d| model_error(&self.package, &d))?;
+        let mechanism = Arc::new(mechanism);
+        let sim = py.detach(|| multibody::Simulator::new(Shared::Owned(mechanism), &options));
+        match sim {
+            Ok(sim) => Ok(Simulator { sim }),
+            Err(stopped) => Err(stopped_error(py, &stopped, None)),
+        }
+    }
+
     /// Many simulations, one per set of (params, initial), on `threads`
     /// threads (all cores by default); a failed set gives its exception in
     /// its place, the others their samples.
@@ -226,9 +257,146 @@ impl Model {
     }
 }
 
+/// A model being simulated, advanced on request (the Rust `Simulator`
+/// over a mechanism it shares).
+#[pyclass(module = "multibody._multibody")]
+struct Simulator {
+    sim: multibody::Simulator<'static>,
+}
+
+/// The `SimulationError` of a simulator that stopped: its message, time,
+/// and the states recorded until then.
+fn stopped_error(py: Python<'_>, stopped: &multibody::Stopped, sim: Option<&multibody::Simulator>) -> PyErr {
+    let message = format!("the simulation stopped at t = {}: {}", stopped.time, stopped.reason);
+    let partial = sim
+        .and_then(|sim| columns_of(py, sim.solution(), sim.state_names()).ok())
+        .and_then(|c| c.into_pyobject(py).ok())
+        .map(Bound::unbind);
+    SimulationError::new_err((message, stopped.time, partial))
+}
+
+/// The samples of `names` in `solution`, row-major, as `to_python` gives them.
+fn columns_of<'py>(py: Python<'py>, solution: &Solution, names: &[String]) -> PyResult<Columns<'py>> {
+    let mut columns = Vec::with_capacity(names.len());
+    for name in names {
+        match solution.get(name) {
+            Some(c) => columns.push(c),
+            None => {
+                let hint = multibody::closest(name, solution.names().iter().map(String::as_str))
+                    .first()
+                    .map_or(String::new(), |c| format!("; did you mean `{c}`?"));
+                return Err(PyValueError::new_err(format!("the model has no signal `{name}`{hint}")));
+            }
+        }
+    }
+    let rows = solution.len();
+    let width = columns.len();
+    let values = PyBytes::new_with(py, rows * width * 8, |buf| {
+        // Row by row, straight into the Python object.
+        for (i, row) in buf.chunks_exact_mut(8 * width.max(1)).enumerate() {
+            for (chunk, column) in row.chunks_exact_mut(8).zip(&columns) {
+                chunk.copy_from_slice(&column[i].to_ne_bytes());
+            }
+        }
+        Ok(())
+    })?;
+    let time = PyBytes::new_with(py, rows * 8, |buf| {
+        for (chunk, x) in buf.chunks_exact_mut(8).zip(solution.time()) {
+            chunk.copy_from_slice(&x.to_ne_bytes());
+        }
+        Ok(())
+    })?;
+    Ok((names.to_vec(), time, values, solution.warnings().to_vec()))
+}
+
+#[pymethods]
+impl Simulator {
+    /// Integrates to exactly `t`, handling the events on the way; the GIL
+    /// is released meanwhile.
+    fn step_until(&mut self, py: Python<'_>, t: f64) -> PyResult<()> {
+        let sim = &mut self.sim;
+        match py.detach(|| sim.step_until(t)) {
+            Ok(()) => Ok(()),
+            Err(stopped) => Err(stopped_error(py, &stopped, Some(&self.sim))),
+        }
+    }
+
+    /// Sets an input; it holds this value until set again.
+    fn set_input(&mut self, name: &str, value: f64) -> PyResult<()> {
+        self.sim.set_input(name, value).map_err(PyValueError::new_err)
+    }
+
+    /// The inputs and the values they hold, in model order.
+    fn inputs(&self) -> Vec<(String, f64)> {
+        let names: Vec<String> = self.sim.input_names().iter().map(|n| n.to_string()).collect();
+        names.into_iter().map(|n| (n.clone(), self.sim.input(&n).unwrap_or(f64::NAN))).collect()
+    }
+
+    /// The outputs at the time and state reached.
+    fn outputs(&mut self) -> PyResult<Vec<(String, f64)>> {
+        self.sim.outputs().map_err(PyValueError::new_err)
+    }
+
+    /// The time reached.
+    fn time(&self) -> f64 {
+        self.sim.time()
+    }
+
+    /// The state reached (in the order of `state_names`).
+    fn state(&self) -> Vec<f64> {
+        self.sim.state().to_vec()
+    }
+
+    fn state_names(&self) -> Vec<String> {
+        self.sim.state_names().to_vec()
+    }
+
+    /// Sets the whole state; the integrator starts again from it.
+    fn set_state(&mut self, y: Vec<f64>) -> PyResult<()> {
+        self.sim.set_state(&y).map_err(PyValueError::new_err)
+    }
+
+    /// Sets one state by its name.
+    fn set_state_value(&mut self, name: &str, value: f64) -> PyResult<()> {
+        self.sim.set_state_value(name, value).map_err(PyValueError::new_err)
+    }
+
+    /// Any variable of the model (a column of the results) now.
+    fn get(&mut self, name: &str) -> PyResult<f64> {
+        self.sim.value(name).map_err(PyValueError::new_err)
+    }
+
+    /// Several variables at once (one evaluation).
+    fn get_many(&mut self, names: Vec<String>) -> PyResult<Vec<f64>> {
+        self.sim.values(&names).map_err(PyValueError::new_err)
+    }
+
+    /// Every signal of the model, by name.
+    fn signals(&self) -> Vec<String> {
+        self.sim.solution().names().to_vec()
+    }
+
+    /// The samples recorded so far of `names` (the states when empty).
+    fn result<'py>(&self, py: Python<'py>, names: Vec<String>) -> PyResult<Columns<'py>> {
+        let names = if names.is_empty() { self.sim.state_names().to_vec() } else { names };
+        columns_of(py, self.sim.solution(), &names)
+    }
+
+    /// Back to the start: state, time, inputs; the samples are dropped.
+    fn reset(&mut self) -> PyResult<()> {
+        self.sim.reset().map_err(|why| SimulationError::new_err((why, self.sim.time(), Option::<()>::None)))
+    }
+
+    /// How many events were handled.
+    fn event_count(&self) -> usize {
+        self.sim.event_count()
+    }
+}
+
 #[pymodule]
 fn _multibody(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Model>()?;
+    m.add_class::<Simulator>()?;
     m.add_function(wrap_pyfunction!(load_text, m)?)?;
     m.add("MultibodyError", m.py().get_type::<MultibodyError>())?;
     m.add("ModelError", m.py().get_type::<ModelError>())?;

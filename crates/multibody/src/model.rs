@@ -305,6 +305,9 @@ pub struct Model {
     pub components: Vec<ComponentInstance>,
     pub connections: Vec<Connection>,
     pub equations: Equations,
+    /// The model's outputs: names of its signals (result columns) that a
+    /// host reads while it runs (a Dyad model's top-level `RealOutput`s).
+    pub outputs: Vec<String>,
 }
 
 impl Model {

@@ -5,7 +5,10 @@ Load a model (``load`` a ``.dyad`` file, or ``loads`` its text), then
 you like, and read every signal of the result by name as a numpy array
 (``result["link1.joint.phi"]``, ``result.time``), or as a pandas or polars
 DataFrame. ``Model.sweep`` runs many sets of values on every core (``grid`` makes
-every combination of values of several parameters).
+every combination of values of several parameters). ``Simulator`` (or
+``Model.simulator``) steps a model on request while Python sets its inputs
+(a model's top-level ``RealInput``s) and reads its outputs and state: a
+controller in the loop.
 
 Parameters and start values are named by their path in the model, as in
 the model file: ``length`` (a parameter of the model itself),
@@ -30,7 +33,17 @@ import numpy as np
 from . import _multibody
 from ._multibody import ModelError, MultibodyError, SimulationError
 
-__all__ = ["load", "loads", "grid", "Model", "Result", "MultibodyError", "ModelError", "SimulationError"]
+__all__ = [
+    "load",
+    "loads",
+    "grid",
+    "Model",
+    "Result",
+    "Simulator",
+    "MultibodyError",
+    "ModelError",
+    "SimulationError",
+]
 
 
 class Result:
@@ -184,21 +197,24 @@ class Model:
         )
         return [_wrap_error(r) if isinstance(r, BaseException) else Result(*r) for r in out]
 
+    def simulator(
+        self,
+        params: Optional[Mapping[str, float]] = None,
+        initial: Optional[Mapping[str, float]] = None,
+        *,
+        stop: Optional[float] = None,
+        saveat: Optional[float] = None,
+        abstol: Optional[float] = None,
+        reltol: Optional[float] = None,
+        alg: Optional[str] = None,
+    ) -> "Simulator":
+        """A ``Simulator`` of this model with these values and options."""
+        return Simulator(
+            self, params, initial, stop=stop, saveat=saveat, abstol=abstol, reltol=reltol, alg=alg
+        )
+
     def _signal_names(self, signals: Union[None, str, Sequence[str]]) -> List[str]:
-        if signals is None:
-            return []
-        if isinstance(signals, str):
-            signals = [signals]
-        everything = self._every_signal()
-        if list(signals) == ["all"]:
-            return everything
-        chosen: List[str] = []
-        for pattern in signals:
-            matches = [n for n in everything if _glob(n, pattern)]
-            if not matches:
-                raise ValueError(f"no signal matches {pattern!r}; Model.signals() lists them")
-            chosen.extend(m for m in matches if m not in chosen)
-        return chosen
+        return _pick(signals, self._every_signal())
 
     def _every_signal(self) -> List[str]:
         # Parameters may change values, not which signals a model has.
@@ -208,6 +224,138 @@ class Model:
 
     def __repr__(self) -> str:
         return f"<multibody.Model {self.name!r} from {self.file}>"
+
+
+class Simulator:
+    """A model being simulated, advanced on request: a controller (or any
+    host) sets its inputs, steps it, and reads its outputs and state
+    between steps.
+
+    ``Simulator(model, params, initial, stop=..., saveat=..., reltol=...,
+    abstol=..., alg=...)`` takes a ``Model`` (or a path to a ``.dyad``
+    file) and the values and options of ``Model.simulate``; it starts at the
+    model's start values and the analysis's start time.
+
+    ``step_until(t)`` integrates to exactly ``t`` (the GIL released),
+    handling events on the way and recording the samples of the output
+    grid (every ``saveat``); ``set_input(name, value)`` sets an input (a
+    top-level ``RealInput`` of the model), held until set again (a
+    zero-order hold); ``outputs`` and ``inputs`` are dictionaries by name;
+    ``state`` is a numpy array in the order of ``state_names``;
+    ``get(name)`` reads any variable (any column of a result) now;
+    ``result()`` gives the samples recorded so far as a ``Result``.
+
+    A bad name raises ``ValueError`` with the name it probably meant; a
+    simulation that stops part way raises ``SimulationError`` (with
+    ``time`` and the ``partial`` result), and the simulator stays at the
+    last good time.
+    """
+
+    def __init__(
+        self,
+        model: Union["Model", str, "os.PathLike[str]"],
+        params: Optional[Mapping[str, float]] = None,
+        initial: Optional[Mapping[str, float]] = None,
+        *,
+        stop: Optional[float] = None,
+        saveat: Optional[float] = None,
+        abstol: Optional[float] = None,
+        reltol: Optional[float] = None,
+        alg: Optional[str] = None,
+    ):
+        if not isinstance(model, Model):
+            model = load(model)
+        self.model = model
+        self._native = _call(
+            model._native.simulator,
+            _pairs(params),
+            _pairs(initial),
+            stop=stop,
+            saveat=saveat,
+            abstol=abstol,
+            reltol=reltol,
+            alg=alg,
+        )
+        self._all: Optional[List[str]] = None
+
+    def step_until(self, t: float) -> None:
+        """Integrates to exactly ``t`` (not before the time reached)."""
+        try:
+            self._native.step_until(t)
+        except MultibodyError as e:
+            raise _wrap_error(e) from None
+
+    def set_input(self, name: str, value: float) -> None:
+        """Sets the input ``name``; it holds the value until set again."""
+        self._native.set_input(name, value)
+
+    @property
+    def inputs(self) -> Dict[str, float]:
+        """The inputs and the values they hold now."""
+        return dict(self._native.inputs())
+
+    @property
+    def outputs(self) -> Dict[str, float]:
+        """The outputs (top-level ``RealOutput``s) at the time reached."""
+        return dict(self._native.outputs())
+
+    @property
+    def time(self) -> float:
+        """The time reached."""
+        return self._native.time()
+
+    @property
+    def state(self) -> np.ndarray:
+        """The state reached (a copy), in the order of ``state_names``."""
+        return np.array(self._native.state())
+
+    @state.setter
+    def state(self, y: Sequence[float]) -> None:
+        self.set_state(y)
+
+    def set_state(self, y: Union[Sequence[float], Mapping[str, float]]) -> None:
+        """Sets the whole state (an array in the order of ``state_names``), or
+        some states by name (a dict); the integrator starts again from it."""
+        if isinstance(y, Mapping):
+            for name, value in y.items():
+                self._native.set_state_value(str(name), float(value))
+        else:
+            self._native.set_state([float(v) for v in np.asarray(y, dtype=np.float64).ravel()])
+
+    @property
+    def state_names(self) -> List[str]:
+        return self._native.state_names()
+
+    def get(self, name: str) -> float:
+        """Any variable of the model (any column of a result) now."""
+        return self._native.get(name)
+
+    def signals(self, *patterns: str) -> List[str]:
+        """Every signal's name, or those matching the glob patterns."""
+        names = self._every_signal()
+        return [n for n in names if not patterns or any(_glob(n, p) for p in patterns)]
+
+    def result(self, signals: Union[None, str, Sequence[str]] = None) -> Result:
+        """The samples recorded so far; ``signals`` as in ``Model.simulate``
+        (the states by default, ``"all"``, names or glob patterns)."""
+        return Result(*self._native.result(_pick(signals, self._every_signal())))
+
+    def reset(self) -> None:
+        """Back to the start: state, time and inputs; the samples are dropped."""
+        _call(self._native.reset)
+
+    @property
+    def event_count(self) -> int:
+        """How many events were handled so far."""
+        return self._native.event_count()
+
+    def _every_signal(self) -> List[str]:
+        if self._all is None:
+            self._all = self._native.signals()
+        return self._all
+
+    def __repr__(self) -> str:
+        return f"<multibody.Simulator {self.model.name!r} at t = {self.time}>"
 
 
 def load(path: Union[str, "os.PathLike[str]"], *, analysis: Optional[str] = None, model: Optional[str] = None) -> Model:
@@ -237,6 +385,23 @@ def grid(axes: Mapping[str, Iterable[float]]) -> List[Dict[str, float]]:
         values = [float(v) for v in values]
         sets = [{**s, path: v} for s in sets for v in values]
     return sets
+
+
+def _pick(signals: Union[None, str, Sequence[str]], everything: List[str]) -> List[str]:
+    """The names ``signals`` selects: none (the states), ``"all"``, names or patterns."""
+    if signals is None:
+        return []
+    if isinstance(signals, str):
+        signals = [signals]
+    if list(signals) == ["all"]:
+        return list(everything)
+    chosen: List[str] = []
+    for pattern in signals:
+        matches = [n for n in everything if _glob(n, pattern)]
+        if not matches:
+            raise ValueError(f"no signal matches {pattern!r}; Model.signals() lists them")
+        chosen.extend(m for m in matches if m not in chosen)
+    return chosen
 
 
 def _glob(name: str, pattern: str) -> bool:

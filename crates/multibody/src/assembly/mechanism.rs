@@ -30,6 +30,8 @@ pub struct Mechanism {
     pub(crate) loops: Vec<LoopInfo>,
     pub(crate) flow_tree: FlowTree,
     pub(crate) warnings: Vec<String>,
+    /// The model's outputs, by the names of their signals.
+    pub(crate) outputs: Vec<String>,
     /// The names and units of the output signals, shared by every solution;
     /// named at the first use (by `outputs`), so that assembly stays cheap.
     pub(crate) signal_table: OnceLock<Arc<SignalTable>>,
@@ -205,6 +207,17 @@ impl Mechanism {
     /// Warnings found while assembling (nothing that stops a simulation).
     pub fn warnings(&self) -> &[String] {
         &self.warnings
+    }
+
+    /// The model's inputs (its `Input` components, in model order), which
+    /// a host sets while it runs.
+    pub fn input_names(&self) -> Vec<&str> {
+        self.system.events.inputs.iter().map(|(n, _)| n.as_str()).collect()
+    }
+
+    /// The model's outputs, by the names of the signals they are.
+    pub fn output_names(&self) -> &[String] {
+        &self.outputs
     }
 
     pub fn world(&self) -> &WorldSettings {

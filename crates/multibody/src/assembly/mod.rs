@@ -208,6 +208,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         flange_of_connector,
         flow_tree,
         warnings,
+        outputs: model.outputs.clone(),
         loops: Vec::new(),
         signal_table: Default::default(),
     };

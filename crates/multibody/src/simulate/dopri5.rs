@@ -175,6 +175,21 @@ impl DormandPrince {
         tf: f64,
         observe: &mut Observer<S::Error>,
     ) -> Result<Reached, Stopped<S::Error>> {
+        self.advance_past(sys, tf, tf, observe)
+    }
+
+    /// Steps until the time reached is at least `tf`, with steps as long as
+    /// the error control allows up to `limit` (which the last step ends at
+    /// exactly, when it reaches it): the caller reads the state at `tf` on
+    /// the last step's dense output, and the integration may go on from
+    /// where it stands without a step cut short at `tf`.
+    pub fn advance_past<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        tf: f64,
+        limit: f64,
+        observe: &mut Observer<S::Error>,
+    ) -> Result<Reached, Stopped<S::Error>> {
         let n = self.y.len();
         let stop = |t: f64, failure, stats| Err(Stopped { t, failure, stats });
         let mut h = self.h;
@@ -183,9 +198,9 @@ impl DormandPrince {
             if 0.1 * h.abs() <= t.abs() * f64::EPSILON * 4.0 {
                 return stop(t, Failure::StepTooSmall { h }, self.stats);
             }
-            let last = t + 1.01 * h >= tf;
+            let last = t + 1.01 * h >= limit;
             if last {
-                h = tf - t;
+                h = limit - t;
             }
             if let Err(e) = self.stages(sys, t, h, n) {
                 return stop(t, Failure::Rhs(e), self.stats);
@@ -226,7 +241,7 @@ impl DormandPrince {
                 std::mem::swap(&mut self.y, &mut self.y_new);
                 self.t_old = t;
                 self.h_old = h;
-                self.t = if last { tf } else { t + h };
+                self.t = if last { limit } else { t + h };
                 let mut h_new = (h / fac).min(self.h_max);
                 if self.rejected_last {
                     h_new = h_new.min(h);

@@ -239,6 +239,18 @@ const ERROR_SUM_LIMIT: f64 = 1e4;
 /// reserved up front (it grows as the samples come).
 const RESERVE_LIMIT: f64 = 256e6;
 
+/// Makes room in `solution` for the samples of the output grid from
+/// `options.start` to `options.stop`, when it is known and not too large:
+/// growing hundreds of columns sample by sample costs more than the dynamics.
+pub(crate) fn reserve_grid(solution: &mut Solution, options: &SimulationOptions) {
+    if options.saveat > 0.0 && options.stop > options.start {
+        let samples = ((options.stop - options.start) / options.saveat).ceil() + 1.0;
+        if samples * (solution.names().len() + 1) as f64 * 8.0 < RESERVE_LIMIT {
+            solution.reserve(samples as usize);
+        }
+    }
+}
+
 // The error carries the partial solution by value; it is returned once per
 // simulation, so its size costs nothing.
 #[allow(clippy::result_large_err)]
@@ -258,13 +270,7 @@ impl Mechanism {
         progress: Option<&mut dyn FnMut(f64) -> Result<(), String>>,
     ) -> Result<Solution, SimulationError> {
         let mut solution = Solution::with_signals(self.signal_table().clone());
-        if options.saveat > 0.0 && options.stop > options.start {
-            // The grid is known: growing hundreds of columns sample by sample costs more than the dynamics.
-            let samples = ((options.stop - options.start) / options.saveat).ceil() + 1.0;
-            if samples * (solution.names().len() + 1) as f64 * 8.0 < RESERVE_LIMIT {
-                solution.reserve(samples as usize);
-            }
-        }
+        reserve_grid(&mut solution, options);
         match self.simulate_into(y0, options, &mut solution, progress) {
             Ok(report) => {
                 solution.set_warnings(report.warnings);

@@ -98,6 +98,31 @@ impl Stepper {
         }
     }
 
+    /// Advances to at least `tf` with steps not cut short at it (up to
+    /// `limit`), where the method has a dense output to read `tf` on;
+    /// otherwise to exactly `tf`.
+    fn advance_past<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        tf: f64,
+        limit: f64,
+        observe: &mut Observer<S::Error>,
+    ) -> Result<Reached, Stop<S::Error>> {
+        match self {
+            Stepper::DormandPrince(s) => s.advance_past(sys, tf, limit, observe),
+            _ => self.advance(sys, tf, observe),
+        }
+    }
+
+    /// The last step, when the integration may stand past the time the
+    /// simulator reached (see [`Stepper::advance_past`]).
+    fn ahead(&self) -> Option<&dyn DenseStep> {
+        match self {
+            Stepper::DormandPrince(s) => Some(s),
+            _ => None,
+        }
+    }
+
     /// The state reached.
     fn state(&self) -> &[f64] {
         match self {
@@ -298,6 +323,9 @@ struct RecorderState {
     next: usize,
     /// Whether the stop was recorded (a simulator may go on past it).
     past_stop: bool,
+    /// No grid point after this time is recorded (the integration may
+    /// stand past the time asked for).
+    until: f64,
 }
 
 /// The recorder during one call: its state, where samples go, and whom
@@ -351,7 +379,7 @@ impl Recorder<'_, '_, '_, '_> {
                 let on_grid = s.start + s.next as f64 * s.saveat;
                 // The stop is a sample even off the grid; past it the grid goes on.
                 let t = if s.past_stop { on_grid } else { on_grid.min(s.stop) };
-                if t > t1 + 1e-12 * s.saveat {
+                if t > t1 + 1e-12 * s.saveat || t > s.until {
                     break;
                 }
                 if s.past_stop && on_grid <= s.stop {
@@ -411,6 +439,10 @@ pub struct Simulator<'m> {
     /// Whether the integrator holds `(t, y)` with its derivative, ready to
     /// step on (events, inputs and a new state make it start again).
     started: bool,
+    /// Whether the integrator stands past `t`, its last step covering it
+    /// (`y` read on that step's dense output): the next call goes on from
+    /// there unless the host changed an input or the state.
+    ahead: bool,
     /// Events in a row within `ZENO_SPAN`, and when the first of them was.
     piled: (usize, f64),
     events: usize,
@@ -426,7 +458,9 @@ impl<'m> Simulator<'m> {
     pub fn new(mechanism: impl Into<Shared<'m>>, options: &SimulationOptions) -> Result<Self, Stopped> {
         let mechanism = mechanism.into();
         let y0 = mechanism.system.states.start.clone();
-        Self::from_state(mechanism, &y0, options, None)
+        let mut sim = Self::from_state(mechanism, &y0, options, None)?;
+        super::reserve_grid(&mut sim.solution, options);
+        Ok(sim)
     }
 
     /// A simulator at the state `y0`, whose recorder computes only the
@@ -478,6 +512,7 @@ impl<'m> Simulator<'m> {
             stop: options.stop,
             next: 0,
             past_stop: false,
+            until: f64::INFINITY,
         };
         let mut sim = Simulator {
             stepper: Stepper::new(n, options),
@@ -491,6 +526,7 @@ impl<'m> Simulator<'m> {
             y: y0.to_vec(),
             y0: y0.to_vec(),
             started: false,
+            ahead: false,
             piled: (0, f64::NEG_INFINITY),
             events: 0,
             last_event: None,
@@ -526,6 +562,7 @@ impl<'m> Simulator<'m> {
         self.recorder.next = 0;
         self.recorder.past_stop = false;
         self.started = false;
+        self.ahead = false;
         self.piled = (0, f64::NEG_INFINITY);
         Ok(())
     }
@@ -581,21 +618,42 @@ impl<'m> Simulator<'m> {
 
     /// The names of the model's inputs.
     pub fn input_names(&self) -> Vec<&str> {
-        self.mechanism.system.events.inputs.iter().map(|(n, _)| n.as_str()).collect()
+        self.mechanism.input_names()
     }
 
-    /// Sets an input; it holds this value until set again.
-    pub fn set_input(&mut self, name: &str, value: f64) -> Result<(), String> {
-        let inputs = &self.mechanism.system.events.inputs;
-        let Some(k) = inputs.iter().position(|(n, _)| n == name) else {
-            let names: Vec<&str> = inputs.iter().map(|(n, _)| n.as_str()).collect();
-            return Err(if names.is_empty() {
+    /// The value an input holds now.
+    pub fn input(&self, name: &str) -> Result<f64, String> {
+        let k = self.input_index(name)?;
+        Ok(self.ws.inputs[k])
+    }
+
+    fn input_index(&self, name: &str) -> Result<usize, String> {
+        let names = self.mechanism.input_names();
+        names.iter().position(|n| *n == name).ok_or_else(|| {
+            if names.is_empty() {
                 format!("the model has no inputs, so not `{name}`: declare one as a RealInput of the model")
             } else {
                 let hint = did_you_mean(name, names.iter().copied());
                 format!("`{name}` is not an input of the model{hint} (its inputs: {})", names.join(", "))
-            });
-        };
+            }
+        })
+    }
+
+    /// The names of the model's outputs.
+    pub fn output_names(&self) -> &[String] {
+        self.mechanism.output_names()
+    }
+
+    /// The model's outputs at the time and state reached, by name.
+    pub fn outputs(&mut self) -> Result<Vec<(String, f64)>, String> {
+        let names = self.mechanism.output_names().to_vec();
+        let values = self.values(&names)?;
+        Ok(names.into_iter().zip(values).collect())
+    }
+
+    /// Sets an input; it holds this value until set again.
+    pub fn set_input(&mut self, name: &str, value: f64) -> Result<(), String> {
+        let k = self.input_index(name)?;
         if !value.is_finite() {
             return Err(format!("the input `{name}` must be finite, not {value}"));
         }
@@ -611,20 +669,30 @@ impl<'m> Simulator<'m> {
     /// The value of any variable of the model (a column of the results)
     /// at the time and state reached.
     pub fn value(&mut self, name: &str) -> Result<f64, String> {
+        Ok(self.values(&[name])?[0])
+    }
+
+    /// The values of several variables at once (one evaluation).
+    pub fn values<S: AsRef<str>>(&mut self, names: &[S]) -> Result<Vec<f64>, String> {
         let table = self.mechanism.signal_table().clone();
-        let Some(k) = table.index(name) else {
-            let hint = did_you_mean(name, table.names().iter().map(String::as_str));
-            return Err(format!("the model has no variable `{name}`{hint}"));
-        };
+        let mut columns = Vec::with_capacity(names.len());
         let mut wanted = vec![false; self.mechanism.components.len()];
-        if let Some(owner) = table.owner(k) {
-            wanted[owner] = true;
+        for name in names {
+            let name = name.as_ref();
+            let Some(k) = table.index(name) else {
+                let hint = did_you_mean(name, table.names().iter().map(String::as_str));
+                return Err(format!("the model has no variable `{name}`{hint}"));
+            };
+            if let Some(owner) = table.owner(k) {
+                wanted[owner] = true;
+            }
+            columns.push(k);
         }
         let r = &mut self.recorder;
         self.mechanism
             .outputs_into(&mut r.ws, &mut r.scratch, self.t, &self.y, &mut r.row, Some(&wanted))
             .map_err(|e| self.mechanism.describe(&e))?;
-        Ok(r.row[k])
+        Ok(columns.iter().map(|&k| r.row[k]).collect())
     }
 
     /// The samples recorded so far on the output grid (every `saveat`
@@ -683,7 +751,7 @@ impl<'m> Simulator<'m> {
     /// recorded is kept.
     pub fn step_until(&mut self, t: f64) -> Result<(), Stopped> {
         let mut solution = std::mem::take(&mut self.solution);
-        let result = self.run(t, &mut solution, None);
+        let result = self.run_to(t, &mut solution, None, true);
         self.solution = solution;
         result
     }
@@ -694,8 +762,32 @@ impl<'m> Simulator<'m> {
         &mut self,
         target: f64,
         sink: &mut dyn SampleSink,
-        mut progress: Option<&mut Progress>,
+        progress: Option<&mut Progress>,
     ) -> Result<(), Stopped> {
+        self.run_to(target, sink, progress, false)
+    }
+
+    /// Whether the integration may step past the time asked for and read
+    /// the state there on its dense output, so that calls of a few steps
+    /// each cost no more steps than one call: with the adaptive explicit
+    /// method and without state events or Euler-angle joints, which a step
+    /// past the time asked for could find before the host has its say.
+    fn may_look_ahead(&self) -> bool {
+        self.stepper.ahead().is_some()
+            && self.mechanism.system.events.indicators.is_empty()
+            && self.euler_sides.is_empty()
+            && !self.recorder.hold
+    }
+
+    /// [`Simulator::run`], looking ahead when `look_ahead` and allowed.
+    fn run_to(
+        &mut self,
+        target: f64,
+        sink: &mut dyn SampleSink,
+        mut progress: Option<&mut Progress>,
+        look_ahead: bool,
+    ) -> Result<(), Stopped> {
+        let look_ahead = look_ahead && self.may_look_ahead();
         if !target.is_finite() {
             return Err(self.stopped(StepError::Caller(format!("cannot step until t = {target}")), self.t));
         }
@@ -707,11 +799,30 @@ impl<'m> Simulator<'m> {
             }
             self.recorder.next = 1;
         }
+        if self.ahead && !self.started {
+            // An input or the state changed: the step ahead is void.
+            self.ahead = false;
+        }
         while self.t < target {
+            if self.ahead {
+                self.catch_up(target, sink).map_err(|e| self.stopped(e, self.t))?;
+                continue;
+            }
             let time_event = self.mechanism.next_time_event(self.t);
             let tf = target.min(time_event);
-            let reached = self.advance(tf, sink, progress.as_deref_mut());
+            let limit = if look_ahead && tf < time_event { time_event } else { tf };
+            let reached = match self.advance(tf, limit, sink, progress.as_deref_mut()) {
+                Err(stopped) if limit > tf && !stopped.by_caller && self.may_retry(&stopped, tf) => {
+                    // A step past `tf` failed: go again from where the
+                    // integration stood, with steps cut short at `tf`.
+                    self.t = stopped.time;
+                    self.y.copy_from_slice(self.stepper.state());
+                    self.advance(tf, tf, sink, progress.as_deref_mut())
+                }
+                reached => reached,
+            };
             match reached {
+                Ok(Reached::End) if self.ahead => self.t = tf,
                 Ok(Reached::End) => {
                     self.t = tf;
                     if tf == time_event {
@@ -737,11 +848,42 @@ impl<'m> Simulator<'m> {
         recorder.flush(f64::INFINITY).map_err(|e| self.stopped(e, self.t))
     }
 
+    /// Whether a stretch that looked ahead and failed may go again from
+    /// where the integration stood: it stood before `tf`, in a finite state.
+    fn may_retry(&self, stopped: &Stopped, tf: f64) -> bool {
+        stopped.time >= self.t && stopped.time < tf && self.stepper.state().iter().all(|x| x.is_finite())
+    }
+
+    /// With the integration standing past the time reached: the grid
+    /// points of its last step up to `target`, and the time and state
+    /// there (or at the step's end, if `target` is past it).
+    fn catch_up(&mut self, target: f64, sink: &mut dyn SampleSink) -> Result<(), StepError> {
+        let Simulator { mechanism, stepper, recorder, .. } = self;
+        let step = stepper.ahead().expect("only a method with dense output looks ahead");
+        let (_, end) = step.span();
+        recorder.until = target;
+        let mut recorder = Recorder { mechanism, state: recorder, sink, progress: None };
+        let recorded = recorder.observe(step);
+        self.recorder.until = f64::INFINITY;
+        recorded?;
+        if target < end {
+            step.interpolate(target, &mut self.y);
+            self.t = target;
+        } else {
+            self.y.copy_from_slice(step.y());
+            self.t = end;
+            self.ahead = false;
+        }
+        Ok(())
+    }
+
     /// One stretch of integration to `tf` (a target or a time event), or to
-    /// the first state event before it.
+    /// the first state event before it; with `limit > tf`, its last step may
+    /// end past `tf` (up to `limit`), and the state at `tf` is read on it.
     fn advance<'q>(
         &mut self,
         tf: f64,
+        limit: f64,
         sink: &mut dyn SampleSink,
         progress: Option<&mut Progress<'q>>,
     ) -> Result<Reached, Stopped> {
@@ -759,8 +901,10 @@ impl<'m> Simulator<'m> {
             }
             self.started = true;
         }
+        recorder.until = if limit > tf { tf } else { f64::INFINITY };
         let mut recorder = Recorder { mechanism, state: recorder, sink, progress };
-        let result = stepper.advance(&mut system, tf, &mut |s| recorder.observe(s));
+        let result = stepper.advance_past(&mut system, tf, limit, &mut |s| recorder.observe(s));
+        recorder.state.until = f64::INFINITY;
         system.ws.left_limit_at = f64::NAN;
         if let Err(stop) = &result {
             // The samples of the last step up to the failure are good.
@@ -771,7 +915,13 @@ impl<'m> Simulator<'m> {
         }
         match result {
             Ok(reached) => {
-                self.y.copy_from_slice(self.stepper.state());
+                match self.stepper.ahead().filter(|s| s.span().1 > tf) {
+                    Some(step) if reached == Reached::End => {
+                        step.interpolate(tf, &mut self.y);
+                        self.ahead = true;
+                    }
+                    _ => self.y.copy_from_slice(self.stepper.state()),
+                }
                 if let Reached::Event(_) = reached {
                     self.started = false;
                 }
