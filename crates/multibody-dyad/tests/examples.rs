@@ -196,6 +196,39 @@ fn four_bar() {
     assert_same("four_bar.dyad", m, options(10.0, 0.01));
 }
 
+/// A pendulum whose torque is an input of the model (left at its start,
+/// 0, here) and whose angle and speed are its outputs.
+#[test]
+fn controlled_pendulum() {
+    let mut m = Model::new("ControlledPendulum");
+    m.add("tau", "Input").set("start", 0.0);
+    m.add("world", "World");
+    m.add("rev", "Revolute").set("n", [0.0, 0.0, 1.0]).initial("phi", 0.0).initial("w", 0.0);
+    m.add("body", "Body").set("m", 1.0).set("r_cm", [0.5, 0.0, 0.0]).set("I_33", 0.02);
+    m.add("motor", "RotationalComponents.Torque");
+    m.add("angle_sensor", "RotationalComponents.AngleSensor");
+    m.add("speed_sensor", "RotationalComponents.SpeedSensor");
+    m.connect(["world.frame_b", "rev.frame_a"]);
+    m.connect(["rev.frame_b", "body.frame_a"]);
+    m.connect(["motor.spline", "angle_sensor.spline", "speed_sensor.spline", "rev.axis"]);
+    m.connect(["motor.support", "rev.support"]);
+    m.connect(["tau.y", "motor.tau"]);
+    for (output, source) in [("angle", "angle_sensor.phi"), ("speed", "speed_sensor.w")] {
+        m.variable(output);
+        m.equations.equations.push(multibody::Equation {
+            lhs: multibody::Expr::var(output),
+            rhs: multibody::Expr::var(source),
+            origin: String::new(),
+        });
+    }
+    m.outputs = vec!["angle".into(), "speed".into()];
+    let (from_file, _, _) = run_file("controlled_pendulum.dyad");
+    assert_eq!(from_file.outputs, m.outputs);
+    assert_eq!(from_file.components[0].kind, "Input");
+    let options = SimulationOptions { stop: 5.0, saveat: 0.001, abstol: 1e-10, reltol: 1e-10, ..Default::default() };
+    assert_same("controlled_pendulum.dyad", m, options);
+}
+
 #[test]
 fn geared_servo() {
     let mut m = Model::new("GearedServo");
@@ -627,6 +660,7 @@ fn every_example_is_checked() {
         "spring_mass.dyad",
         "four_bar.dyad",
         "geared_servo.dyad",
+        "controlled_pendulum.dyad",
         "stiff_spring.dyad",
         "prescribed_motion.dyad",
         "sensors.dyad",
