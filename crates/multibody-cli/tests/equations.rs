@@ -122,3 +122,19 @@ fn every_model_with_equations_is_checked() {
         assert!(source.contains(&format!("run(\"{name}\"")), "examples/equations/{name} has no test here");
     }
 }
+
+/// The bouncing ball through the command: its discrete variables count the
+/// impacts (closed form: the n-th at sqrt(2 h0/g) (1 + 2 e (1 - e^(n-1)) / (1 - e))).
+#[test]
+fn a_bouncing_ball_counts_its_impacts_at_the_closed_form_times() {
+    let table = run("bouncing_ball.dyad", None);
+    let (g, e, h0) = (9.81f64, 0.8f64, 1.0f64);
+    let t1 = (2.0 * h0 / g).sqrt();
+    let impact = |n: i32| t1 * (1.0 + 2.0 * e * (1.0 - e.powi(n - 1)) / (1.0 - e));
+    let (impacts, last) = (table.column("impacts"), table.column("last_impact"));
+    let n = *impacts.last().unwrap() as i32;
+    assert!(n >= 10, "{n} impacts");
+    let error = (last.last().unwrap() - impact(n)).abs();
+    println!("impact {n} at {} (closed form {}): {error:.1e}", last.last().unwrap(), impact(n));
+    assert!(error < 1e-8, "impact {n}: {error}");
+}

@@ -254,3 +254,20 @@ end
     assert!(above <= tolerance && highest_after >= -1e-5, "it swings back up to {highest_after}");
     assert!(sim.event_count() >= 2);
 }
+
+/// Past the time at which its bounces pile up (t = 4.06 s for e = 0.8), the
+/// ball's events come closer and closer: the run stops with a message that
+/// names the indicator, keeping what it computed, instead of hanging.
+#[test]
+fn bounces_that_pile_up_stop_the_run_with_a_clear_message() {
+    let (mechanism, mut options) = example("equations/bouncing_ball.dyad");
+    options.stop = 6.0;
+    let (g, e, h0) = (9.81f64, 0.8f64, 1.0f64);
+    let t_first = (2.0 * h0 / g).sqrt();
+    let t_zeno = t_first + 2.0 * e * (g * t_first) / (g * (1.0 - e));
+    let error = mechanism.simulate(&options).expect_err("the events pile up");
+    println!("{error}");
+    assert!(error.reason.contains("pile up") && error.reason.contains("relation"), "{}", error.reason);
+    assert!((error.time - t_zeno).abs() < 1e-3, "stopped at {} (bounces pile up at {t_zeno})", error.time);
+    assert!(error.partial.time().last().is_some_and(|&t| t > 4.0), "the samples before are kept");
+}

@@ -939,7 +939,11 @@ impl<'m> Simulator<'m> {
         self.started = false;
         let reason = match failure {
             Failure::Rhs(e) | Failure::Observer(e) => return self.stopped(e, t),
-            Failure::StepTooSmall { h } => self.mechanism.step_too_small(h),
+            Failure::StepTooSmall { h } => match self.last_event {
+                // Steps that collapse right after an event: the events pile up.
+                Some((te, k)) if t - te <= 1e-6 * t.abs().max(1.0) => self.piling_up(k, t - te),
+                _ => self.mechanism.step_too_small(h),
+            },
             Failure::NotFinite => self.mechanism.describe(&DynamicsError::NotFinite),
         };
         Stopped { time: t, reason, by_caller: false }
@@ -963,17 +967,7 @@ impl<'m> Simulator<'m> {
         if t - self.piled.1 <= ZENO_SPAN * t.abs().max(1.0) {
             self.piled.0 += 1;
             if self.piled.0 >= ZENO_EVENTS {
-                let which = self
-                    .indicators
-                    .last
-                    .and_then(|k| self.mechanism.system.events.indicators.get(k))
-                    .map_or("a source's switching time".to_string(), |n| format!("`{n}`"));
-                return Err(StepError::Events(format!(
-                    "{ZENO_EVENTS} events within {:.1e} s, the last at {which}: the events pile up (a bounce that \
-                     loses energy geometrically, or a condition that switches back and forth). Stop it with a \
-                     condition that ends it (a rest threshold), or smooth the switch",
-                    self.piled.1.max(t) - self.piled.1.min(t)
-                )));
+                return Err(StepError::Events(self.piling_up(self.indicators.last, t - self.piled.1)));
             }
         } else {
             self.piled = (1, t);
@@ -981,6 +975,20 @@ impl<'m> Simulator<'m> {
         self.event_iteration(true)?;
         self.started = false;
         Ok(())
+    }
+
+    /// Why a run stopped where events pile up (the last made by indicator
+    /// `k`, `span` seconds before).
+    fn piling_up(&self, k: Option<usize>, span: f64) -> String {
+        let which = k
+            .and_then(|k| self.mechanism.system.events.indicators.get(k))
+            .map_or("a source's switching time".to_string(), |n| format!("`{n}`"));
+        format!(
+            "the events pile up ({} events so far, the last {span:.1e} s before, at {which}): a bounce that loses \
+             energy geometrically, or a condition that switches back and forth. Stop it with a condition that \
+             ends it (a rest threshold), or smooth the switch",
+            self.events
+        )
     }
 
     /// Evaluates the dynamics at the time and state reached with relations
