@@ -65,13 +65,12 @@ impl Sym {
         found
     }
 
-    /// Calls `f` for every variable occurrence.
-    pub fn each_var(&self, f: &mut impl FnMut(usize)) {
+    /// The expression's operands (up to three), in order.
+    pub fn children(&self) -> [Option<&S>; 3] {
         match self {
-            Sym::Const(_) | Sym::Time | Sym::Pre(_) | Sym::Initial => {}
-            Sym::Var(v) => f(*v),
+            Sym::Const(_) | Sym::Time | Sym::Var(_) | Sym::Pre(_) | Sym::Initial => [None; 3],
             Sym::Neg(a) | Sym::Call(_, a) | Sym::Not(a) | Sym::NoEvent(a) | Sym::Edge(a) | Sym::Change(a) => {
-                a.each_var(f)
+                [Some(a), None, None]
             }
             Sym::Add(a, b)
             | Sym::Sub(a, b)
@@ -81,37 +80,29 @@ impl Sym {
             | Sym::Call2(_, a, b)
             | Sym::Compare(_, a, b)
             | Sym::And(a, b)
-            | Sym::Or(a, b) => {
-                a.each_var(f);
-                b.each_var(f);
-            }
-            Sym::If(c, a, b) => {
-                c.each_var(f);
-                a.each_var(f);
-                b.each_var(f);
-            }
+            | Sym::Or(a, b) => [Some(a), Some(b), None],
+            Sym::If(c, a, b) => [Some(c), Some(a), Some(b)],
         }
+    }
+
+    /// The first `Some` that `f` gives on the nodes, in pre-order.
+    pub fn find<T>(&self, f: &mut impl FnMut(&Sym) -> Option<T>) -> Option<T> {
+        f(self).or_else(|| self.children().into_iter().flatten().find_map(|c| c.find(f)))
+    }
+
+    /// Calls `f` for every variable occurrence.
+    pub fn each_var(&self, f: &mut impl FnMut(usize)) {
+        self.find(&mut |node| {
+            if let Sym::Var(v) = node {
+                f(*v);
+            }
+            None::<()>
+        });
     }
 
     /// Whether the expression mentions time.
     pub fn mentions_time(&self) -> bool {
-        match self {
-            Sym::Time => true,
-            Sym::Const(_) | Sym::Var(_) | Sym::Pre(_) | Sym::Initial => false,
-            Sym::Neg(a) | Sym::Call(_, a) | Sym::Not(a) | Sym::NoEvent(a) | Sym::Edge(a) | Sym::Change(a) => {
-                a.mentions_time()
-            }
-            Sym::Add(a, b)
-            | Sym::Sub(a, b)
-            | Sym::Mul(a, b)
-            | Sym::Div(a, b)
-            | Sym::Pow(a, b)
-            | Sym::Call2(_, a, b)
-            | Sym::Compare(_, a, b)
-            | Sym::And(a, b)
-            | Sym::Or(a, b) => a.mentions_time() || b.mentions_time(),
-            Sym::If(c, a, b) => c.mentions_time() || a.mentions_time() || b.mentions_time(),
-        }
+        self.find(&mut |node| matches!(node, Sym::Time).then_some(())).is_some()
     }
 }
 

@@ -481,25 +481,10 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
 
 /// A variable that `pre` is taken of in `e` and that is not discrete.
 fn pre_of_continuous(e: &S, discrete: &[usize]) -> Option<usize> {
-    match &**e {
+    e.find(&mut |node| match node {
         Sym::Pre(v) if !discrete.contains(v) => Some(*v),
-        Sym::Const(_) | Sym::Time | Sym::Var(_) | Sym::Pre(_) | Sym::Initial => None,
-        Sym::Neg(a) | Sym::Call(_, a) | Sym::Not(a) | Sym::NoEvent(a) | Sym::Edge(a) | Sym::Change(a) => {
-            pre_of_continuous(a, discrete)
-        }
-        Sym::Add(a, b)
-        | Sym::Sub(a, b)
-        | Sym::Mul(a, b)
-        | Sym::Div(a, b)
-        | Sym::Pow(a, b)
-        | Sym::Call2(_, a, b)
-        | Sym::Compare(_, a, b)
-        | Sym::And(a, b)
-        | Sym::Or(a, b) => pre_of_continuous(a, discrete).or_else(|| pre_of_continuous(b, discrete)),
-        Sym::If(c, a, b) => pre_of_continuous(c, discrete)
-            .or_else(|| pre_of_continuous(a, discrete))
-            .or_else(|| pre_of_continuous(b, discrete)),
-    }
+        _ => None,
+    })
 }
 
 /// The interned variables.
