@@ -114,6 +114,28 @@ fn a_chain_made_in_a_loop_equals_the_chain_written_out() {
     }
 }
 
+/// The library's own form of a compliant element (`v_rel = der(s_rel)` of
+/// flange positions, by index reduction): the damped oscillator's closed
+/// form, and the library's SpringDamper beside it.
+#[test]
+fn a_spring_damper_in_the_library_form_gives_the_damped_oscillator() {
+    let table = run("compliant_element.dyad", None);
+    // m x'' + d x' + c x = 0, x(0) = 0.1, x'(0) = 0, with m = 2, c = 40, d = 0.8.
+    let (m, c, d, x0) = (2.0f64, 40.0f64, 0.8f64, 0.1f64);
+    let decay = d / (2.0 * m);
+    let wd = (c / m - decay * decay).sqrt();
+    let x = |t: f64| (-decay * t).exp() * x0 * ((wd * t).cos() + decay / wd * (wd * t).sin());
+    check(&table, "slider.s", 1e-7, x);
+    check(&table, "written.s_rel", 1e-7, x);
+    check(&table, "written.v_rel", 1e-6, |t| {
+        -(-decay * t).exp() * x0 * (decay * decay / wd + wd) * (wd * t).sin()
+    });
+    let (a, b) = (table.column("slider.s"), table.column("twin.s"));
+    let worst = a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+    println!("written vs library SpringDamper: worst difference {worst:.2e} (tolerance 1e-10: {:.3})", worst / 1e-10);
+    assert!(worst <= 1e-10);
+}
+
 #[test]
 fn every_model_with_equations_is_checked() {
     let source = std::fs::read_to_string(crate_path("tests/equations.rs")).unwrap();

@@ -111,6 +111,14 @@ fn first() {
     check("First", &["damper.phi_rel", "damper.w_rel", "inertia3.phi", "inertia3.w"]);
 }
 
+/// A block diagram that needs index reduction: the constraint between
+/// the filter's and the lag's states is differentiated, so the lag's input
+/// is found from the filter's derivative (InverseModel.md).
+#[test]
+fn inverse_model() {
+    check("InverseModel", &["firstOrder1.y", "firstOrder2.y"]);
+}
+
 #[test]
 fn oscillator() {
     check("Oscillator", &["damper1.s_rel", "damper1.v_rel", "mass1.s", "mass1.v"]);

@@ -167,6 +167,9 @@ pub struct Lowerer<'a, 'i> {
     effective: HashMap<*const ComponentDef, std::rc::Rc<relations::Effective>>,
     /// The simulated component's own `RealOutput`s, with their declarations.
     outputs: Vec<(String, Span)>,
+    /// Inputs of sub-components that an enclosing component's equations
+    /// name: those equations decide them (`smoother.u = sin(time)`).
+    pub(crate) set_from_outside: std::collections::HashSet<String>,
 }
 
 fn flat(prefix: &str, name: &str) -> String {
@@ -193,6 +196,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             used_index: HashMap::new(),
             effective: HashMap::new(),
             outputs: Vec::new(),
+            set_from_outside: Default::default(),
         }
     }
 
@@ -300,8 +304,12 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                     }
                     continue;
                 }
-                let Some(rep) = members.iter().find(|(_, t, _)| *t == ConnectorType::RealOutput).map(|m| m.0.clone())
-                else {
+                let rep = members
+                    .iter()
+                    .find(|(_, t, _)| *t == ConnectorType::RealOutput)
+                    .or_else(|| members.iter().find(|(m, _, _)| self.set_from_outside.contains(m)))
+                    .map(|m| m.0.clone());
+                let Some(rep) = rep else {
                     // Inputs that nothing drives read 0, as library inputs do.
                     for (m, _, _) in &members {
                         self.warnings.push(

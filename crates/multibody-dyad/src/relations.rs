@@ -789,6 +789,10 @@ fn connector_quantity(
         }
         if declared {
             ctx.lowerer.use_connector(connector, ty, None);
+            let owner = connector.rsplit_once('.').map_or("", |(owner, _)| owner);
+            if ty == ConnectorType::RealInput && owner != ctx.prefix {
+                ctx.lowerer.set_from_outside.insert(connector.to_string());
+            }
         }
         return Ok(Sym::Scalar(E::var(connector)));
     }

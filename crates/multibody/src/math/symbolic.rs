@@ -243,11 +243,12 @@ pub fn derivative(e: &S, v: usize) -> S {
 }
 
 /// The time derivative of `e`, where `der(v)` gives the number of the
-/// variable that is the derivative of variable `v`.
-pub fn time_derivative(e: &S, der: &mut impl FnMut(usize) -> usize) -> S {
+/// variable that is the derivative of variable `v` (`None`: `v` is
+/// constant between events).
+pub fn time_derivative(e: &S, der: &mut impl FnMut(usize) -> Option<usize>) -> S {
     differentiate(e, &mut |leaf| match leaf {
         Sym::Time => Some(constant(1.0)),
-        Sym::Var(w) => Some(var(der(*w))),
+        Sym::Var(w) => der(*w).map(var),
         _ => None,
     })
 }

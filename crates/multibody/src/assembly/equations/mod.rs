@@ -16,6 +16,7 @@
 
 mod codegen;
 mod initial;
+mod reduce;
 mod sort;
 
 pub(crate) use initial::{solve as initialize, Initial};
@@ -110,6 +111,9 @@ struct Pending {
     whens: Vec<PendingWhen>,
     /// The discrete variables (assigned in `when` clauses), by their slot.
     discrete: Vec<usize>,
+    /// Per variable: whether it has a derivative but is not a state, being
+    /// fixed by an equation that index reduction differentiated.
+    dummy: Vec<bool>,
 }
 
 impl Pending {
@@ -463,20 +467,21 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
         extras.push(Extra { name: extra, part, rotational, joins: (local, connector.clone()) });
     }
 
-    Ok(Plan {
-        extras,
-        equations: Some(Pending {
-            vars: table.vars,
-            residuals,
-            origins,
-            initial,
-            initial_origins,
-            stores,
-            declared: eqs.variables.clone(),
-            whens,
-            discrete,
-        }),
-    })
+    let mut pending = Pending {
+        vars: Vec::new(),
+        residuals,
+        origins,
+        initial,
+        initial_origins,
+        stores,
+        declared: eqs.variables.clone(),
+        whens,
+        discrete,
+        dummy: Vec::new(),
+    };
+    reduce::reduce(&mut pending, &mut table)?;
+    pending.vars = table.vars;
+    Ok(Plan { extras, equations: Some(pending) })
 }
 
 /// A variable that `pre` is taken of in `e` and that is not discrete.
@@ -679,10 +684,10 @@ fn to_sym(
             let s = go(inner, table)?;
             let mut failure = None;
             let d = sym::time_derivative(&s, &mut |v| match table.derivative(v, origin) {
-                Ok(d) => d,
+                Ok(d) => Some(d),
                 Err(e) => {
                     failure.get_or_insert(e);
-                    v
+                    None
                 }
             });
             if let Some(e) = failure {

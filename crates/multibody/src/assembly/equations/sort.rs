@@ -42,6 +42,9 @@ pub(super) fn sort(pending: &Pending, reads: &[Option<Source>]) -> Result<Sorted
     let mut rates = Vec::new();
     for (d, var) in pending.vars.iter().enumerate() {
         if let Role::Derivative { of } = var.role {
+            if pending.dummy[of] {
+                continue;
+            }
             is_state[of] = true;
             states.push(of);
             rates.push(d);
