@@ -127,9 +127,7 @@ fn a_spring_damper_in_the_library_form_gives_the_damped_oscillator() {
     let x = |t: f64| (-decay * t).exp() * x0 * ((wd * t).cos() + decay / wd * (wd * t).sin());
     check(&table, "slider.s", 1e-7, x);
     check(&table, "written.s_rel", 1e-7, x);
-    check(&table, "written.v_rel", 1e-6, |t| {
-        -(-decay * t).exp() * x0 * (decay * decay / wd + wd) * (wd * t).sin()
-    });
+    check(&table, "written.v_rel", 1e-6, |t| -(-decay * t).exp() * x0 * (decay * decay / wd + wd) * (wd * t).sin());
     let (a, b) = (table.column("slider.s"), table.column("twin.s"));
     let worst = a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
     println!("written vs library SpringDamper: worst difference {worst:.2e} (tolerance 1e-10: {:.3})", worst / 1e-10);

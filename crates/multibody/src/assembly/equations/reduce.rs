@@ -85,6 +85,24 @@ pub(super) fn reduce(pending: &mut Pending, table: &mut Table) -> Result<(), Err
             pending.residuals[active[r]].each_var(&mut |v| found |= is_state(v));
             found
         });
+        let variable_of_column: Vec<usize> = (0..table.vars.len()).filter(|&v| column[v] != usize::MAX).collect();
+        let fixed: Vec<usize> = cols.iter().map(|&c| variable_of_column[c]).collect();
+        let second = fixed.iter().find(|&&v| matches!(table.vars[v].role, Role::Derivative { .. }));
+        if let (Some(&d), true) = (second, fixes_state) {
+            // Its own derivative would be needed: a second differentiation.
+            let name = table.vars[d].name.clone();
+            return Err(problem(
+                format!(
+                    "these equations fix `{name}`, whose derivative is used too: that needs `der({name})`, a second \
+                     derivative (index 3), which is not supported; of a position it would be the mechanism's \
+                     acceleration, which equations cannot read"
+                ),
+                rows.iter().map(|&r| pending.origins[active[r]].clone()).collect(),
+                vec![name],
+                "take `der` once of what the mechanics gives (a velocity from a position); for an acceleration use \
+                 a sensor's output",
+            ));
+        }
         let helps = fixes_state
             && rows.iter().all(|&r| {
                 let mut own = false;
@@ -96,11 +114,8 @@ pub(super) fn reduce(pending: &mut Pending, table: &mut Table) -> Result<(), Err
             // differentiation: the sorting names the equations.
             break;
         }
-        let variable_of_column: Vec<usize> = (0..table.vars.len()).filter(|&v| column[v] != usize::MAX).collect();
-        let fixed: Vec<usize> = cols.iter().map(|&c| variable_of_column[c]).collect();
         if !fixed.iter().all(|&v| matches!(table.vars[v].role, Role::Declared(_))) {
-            // A derivative among them would need its own derivative (index 3),
-            // a signal its rate: the sorting names the equations.
+            // A signal's rate would be needed: the sorting names the equations.
             break;
         }
         for &v in &fixed {

@@ -1,0 +1,296 @@
+//! Components written as the libraries write theirs: `der` of expressions
+//! of connector positions (index reduction), inputs of sub-components set
+//! by equations. Each is checked against a closed form or against the
+//! built-in component it repeats, and prints its worst error as a fraction
+//! of its tolerance.
+
+use multibody::Solution;
+use multibody_dyad::{DefinitionKind, Package};
+
+/// Runs the only analysis in `text`.
+fn simulate(text: &str) -> Solution {
+    let mut package = Package::new();
+    if let Err(d) = package.add_source("acausal.dyad", text.to_string()) {
+        panic!("{}", d.render(package.sources(), false));
+    }
+    let analysis =
+        package.definitions().into_iter().find(|d| d.kind == DefinitionKind::Analysis).expect("an analysis").name;
+    let lowered =
+        package.lower_analysis(&analysis).unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false)));
+    let mechanism = lowered.assemble().unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false)));
+    mechanism.simulate(&lowered.options).unwrap()
+}
+
+/// The message of the first error the model gives, as the command prints it.
+fn error_of(text: &str) -> String {
+    let mut package = Package::new();
+    if let Err(d) = package.add_source("acausal.dyad", text.to_string()) {
+        return d.render(package.sources(), false);
+    }
+    let analysis =
+        package.definitions().into_iter().find(|d| d.kind == DefinitionKind::Analysis).expect("an analysis").name;
+    match package.lower_analysis(&analysis) {
+        Err(d) => d.render(package.sources(), false),
+        Ok(lowered) => match lowered.assemble() {
+            Err(d) => d.render(package.sources(), false),
+            Ok(_) => panic!("the model was accepted"),
+        },
+    }
+}
+
+fn worst_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+}
+
+fn report(what: &str, worst: f64, tolerance: f64) {
+    println!("{what}: worst {worst:.2e} ({:.3} of the tolerance {tolerance:e})", worst / tolerance);
+    assert!(worst <= tolerance, "{what}: {worst:e} > {tolerance:e}");
+}
+
+/// A rotational spring-damper in the library's form, `w_rel = der(phi_rel)`,
+/// between two inertias, beside the built-in one: the same motion.
+#[test]
+fn a_rotational_spring_damper_in_the_library_form_equals_the_built_in_one() {
+    let solution = simulate(
+        r#"
+component TorsionSpringDamper
+  parameter c::Real
+  parameter d::Real
+  spline_a = Spline()
+  spline_b = Spline()
+  variable phi_rel::Angle
+  variable w_rel::AngularVelocity
+  variable tau::Torque
+relations
+  phi_rel = spline_b.phi - spline_a.phi
+  w_rel = der(phi_rel)
+  tau = c * phi_rel + d * w_rel
+  spline_b.tau = tau
+  spline_a.tau = -tau
+end
+
+example component Shafts
+  written = TorsionSpringDamper(c = 300, d = 2)
+  library = RotationalComponents.SpringDamper(c = 300, d = 2)
+  a1 = RotationalComponents.Inertia(J = 0.5, phi(initial = 0), w(initial = 4))
+  b1 = RotationalComponents.Inertia(J = 1.5, phi(initial = 0.2), w(initial = 0))
+  a2 = RotationalComponents.Inertia(J = 0.5, phi(initial = 0), w(initial = 4))
+  b2 = RotationalComponents.Inertia(J = 1.5, phi(initial = 0.2), w(initial = 0))
+relations
+  connect(a1.spline_b, written.spline_a)
+  connect(written.spline_b, b1.spline_a)
+  connect(a2.spline_b, library.spline_a)
+  connect(library.spline_b, b2.spline_a)
+end
+
+analysis ShaftsRun
+  extends TransientAnalysis(stop = 2, saveat = 0.01, abstol = 1e-10, reltol = 1e-10)
+  model = Shafts()
+end
+"#,
+    );
+    let mut worst = 0.0f64;
+    for (x, y) in [("a1.phi", "a2.phi"), ("a1.w", "a2.w"), ("b1.phi", "b2.phi"), ("b1.w", "b2.w")] {
+        worst = worst.max(worst_difference(solution.get(x).unwrap(), solution.get(y).unwrap()));
+    }
+    report("rotational spring-damper, written vs built-in", worst, 1e-10);
+    // The written element's own variables: its stretch and rate.
+    let (phi_rel, w_rel) = (solution.get("written.phi_rel").unwrap(), solution.get("written.w_rel").unwrap());
+    let (b, a) = (solution.get("b1.phi").unwrap(), solution.get("a1.phi").unwrap());
+    let stretch: Vec<f64> = b.iter().zip(a).map(|(b, a)| b - a).collect();
+    report("phi_rel = b.phi - a.phi", worst_difference(phi_rel, &stretch), 1e-12);
+    let (wb, wa) = (solution.get("b1.w").unwrap(), solution.get("a1.w").unwrap());
+    let rate: Vec<f64> = wb.iter().zip(wa).map(|(b, a)| b - a).collect();
+    report("w_rel = b.w - a.w", worst_difference(w_rel, &rate), 1e-12);
+}
+
+/// A damper between two frames, `f = d der(length)` with the length an
+/// expression of the frames' positions, beside the built-in line damper.
+#[test]
+fn a_line_damper_with_der_of_a_distance_equals_the_built_in_damper() {
+    let solution = simulate(
+        r#"
+component LineDamper
+  parameter d::Real
+  frame_a = Frame3D()
+  frame_b = Frame3D()
+  variable length::Length
+  variable rate::Velocity
+  variable direction::Real[3]
+relations
+  length = norm(frame_b.r_0 - frame_a.r_0)
+  rate = der(length)
+  direction = (frame_b.r_0 - frame_a.r_0) / length
+  frame_a.f = -resolve2(frame_a.R, d * rate * direction)
+  frame_b.f = resolve2(frame_b.R, d * rate * direction)
+  frame_a.tau = zeros(3)
+  frame_b.tau = zeros(3)
+end
+
+component Cart
+  rail = MultibodyComponents.Prismatic(n = [1, 0, 0], s(initial = 1.2), v(initial = 2))
+  body = MultibodyComponents.Body(m = 1.5, r_cm = [0, 0, 0])
+  base = Frame3D()
+  tip = Frame3D()
+relations
+  connect(base, rail.frame_a)
+  connect(rail.frame_b, body.frame_a, tip)
+end
+
+example component Dampers
+  world = MultibodyComponents.World(g = 0)
+  anchor = MultibodyComponents.FixedTranslation(r = [0, 0.5, 0])
+  written_cart = Cart()
+  library_cart = Cart()
+  written = LineDamper(d = 0.7)
+  library = MultibodyComponents.Damper(d = 0.7)
+relations
+  connect(world.frame_b, written_cart.base, library_cart.base, anchor.frame_a)
+  connect(anchor.frame_b, written.frame_a, library.frame_a)
+  connect(written_cart.tip, written.frame_b)
+  connect(library_cart.tip, library.frame_b)
+end
+
+analysis DampersRun
+  extends TransientAnalysis(stop = 3, saveat = 0.01, abstol = 1e-10, reltol = 1e-10)
+  model = Dampers()
+end
+"#,
+    );
+    let mut worst = 0.0f64;
+    for q in ["s", "v"] {
+        let (x, y) = (format!("written_cart.rail.{q}"), format!("library_cart.rail.{q}"));
+        worst = worst.max(worst_difference(solution.get(&x).unwrap(), solution.get(&y).unwrap()));
+    }
+    report("line damper, written vs built-in", worst, 1e-10);
+    let v = solution.get("written_cart.rail.v").unwrap();
+    assert!(v[0] - v[v.len() - 1] > 0.3, "the damper slowed the cart: {} -> {}", v[0], v[v.len() - 1]);
+}
+
+/// An input of a sub-component set by an equation of the model: a
+/// first-order lag fed `sin(time)`, against its closed form.
+#[test]
+fn an_input_set_by_an_equation_drives_the_block() {
+    let solution = simulate(
+        r#"
+example component Driven
+  smoother = BlockComponents.FirstOrder(T = 0.3, k = 1)
+relations
+  smoother.u = sin(time)
+end
+
+analysis DrivenRun
+  extends TransientAnalysis(stop = 3, saveat = 0.01, abstol = 1e-10, reltol = 1e-10)
+  model = Driven()
+end
+"#,
+    );
+    // T x' = sin t - x, x(0) = 0.
+    let tau = 0.3f64;
+    let exact = |t: f64| (t.sin() - tau * t.cos() + tau * (-t / tau).exp()) / (1.0 + tau * tau);
+    let time = solution.time();
+    let x = solution.get("smoother.y").unwrap();
+    let worst = time.iter().zip(x).map(|(&t, x)| (x - exact(t)).abs()).fold(0.0, f64::max);
+    report("lag driven by an equation", worst, 1e-8);
+    let u = solution.get("smoother.u").unwrap();
+    report("smoother.u = sin(time)", time.iter().zip(u).map(|(t, u)| (u - t.sin()).abs()).fold(0.0, f64::max), 1e-15);
+}
+
+/// An input that nothing connects and no equation sets still reads 0,
+/// with its warning.
+#[test]
+fn an_input_nothing_sets_still_reads_zero_with_a_warning() {
+    let text = r#"
+example component Idle
+  smoother = BlockComponents.FirstOrder(T = 0.3, k = 1, x(initial = 1))
+end
+
+analysis IdleRun
+  extends TransientAnalysis(stop = 1, saveat = 0.1)
+  model = Idle()
+end
+"#;
+    let mut package = Package::new();
+    package.add_source("idle.dyad", text.to_string()).unwrap();
+    let lowered = package.lower_analysis("IdleRun").unwrap();
+    assert!(lowered.warnings.iter().any(|w| w.message.contains("`smoother.u` is not connected")));
+    let solution = lowered.assemble().unwrap().simulate(&lowered.options).unwrap();
+    let y = solution.get("smoother.y").unwrap();
+    // x' = -x / T from 1.
+    report("idle lag decays as exp(-t/T)", (y[y.len() - 1] - (-1.0f64 / 0.3).exp()).abs(), 1e-6);
+}
+
+/// Index reduction that would need the acceleration of the mechanism (a
+/// second derivative of a position) is refused with a message naming the
+/// equation.
+#[test]
+fn a_second_derivative_of_a_position_is_refused_clearly() {
+    let message = error_of(
+        r#"
+component Probe
+  flange = Flange()
+  variable p::Length
+  variable v::Velocity
+  variable a::Acceleration
+relations
+  p = flange.s
+  v = der(p)
+  a = der(v)
+  flange.f = 0
+end
+
+example component Probed
+  mass = TranslationalComponents.Mass(m = 1, s(initial = 0), v(initial = 1))
+  probe = Probe()
+relations
+  connect(mass.flange_a, probe.flange)
+end
+
+analysis ProbedRun
+  extends TransientAnalysis(stop = 1, saveat = 0.1)
+  model = Probed()
+end
+"#,
+    );
+    println!("{message}");
+    assert!(message.contains("second derivative") && message.contains("acceleration"), "{message}");
+    assert!(message.contains("acausal.dyad:"), "the message points at the model: {message}");
+}
+
+/// A drag force on a frame, `der` of the frame's own position (a model
+/// that was refused before): a body falling from rest against linear drag
+/// reaches the closed-form speed `-(g m / d) (1 - exp(-d t / m))`.
+#[test]
+fn a_drag_force_with_der_of_a_frame_position_gives_the_closed_form_fall() {
+    let solution = simulate(
+        r#"
+component Drag
+  frame_a = Frame3D()
+  parameter d::Real = 0.5
+relations
+  # The flow is what acts on this component: the body feels its opposite.
+  frame_a.f = resolve2(frame_a.R, d * der(frame_a.r_0))
+  frame_a.tau = zeros(3)
+end
+
+example component Dragged
+  world = MultibodyComponents.World()
+  body = MultibodyComponents.Body(m = 2, r_cm = [0, 0, 0], orientation_state = OrientationState.Quaternion())
+  drag = Drag(d = 0.5)
+relations
+  connect(body.frame_a, drag.frame_a)
+end
+
+analysis DraggedRun
+  extends TransientAnalysis(stop = 3, saveat = 0.01, abstol = 1e-10, reltol = 1e-10)
+  model = Dragged()
+end
+"#,
+    );
+    let (g, m, d) = (9.80665f64, 2.0f64, 0.5f64);
+    let exact = |t: f64| -(g * m / d) * (1.0 - (-d * t / m).exp());
+    let time = solution.time();
+    let v = solution.get("body.v_0[2]").unwrap();
+    let worst = time.iter().zip(v).map(|(&t, v)| (v - exact(t)).abs()).fold(0.0, f64::max);
+    report("falling body with linear drag", worst, 1e-8);
+}
