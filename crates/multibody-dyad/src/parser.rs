@@ -1256,8 +1256,11 @@ impl<'a> Parser<'a> {
         }
     }
 
+    /// `[a, b, c]`, or a matrix by rows, `[a, b; c, d]` (rows of one
+    /// element each, `[a; b]`, make a vector).
     fn array(&mut self) -> PResult<Expr> {
         let open = self.expect(TokenKind::LBracket, "`[`")?.span;
+        let mut rows: Vec<Vec<Expr>> = Vec::new();
         let mut items = Vec::new();
         while !self.at(&TokenKind::RBracket) {
             items.push(self.expr()?);
@@ -1265,16 +1268,36 @@ impl<'a> Parser<'a> {
                 return Err(unsupported("array comprehensions (`[... for i in ...]`) are", self.span())
                     .help("write the elements out: `[1, 2, 3]`"));
             }
-            if self.at(&TokenKind::Semicolon) {
-                return Err(unsupported("`;` rows in array literals are", self.span())
-                    .help("write a matrix as an array of rows: `[[1, 0], [0, 1]]`"));
+            if self.eat(&TokenKind::Semicolon) {
+                rows.push(std::mem::take(&mut items));
+                continue;
             }
             if !self.eat(&TokenKind::Comma) {
                 break;
             }
         }
-        self.expect(TokenKind::RBracket, "`,` or `]`")?;
-        Ok(Expr { kind: ExprKind::Array(items), span: open.to(self.prev_span()) })
+        self.expect(TokenKind::RBracket, "`,`, `;` or `]`")?;
+        let span = open.to(self.prev_span());
+        if rows.is_empty() {
+            return Ok(Expr { kind: ExprKind::Array(items), span });
+        }
+        if !items.is_empty() {
+            rows.push(items);
+        }
+        if rows.iter().all(|row| row.len() == 1) {
+            let items = rows.into_iter().flatten().collect();
+            return Ok(Expr { kind: ExprKind::Array(items), span });
+        }
+        let row_span = |row: &[Expr]| row.first().map_or(span, |first| first.span.to(row[row.len() - 1].span));
+        let width = rows[0].len();
+        if let Some(row) = rows.iter().find(|row| row.len() != width) {
+            let n = row.len();
+            return Err(Diagnostic::error(format!("the rows of this matrix differ in length: {width} and {n}"))
+                .primary(row_span(row), format!("{n} element{}", if n == 1 { "" } else { "s" }))
+                .help("give every row (between `;`) the same number of elements"));
+        }
+        let rows = rows.into_iter().map(|row| Expr { span: row_span(&row), kind: ExprKind::Array(row) }).collect();
+        Ok(Expr { kind: ExprKind::Array(rows), span })
     }
 }
 

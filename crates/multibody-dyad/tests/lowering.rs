@@ -382,3 +382,28 @@ fn a_for_over_fifty_thousand_elements_lowers() {
     let e = error(&text.replace("x[i] = i", "x[i + 1] = i"), "Loop");
     assert!(e.contains("index 50001 is out of range for `x`") && e.contains("must be from 1 to 50000"), "{e}");
 }
+
+/// Matrices by rows, `[a, b; c, d]`, mean the array of rows; `[a; b]` a
+/// vector; rows of different lengths are an error at the row.
+#[test]
+fn matrices_written_by_rows() {
+    let by_rows = r#"
+example component Rows
+  parameter A::Real[2, 2] = [1, 2; 3, 4]
+  parameter v::Real[2] = [5; 6]
+  world = MultibodyComponents.World()
+  body = MultibodyComponents.Body(m = 1, r_cm = [A[2, 1], A[1, 2], v[2]], I_11 = v[1])
+end
+"#;
+    let of_arrays = by_rows.replace("[1, 2; 3, 4]", "[[1, 2], [3, 4]]").replace("[5; 6]", "[5, 6]");
+    let (a, b) = (component(by_rows, "Rows"), component(&of_arrays, "Rows"));
+    assert_eq!(a.model.components, b.model.components);
+    let body = a.model.components.iter().find(|c| c.name == "body").unwrap();
+    let r_cm = body.params.iter().find(|(n, _)| n == "r_cm").map(|(_, v)| v);
+    assert_eq!(r_cm, Some(&Value::Array(vec![3.0, 2.0, 6.0])));
+    let mut p = Package::new();
+    let message = p.add_source("rows.dyad", by_rows.replace("[1, 2; 3, 4]", "[1, 2; 3]")).unwrap_err();
+    let message = message.render(p.sources(), false);
+    assert!(message.contains("the rows of this matrix differ in length: 2 and 1"), "{message}");
+    assert!(message.contains("rows.dyad:3:"), "{message}");
+}
