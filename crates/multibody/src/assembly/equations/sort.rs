@@ -262,8 +262,8 @@ fn no_unknown(pending: &Pending, reads: &[Option<Source>], r: &Sym, origin: &str
     if !own_states.is_empty() {
         return problem(
             format!(
-                "`{}` is given by this equation, and its derivative is used too: that would need the equations \
-                 differentiated (index reduction), which is not supported",
+                "`{}` is given by this equation, and its derivative is used too, and differentiating the \
+                 equations does not decide it",
                 own_states.join("`, `")
             ),
             vec![origin.to_string()],
