@@ -206,5 +206,68 @@ fn indicators(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, compile, simulate, stiff, equations, indicators);
+/// A chain of `n` masses joined by spring-dampers, the first held by a
+/// wall: the elements written in Dyad in the library's own form
+/// (`v_rel = der(s_rel)`, by index reduction) or the library's built-in
+/// TranslationalComponents.SpringDamper.
+fn spring_damper_chain(n: usize, written: bool) -> String {
+    let element = if written {
+        "LibraryForm(c = 100, d = 0.5)"
+    } else {
+        "TranslationalComponents.SpringDamper(c = 100, d = 0.5)"
+    };
+    format!(
+        "component LibraryForm
+  parameter c::Real
+  parameter d::Real
+  flange_a = Flange()
+  flange_b = Flange()
+  variable s_rel::Length
+  variable v_rel::Velocity
+  variable f::Force
+relations
+  s_rel = flange_b.s - flange_a.s
+  v_rel = der(s_rel)
+  f = c * s_rel + d * v_rel
+  flange_b.f = f
+  flange_a.f = -f
+end
+
+example component Chain
+  structural parameter N::Integer = {n}
+  wall = TranslationalComponents.Fixed()
+  elements = [{element} for i in 1:N]
+  masses = [TranslationalComponents.Mass(m = 1, s(initial = 0.01 * i), v(initial = 0)) for i in 1:N]
+relations
+  connect(wall.flange, elements[1].flange_a)
+  for i in 1:N
+    connect(elements[i].flange_b, masses[i].flange_a)
+  end
+  for i in 1:N - 1
+    connect(masses[i].flange_b, elements[i + 1].flange_a)
+  end
+end
+"
+    )
+}
+
+/// One right-hand side of a 100-element spring-damper chain: elements
+/// written in Dyad against the built-in ones (the target: within 1.5x).
+fn written_elements(c: &mut Criterion) {
+    let mut group = c.benchmark_group("equations");
+    for (name, written) in [("rhs_chain100_written", true), ("rhs_chain100_builtin", false)] {
+        let mut package = Package::new();
+        package.add_source("chain.dyad", spring_damper_chain(100, written)).unwrap();
+        let mechanism = package.lower_component("Chain").unwrap().assemble().unwrap();
+        let mut ws = mechanism.workspace();
+        let y: Vec<f64> = mechanism.states().start.iter().enumerate().map(|(k, s)| s + 1e-3 * k as f64).collect();
+        let mut dy = vec![0.0; y.len()];
+        group.bench_function(name, |b| {
+            b.iter(|| mechanism.rhs(&mut ws, std::hint::black_box(0.1), std::hint::black_box(&y), &mut dy).unwrap())
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, compile, simulate, stiff, equations, indicators, written_elements);
 criterion_main!(benches);

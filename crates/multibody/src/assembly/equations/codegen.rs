@@ -339,7 +339,7 @@ pub(super) fn generate(
         stores_of[*v].push(slot_of(ctx, signals, extra, local));
     }
 
-    let mut blocks = Vec::with_capacity(sorted.blocks.len());
+    let mut blocks: Vec<EquationBlock> = Vec::with_capacity(sorted.blocks.len());
     let mut block_reads: Vec<Vec<usize>> = Vec::with_capacity(sorted.blocks.len());
     let mut block_writes: Vec<Vec<usize>> = Vec::with_capacity(sorted.blocks.len());
     let mut block_of_unknown = vec![usize::MAX; n];
@@ -432,6 +432,7 @@ pub(super) fn generate(
     }
 
     let positions = place(&mut blocks, &block_reads, &block_writes, &block_deps, signals, ctx, pending, sorted)?;
+    let (blocks, positions) = fuse_explicit(&mut em.ops, blocks, positions);
     let (when_conditions, when_actions, reinits) = when_clauses(&mut em, pending, reads, sorted, &reg, states)?;
 
     // The states of the equations join the state vector.
@@ -696,6 +697,51 @@ fn place(
     }
     signals.blocks = kept;
     Ok(positions)
+}
+
+/// Lays the ops out in evaluation order and fuses each run of blocks in
+/// closed form that sit at one place among the signal blocks into one
+/// block: one call per run instead of one per equation.
+fn fuse_explicit(
+    ops: &mut Vec<Op>,
+    blocks: Vec<EquationBlock>,
+    positions: Vec<usize>,
+) -> (Vec<EquationBlock>, Vec<usize>) {
+    let old = std::mem::take(ops);
+    let copy = |range: &std::ops::Range<usize>, ops: &mut Vec<Op>| {
+        let start = ops.len();
+        ops.extend_from_slice(&old[range.clone()]);
+        start..ops.len()
+    };
+    let mut fused: Vec<EquationBlock> = Vec::with_capacity(blocks.len());
+    let mut fused_positions: Vec<usize> = Vec::with_capacity(blocks.len());
+    for (block, position) in blocks.into_iter().zip(positions) {
+        let before = copy(&block.before, ops);
+        let solve = match block.solve {
+            Solve::Explicit => Solve::Explicit,
+            Solve::Newton { unknowns, residuals, jacobian, residual_ops, jacobian_ops, linear } => Solve::Newton {
+                unknowns,
+                residuals,
+                jacobian,
+                residual_ops: copy(&residual_ops, ops),
+                jacobian_ops: copy(&jacobian_ops, ops),
+                linear,
+            },
+        };
+        let after = copy(&block.after, ops);
+        let explicit = matches!(solve, Solve::Explicit);
+        if let (true, Some(last)) = (explicit, fused.last_mut()) {
+            if matches!(last.solve, Solve::Explicit) && fused_positions.last() == Some(&position) {
+                // Both run straight through: one range covers them.
+                last.before = last.before.start..after.end;
+                last.after = after.end..after.end;
+                continue;
+            }
+        }
+        fused.push(EquationBlock { before, solve, after, label: block.label });
+        fused_positions.push(position);
+    }
+    (fused, fused_positions)
 }
 
 /// The component that owns a signal slot, for messages.
