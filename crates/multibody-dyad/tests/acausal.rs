@@ -294,3 +294,22 @@ end
     let worst = time.iter().zip(v).map(|(&t, v)| (v - exact(t)).abs()).fold(0.0, f64::max);
     report("falling body with linear drag", worst, 1e-8);
 }
+
+/// A start value on a variable that index reduction computes (a spring's
+/// stretch) cannot yet move the mechanism's start: it is reported at the
+/// variable, never dropped.
+#[test]
+fn a_start_value_on_a_computed_stretch_is_reported_not_dropped() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/equations/compliant_element.dyad"),
+    )
+    .unwrap()
+    .replace(
+        "written = LinearSpringDamper(c = 40, d = 0.8)",
+        "written = LinearSpringDamper(c = 40, d = 0.8, s_rel(initial = 0.2))",
+    );
+    let message = error_of(&text);
+    println!("{message}");
+    assert!(message.contains("1 initial equation but 0 states free"), "{message}");
+    assert!(message.contains("variable s_rel::Length"), "the message points at the variable: {message}");
+}

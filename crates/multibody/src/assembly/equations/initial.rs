@@ -64,7 +64,13 @@ pub(crate) fn solve(mechanism: &mut Mechanism, init: &Initial) -> Result<(), Err
             ),
             init.origins.clone(),
             init.free_names.clone(),
-            "remove initial equations, or leave more start values free (a `guess` instead of an `initial` value)",
+            if k == 0 {
+                "the start of the mechanism comes from its joints' and masses' start values (`initial`), which \
+                 initial equations and start values of computed variables do not move yet: give the start there, \
+                 or make this value a `guess`"
+            } else {
+                "remove initial equations, or leave more start values free (a `guess` instead of an `initial` value)"
+            },
         ));
     }
     let mut ws = mechanism.workspace();

@@ -201,7 +201,9 @@ pub(super) fn reduce(pending: &mut Pending, table: &mut Table) -> Result<(), Err
             if let (Some(start), true) = (declared.start, declared.fixed) {
                 // It is computed now; its start value holds through the initialization.
                 pending.initial.push(sym::sub(sym::var(v), sym::constant(start)));
-                pending.initial_origins.push(pending.origins[differentiated[0]].clone());
+                let origin =
+                    if declared.origin.is_empty() { &pending.origins[differentiated[0]] } else { &declared.origin };
+                pending.initial_origins.push(origin.clone());
             }
         }
     }
