@@ -503,15 +503,40 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         };
         check_unique(effective.declarations.iter().map(Declaration::name))?;
 
+        // A parameter with a guess and no value (none given here either) is
+        // decided by the initialization: a variable that keeps its start.
+        let solved: Vec<VariableDecl> = effective
+            .declarations
+            .iter()
+            .filter_map(|d| match d {
+                Declaration::Parameter(p)
+                    if p.default.is_none() && !modifiers.iter().any(|m| m.name.name == p.name.name) =>
+                {
+                    let guess = p.ty.attributes.iter().find(|a| a.name.name == "guess")?.value.clone()?;
+                    Some(VariableDecl {
+                        doc: p.doc.clone(),
+                        causality: Causality::Internal,
+                        name: p.name.clone(),
+                        ty: TypeRef { attributes: Vec::new(), ..p.ty.clone() },
+                        binding: None,
+                        initial: Some(guess),
+                        span: p.span,
+                    })
+                }
+                _ => None,
+            })
+            .collect();
         let params: Vec<&ParameterDecl> = effective
             .declarations
             .iter()
             .filter_map(|d| if let Declaration::Parameter(p) = d { Some(p) } else { None })
+            .filter(|p| !solved.iter().any(|v| v.name.name == p.name.name))
             .collect();
         let variables: Vec<&VariableDecl> = effective
             .declarations
             .iter()
             .filter_map(|d| if let Declaration::Variable(v) = d { Some(v) } else { None })
+            .chain(&solved)
             .collect();
         let mut decls: Vec<(&ComponentDecl, Kind<'a>)> = Vec::new();
         for d in &effective.declarations {
@@ -767,6 +792,21 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         // signal connectors too.
         for v in &variables {
             self.variable(prefix, name, v, variable_mods.remove(&v.name.name).unwrap_or_default(), &mut scope)?;
+        }
+        for v in &solved {
+            // Constant in time, its start free: `der(k) = 0` and a guess.
+            let full = flat(prefix, &v.name.name);
+            let origin = self.origin(v.span);
+            for n in relations::scalar_names(&full, &relations::dims(&v.ty, &mut scope)?) {
+                if let Some(var) = self.model.equations.variables.iter_mut().find(|var| var.name == n) {
+                    var.fixed = false;
+                }
+                self.model.equations.equations.push(multibody::Equation {
+                    lhs: multibody::Expr::der(multibody::Expr::var(n)),
+                    rhs: multibody::Expr::Const(0.0),
+                    origin: origin.clone(),
+                });
+            }
         }
 
         let by_local: HashMap<&str, usize> = subs.iter().enumerate().map(|(k, i)| (i.local.as_str(), k)).collect();

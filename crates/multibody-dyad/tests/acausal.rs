@@ -313,3 +313,34 @@ fn a_start_value_on_a_computed_stretch_is_reported_not_dropped() {
     assert!(message.contains("1 initial equation but 0 states free"), "{message}");
     assert!(message.contains("variable s_rel::Length"), "the message points at the variable: {message}");
 }
+
+/// A parameter with a guess and no value is decided by the initialization
+/// (Modelica's `fixed = false` parameter): the spring constant that holds a
+/// pushed mass at rest at its start position, `c = F / s0`.
+#[test]
+fn a_parameter_with_only_a_guess_is_found_by_the_initialization() {
+    let solution = simulate(
+        r#"
+example component Held
+  parameter m::Real = 2
+  parameter F::Real = 3
+  parameter c::Real(guess = 1)
+  variable s::Length = initial 0.2
+  variable v::Velocity = initial 0
+relations
+  der(s) = v
+  m * der(v) = F - c * s
+  initial der(v) = 0
+end
+
+analysis HeldRun
+  extends TransientAnalysis(stop = 2, saveat = 0.1)
+  model = Held()
+end
+"#,
+    );
+    let c = solution.get("c").unwrap();
+    report("c = F / s0", (c[0] - 3.0 / 0.2).abs(), 1e-9);
+    let s = solution.get("s").unwrap();
+    report("the mass stays at rest", s.iter().map(|s| (s - 0.2).abs()).fold(0.0, f64::max), 1e-9);
+}
