@@ -213,3 +213,33 @@ fn a_prescribed_position_fed_by_the_motion_is_refused() {
     assert!(matches!(err, Error::Unsupported { .. }), "{text}");
     assert!(text.contains("prescribed") && text.contains("r_x") && text.contains("sources of time"), "{text}");
 }
+
+/// A motion sensor in the model does not make a source of time look like
+/// feedback: signal slots are numbered in the order of the parts, and the
+/// check once compared a slot with the count of blocks of time. The sensor
+/// comes first here so that its slot is 0 and the source's 1.
+#[test]
+fn a_position_source_beside_a_motion_sensor_is_accepted() {
+    let mut model = Model::new("driven_and_measured");
+    model.add("world", "World");
+    model.add("sensor", "RotationalComponents.AngleSensor");
+    model.add("rev", "Revolute");
+    model.add("body", "Body").set("m", 2.0).set("r_cm", [0.5, 0.0, 0.0]);
+    model.add("drive", "RotationalComponents.Position").set("exact", true);
+    sine(&mut model, "reference", 0.8, 3.0, 0.2, 0.1);
+    model.connect(["world.frame_b", "rev.frame_a"]);
+    model.connect(["rev.frame_b", "body.frame_a"]);
+    model.connect(["drive.spline", "rev.axis"]);
+    model.connect(["drive.support", "rev.support"]);
+    model.connect(["sensor.spline", "rev.axis"]);
+    model.connect(["reference.y", "drive.phi_ref"]);
+    let mechanism = model.assemble().unwrap();
+    assert_eq!(mechanism.degrees_of_freedom(), 0);
+    let solution = mechanism.simulate(&options(1.0)).unwrap();
+    let (time, phi) = (solution.time(), solution.get("sensor.phi").unwrap());
+    let mut worst = 0.0f64;
+    for k in 0..time.len() {
+        worst = worst.max((phi[k] - (0.1 + 0.8 * (3.0 * time[k] + 0.2).sin())).abs());
+    }
+    assert!(worst < EXACT, "worst error {worst:e}");
+}

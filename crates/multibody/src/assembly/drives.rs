@@ -89,7 +89,7 @@ pub fn attach(
                 DriveMap::Pose => 7,
             };
             if level.needs_derivatives() {
-                if let Some(k) = (0..used).find(|&k| slots[k] != zero && slots[k] >= signals.time_signals) {
+                if let Some(k) = (0..used).find(|&k| !signals.of_time[slots[k]]) {
                     let name = locals[k].map_or_else(String::new, |l| format!(" `{}`", conn.name(components, id(l))));
                     return Err(fail(
                         format!("a prescribed position or speed whose input{name} depends on the motion"),
