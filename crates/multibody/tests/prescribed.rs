@@ -243,3 +243,44 @@ fn a_position_source_beside_a_motion_sensor_is_accepted() {
     }
     assert!(worst < EXACT, "worst error {worst:e}");
 }
+
+/// The inexact source's filter integrates the angle and speed it imposes,
+/// so they are states and take start values on the source itself. From
+/// `phi(0) = 0.1`, `w(0) = 1.5` towards a constant reference h the error
+/// `e = phi - h` of the filter `e'' + 2 zeta w0 e' + w0^2 e = 0`
+/// (`w0 = w_c / sqrt(bf)`, `zeta = af / (2 sqrt(bf))`) is
+/// `exp(-zeta w0 t) (A cos(wd t) + B sin(wd t))`, `A = e(0)`,
+/// `B = (e'(0) + zeta w0 A) / wd`.
+#[test]
+fn an_inexact_position_source_takes_start_values_of_its_filter() {
+    let (f_crit, h, phi0, w0_start) = (2.0, 0.5, 0.1, 1.5);
+    let mut model = Model::new("filtered_start");
+    model.add("world", "World");
+    model.add("rev", "Revolute").set("n", [0.0, 1.0, 0.0]);
+    model.add("body", "Body").set("m", 1.0).set("r_cm", [0.3, 0.0, 0.0]);
+    model.add("drive", "RotationalComponents.Position").set("f_crit", f_crit).initial("phi", phi0).initial("w", w0_start);
+    constant(&mut model, "reference", h);
+    model.connect(["world.frame_b", "rev.frame_a"]);
+    model.connect(["rev.frame_b", "body.frame_a"]);
+    model.connect(["drive.spline", "rev.axis"]);
+    model.connect(["drive.support", "rev.support"]);
+    model.connect(["reference.y", "drive.phi_ref"]);
+    let solution = model.assemble().unwrap().simulate(&options(1.0)).unwrap();
+    let (af, bf) = (1.3617f64, 0.6180f64);
+    let w0 = 2.0 * PI * f_crit / bf.sqrt();
+    let zeta = af / (2.0 * bf.sqrt());
+    let wd = w0 * (1.0 - zeta * zeta).sqrt();
+    let a = phi0 - h;
+    let b = (w0_start + zeta * w0 * a) / wd;
+    let (time, phi, w) = (solution.time(), solution.get("rev.phi").unwrap(), solution.get("drive.w").unwrap());
+    let mut worst = 0.0f64;
+    for k in 0..time.len() {
+        let t = time[k];
+        let decay = (-zeta * w0 * t).exp();
+        let e = decay * (a * (wd * t).cos() + b * (wd * t).sin());
+        let de = -zeta * w0 * e + decay * wd * (-a * (wd * t).sin() + b * (wd * t).cos());
+        worst = worst.max((phi[k] - (h + e)).abs()).max((w[k] - de).abs() / w0);
+    }
+    assert!((phi[0] - phi0).abs() < 1e-12 && (w[0] - w0_start).abs() < 1e-12, "start {} {}", phi[0], w[0]);
+    assert!(worst < 1e-8, "worst error {worst:e}");
+}
