@@ -215,7 +215,8 @@ fn a_pulse_is_one_pulse_and_its_integral_is_its_area() {
 /// without them is refused, naming the missing one.
 #[test]
 fn a_pulse_needs_its_amplitude_and_duty_cycle() {
-    for (given, missing) in [("duty_cycle = 0.5, period = 1", "amplitude"), ("amplitude = 1, period = 1", "duty_cycle")] {
+    for (given, missing) in [("duty_cycle = 0.5, period = 1", "amplitude"), ("amplitude = 1, period = 1", "duty_cycle")]
+    {
         let text = format!(
             "example component Test\n  pulse = BlockComponents.Pulse({given})\n  area = BlockComponents.Integrator()\nrelations\n  connect(pulse.y, area.u)\nend\n"
         );

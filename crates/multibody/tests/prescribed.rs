@@ -258,7 +258,11 @@ fn an_inexact_position_source_takes_start_values_of_its_filter() {
     model.add("world", "World");
     model.add("rev", "Revolute").set("n", [0.0, 1.0, 0.0]);
     model.add("body", "Body").set("m", 1.0).set("r_cm", [0.3, 0.0, 0.0]);
-    model.add("drive", "RotationalComponents.Position").set("f_crit", f_crit).initial("phi", phi0).initial("w", w0_start);
+    model
+        .add("drive", "RotationalComponents.Position")
+        .set("f_crit", f_crit)
+        .initial("phi", phi0)
+        .initial("w", w0_start);
     constant(&mut model, "reference", h);
     model.connect(["world.frame_b", "rev.frame_a"]);
     model.connect(["rev.frame_b", "body.frame_a"]);
