@@ -229,3 +229,25 @@ fn a_pulse_needs_its_amplitude_and_duty_cycle() {
         assert!(message.contains(missing), "{message}");
     }
 }
+
+/// A Position source set by a formula of `time` beside an angle sensor on
+/// the same axis: the formula is a source of time (not feedback through
+/// the sensor), and the axis follows it, `phi = 0.5 t`, `w = 0.5`.
+#[test]
+fn a_position_source_set_from_time_beside_a_sensor_follows_time() {
+    let s = run(
+        "  world = World()
+  rev = Revolute(n = [0, 0, 1])
+  body = Body(m = 1, r_cm = [0.5, 0, 0])
+  drive = RotationalComponents.Position(exact = true)
+  sensor = RotationalComponents.AngleSensor()",
+        "  drive.phi_ref = 0.5 * time
+  connect(world.frame_b, rev.frame_a)
+  connect(rev.frame_b, body.frame_a)
+  connect(drive.spline, rev.axis, sensor.spline)
+  connect(drive.support, rev.support)",
+        1.0,
+    );
+    check(&s, "sensor.phi", 1e-12, |t| 0.5 * t);
+    check(&s, "rev.w", 1e-12, |_| 0.5);
+}

@@ -36,13 +36,14 @@ pub static SPEC: ComponentSpec = ComponentSpec {
             "r_0_3d",
             &[0.0, 0.0, 0.0],
             "m",
-            "Where the plane is shown in 3-D (drawing only: planar coordinates stay those of the planar world)",
+            "Where the plane sits in 3-D, for drawing it; the planar motion does not depend on it (the animation \
+             here still draws the plane as the world's x-y plane)",
         ),
         ParamSpec::vector(
             "rot_3d",
             &[0.0, 0.0, 0.0],
             "rad",
-            "How the plane is turned when shown in 3-D (drawing only, like r_0_3d)",
+            "How the plane is turned in 3-D, for drawing it, like r_0_3d (not applied to the animation here yet)",
         ),
     ],
     connectors: &[ConnectorSpec::frame_2d("frame_b", "The world frame: x = y = phi = 0")],
