@@ -310,12 +310,12 @@ fn ptp_axes_share_one_profile_and_end_together() {
         }
         // Both at their ends from 3 s after the start on, and not before.
         let end = start + 3.0;
-        for i in 0..2 {
+        for (i, target) in q1.iter().enumerate() {
             let q = solution.get(&format!("ptp.q[{}]", i + 1)).unwrap();
             let qd = solution.get(&format!("ptp.qd[{}]", i + 1)).unwrap();
             for (k, t) in solution.time().iter().enumerate() {
                 if *t >= end {
-                    assert!((q[k] - q1[i]).abs() < 1e-12 && qd[k] == 0.0, "{kind}: axis {} at {t}", i + 1);
+                    assert!((q[k] - target).abs() < 1e-12 && qd[k] == 0.0, "{kind}: axis {} at {t}", i + 1);
                 } else if *t > start {
                     assert!(qd[k] != 0.0, "{kind}: axis {} rests at {t}", i + 1);
                 }

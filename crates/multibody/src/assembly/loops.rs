@@ -279,7 +279,8 @@ fn branch_flips(
         let w = across(r_b + rot_b.tr_mul(&b.rod2) - r_a);
         let k1 = e.dot(&w) / e.norm_squared();
         let disc = k1 * k1 - (w.norm_squared() - b.length * b.length) / e.norm_squared();
-        if !(disc > 0.0) {
+        // No closure (or the two meet): nothing to choose.
+        if disc.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             continue;
         }
         let l = &mechanism.system.links[link];
