@@ -28,7 +28,7 @@ pub fn read_package(paths: &[PathBuf]) -> Result<Package, Failure> {
     for file in &files {
         let bytes = read_model_file(file)?;
         // Bytes that are not UTF-8 text are reported at their place, like syntax errors.
-        if let Err(d) = package.add_source_bytes(file.display().to_string(), bytes) {
+        if let Err(d) = package.add_source_bytes(named_folder(file).display().to_string(), bytes) {
             errors.push(d);
         }
     }
@@ -37,6 +37,19 @@ pub fn read_package(paths: &[PathBuf]) -> Result<Package, Failure> {
         return Err(Failure::Model);
     }
     Ok(package)
+}
+
+/// The path under which a file is added to the package: as typed, unless
+/// it does not name the folder the file is in (`X.dyad`, `./X.dyad`,
+/// `../X.dyad`, which `run .` gives too), then the full path. The folder's
+/// name decides the library package (a file in `PlanarMechanics/` reads
+/// short names as planar components), so it must be visible.
+fn named_folder(file: &Path) -> PathBuf {
+    let named = file.parent().and_then(Path::file_name).is_some();
+    if named {
+        return file.to_path_buf();
+    }
+    std::fs::canonicalize(file).unwrap_or_else(|_| file.to_path_buf())
 }
 
 /// How long a FIFO (a named pipe, `/dev/stdin` from a pipe, `<(...)`) may

@@ -405,3 +405,39 @@ fn a_sweep_runs_the_grid_into_one_table() {
     assert_eq!(code(&o), 2);
     assert!(stderr(&o).contains("non-zero step"), "{}", stderr(&o));
 }
+
+/// A file in a folder named `PlanarMechanics` reads short names as planar
+/// components, also when it is named from inside that folder (`run
+/// fall.dyad`, `run .`): a planar Body, free, falls as
+/// `y = 2 + 3 t - g t^2 / 2` and drifts as `x = 1 + 0.5 t`.
+#[test]
+fn a_file_run_from_inside_its_planar_mechanics_folder_reads_planar_names() {
+    let dir = scratch("planar-folder").join("PlanarMechanics");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("fall.dyad"),
+        "component Fall
+  world = World()
+  body = Body(m = 2, I = 1, r(initial = [1, 2]), v(initial = [0.5, 3]))
+end
+
+analysis FallSimulation
+  extends TransientAnalysis(stop = 1, saveat = 0.1)
+  model = Fall()
+end
+",
+    )
+    .unwrap();
+    for path in ["fall.dyad", ".", "./fall.dyad"] {
+        let o = multibody(&dir, &["run", path]);
+        assert_eq!(code(&o), 0, "run {path}: {}", stderr(&o));
+        let table = Table::load(&dir.join("FallSimulation.csv"));
+        let (x, y) = (table.column("body.r[1]"), table.column("body.r[2]"));
+        let g = 9.80665;
+        for (k, t) in table.time.iter().enumerate() {
+            let (ex, ey) = (1.0 + 0.5 * t, 2.0 + 3.0 * t - g * t * t / 2.0);
+            assert!((x[k] - ex).abs() < 1e-6 && (y[k] - ey).abs() < 1e-6, "run {path}: at {t} ({}, {})", x[k], y[k]);
+        }
+        std::fs::remove_file(dir.join("FallSimulation.csv")).unwrap();
+    }
+}

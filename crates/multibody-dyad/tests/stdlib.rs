@@ -188,3 +188,66 @@ fn relative_sensors_read_the_difference_of_two_flanges() {
     check(&s, "angle.phi_rel", 1e-7, |t| t * t);
     check(&s, "speed.w_rel", 1e-7, |t| 2.0 * t);
 }
+
+/// BlockComponents.Pulse is the library's single pulse: `amplitude` while
+/// `start_time < t <= start_time + duty_cycle * period`, `offset` before
+/// and after, once (not a train). Its integral is then
+/// `offset t + (amplitude - offset) * overlap(t)`, the pulse's part of
+/// `[0, t]`: 0.75 * 0.5 = 0.375 after a pulse of width 0.375 from 0.5 s.
+#[test]
+fn a_pulse_is_one_pulse_and_its_integral_is_its_area() {
+    let s = run(
+        "  pulse = BlockComponents.Pulse(amplitude = 2, duty_cycle = 0.25, period = 1.5, offset = -0.5, start_time = 0.5)
+  area = BlockComponents.Integrator()",
+        "  connect(pulse.y, area.u)",
+        4.0,
+    );
+    let (from, to) = (0.5, 0.5 + 0.25 * 1.5);
+    check(&s, "pulse.y", 0.0, |t| if t > from && t <= to { 2.0 } else { -0.5 });
+    let overlap = |t: f64| (t.min(to) - from).max(0.0);
+    check(&s, "area.y", 1e-9, |t| -0.5 * t + 2.5 * overlap(t));
+    // Not periodic: a period later it stays at the offset.
+    let y = s.get("pulse.y").unwrap();
+    assert!(s.time().iter().zip(y).filter(|(t, _)| **t > to).all(|(_, y)| *y == -0.5));
+}
+
+/// The library's Pulse has no default amplitude or duty cycle: a pulse
+/// without them is refused, naming the missing one.
+#[test]
+fn a_pulse_needs_its_amplitude_and_duty_cycle() {
+    for (given, missing) in [("duty_cycle = 0.5, period = 1", "amplitude"), ("amplitude = 1, period = 1", "duty_cycle")]
+    {
+        let text = format!(
+            "example component Test\n  pulse = BlockComponents.Pulse({given})\n  area = BlockComponents.Integrator()\nrelations\n  connect(pulse.y, area.u)\nend\n"
+        );
+        let mut package = Package::new();
+        package.add_source("test.dyad", text).unwrap();
+        let message = match package.lower_component("Test").and_then(|l| l.assemble()) {
+            Ok(_) => panic!("a Pulse({given}) was accepted"),
+            Err(d) => d.render(package.sources(), false),
+        };
+        assert!(message.contains(missing), "{message}");
+    }
+}
+
+/// A Position source set by a formula of `time` beside an angle sensor on
+/// the same axis: the formula is a source of time (not feedback through
+/// the sensor), and the axis follows it, `phi = 0.5 t`, `w = 0.5`.
+#[test]
+fn a_position_source_set_from_time_beside_a_sensor_follows_time() {
+    let s = run(
+        "  world = World()
+  rev = Revolute(n = [0, 0, 1])
+  body = Body(m = 1, r_cm = [0.5, 0, 0])
+  drive = RotationalComponents.Position(exact = true)
+  sensor = RotationalComponents.AngleSensor()",
+        "  drive.phi_ref = 0.5 * time
+  connect(world.frame_b, rev.frame_a)
+  connect(rev.frame_b, body.frame_a)
+  connect(drive.spline, rev.axis, sensor.spline)
+  connect(drive.support, rev.support)",
+        1.0,
+    );
+    check(&s, "sensor.phi", 1e-12, |t| 0.5 * t);
+    check(&s, "rev.w", 1e-12, |_| 0.5);
+}

@@ -278,3 +278,39 @@ fn a_body_on_the_universal_spherical_rod_frame_moves_as_on_elementary_joints() {
     let with = us.assemble().unwrap().simulate(&options()).unwrap();
     assert!(difference(&with, &without, "j1.phi") > 1e-3, "the rod's body made no difference");
 }
+
+/// JointRRP starts on the branch `positive_branch` names, as the library's
+/// closed form `d = -k1 +- sqrt(k1^2 - |w|^2 + L^2)` (Modelica's
+/// PrismaticWithLengthConstraint). The slider-crank above: the crank pin
+/// at A = 0.5 (-sin phi, cos phi), the slider along x through B = (1, 0),
+/// rod 1 of length L = sqrt(1.25). The slider is at
+/// `x = A_x + sqrt(L^2 - A_y^2)` on the positive branch and at
+/// `A_x - sqrt(L^2 - A_y^2)` on the other, at the start (1 and -1) and at
+/// every sample after.
+#[test]
+fn joint_rrp_starts_on_the_branch_it_is_given() {
+    for positive in [true, false] {
+        let mut m = planar_four_bar("rrp_branch");
+        m.add("slider_mass", "Body").set("m", 2.0);
+        m.add("a", "JointRRP")
+            .set("n_b", [1.0, 0.0, 0.0])
+            .set("rRod2_ib", [0.0, 0.0, 0.0])
+            .set("rRod1_ia", [1.0, -0.5, 0.0])
+            .set("positive_branch", positive);
+        m.connect(["crank_rod.frame_b", "a.frame_a"]);
+        m.connect(["ground.frame_b", "a.frame_b"]);
+        m.connect(["a.frame_ib", "slider_mass.frame_a"]);
+        let options = SimulationOptions { stop: 1.0, ..options() };
+        let s = m.assemble().unwrap().simulate(&options).unwrap();
+        let (phi, x) = (s.get("crank.phi").unwrap(), s.get("slider_mass.frame_a.r_0[1]").unwrap());
+        let sign = if positive { 1.0 } else { -1.0 };
+        let mut worst = 0.0f64;
+        for k in 0..phi.len() {
+            let (ax, ay) = (-0.5 * phi[k].sin(), 0.5 * phi[k].cos());
+            worst = worst.max((x[k] - (ax + sign * (1.25 - ay * ay).sqrt())).abs());
+        }
+        eprintln!("JointRRP positive_branch = {positive}: slider starts at {:.12}, worst error {worst:.1e}", x[0]);
+        assert!((x[0] - sign).abs() < 1e-9, "positive_branch = {positive}: the slider starts at {}", x[0]);
+        assert!(worst < 1e-7, "positive_branch = {positive}: the slider is off its closed form by {worst:e}");
+    }
+}

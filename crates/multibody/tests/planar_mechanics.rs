@@ -520,3 +520,52 @@ fn a_slip_based_wheel_driving_in_circles_meets_multibody_jl() {
     eprintln!("slip-based wheel: worst relative difference {worst:.1e} (tolerance 1e-2)");
     assert!(worst < 1e-2, "the slip-based wheel differs from Multibody.jl by {worst:e}");
 }
+
+/// The planar World's `r_0_3d` and `rot_3d` place the plane for showing it
+/// in 3-D; the library keeps frame_b at x = y = phi = 0 and the planar
+/// motion is unchanged: a free body falls as `y = y0 + v0 t - g t^2 / 2`.
+#[test]
+fn a_planar_world_placed_in_3d_is_accepted_and_keeps_the_planar_motion() {
+    let mut m = Model::new("placed_plane");
+    m.add("world", "PlanarMechanics.World").set("r_0_3d", [1.0, 2.0, 3.0]).set("rot_3d", [0.3, -0.2, 0.1]);
+    m.add("body", "PlanarMechanics.Body").set("m", 2.0).set("I", 1.0).initial("r", [1.0, 2.0]).initial("v", [0.5, 3.0]);
+    let s = run(&m, 1.0);
+    let g = 9.80665;
+    let mut worst = 0.0f64;
+    for (k, t) in s.time().iter().enumerate() {
+        let expect = [1.0 + 0.5 * t, 2.0 + 3.0 * t - g * t * t / 2.0];
+        let got = [s.get("body.r[1]").unwrap()[k], s.get("body.r[2]").unwrap()[k]];
+        worst = (0..2).fold(worst, |m, i| m.max((got[i] - expect[i]).abs()));
+    }
+    assert!(worst < 1e-9, "free fall in a placed plane differs by {worst:e}");
+}
+
+/// A planar Prismatic with `axisflange`: a translational spring between
+/// its support and flange_a holds a 1 kg body sliding along x, which then
+/// oscillates as `s0 cos(sqrt(c / m) t)`, and the joint's force is the
+/// spring's.
+#[test]
+fn a_planar_prismatic_driven_through_its_axis_flange_oscillates_at_sqrt_c_over_m() {
+    let (c, mass, x0) = (4.0, 1.0, 0.5);
+    let mut m = Model::new("flange_spring");
+    m.add("world", "PlanarMechanics.World");
+    m.add("slide", "PlanarMechanics.Prismatic")
+        .set("r", [1.0, 0.0])
+        .set("axisflange", true)
+        .initial("s", x0)
+        .initial("v", 0.0);
+    m.add("body", "PlanarMechanics.Body").set("m", mass).set("I", 0.1);
+    m.add("spring", "TranslationalComponents.Spring").set("c", c).set("s_rel0", 0.0);
+    m.connect(["world.frame_b", "slide.frame_a"]);
+    m.connect(["slide.frame_b", "body.frame_a"]);
+    m.connect(["spring.flange_a", "slide.support"]);
+    m.connect(["spring.flange_b", "slide.flange_a"]);
+    let s = run(&m, 3.0);
+    let omega = (c / mass).sqrt();
+    let worst = s
+        .time()
+        .iter()
+        .zip(s.get("slide.s").unwrap())
+        .fold(0.0f64, |w, (t, x)| w.max((x - x0 * (omega * t).cos()).abs()));
+    assert!(worst < 1e-9, "the spring on the flange differs from x0 cos(sqrt(c/m) t) by {worst:e}");
+}

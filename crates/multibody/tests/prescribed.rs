@@ -213,3 +213,78 @@ fn a_prescribed_position_fed_by_the_motion_is_refused() {
     assert!(matches!(err, Error::Unsupported { .. }), "{text}");
     assert!(text.contains("prescribed") && text.contains("r_x") && text.contains("sources of time"), "{text}");
 }
+
+/// A motion sensor in the model does not make a source of time look like
+/// feedback: signal slots are numbered in the order of the parts, and the
+/// check once compared a slot with the count of blocks of time. The sensor
+/// comes first here so that its slot is 0 and the source's 1.
+#[test]
+fn a_position_source_beside_a_motion_sensor_is_accepted() {
+    let mut model = Model::new("driven_and_measured");
+    model.add("world", "World");
+    model.add("sensor", "RotationalComponents.AngleSensor");
+    model.add("rev", "Revolute");
+    model.add("body", "Body").set("m", 2.0).set("r_cm", [0.5, 0.0, 0.0]);
+    model.add("drive", "RotationalComponents.Position").set("exact", true);
+    sine(&mut model, "reference", 0.8, 3.0, 0.2, 0.1);
+    model.connect(["world.frame_b", "rev.frame_a"]);
+    model.connect(["rev.frame_b", "body.frame_a"]);
+    model.connect(["drive.spline", "rev.axis"]);
+    model.connect(["drive.support", "rev.support"]);
+    model.connect(["sensor.spline", "rev.axis"]);
+    model.connect(["reference.y", "drive.phi_ref"]);
+    let mechanism = model.assemble().unwrap();
+    assert_eq!(mechanism.degrees_of_freedom(), 0);
+    let solution = mechanism.simulate(&options(1.0)).unwrap();
+    let (time, phi) = (solution.time(), solution.get("sensor.phi").unwrap());
+    let mut worst = 0.0f64;
+    for k in 0..time.len() {
+        worst = worst.max((phi[k] - (0.1 + 0.8 * (3.0 * time[k] + 0.2).sin())).abs());
+    }
+    assert!(worst < EXACT, "worst error {worst:e}");
+}
+
+/// The inexact source's filter integrates the angle and speed it imposes,
+/// so they are states and take start values on the source itself. From
+/// `phi(0) = 0.1`, `w(0) = 1.5` towards a constant reference h the error
+/// `e = phi - h` of the filter `e'' + 2 zeta w0 e' + w0^2 e = 0`
+/// (`w0 = w_c / sqrt(bf)`, `zeta = af / (2 sqrt(bf))`) is
+/// `exp(-zeta w0 t) (A cos(wd t) + B sin(wd t))`, `A = e(0)`,
+/// `B = (e'(0) + zeta w0 A) / wd`.
+#[test]
+fn an_inexact_position_source_takes_start_values_of_its_filter() {
+    let (f_crit, h, phi0, w0_start) = (2.0, 0.5, 0.1, 1.5);
+    let mut model = Model::new("filtered_start");
+    model.add("world", "World");
+    model.add("rev", "Revolute").set("n", [0.0, 1.0, 0.0]);
+    model.add("body", "Body").set("m", 1.0).set("r_cm", [0.3, 0.0, 0.0]);
+    model
+        .add("drive", "RotationalComponents.Position")
+        .set("f_crit", f_crit)
+        .initial("phi", phi0)
+        .initial("w", w0_start);
+    constant(&mut model, "reference", h);
+    model.connect(["world.frame_b", "rev.frame_a"]);
+    model.connect(["rev.frame_b", "body.frame_a"]);
+    model.connect(["drive.spline", "rev.axis"]);
+    model.connect(["drive.support", "rev.support"]);
+    model.connect(["reference.y", "drive.phi_ref"]);
+    let solution = model.assemble().unwrap().simulate(&options(1.0)).unwrap();
+    let (af, bf) = (1.3617f64, 0.6180f64);
+    let w0 = 2.0 * PI * f_crit / bf.sqrt();
+    let zeta = af / (2.0 * bf.sqrt());
+    let wd = w0 * (1.0 - zeta * zeta).sqrt();
+    let a = phi0 - h;
+    let b = (w0_start + zeta * w0 * a) / wd;
+    let (time, phi, w) = (solution.time(), solution.get("rev.phi").unwrap(), solution.get("drive.w").unwrap());
+    let mut worst = 0.0f64;
+    for k in 0..time.len() {
+        let t = time[k];
+        let decay = (-zeta * w0 * t).exp();
+        let e = decay * (a * (wd * t).cos() + b * (wd * t).sin());
+        let de = -zeta * w0 * e + decay * wd * (-a * (wd * t).sin() + b * (wd * t).cos());
+        worst = worst.max((phi[k] - (h + e)).abs()).max((w[k] - de).abs() / w0);
+    }
+    assert!((phi[0] - phi0).abs() < 1e-12 && (w[0] - w0_start).abs() < 1e-12, "start {} {}", phi[0], w[0]);
+    assert!(worst < 1e-8, "worst error {worst:e}");
+}

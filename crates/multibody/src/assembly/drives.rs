@@ -5,8 +5,8 @@ use super::connections::Connectors;
 use super::links::Tree;
 use super::mechanism::{CompiledComponent, JointRef};
 use super::signals::Signals;
-use crate::components::Part;
-use crate::system::{Drive, DriveMap};
+use crate::components::{Part, StateNames};
+use crate::system::{Drive, DriveLevel, DriveMap, FlangeRef};
 use crate::Error;
 
 /// Start positions and speeds a drive gives its link's first coordinates.
@@ -17,17 +17,43 @@ pub struct DriveStart {
     pub u: [f64; 3],
 }
 
+/// A motion source's own position and speed (its flange relative to its
+/// support) at the coordinate it drives, with the names the source gives
+/// them, for the start values set on the source: the coordinates a drive
+/// integrates (through a filter, from a speed or an acceleration) are
+/// states, and `source.w(initial = ...)` starts them.
+pub type SourceStates = Vec<(usize, FlangeRef, StateNames)>;
+
+/// The states a motion source of `level` integrates, by the names of its
+/// variables (`phi`, `w` or `s`, `v`): none where it sets both exactly.
+fn integrated(level: DriveLevel, position: &str) -> Option<StateNames> {
+    const ANGLE: &[(&str, usize)] = &[("phi", 1)];
+    const SPEED: &[(&str, usize)] = &[("w", 1)];
+    const DISTANCE: &[(&str, usize)] = &[("s", 1)];
+    const VELOCITY: &[(&str, usize)] = &[("v", 1)];
+    let (q, u) = if position == "phi" { (ANGLE, SPEED) } else { (DISTANCE, VELOCITY) };
+    match level {
+        DriveLevel::Position => None,
+        DriveLevel::Speed => Some(StateNames { q, u: &[] }),
+        DriveLevel::Acceleration | DriveLevel::PositionFilter { .. } | DriveLevel::SpeedFilter { .. } => {
+            Some(StateNames { q, u })
+        }
+    }
+}
+
 /// The drives of every component, with the driven coordinates marked on
-/// their links, and the start values they give.
+/// their links, the start values they give, and the states of the motion
+/// sources.
 pub fn attach(
     components: &[CompiledComponent],
     conn: &Connectors,
     tree: &mut Tree,
     places: &Places,
     signals: &Signals,
-) -> Result<(Vec<Drive>, Vec<DriveStart>), Error> {
+) -> Result<(Vec<Drive>, Vec<DriveStart>, SourceStates), Error> {
     let mut drives = Vec::new();
     let mut starts = Vec::new();
+    let mut source_states = Vec::new();
     let zero = signals.blocks.len();
     for (ci, c) in components.iter().enumerate() {
         let id = |local: usize| Connectors::id(components, ci, local);
@@ -77,6 +103,9 @@ pub fn attach(
                         ));
                     };
                     let map = DriveMap::Linear { first: 0, count: 1, scale: on.scale, offset: on.offset - base.offset };
+                    if let Some(names) = c.spec.variables.first().and_then(|v| integrated(level, v.name)) {
+                        source_states.push((ci, on.affine(1.0, -base.offset), names));
+                    }
                     let mut locals = [None; 7];
                     locals[0] = Some(input);
                     (link, level, map, locals)
@@ -89,7 +118,7 @@ pub fn attach(
                 DriveMap::Pose => 7,
             };
             if level.needs_derivatives() {
-                if let Some(k) = (0..used).find(|&k| slots[k] != zero && slots[k] >= signals.time_signals) {
+                if let Some(k) = (0..used).find(|&k| !signals.of_time[slots[k]]) {
                     let name = locals[k].map_or_else(String::new, |l| format!(" `{}`", conn.name(components, id(l))));
                     return Err(fail(
                         format!("a prescribed position or speed whose input{name} depends on the motion"),
@@ -113,7 +142,7 @@ pub fn attach(
             drives.push(Drive { link, level, map, slots, component: ci });
         }
     }
-    Ok((drives, starts))
+    Ok((drives, starts, source_states))
 }
 
 /// Sets the start values the drives give, where the model gives none.

@@ -133,31 +133,24 @@ pub fn close(mechanism: &mut Mechanism) -> Result<(), Error> {
         what: format!("a start state where {}", mechanism.describe(&e)),
         fix: String::new(),
     };
-    let mut best = f64::INFINITY;
-    let (mut previous, mut stalled, mut bends) = (f64::INFINITY, 0, 0);
-    for _ in 0..NEWTON_ITERATIONS {
-        mechanism.system.constraint_state(&mut ws, &y).map_err(as_error)?;
-        let size = ws.residual.iter().fold(0.0f64, |a, r| a.max(r.abs()));
-        best = best.min(size);
-        if size <= CLOSED * 1e-2 {
-            break;
-        }
-        stalled = if size > 0.99 * previous { stalled + 1 } else { 0 };
-        previous = size;
-        if stalled >= STALLED && bends < BENDS {
-            // A stretched-out start (a straight cable between two mounts closer
-            // than its length) is a singular point: no first-order motion
-            // shortens it. Bend every free joint a little and start again.
-            bends += 1;
-            for (du, &is_free) in ws.du.iter_mut().zip(&free[..nv]) {
-                *du = if is_free { BEND * bends as f64 } else { 0.0 };
+    let mut free = free;
+    let mut best = newton(mechanism, &mut ws, &mut y, &free).map_err(as_error)?;
+    // Loop assemblies start on the branch they are given: where the
+    // closure found is the other one, their slider is put at the other
+    // root and held there while the rest of the loop closes again.
+    let flips = branch_flips(mechanism, &mut ws, &y).map_err(as_error)?;
+    if !flips.is_empty() {
+        let held: Vec<(usize, bool)> = flips.iter().filter(|f| f.3).map(|&(_, v, _, _)| (v, free[v])).collect();
+        for &(q, v, value, hold) in &flips {
+            y[q] = value;
+            if hold {
+                free[v] = false;
             }
-            mechanism.system.retract(&mut y, &mut ws);
-            (previous, stalled) = (f64::INFINITY, 0);
-            continue;
         }
-        mechanism.system.least_norm_step(&mut ws, Some(&free[..nv]), true);
-        mechanism.system.retract(&mut y, &mut ws);
+        best = newton(mechanism, &mut ws, &mut y, &free).map_err(as_error)?;
+        for (v, was) in held {
+            free[v] = was;
+        }
     }
     mechanism.system.constraint_state(&mut ws, &y).map_err(as_error)?;
     let (worst, size) =
@@ -210,6 +203,104 @@ pub fn close(mechanism: &mut Mechanism) -> Result<(), Error> {
     mechanism.loops = loop_reports(mechanism, &mut ws);
     mechanism.system.dof = mechanism.system.free_degrees_of_freedom(&mut ws);
     Ok(())
+}
+
+/// Newton's iterations on the positions of the loops, moving the `free`
+/// coordinates; the smallest residual met.
+fn newton(
+    mechanism: &Mechanism,
+    ws: &mut Workspace,
+    y: &mut [f64],
+    free: &[bool],
+) -> Result<f64, crate::DynamicsError> {
+    let nv = mechanism.system.states.nv;
+    let mut best = f64::INFINITY;
+    let (mut previous, mut stalled, mut bends) = (f64::INFINITY, 0, 0);
+    for _ in 0..NEWTON_ITERATIONS {
+        mechanism.system.constraint_state(ws, y)?;
+        let size = ws.residual.iter().fold(0.0f64, |a, r| a.max(r.abs()));
+        best = best.min(size);
+        if size <= CLOSED * 1e-2 {
+            break;
+        }
+        stalled = if size > 0.99 * previous { stalled + 1 } else { 0 };
+        previous = size;
+        if stalled >= STALLED && bends < BENDS {
+            // A stretched-out start (a straight cable between two mounts closer
+            // than its length) is a singular point: no first-order motion
+            // shortens it. Bend every free joint a little and start again.
+            bends += 1;
+            for (du, &is_free) in ws.du.iter_mut().zip(&free[..nv]) {
+                *du = if is_free { BEND * bends as f64 } else { 0.0 };
+            }
+            mechanism.system.retract(y, ws);
+            (previous, stalled) = (f64::INFINITY, 0);
+            continue;
+        }
+        mechanism.system.least_norm_step(ws, Some(&free[..nv]), true);
+        mechanism.system.retract(y, ws);
+    }
+    Ok(best)
+}
+
+/// For each loop assembly on the other branch than it is given (see
+/// [`crate::components::PrismaticBranch`]) at the closed positions `y`:
+/// its slider's position coordinate, velocity coordinate, the value that
+/// puts it on its branch and `true` (hold it there), and the same for the
+/// revolute that turns its rod to meet the slider (`false`: the loop may
+/// move it). An assembly whose slider closes the loop (a cut joint) keeps
+/// the start configuration's branch.
+fn branch_flips(
+    mechanism: &Mechanism,
+    ws: &mut Workspace,
+    y: &[f64],
+) -> Result<Vec<(usize, usize, f64, bool)>, crate::DynamicsError> {
+    let mut flips = Vec::new();
+    if mechanism.components.iter().all(|c| c.component.prismatic_branch().is_none()) {
+        return Ok(flips);
+    }
+    mechanism.system.constraint_state(ws, y)?;
+    for c in &mechanism.components {
+        let Some(b) = c.component.prismatic_branch() else { continue };
+        let Some(&JointRef::Link(link)) = c.joints.get(b.joint) else { continue };
+        let pose = |local: usize| {
+            let id = c.first_connector + local;
+            let node = mechanism.nodes.iter().find(|n| n.connectors.contains(&id))?;
+            if let crate::system::Anchor::Massless(_) = node.anchor {
+                return None;
+            }
+            let lw = &ws.links[node.link()];
+            Some((node.pose.rot * lw.rot, lw.pos + lw.rot.tr_mul(&node.pose.trans)))
+        };
+        let (Some((rot_a, r_a)), Some((rot_b, r_b))) = (pose(b.frame_a), pose(b.frame_b)) else { continue };
+        let normal = rot_a.tr_mul(&b.normal);
+        let across = |v: crate::math::Vec3| v - normal * normal.dot(&v);
+        let e = across(rot_b.tr_mul(&b.axis));
+        let w = across(r_b + rot_b.tr_mul(&b.rod2) - r_a);
+        let k1 = e.dot(&w) / e.norm_squared();
+        let disc = k1 * k1 - (w.norm_squared() - b.length * b.length) / e.norm_squared();
+        // No closure (or the two meet): nothing to choose.
+        if disc.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            continue;
+        }
+        let l = &mechanism.system.links[link];
+        let d = y[l.q_offset] + b.offset;
+        if (d + k1 >= 0.0) != b.positive {
+            let target = -k1 + if b.positive { disc.sqrt() } else { -disc.sqrt() };
+            flips.push((l.q_offset, l.v_offset, target - b.offset, true));
+            // And the rod turned to reach the slider there (from the
+            // closed loop, the turn between the two places it reaches).
+            if let Some(&JointRef::Link(turn)) = c.joints.get(b.turn) {
+                let t = &mechanism.system.links[turn];
+                let (now, then) = (w + e * d, w + e * target);
+                let angle = normal.dot(&now.cross(&then)).atan2(now.dot(&then));
+                if t.joint.nq() == 1 {
+                    flips.push((t.q_offset, t.v_offset, y[t.q_offset] + angle, false));
+                }
+            }
+        }
+    }
+    Ok(flips)
 }
 
 /// For positions (first `nv`) and velocities (last `nv`): which velocity

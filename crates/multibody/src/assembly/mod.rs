@@ -128,8 +128,9 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     let zero_slot = signals.slots - 1;
     let force_elements =
         forces::elements(&components, &conn, &mut tree, &drive.places, &signals.of_connector, zero_slot)?;
-    let (drives, drive_starts) = drives::attach(&components, &conn, &mut tree, &drive.places, &signals)?;
-    let mut states = states::layout(model, &components, &tree, &drive.geared)?;
+    let (drives, drive_starts, source_states) = drives::attach(&components, &conn, &mut tree, &drive.places, &signals)?;
+    let geared: Vec<_> = drive.geared.iter().cloned().chain(source_states).collect();
+    let mut states = states::layout(model, &components, &tree, &geared)?;
     drives::apply_starts(&drive_starts, &tree, &mut states);
     let free_coordinates = drives::free_coordinates(&tree, states.nv);
     let context = equations::Context {

@@ -17,6 +17,10 @@ pub struct Signals {
     pub blocks: Vec<SignalBlock>,
     /// How many blocks depend on time only.
     pub time_signals: usize,
+    /// Per slot (the zero slot included), whether its value depends on
+    /// time only. Slots are numbered in the order of the parts, not in the
+    /// evaluation order, so `time_signals` says nothing about a slot.
+    pub of_time: Vec<bool>,
     /// For every connector, its signal slot (the last slot reads zero).
     pub of_connector: Vec<usize>,
     /// How many slots there are, the zero slot included.
@@ -94,7 +98,7 @@ pub fn resolve(
     let (mut blocks, rest): (Vec<_>, Vec<_>) = blocks.into_iter().partition(|b| of_time[b.output]);
     let time_signals = blocks.len();
     blocks.extend(rest);
-    Ok(Signals { blocks, time_signals, of_connector, slots: zero + 1, inputs: model_inputs, warnings })
+    Ok(Signals { blocks, time_signals, of_time, of_connector, slots: zero + 1, inputs: model_inputs, warnings })
 }
 
 /// The slot of every connector: each signal node reads its one output.

@@ -13,13 +13,17 @@
 //! The joint at frame_b is driven through axis and bearing.
 
 use super::spec::{ComponentSpec, ConnectorSpec, ConnectorType, ParamSpec};
-use super::{AxisFlanges, Component, ConstraintKind, ParamSet, Part, RotationLock, StateNames};
+use super::{AxisFlanges, Component, ConstraintKind, ParamSet, Part, PrismaticBranch, RotationLock, StateNames};
 use crate::math::{planar_rotation, Transform, Vec3};
 use crate::system::JointModel;
 use crate::Error;
 
-const POSITIVE_BRANCH: ParamSpec =
-    ParamSpec::boolean("positive_branch", true, "Kept for compatibility: the branch is the start configuration's");
+const POSITIVE_BRANCH: ParamSpec = ParamSpec::boolean(
+    "positive_branch",
+    true,
+    "Which closure the loop starts on (JointRRP: true, the slider the farther along n_b of the two places the \
+     rod reaches; the other kinds keep the start configuration's)",
+);
 const N_A: ParamSpec = ParamSpec::vector(
     "n_a",
     &[0.0, 0.0, 1.0],
@@ -301,7 +305,27 @@ fn build(p: &ParamSet, kind: Kind) -> Result<Box<dyn Component>, Error> {
             First::Rod { length }
         }
     };
-    Ok(Box::new(LoopAssembly { first, joint_b, offset_b, rod2 }))
+    // JointRRP starts on the branch it is given, as the library's closed
+    // form: rod 1 turns about n_a at frame_a, its length across n_a.
+    let branch = match (kind, first) {
+        (Kind::Rrp, First::Revolutes { n_a, rod1 }) => {
+            let across = rod1.trans - n_a * n_a.dot(&rod1.trans);
+            Some(PrismaticBranch {
+                frame_a: 0,
+                frame_b: 1,
+                joint: 2,
+                turn: 0,
+                axis: n_b,
+                offset: p.real("s_offset"),
+                rod2: rod2.trans,
+                normal: n_a,
+                length: across.norm(),
+                positive: p.boolean("positive_branch"),
+            })
+        }
+        _ => None,
+    };
+    Ok(Box::new(LoopAssembly { first, joint_b, offset_b, rod2, branch }))
 }
 
 /// What joins frame_a to the middle joint.
@@ -322,9 +346,14 @@ struct LoopAssembly {
     joint_b: JointModel,
     offset_b: Transform,
     rod2: Transform,
+    branch: Option<PrismaticBranch>,
 }
 
 impl Component for LoopAssembly {
+    fn prismatic_branch(&self) -> Option<PrismaticBranch> {
+        self.branch
+    }
+
     fn parts(&self) -> Vec<Part> {
         let states_b = match self.joint_b {
             JointModel::Prismatic { .. } => StateNames { q: &[("s", 1)], u: &[("v", 1)] },
@@ -335,10 +364,21 @@ impl Component for LoopAssembly {
             First::Revolutes { n_a, rod1 } => {
                 // frame_a 0, frame_b 1, frame_ia 2, frame_ib 3, frame_im 4, axis 5, bearing 6, rod1_tip 7, base_b 8.
                 let revolute = JointModel::Revolute { axis: n_a };
+                // With a branch to start on, the slider stays in the tree
+                // (its coordinate is a state the branch sets): the middle
+                // revolute closes the loop.
+                let middle = Part::Joint {
+                    a: 7,
+                    b: 4,
+                    model: revolute,
+                    states: StateNames { q: &[("phi_m", 1)], u: &[("w_m", 1)] },
+                    flanges: None,
+                    iscut: self.branch.is_some(),
+                };
                 vec![
                     joint(0, 2, revolute, StateNames { q: &[("phi_a", 1)], u: &[("w_a", 1)] }, None),
                     Part::Rigid { a: 2, b: 7, pose: rod1 },
-                    joint(7, 4, revolute, StateNames { q: &[("phi_m", 1)], u: &[("w_m", 1)] }, None),
+                    middle,
                     Part::Rigid { a: 1, b: 8, pose: self.offset_b },
                     joint(8, 3, self.joint_b, states_b, Some(AxisFlanges { axis: 5, support: 6 })),
                     Part::Rigid { a: 3, b: 4, pose: self.rod2 },

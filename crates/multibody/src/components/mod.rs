@@ -330,6 +330,38 @@ pub trait Component: Send + Sync + std::fmt::Debug {
     fn default_starts(&self) -> Vec<(&'static str, Vec<f64>)> {
         Vec::new()
     }
+
+    /// For a loop assembly whose prismatic joint closes the loop in one of
+    /// two ways: which one it starts on.
+    fn prismatic_branch(&self) -> Option<PrismaticBranch> {
+        None
+    }
+}
+
+/// The start branch of a prismatic joint that closes a loop with a rod of
+/// fixed length (JointRRP's `positive_branch`, the library's and
+/// Modelica's `PrismaticWithLengthConstraint`). The rod turns about
+/// `normal` (fixed in frame_a) at frame_a's origin and reaches, `length`
+/// away across `normal`, the point `rod2` of the slider, which sits at
+/// `d = s + offset` along `axis` from frame_b (both in frame_b). With
+/// `k1 = e . w` (`e` the axis and `w` the slider's point at `d = 0` from
+/// frame_a's origin, across `normal`, in the world), the two closures are
+/// `d = -k1 +- sqrt(k1^2 - |w|^2 + length^2)`: the positive branch takes
+/// `+`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PrismaticBranch {
+    pub frame_a: usize,
+    pub frame_b: usize,
+    /// Which of the component's joints (in the order of its parts) slides.
+    pub joint: usize,
+    /// Which turns the rod about `normal` at frame_a.
+    pub turn: usize,
+    pub axis: Vec3,
+    pub offset: f64,
+    pub rod2: Vec3,
+    pub normal: Vec3,
+    pub length: f64,
+    pub positive: bool,
 }
 
 /// Names of a joint's position and velocity coordinates, with their sizes.

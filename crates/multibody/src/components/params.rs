@@ -217,6 +217,13 @@ pub fn check_value(component: &str, name: &str, ty: ParamType, value: &Value) ->
     };
     match (ty, value) {
         (ParamType::Real, Value::Number(x)) => finite(component, name, value, &[*x]).map(|_| value.clone()),
+        // `Vector(0)`: one number per axis, as many as there are.
+        (ParamType::Vector(0), Value::Array(v)) if !v.is_empty() => {
+            finite(component, name, value, v).map(|_| value.clone())
+        }
+        (ParamType::Vector(0), Value::Number(x)) => {
+            finite(component, name, value, &[*x]).map(|_| Value::Array(vec![*x]))
+        }
         (ParamType::Vector(n), Value::Array(v)) => {
             if v.len() != n {
                 return Err(wrong_size(n, v.len()));

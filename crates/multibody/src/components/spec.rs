@@ -63,6 +63,7 @@ impl ParamType {
     pub fn describe(&self) -> String {
         match self {
             ParamType::Real => "a number".into(),
+            ParamType::Vector(0) => "an array of numbers, one per axis".into(),
             ParamType::Vector(n) => format!("an array of {n} numbers"),
             ParamType::Bool => "true or false".into(),
             ParamType::Integer => "an integer".into(),

@@ -28,7 +28,9 @@ pub const SEQUENCE: ParamSpec = ParamSpec {
     default: super::spec::Default::Vector(&[2.0, 1.0, 3.0]),
     unit: "",
     doc: "Axes of the Cardan angles that rotate the world into frame_a: heading about y, lean about x, spin \
-          about z (singular only when the wheel lies flat)",
+          about z (singular only when the wheel lies flat). The library's default is [2, 3, 1], which puts the \
+          spin in the middle: its angles are singular every half turn of the wheel, where a simulation here \
+          stops, so give it explicitly only for motions that turn less",
 };
 pub const SURFACE: ParamSpec = ParamSpec::boolean(
     "surface",

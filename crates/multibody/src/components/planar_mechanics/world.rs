@@ -36,9 +36,15 @@ pub static SPEC: ComponentSpec = ComponentSpec {
             "r_0_3d",
             &[0.0, 0.0, 0.0],
             "m",
-            "Where the plane sits in 3-D (only the origin is supported)",
+            "Where the plane sits in 3-D, for drawing it; the planar motion does not depend on it (the animation \
+             here still draws the plane as the world's x-y plane)",
         ),
-        ParamSpec::vector("rot_3d", &[0.0, 0.0, 0.0], "rad", "How the plane is turned in 3-D (only zero is supported)"),
+        ParamSpec::vector(
+            "rot_3d",
+            &[0.0, 0.0, 0.0],
+            "rad",
+            "How the plane is turned in 3-D, for drawing it, like r_0_3d (not applied to the animation here yet)",
+        ),
     ],
     connectors: &[ConnectorSpec::frame_2d("frame_b", "The world frame: x = y = phi = 0")],
     variables: &[],
@@ -62,13 +68,15 @@ fn shapes(p: &ParamSet) -> Vec<LocalShape> {
         .collect()
 }
 
+/// The library's planar World fixes frame_b at x = y = phi = 0 whatever
+/// `r_0_3d` and `rot_3d` say: they place the plane for showing it in 3-D,
+/// and change neither the planar motion nor gravity in the plane (nor
+/// where `PlanarToMultiBody` puts its 3-D frame). They are checked here,
+/// and accepted.
 fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
     for name in ["r_0_3d", "rot_3d"] {
-        if p.vector(name).iter().any(|x| *x != 0.0) {
-            return Err(p.invalid(
-                name,
-                "a plane placed elsewhere in 3-D is not supported yet: the plane is the world's x-y plane",
-            ));
+        if p.vector(name).iter().any(|x| !x.is_finite()) {
+            return Err(p.invalid(name, "every entry must be a finite number"));
         }
     }
     Ok(Box::new(PlanarWorld))
