@@ -613,6 +613,17 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                     .help(format!("change its parameters instead: `{key}(m = 2)`")));
                 }
                 forwarded.insert(key.to_string(), m.nested);
+            } else if let Some((c, _)) = key
+                .strip_suffix(']')
+                .and_then(|k| k.split_once('['))
+                .and_then(|(base, _)| decl_of(base))
+                .filter(|(c, _)| c.array.is_some())
+            {
+                // One element of an array of components (`joints[1].Q_hat`
+                // from an `initial` of the enclosing component): checked
+                // against the array's range when its instances are made.
+                let _ = c;
+                forwarded.insert(key.to_string(), m.nested);
             } else {
                 let names: Vec<&str> = params
                     .iter()
@@ -756,6 +767,11 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             let own = merge_same_level(own, initial.remove(&instance.local).unwrap_or_default())?;
             let outer = forwarded.get(&decl.name.name).cloned().unwrap_or_default();
             let merged = merge_outer(outer, own)?;
+            // What is given for this element wins over what is given for all.
+            let merged = match forwarded.remove(&instance.local).filter(|_| decl.array.is_some()) {
+                Some(element) => merge_outer(element, merged)?,
+                None => merged,
+            };
             match instance.kind {
                 Kind::Library(spec) => {
                     self.entities.insert(child.clone(), Entity::Library(spec));
@@ -781,6 +797,12 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                     }
                 }
             }
+        }
+        if let Some((key, mods)) = forwarded.iter().find(|(k, _)| k.ends_with(']')) {
+            let span = mods.first().map_or(site, |m| m.span);
+            return Err(Diagnostic::error(format!("`{name}` has no component `{key}`: the index is out of range"))
+                .primary(span, "no such element")
+                .help("index the array from 1 to its length"));
         }
         for (component, road) in surfaces {
             if let Some(c) = self.model.component_mut(&component) {

@@ -255,3 +255,62 @@ end
     let swing = column(&s, "cable.joints[1].w").iter().fold(0.0f64, |m, w| m.max(w.abs()));
     assert!(swing > 0.5, "the cable should swing");
 }
+
+/// A start value on one joint of a cable (`initial cable.joints[1].Q_hat =
+/// ...`, bending it at the start) reaches that joint: the cable moves as the
+/// chain with the same start on its first ball joint; an index past the
+/// cable's joints is an error at the start value.
+#[test]
+fn a_start_value_on_one_joint_of_a_cable_bends_it() {
+    // A turn of 0.6 rad about z: Q = [cos 0.3, 0, 0, sin 0.3].
+    let (c, s) = (0.3f64.cos(), 0.3f64.sin());
+    let text = format!(
+        "
+example component Bent
+  world = MultibodyComponents.World()
+  cable = MultibodyComponents.Cable(n = 2, l = 0.8, m = 0.4, dir = [1, 0, 0])
+  load = MultibodyComponents.Body(m = 0.5, r_cm = [0, 0, 0])
+relations
+  connect(world.frame_b, cable.frame_a)
+  connect(cable.frame_b, load.frame_a)
+  initial cable.joints[1].Q_hat = [{c}, 0, 0, {s}]
+end
+example component ByHand
+  world = MultibodyComponents.World()
+  link1 = MultibodyComponents.BodyShape(r = [0.4, 0, 0], r_cm = [0.2, 0, 0], m = 0.2, radius = 0.05)
+  link2 = MultibodyComponents.BodyShape(r = [0.4, 0, 0], r_cm = [0.2, 0, 0], m = 0.2, radius = 0.05)
+  ball1 = MultibodyComponents.Spherical(orientation_state = OrientationState.Quaternion(), Q_hat(initial = [{c}, 0, 0, {s}]))
+  ball2 = MultibodyComponents.Spherical(orientation_state = OrientationState.Quaternion())
+  ball3 = MultibodyComponents.Spherical(orientation_state = OrientationState.Quaternion())
+  load = MultibodyComponents.Body(m = 0.5, r_cm = [0, 0, 0])
+relations
+  connect(world.frame_b, ball1.frame_a)
+  connect(ball1.frame_b, link1.frame_a)
+  connect(link1.frame_b, ball2.frame_a)
+  connect(ball2.frame_b, link2.frame_a)
+  connect(link2.frame_b, ball3.frame_a)
+  connect(ball3.frame_b, load.frame_a)
+end
+"
+    );
+    let cable = simulate(&text, "Bent", 1.0);
+    let by_hand = simulate(&text, "ByHand", 1.0);
+    let mut worst = 0.0f64;
+    for i in 1..=2 {
+        for k in 1..=3 {
+            let a = column(&cable, &format!("cable.links[{i}].frame_b.r_0[{k}]"));
+            let b = column(&by_hand, &format!("link{i}.frame_b.r_0[{k}]"));
+            worst = a.iter().zip(b).map(|(a, b)| (a - b).abs()).fold(worst, f64::max);
+        }
+    }
+    // Bent at the start: the first link points 0.6 rad above x.
+    let tip = column(&cable, "cable.links[1].frame_b.r_0[2]")[0];
+    println!("bent cable vs chain: worst {worst:.2e} m ({:.3} of 1e-9); first tip at y = {tip:.4}", worst / 1e-9);
+    assert!((tip - 0.4 * 0.6f64.sin()).abs() < 1e-12, "the first joint is not bent: y = {tip}");
+    assert!(worst <= 1e-9);
+
+    let mut package = multibody_dyad::Package::new();
+    package.add_source("bent.dyad", text.replace("cable.joints[1].Q_hat", "cable.joints[7].Q_hat")).unwrap();
+    let message = package.lower_component("Bent").map(|_| ()).unwrap_err().render(package.sources(), false);
+    assert!(message.contains("`joints[7]`") && message.contains("out of range"), "{message}");
+}
