@@ -15,12 +15,12 @@
 //! them.
 
 use super::integrator::{DenseStep, Failure, Observer, OdeSystem, Reached, Stats, Tolerances};
-use super::{dopri5, rk4, rodas, Method, RunReport, SampleSink, SimulationOptions, Solution, Stopped};
+use super::{dopri5, rk4, rodas, Method, Rows, RunReport, SampleSink, SimulationOptions, Solution, Stopped};
 use crate::assembly::Mechanism;
 use crate::dynamics::{DynamicsError, Workspace};
 use crate::outputs::OutputScratch;
 use std::ops::Deref;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 /// Passes of one event iteration before it is declared not to settle.
 const EVENT_ITERATIONS: usize = 50;
@@ -82,6 +82,17 @@ impl Stepper {
             Stepper::DormandPrince(s) => s.start(sys, t, y, horizon),
             Stepper::Rk4(s) => s.start(sys, t, y),
             Stepper::Rodas4(s) => s.start(sys, t, y, horizon),
+        }
+    }
+
+    /// Starts again at `(t, y)` after an input changed, the state going on
+    /// smoothly: the first step is the one the integrator would have taken
+    /// next (the error control cuts it if the new input needs it), instead
+    /// of a new estimate.
+    fn restart<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64], horizon: f64) -> Result<(), Stop<S::Error>> {
+        match self {
+            Stepper::DormandPrince(s) => s.restart(sys, t, y, horizon),
+            _ => self.start(sys, t, y, horizon),
         }
     }
 
@@ -429,8 +440,14 @@ pub struct Simulator<'m> {
     euler_sides: Vec<f64>,
     euler_sides_now: Vec<f64>,
     recorder: RecorderState,
-    /// The samples [`Simulator::step_until`] records.
-    solution: Solution,
+    /// The samples [`Simulator::step_until`] records, row by row.
+    recorded: Rows,
+    /// The same as columns, made when [`Simulator::solution`] asks and
+    /// kept up to date from then on.
+    columns: OnceLock<Solution>,
+    /// What the run found worth saying once (a note each), given with the
+    /// samples.
+    notes: Vec<String>,
     /// The time and state reached.
     t: f64,
     y: Vec<f64>,
@@ -439,6 +456,11 @@ pub struct Simulator<'m> {
     /// Whether the integrator holds `(t, y)` with its derivative, ready to
     /// step on (events, inputs and a new state make it start again).
     started: bool,
+    /// Whether only an input changed since the integrator stood ready: it
+    /// starts again with the step it would have taken next, and (a host
+    /// that sets an input before a call will likely do so before the next)
+    /// the call does not step past the time asked for.
+    input_changed: bool,
     /// Whether the integrator stands past `t`, its last step covering it
     /// (`y` read on that step's dense output): the next call goes on from
     /// there unless the host changed an input or the state.
@@ -459,7 +481,7 @@ impl<'m> Simulator<'m> {
         let mechanism = mechanism.into();
         let y0 = mechanism.system.states.start.clone();
         let mut sim = Self::from_state(mechanism, &y0, options, None)?;
-        super::reserve_grid(&mut sim.solution, options);
+        sim.recorded.reserve(super::grid_samples(sim.recorded.width(), options));
         Ok(sim)
     }
 
@@ -521,11 +543,14 @@ impl<'m> Simulator<'m> {
             euler_sides: Vec::new(),
             euler_sides_now: Vec::new(),
             recorder,
-            solution: Solution::with_signals(mechanism.signal_table().clone()),
+            recorded: Rows::new(mechanism.signal_table().names().len()),
+            columns: OnceLock::new(),
+            notes: Vec::new(),
             t: options.start,
             y: y0.to_vec(),
             y0: y0.to_vec(),
             started: false,
+            input_changed: false,
             ahead: false,
             piled: (0, f64::NEG_INFINITY),
             events: 0,
@@ -562,6 +587,7 @@ impl<'m> Simulator<'m> {
         self.recorder.next = 0;
         self.recorder.past_stop = false;
         self.started = false;
+        self.input_changed = false;
         self.ahead = false;
         self.piled = (0, f64::NEG_INFINITY);
         Ok(())
@@ -592,6 +618,7 @@ impl<'m> Simulator<'m> {
         }
         self.y.copy_from_slice(y);
         self.started = false;
+        self.input_changed = false;
         Ok(())
     }
 
@@ -661,6 +688,9 @@ impl<'m> Simulator<'m> {
             self.ws.inputs[k] = value;
             self.recorder.ws.inputs[k] = value;
             // The derivative the integrator carries is stale.
+            if self.started {
+                self.input_changed = true;
+            }
             self.started = false;
         }
         Ok(())
@@ -698,13 +728,43 @@ impl<'m> Simulator<'m> {
     /// The samples recorded so far on the output grid (every `saveat`
     /// from `start`; at the end of each step with `saveat = 0`).
     pub fn solution(&self) -> &Solution {
-        &self.solution
+        self.columns.get_or_init(|| {
+            let mut solution = Solution::with_signals(self.mechanism.signal_table().clone());
+            self.recorded.append_to(&mut solution, 0);
+            solution.set_warnings(self.notes.clone());
+            solution
+        })
+    }
+
+    /// The names of the signals recorded (the columns of
+    /// [`Simulator::solution`], the values of a row of [`Simulator::recorded`]).
+    pub fn signal_names(&self) -> &[String] {
+        self.mechanism.signal_table().names()
+    }
+
+    /// The position of a signal among [`Simulator::signal_names`].
+    pub fn signal_index(&self, name: &str) -> Option<usize> {
+        self.mechanism.signal_table().index(name)
+    }
+
+    /// What the run found worth a note so far (each said once), as
+    /// [`Solution::warnings`] gives them.
+    pub fn notes(&self) -> &[String] {
+        &self.notes
+    }
+
+    /// The samples recorded so far, row by row (as [`Simulator::solution`]
+    /// has them, without making columns).
+    pub fn recorded(&self) -> &Rows {
+        &self.recorded
     }
 
     /// Takes the samples recorded so far, leaving none.
     pub fn take_solution(&mut self) -> Solution {
-        let empty = Solution::with_signals(self.mechanism.signal_table().clone());
-        std::mem::replace(&mut self.solution, empty)
+        self.solution();
+        let solution = self.columns.take().expect("made just now");
+        self.recorded.clear();
+        solution
     }
 
     /// How many events were handled (time events and state events).
@@ -727,7 +787,9 @@ impl<'m> Simulator<'m> {
         let inputs: Vec<f64> = self.mechanism.system.events.inputs.iter().map(|i| i.1).collect();
         self.ws.inputs.copy_from_slice(&inputs);
         self.recorder.ws.inputs.copy_from_slice(&inputs);
-        self.take_solution();
+        self.recorded.clear();
+        self.columns = OnceLock::new();
+        self.notes.clear();
         self.events = 0;
         self.last_event = None;
         self.begin().map_err(|e| self.stopped(e, self.options.start).reason)
@@ -750,9 +812,16 @@ impl<'m> Simulator<'m> {
     /// failure the simulator stays at the last good time, and what was
     /// recorded is kept.
     pub fn step_until(&mut self, t: f64) -> Result<(), Stopped> {
-        let mut solution = std::mem::take(&mut self.solution);
-        let result = self.run_to(t, &mut solution, None, true);
-        self.solution = solution;
+        let mut recorded = std::mem::take(&mut self.recorded);
+        let result = self.run_to(t, &mut recorded, None, true);
+        self.recorded = recorded;
+        if let Some(solution) = self.columns.get_mut() {
+            let from = solution.len();
+            self.recorded.append_to(solution, from);
+            if solution.warnings().len() != self.notes.len() {
+                solution.set_warnings(self.notes.clone());
+            }
+        }
         result
     }
 
@@ -787,7 +856,7 @@ impl<'m> Simulator<'m> {
         mut progress: Option<&mut Progress>,
         look_ahead: bool,
     ) -> Result<(), Stopped> {
-        let look_ahead = look_ahead && self.may_look_ahead();
+        let look_ahead = look_ahead && self.may_look_ahead() && !self.input_changed;
         if !target.is_finite() {
             return Err(self.stopped(StepError::Caller(format!("cannot step until t = {target}")), self.t));
         }
@@ -810,7 +879,11 @@ impl<'m> Simulator<'m> {
             }
             let time_event = self.mechanism.next_time_event(self.t);
             let tf = target.min(time_event);
-            let limit = if look_ahead && tf < time_event { time_event } else { tf };
+            // Up to the stop, the steps are those of one call to the stop
+            // (the last cut short at it), so that stepping records what
+            // `simulate` records.
+            let end = if tf <= self.options.stop { time_event.min(self.options.stop) } else { time_event };
+            let limit = if look_ahead && tf < end { end } else { tf };
             let reached = match self.advance(tf, limit, sink, progress.as_deref_mut()) {
                 Err(stopped) if limit > tf && !stopped.by_caller && self.may_retry(&stopped, tf) => {
                     // A step past `tf` failed: go again from where the
@@ -895,7 +968,13 @@ impl<'m> Simulator<'m> {
         let mut system = Dynamics { mechanism, ws, euler_sides, euler_sides_now, indicators };
         let horizon = (self.options.stop - self.options.start).max(tf - self.t);
         if !self.started {
-            if let Err(stop) = stepper.start(&mut system, self.t, &self.y, horizon) {
+            let started = if self.input_changed {
+                stepper.restart(&mut system, self.t, &self.y, horizon)
+            } else {
+                stepper.start(&mut system, self.t, &self.y, horizon)
+            };
+            self.input_changed = false;
+            if let Err(stop) = started {
                 system.ws.left_limit_at = f64::NAN;
                 return Err(self.stop_integration(stop));
             }
