@@ -655,6 +655,10 @@ impl<'m> Simulator<'m> {
     }
 
     fn input_index(&self, name: &str) -> Result<usize, String> {
+        // Without collecting the names: a controller calls this every step.
+        if let Some(k) = self.mechanism.system.events.inputs.iter().position(|(n, _)| n == name) {
+            return Ok(k);
+        }
         let names = self.mechanism.input_names();
         names.iter().position(|n| *n == name).ok_or_else(|| {
             if names.is_empty() {
