@@ -8,8 +8,10 @@
 //! either allocate in every step, or lack `dtmax` or a fixed-step RK4, or
 //! cannot stop on a failed evaluation and keep the output. None lets the
 //! caller move the state after an accepted step, and this engine needs that
-//! to project kinematic loops back onto their constraints and to detect
-//! Euler-angle singularities between steps ([`integrator::OdeSystem::accept`]).
+//! to project kinematic loops back onto their constraints
+//! ([`integrator::OdeSystem::accept`]); events, the Euler-angle singularity
+//! among them, are located on a step's dense output
+//! ([`integrator::OdeSystem::locate`]).
 
 mod dopri5;
 pub mod integrator;
