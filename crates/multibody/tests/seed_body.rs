@@ -395,17 +395,17 @@ fn euler_body_runs_through_its_singularity_matching_the_closed_form() {
             let mut after = Worst::default();
             let mut angles = Worst::default();
             let mut rates = Worst::default();
-            for k in 0..sol.len() {
+            for (k, &t) in time.iter().enumerate() {
                 let r = m3(&sol, "tumbler.frame_a.R", k);
-                let err = mat_dist(&r, &planar(n, speed * time[k]));
-                if time[k] > t_singular {
-                    after.update(err, time[k]);
+                let err = mat_dist(&r, &planar(n, speed * t));
+                if t > t_singular {
+                    after.update(err, t);
                 }
                 // The reported angles are the library's angles of R, their rates those of w.
                 let (phi, phid) = (v3(&sol, "tumbler.phi", k), v3(&sol, "tumbler.phid", k));
-                angles.update(mat_dist(&euler_r([1, 2, 3], phi), &r), time[k]);
+                angles.update(mat_dist(&euler_r([1, 2, 3], phi), &r), t);
                 if phi[1].cos().abs() > 1e-3 {
-                    rates.update(dist(euler_w([1, 2, 3], phi, phid), v3(&sol, "tumbler.w_a", k)), time[k]);
+                    rates.update(dist(euler_w([1, 2, 3], phi, phid), v3(&sol, "tumbler.w_a", k)), t);
                 }
             }
             after.check(&format!("{label}: |R - planar(n, |w| t)| after the crossing"), "", 1e-8);

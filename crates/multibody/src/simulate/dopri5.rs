@@ -178,7 +178,7 @@ impl DormandPrince {
         y: &[f64],
         horizon: f64,
     ) -> Result<(), Stopped<S::Error>> {
-        if !(self.h > 0.0) {
+        if self.h.is_nan() || self.h <= 0.0 {
             return self.start(sys, t, y, horizon);
         }
         self.y.copy_from_slice(y);

@@ -243,7 +243,8 @@ impl ChartWatch {
 
     /// Whether the indicator changed sign (a NaN angle counts).
     fn crossed(&self, y: &[f64]) -> bool {
-        !(self.indicator(y) >= 0.0)
+        let g = self.indicator(y);
+        g.is_nan() || g < 0.0
     }
 }
 
