@@ -415,6 +415,36 @@ fn euler_body_runs_through_its_singularity_matching_the_closed_form() {
     }
 }
 
+/// A spinning Euler body thrown in gravity: across the chart switch (its
+/// frame_a turned, its position and velocity states resolved there) its
+/// position and velocity stay the parabola's, r_0 = v0 t + g n t^2 / 2.
+#[test]
+fn a_thrown_euler_body_keeps_its_parabola_across_the_singularity() {
+    let (speed, v0, g) = (1.3, [1.0, 2.0, 0.5], 9.80665);
+    let mut model = Model::new("thrown");
+    model.add("world", "World");
+    model
+        .add("tumbler", "Body")
+        .set("orientation_state", OrientationState::Euler)
+        .set("sequence", [1, 2, 3])
+        .initial("phi", [0.0; 3])
+        .initial("phid", [0.0, speed, 0.0])
+        .initial("v_0", v0);
+    let sol = model.assemble().unwrap().simulate(&options(3.0, 0.01, 1e-10, 1e-10)).unwrap();
+    assert_eq!(sol.warnings().iter().filter(|w| w.contains("singular")).count(), 1, "{:?}", sol.warnings());
+    let (mut position, mut velocity, mut turn) = (Worst::default(), Worst::default(), Worst::default());
+    for (k, &t) in sol.time().iter().enumerate() {
+        let r = add(scale(t, v0), [0.0, -0.5 * g * t * t, 0.0]);
+        let v = add(v0, [0.0, -g * t, 0.0]);
+        position.update(dist(v3(&sol, "tumbler.r_0", k), r), t);
+        velocity.update(dist(v3(&sol, "tumbler.v_0", k), v), t);
+        turn.update(mat_dist(&m3(&sol, "tumbler.frame_a.R", k), &planar([0.0, 1.0, 0.0], speed * t)), t);
+    }
+    position.check("thrown: |r_0 - parabola|", "m", 1e-8);
+    velocity.check("thrown: |v_0 - parabola'|", "m/s", 1e-8);
+    turn.check("thrown: |R - planar(y, |w| t)|", "", 1e-8);
+}
+
 /// A torque-free asymmetric Euler body (sequence [1, 2, 3]) turning mostly
 /// about its intermediate axis tumbles, and its orientation passes near
 /// the singular configuration of the angles: across it, the kinetic energy
