@@ -91,7 +91,7 @@ fn a_run_writes_its_results_whatever_happens_to_its_console() {
     }
     // A failing run keeps its partial result too, and says so by its exit code.
     let dir = scratch("console-failing");
-    let model = crate_path("tests/models/EulerSingularity.dyad");
+    let model = crate_path("tests/models/PilingUp.dyad");
     let o = multibody_with(&dir, &["run", &model, "--out", "r.csv"], closed_pipe(), closed_pipe());
     assert_eq!(code(&o), 3);
     assert!(dir.join("r.partial.csv").exists());
@@ -109,7 +109,7 @@ fn multibody(dir: &Path, args: &[&str]) -> Output {
 fn a_partial_name_never_replaces_a_model_file() {
     let dir = scratch("partial-collision");
     let model = dir.join("r.partial.dyad");
-    std::fs::copy(crate_path("tests/models/EulerSingularity.dyad"), &model).unwrap();
+    std::fs::copy(crate_path("tests/models/PilingUp.dyad"), &model).unwrap();
     let text = std::fs::read_to_string(&model).unwrap();
     let o = multibody(&dir, &["run", "r.partial.dyad", "--out", "r.dyad"]);
     assert_eq!(code(&o), 2, "{}", stderr(&o));

@@ -7,7 +7,7 @@
 //! Dask worker's other tasks) go on meanwhile.
 
 use multibody::simulate::Shared;
-use multibody::{SimulationOptions, Solution};
+use multibody::SimulationOptions;
 use multibody_dyad::{DefinitionKind, Diagnostic, OptionOverrides, Override, Package, RunError, Samples, Target};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyValueError};
@@ -269,44 +269,53 @@ struct Simulator {
 fn stopped_error(py: Python<'_>, stopped: &multibody::Stopped, sim: Option<&multibody::Simulator>) -> PyErr {
     let message = format!("the simulation stopped at t = {}: {}", stopped.time, stopped.reason);
     let partial = sim
-        .and_then(|sim| columns_of(py, sim.solution(), sim.state_names()).ok())
+        .and_then(|sim| columns_of(py, sim, sim.state_names()).ok())
         .and_then(|c| c.into_pyobject(py).ok())
         .map(Bound::unbind);
     SimulationError::new_err((message, stopped.time, partial))
 }
 
-/// The samples of `names` in `solution`, row-major, as `to_python` gives them.
-fn columns_of<'py>(py: Python<'py>, solution: &Solution, names: &[String]) -> PyResult<Columns<'py>> {
-    let mut columns = Vec::with_capacity(names.len());
+/// The samples of `names` that `sim` recorded, row-major, as `to_python`
+/// gives them: gathered from its rows, without making columns.
+fn columns_of<'py>(py: Python<'py>, sim: &multibody::Simulator, names: &[String]) -> PyResult<Columns<'py>> {
+    let mut picks = Vec::with_capacity(names.len());
     for name in names {
-        match solution.get(name) {
-            Some(c) => columns.push(c),
+        match sim.signal_index(name) {
+            Some(k) => picks.push(k),
             None => {
-                let hint = multibody::closest(name, solution.names().iter().map(String::as_str))
+                let hint = multibody::closest(name, sim.signal_names().iter().map(String::as_str))
                     .first()
                     .map_or(String::new(), |c| format!("; did you mean `{c}`?"));
                 return Err(PyValueError::new_err(format!("the model has no signal `{name}`{hint}")));
             }
         }
     }
-    let rows = solution.len();
-    let width = columns.len();
-    let values = PyBytes::new_with(py, rows * width * 8, |buf| {
-        // Row by row, straight into the Python object.
-        for (i, row) in buf.chunks_exact_mut(8 * width.max(1)).enumerate() {
-            for (chunk, column) in row.chunks_exact_mut(8).zip(&columns) {
-                chunk.copy_from_slice(&column[i].to_ne_bytes());
+    let rows = sim.recorded();
+    let width = picks.len();
+    let all = rows.width() == width && picks.iter().enumerate().all(|(j, &k)| j == k);
+    let values = PyBytes::new_with(py, rows.len() * width * 8, |buf| {
+        if all {
+            // Every signal in order: the rows as they are.
+            for (chunk, x) in buf.chunks_exact_mut(8).zip(rows.values()) {
+                chunk.copy_from_slice(&x.to_ne_bytes());
+            }
+        } else {
+            for (i, out) in buf.chunks_exact_mut(8 * width.max(1)).enumerate() {
+                let row = rows.row(i);
+                for (chunk, &k) in out.chunks_exact_mut(8).zip(&picks) {
+                    chunk.copy_from_slice(&row[k].to_ne_bytes());
+                }
             }
         }
         Ok(())
     })?;
-    let time = PyBytes::new_with(py, rows * 8, |buf| {
-        for (chunk, x) in buf.chunks_exact_mut(8).zip(solution.time()) {
+    let time = PyBytes::new_with(py, rows.len() * 8, |buf| {
+        for (chunk, x) in buf.chunks_exact_mut(8).zip(rows.time()) {
             chunk.copy_from_slice(&x.to_ne_bytes());
         }
         Ok(())
     })?;
-    Ok((names.to_vec(), time, values, solution.warnings().to_vec()))
+    Ok((names.to_vec(), time, values, sim.notes().to_vec()))
 }
 
 #[pymethods]
@@ -373,13 +382,13 @@ impl Simulator {
 
     /// Every signal of the model, by name.
     fn signals(&self) -> Vec<String> {
-        self.sim.solution().names().to_vec()
+        self.sim.signal_names().to_vec()
     }
 
     /// The samples recorded so far of `names` (the states when empty).
     fn result<'py>(&self, py: Python<'py>, names: Vec<String>) -> PyResult<Columns<'py>> {
         let names = if names.is_empty() { self.sim.state_names().to_vec() } else { names };
-        columns_of(py, self.sim.solution(), &names)
+        columns_of(py, &self.sim, &names)
     }
 
     /// Back to the start: state, time, inputs; the samples are dropped.

@@ -117,3 +117,21 @@ def test_a_simulation_that_stops_raises_with_its_time_and_partial_result():
     # It stays where it was, and goes on.
     sim.step_until(0.3)
     assert sim.time == 0.3
+
+
+def test_an_euler_body_steps_through_its_singularity_with_one_note():
+    """A free body with Euler-angle states turning about y at 1 rad/s (the
+    sequence [1, 2, 3] is singular at phi[2] = pi/2): stepped or simulated,
+    it runs to its stop, its phi[2] = t on through pi/2, and its result
+    carries one note naming the body."""
+    model = multibody.load(ROOT / "crates" / "multibody-cli" / "tests" / "models" / "EulerSingularity.dyad")
+    whole = model.simulate(signals="all")
+    sim = model.simulator()
+    for k in range(30):
+        sim.step_until(0.1 * (k + 1))
+    stepped = sim.result("all")
+    for result in (whole, stepped):
+        assert result.time[-1] == pytest.approx(3.0)
+        assert np.abs(result["body.phi[2]"] - result.time).max() < 1e-9
+        notes = [w for w in result.warnings if "singular" in w]
+        assert len(notes) == 1 and "`body`" in notes[0], result.warnings

@@ -46,6 +46,6 @@ pub use model::{
     WhenAction,
 };
 pub use simulate::{
-    Method, OptionError, RunReport, SampleSink, SimulationError, SimulationOptions, Simulator, Solution, Stopped,
+    Method, OptionError, Rows, RunReport, SampleSink, SimulationError, SimulationOptions, Simulator, Solution, Stopped,
 };
 pub use system::{StateLayout, System};

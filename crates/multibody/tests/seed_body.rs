@@ -22,7 +22,7 @@ mod models;
 mod physics;
 
 use models::{compare_runs, tumbling_body};
-use multibody::{Method, Model, OrientationState, SimulationOptions};
+use multibody::{Method, Model, OrientationState};
 use physics::*;
 use std::f64::consts::PI;
 
@@ -353,82 +353,144 @@ fn euler_spinner(w: V3, phi0: V3) -> Model {
 }
 
 /// The Euler singularity: a free Euler body (sequence [1, 2, 3]) turning so
-/// that phi[2] reaches pi/2 stops the simulation with an error naming the
-/// body, at the time the closed form says, keeping the partial solution.
+/// that phi[2] reaches pi/2 keeps running: near the singular configuration
+/// it moves to an internal chart, says so once in the solution's warnings
+/// (naming the body), and its orientation keeps matching the closed form
+/// after the crossing, while its reported `phi`, `phid` stay the library's
+/// angles of that orientation and their rates.
 ///
 /// With w constant (spherical body) R(t) = planar(n, |w| t), n = w/|w|, and
 /// sin(phi2) = R[3,1] = (1 - cos(|w| t)) n1 n3 + sin(|w| t) n2:
-/// - about y (n = e2): phi2 = |w| t, reaching pi/2 at t = pi / (2 |w|);
-/// - about (x + z)/sqrt(2): R[3,1] = (1 - cos(|w| t))/2 reaches 1 at t = pi / |w|.
+/// - about y (n = e2): phi2 = |w| t passes pi/2 at t = pi / (2 |w|) (the
+///   middle angle goes through the singular value at a bounded rate);
+/// - about (x + z)/sqrt(2): R[3,1] = (1 - cos(|w| t))/2 touches 1 at
+///   t = pi / |w| (the angles' rates grow without bound there).
+///
+/// Tolerance: abstol = reltol = 1e-10 over 5 s, about 1e-9 in R (the
+/// `100 eps` of the header); the issue asks for 1e-8 after the crossing.
 #[test]
-fn euler_singularity_stops_the_simulation_with_the_partial_solution() {
+fn euler_body_runs_through_its_singularity_matching_the_closed_form() {
     let speed = 1.3;
-    for (label, n, t_singular) in [
-        ("spin about y", [0.0, 1.0, 0.0], PI / (2.0 * speed)),
-        ("spin about (x+z)/sqrt 2", normalize([1.0, 0.0, 1.0]), PI / speed),
-    ] {
-        let mechanism = euler_spinner(scale(speed, n), [0.0; 3]).assemble().unwrap();
-        let saveat = 0.01;
-        let err = match mechanism.simulate(&options(5.0, saveat, 1e-8, 1e-8)) {
-            Ok(sol) => {
-                let phi2_max = sig(&sol, "tumbler.phi[2]").iter().fold(f64::NEG_INFINITY, |a, x| a.max(*x));
-                panic!(
-                    "{label}: the simulation went through the Euler singularity (phi[2] = pi/2 at t = {t_singular:.4}) without an error; it ran to t = {} with phi[2] up to {phi2_max:.4}",
-                    sol.time().last().unwrap()
-                )
+    for method in [None, Some(Method::Rk4 { dt: 0.01 })] {
+        for (label, n, t_singular) in [
+            ("spin about y", [0.0, 1.0, 0.0], PI / (2.0 * speed)),
+            ("spin about (x+z)/sqrt 2", normalize([1.0, 0.0, 1.0]), PI / speed),
+        ] {
+            let label = format!("{label}{}", if method.is_some() { ", RK4" } else { "" });
+            let mechanism = euler_spinner(scale(speed, n), [0.0; 3]).assemble().unwrap();
+            let mut opts = options(5.0, 0.01, 1e-10, 1e-10);
+            if let Some(method) = method {
+                opts.method = method;
             }
-            Err(e) => e,
-        };
-        let message = err.to_string();
-        println!("{label}: {message}");
-        assert!(message.contains("`tumbler`"), "the message names the body: {message}");
-        assert!(message.contains("Euler") && message.contains("singular"), "{message}");
-        assert!(message.contains("Quaternion"), "the message says how to fix it: {message}");
-        // It stops where the closed form says: the integrator cannot step past
-        // the singular configuration, so it stops within one output interval.
-        Worst { err: (err.time - t_singular).abs(), t: err.time }.check(
-            &format!("{label}: |stop time - closed-form time of phi[2] = pi/2|"),
-            "s",
-            saveat,
-        );
-        // The partial solution runs up to the stop time and is right until then.
-        let partial = &err.partial;
-        let last = *partial.time().last().expect("the partial solution has samples");
-        println!("{label}: {} samples, last at t = {last:.4}, stopped at t = {:.6}", partial.len(), err.time);
-        assert!(last <= err.time + 1e-12, "samples after the stop time");
-        assert!(last >= err.time - saveat - 1e-9, "samples up to the stop time are kept (last at {last})");
-        worst_over(partial, |k| mat_dist(&m3(partial, "tumbler.frame_a.R", k), &planar(n, speed * partial.time()[k])))
-            .check(&format!("{label}: |R - planar(n, |w| t)| in the partial solution"), "", 100.0 * 1e-8);
+            let sol = mechanism.simulate(&opts).unwrap_or_else(|e| panic!("{label}: {e}"));
+            assert_eq!(*sol.time().last().unwrap(), 5.0, "{label}: the run reaches its stop");
+            let notes: Vec<&String> = sol.warnings().iter().filter(|w| w.contains("singular")).collect();
+            println!("{label}: {notes:?}");
+            assert_eq!(notes.len(), 1, "{label}: one note: {:?}", sol.warnings());
+            assert!(notes[0].contains("`tumbler`") && notes[0].contains("chart"), "{}", notes[0]);
+            // The note comes before the singular configuration (the band is 0.1 rad of phi[2]).
+            let t_note: f64 = notes[0].split("t = ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+            assert!(t_note < t_singular && t_note > t_singular - 0.5, "{label}: note at {t_note}");
+            let time = sol.time();
+            let mut after = Worst::default();
+            let mut angles = Worst::default();
+            let mut rates = Worst::default();
+            for (k, &t) in time.iter().enumerate() {
+                let r = m3(&sol, "tumbler.frame_a.R", k);
+                let err = mat_dist(&r, &planar(n, speed * t));
+                if t > t_singular {
+                    after.update(err, t);
+                }
+                // The reported angles are the library's angles of R, their rates those of w.
+                let (phi, phid) = (v3(&sol, "tumbler.phi", k), v3(&sol, "tumbler.phid", k));
+                angles.update(mat_dist(&euler_r([1, 2, 3], phi), &r), t);
+                if phi[1].cos().abs() > 1e-3 {
+                    rates.update(dist(euler_w([1, 2, 3], phi, phid), v3(&sol, "tumbler.w_a", k)), t);
+                }
+            }
+            after.check(&format!("{label}: |R - planar(n, |w| t)| after the crossing"), "", 1e-8);
+            angles.check(&format!("{label}: |R(phi) - R|"), "", 1e-12);
+            rates.check(&format!("{label}: |w(phi, phid) - w_a|"), "rad/s", 1e-8);
+        }
     }
 }
 
-/// The same stops with the fixed-step RK4, whose steps go across the
-/// singular configuration: the time is found on its dense output.
-/// - About y, phi[2] = |w| t crosses pi/2 with slope |w|: the engine
-///   refuses Euler states closer than 1e-6 to singular (|cos phi[2]|), which
-///   moves the stop up to 1e-6 / |w| = 7.7e-7 s early; 1e-6 s allows that.
-/// - About (x+z)/sqrt 2, R[3,1] only touches 1 (second derivative
-///   |w|^2 / 2): a state error e moves the touch by about sqrt(4 e / |w|^2),
-///   about 3e-6 s for RK4's e ~ 1e-11 at dt = 0.01; 1e-5 s allows that.
+/// A spinning Euler body thrown in gravity: across the chart switch (its
+/// frame_a turned, its position and velocity states resolved there) its
+/// position and velocity stay the parabola's, r_0 = v0 t + g n t^2 / 2.
 #[test]
-fn euler_singularity_stops_a_fixed_step_rk4_run_too() {
-    let speed = 1.3;
-    for (label, n, t_singular, tolerance) in [
-        ("spin about y", [0.0, 1.0, 0.0], PI / (2.0 * speed), 1e-6),
-        ("spin about (x+z)/sqrt 2", normalize([1.0, 0.0, 1.0]), PI / speed, 1e-5),
-    ] {
-        let mechanism = euler_spinner(scale(speed, n), [0.0; 3]).assemble().unwrap();
-        let opts =
-            SimulationOptions { stop: 5.0, saveat: 0.01, method: Method::Rk4 { dt: 0.01 }, ..Default::default() };
-        let err = mechanism.simulate(&opts).expect_err("the run reaches the Euler singularity");
-        println!("RK4, {label}: {err}");
-        assert!(err.to_string().contains("`tumbler`"), "{err}");
-        Worst { err: (err.time - t_singular).abs(), t: err.time }.check(
-            &format!("RK4, {label}: |stop time - closed-form time of phi[2] = pi/2|"),
-            "s",
-            tolerance,
-        );
+fn a_thrown_euler_body_keeps_its_parabola_across_the_singularity() {
+    let (speed, v0, g) = (1.3, [1.0, 2.0, 0.5], 9.80665);
+    let mut model = Model::new("thrown");
+    model.add("world", "World");
+    model
+        .add("tumbler", "Body")
+        .set("orientation_state", OrientationState::Euler)
+        .set("sequence", [1, 2, 3])
+        .initial("phi", [0.0; 3])
+        .initial("phid", [0.0, speed, 0.0])
+        .initial("v_0", v0);
+    let sol = model.assemble().unwrap().simulate(&options(3.0, 0.01, 1e-10, 1e-10)).unwrap();
+    assert_eq!(sol.warnings().iter().filter(|w| w.contains("singular")).count(), 1, "{:?}", sol.warnings());
+    let (mut position, mut velocity, mut turn) = (Worst::default(), Worst::default(), Worst::default());
+    for (k, &t) in sol.time().iter().enumerate() {
+        let r = add(scale(t, v0), [0.0, -0.5 * g * t * t, 0.0]);
+        let v = add(v0, [0.0, -g * t, 0.0]);
+        position.update(dist(v3(&sol, "tumbler.r_0", k), r), t);
+        velocity.update(dist(v3(&sol, "tumbler.v_0", k), v), t);
+        turn.update(mat_dist(&m3(&sol, "tumbler.frame_a.R", k), &planar([0.0, 1.0, 0.0], speed * t)), t);
     }
+    position.check("thrown: |r_0 - parabola|", "m", 1e-8);
+    velocity.check("thrown: |v_0 - parabola'|", "m/s", 1e-8);
+    turn.check("thrown: |R - planar(y, |w| t)|", "", 1e-8);
+}
+
+/// A torque-free asymmetric Euler body (sequence [1, 2, 3]) turning mostly
+/// about its intermediate axis tumbles, and its orientation passes near
+/// the singular configuration of the angles: across it, the kinetic energy
+/// and the angular momentum in the world stay what they were at the start.
+#[test]
+fn torque_free_tumbler_conserves_energy_and_momentum_across_the_singularity() {
+    let inertia: M3 = [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0]];
+    let mut model = Model::new("tumbler");
+    model.add("world", "World").set("g", 0.0);
+    let phi0 = [0.1, 1.2, -0.3];
+    let w0 = [0.05, 1.5, 0.1];
+    // The rates of w0 at phi0: solve w0 = J(phi0) phid by Cramer's rule on the columns of J.
+    let cols = [euler_w([1, 2, 3], phi0, [1.0, 0.0, 0.0]), euler_w([1, 2, 3], phi0, [0.0, 1.0, 0.0]), e(3)];
+    let det = dot(cols[0], cross(cols[1], cols[2]));
+    let phid0 = [
+        dot(w0, cross(cols[1], cols[2])) / det,
+        dot(cols[0], cross(w0, cols[2])) / det,
+        dot(cols[0], cross(cols[1], w0)) / det,
+    ];
+    model
+        .add("body", "Body")
+        .set("orientation_state", OrientationState::Euler)
+        .set("sequence", [1, 2, 3])
+        .set("I_11", inertia[0][0])
+        .set("I_22", inertia[1][1])
+        .set("I_33", inertia[2][2])
+        .initial("phi", phi0)
+        .initial("phid", phid0);
+    let sol = model.assemble().unwrap().simulate(&options(20.0, 0.01, 1e-10, 1e-10)).unwrap();
+    let notes: Vec<&String> = sol.warnings().iter().filter(|w| w.contains("singular")).collect();
+    println!("{notes:?}");
+    assert_eq!(notes.len(), 1, "one note, however often it passes: {:?}", sol.warnings());
+    let momentum = |k: usize| mat_t_vec(&m3(&sol, "body.frame_a.R", k), mat_vec(&inertia, v3(&sol, "body.w_a", k)));
+    let energy = |k: usize| 0.5 * dot(v3(&sol, "body.w_a", k), mat_vec(&inertia, v3(&sol, "body.w_a", k)));
+    let (l0, e0) = (momentum(0), energy(0));
+    let (mut dl, mut de) = (Worst::default(), Worst::default());
+    let mut nearest = f64::INFINITY;
+    for k in 0..sol.len() {
+        dl.update(dist(momentum(k), l0), sol.time()[k]);
+        de.update((energy(k) - e0).abs(), sol.time()[k]);
+        nearest = nearest.min(v3(&sol, "body.phi", k)[1].cos().abs());
+    }
+    println!("|cos phi[2]| down to {nearest:.2e}; |L| = {:.3}, KE = {e0:.3}", norm(l0));
+    assert!(nearest < 0.1, "the motion passes within the band of the singularity");
+    dl.check("|L_world - L_world(0)|", "N.m.s", 1e-8 * norm(l0).max(1.0));
+    de.check("|KE - KE(0)|", "J", 1e-8 * e0.max(1.0));
 }
 
 /// An Euler body started at its singular configuration (phi[2] = pi/2 for

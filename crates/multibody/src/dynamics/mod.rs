@@ -4,6 +4,7 @@
 //! and constraints of loops and couplings (`constraints`).
 
 mod aba;
+pub(crate) mod chart;
 mod constraints;
 mod drives;
 mod equations;
@@ -12,7 +13,7 @@ mod friction;
 mod signals;
 
 use crate::math::{ArticulatedInertia, Force, Mat3, Motion, Transform, Vec3};
-use crate::system::{joint, System};
+use crate::system::System;
 use nalgebra::{Matrix6, Vector6};
 
 /// Why the dynamics could not be evaluated at a state.
@@ -268,27 +269,5 @@ impl System {
         let start = &self.states.start[self.states.nq + self.states.nv..];
         r[first..first + start.len()].copy_from_slice(start);
         r
-    }
-
-    /// Between which singular configurations the middle angle of each
-    /// Euler-angle joint is at the state `y` (they are at pi/2 + k pi for
-    /// sequences of three different axes, at k pi otherwise), or the first
-    /// joint that is at one.
-    pub fn euler_sides(&self, y: &[f64], sides: &mut Vec<f64>) -> Result<(), usize> {
-        sides.clear();
-        for (index, link) in self.links.iter().enumerate().skip(1) {
-            let Some((offset, joint::RotationCoordinates::Euler { sequence })) = link.joint.rotation_coordinates()
-            else {
-                continue;
-            };
-            let q = &y[link.q_offset + offset..link.q_offset + offset + 3];
-            let det = crate::math::axes_rotations_rate_matrix(sequence, &Vec3::new(q[0], q[1], q[2])).determinant();
-            if det.abs() < joint::EULER_SINGULARITY {
-                return Err(index);
-            }
-            let first_singular = if sequence[0] == sequence[2] { 0.0 } else { std::f64::consts::FRAC_PI_2 };
-            sides.push(((q[1] - first_singular) / std::f64::consts::PI).floor());
-        }
-        Ok(())
     }
 }

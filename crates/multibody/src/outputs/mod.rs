@@ -42,6 +42,12 @@ pub(crate) struct OutputScratch {
     line_a: Vec<f64>,
     /// One component's output values.
     values: Vec<f64>,
+    /// With Euler-angle joints in charts: the state and its derivative in
+    /// the library's coordinates, and per link the angles last reported
+    /// (whose branch the next continue).
+    library: Vec<f64>,
+    library_dy: Vec<f64>,
+    euler_guess: Vec<Option<Vec3>>,
 }
 
 const FRAME_SIGNALS: [(&str, usize, &str); 4] = [("r_0", 3, "m"), ("R", 9, ""), ("f", 3, "N"), ("tau", 3, "N.m")];
@@ -112,6 +118,50 @@ impl Mechanism {
         SignalTable::with_owners(names, units, owners)
     }
 
+    /// The state `y` and its derivative (in `scratch.dy`) with the joints
+    /// that a simulator moved to a chart (near the singular configuration
+    /// of their Euler angles) in the library's coordinates: their angles
+    /// from the orientation, in the branch of the last ones reported, their
+    /// rates from the angular velocity, and a free joint's position and
+    /// velocity resolved in its own frame_a again.
+    fn library_coordinates(&self, y: &[f64], scratch: &mut OutputScratch) {
+        use crate::system::joint::RotationCoordinates;
+        let nq = self.system.states.nq;
+        scratch.library.clear();
+        scratch.library.extend_from_slice(y);
+        scratch.library_dy.clear();
+        scratch.library_dy.extend_from_slice(&scratch.dy);
+        scratch.euler_guess.resize(self.system.links.len(), None);
+        let v3 = |s: &[f64], i: usize| Vec3::new(s[i], s[i + 1], s[i + 2]);
+        for (k, link) in self.system.links.iter().enumerate() {
+            let (Some(chart), Some((offset, RotationCoordinates::Euler { sequence }))) =
+                (link.chart, link.joint.rotation_coordinates())
+            else {
+                continue;
+            };
+            let (qa, ua) = (link.q_offset + offset, nq + link.v_offset + offset);
+            let guess = scratch.euler_guess[k].unwrap_or(chart.phi);
+            let psi = (&v3(y, qa), &v3(y, ua), &v3(&scratch.dy, ua));
+            let (phi, phid, phidd) = crate::dynamics::chart::library_coordinates(sequence, &chart, psi, &guess);
+            if phi.iter().all(|x| x.is_finite()) {
+                scratch.euler_guess[k] = Some(phi);
+            }
+            scratch.library[qa..qa + 3].copy_from_slice(phi.as_slice());
+            scratch.library[ua..ua + 3].copy_from_slice(phid.as_slice());
+            scratch.library_dy[qa..qa + 3].copy_from_slice(phid.as_slice());
+            scratch.library_dy[ua..ua + 3].copy_from_slice(phidd.as_slice());
+            if offset == 3 {
+                // A free joint: position and velocity were resolved in the turned frame_a.
+                for at in [link.q_offset, nq + link.v_offset] {
+                    let back = chart.base.tr_mul(&v3(y, at));
+                    scratch.library[at..at + 3].copy_from_slice(back.as_slice());
+                    let back = chart.base.tr_mul(&v3(&scratch.dy, at));
+                    scratch.library_dy[at..at + 3].copy_from_slice(back.as_slice());
+                }
+            }
+        }
+    }
+
     /// Evaluates the output signals at `(t, y)` into `row` (one value per
     /// signal): those of every component, or with `wanted` only those of
     /// the components it marks (the other values are left as they were).
@@ -147,8 +197,20 @@ impl Mechanism {
         self.cut_joint_coordinates(scratch);
         scratch.signals.clear();
         scratch.signals.extend(self.signal_of_connector.iter().map(|&slot| ws.signals[slot]));
+        let charted = self.system.links.iter().any(|l| l.chart.is_some());
+        if charted {
+            self.library_coordinates(y, scratch);
+        }
         let (q, u) = y.split_at(nq);
         let (qd, ud) = scratch.dy.split_at(nq);
+        // What the components see of their joints: the library's coordinates.
+        let (jq, ju, jqd, jud) = if charted {
+            let (a, b) = scratch.library.split_at(nq);
+            let (c, d) = scratch.library_dy.split_at(nq);
+            (a, b, c, d)
+        } else {
+            (q, u, qd, ud)
+        };
         // A line's length accelerates as s'' = e . a_rel + (|v_rel|^2 - s'^2) / s.
         scratch.line_a.clear();
         for (line, state) in self.system.lines.iter().zip(&ws.lines) {
@@ -180,10 +242,10 @@ impl Mechanism {
                         let l = &self.system.links[k];
                         let (qr, vr) = (l.q_offset..l.q_offset + l.joint.nq(), l.v_offset..l.v_offset + l.joint.nv());
                         JointState {
-                            q: &q[qr.clone()],
-                            u: &u[vr.clone()],
-                            qdot: &qd[qr],
-                            udot: &ud[vr.clone()],
+                            q: &jq[qr.clone()],
+                            u: &ju[vr.clone()],
+                            qdot: &jqd[qr],
+                            udot: &jud[vr.clone()],
                             tau: &ws.tau[vr],
                         }
                     }

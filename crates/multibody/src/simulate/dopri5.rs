@@ -166,6 +166,32 @@ impl DormandPrince {
         Ok(())
     }
 
+    /// Starts again at `(t, y)` where the state goes on smoothly but its
+    /// derivative may jump (an input of the host changed): the derivative
+    /// anew, and as first step the one the integrator would have tried
+    /// next, which the error control cuts if the jump needs it, rather than
+    /// a new estimate. Never started yet, it is [`Self::start`].
+    pub fn restart<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        y: &[f64],
+        horizon: f64,
+    ) -> Result<(), Stopped<S::Error>> {
+        if self.h.is_nan() || self.h <= 0.0 {
+            return self.start(sys, t, y, horizon);
+        }
+        self.y.copy_from_slice(y);
+        self.t = t;
+        if let Err(e) = sys.rhs(t, &self.y, &mut self.k[0]) {
+            return Err(Stopped { t, failure: Failure::Rhs(e), stats: self.stats });
+        }
+        self.stats.evaluations += 1;
+        self.fac_old = 1e-4;
+        self.rejected_last = false;
+        Ok(())
+    }
+
     /// Steps from the current time to exactly `tf`, calling `observe` after
     /// every accepted step, or to the first event the system locates
     /// inside a step; [`Self::start`] must follow an event.

@@ -8,8 +8,10 @@
 //! either allocate in every step, or lack `dtmax` or a fixed-step RK4, or
 //! cannot stop on a failed evaluation and keep the output. None lets the
 //! caller move the state after an accepted step, and this engine needs that
-//! to project kinematic loops back onto their constraints and to detect
-//! Euler-angle singularities between steps ([`integrator::OdeSystem::accept`]).
+//! to project kinematic loops back onto their constraints
+//! ([`integrator::OdeSystem::accept`]); events, the Euler-angle singularity
+//! among them, are located on a step's dense output
+//! ([`integrator::OdeSystem::locate`]).
 
 mod dopri5;
 pub mod integrator;
@@ -20,7 +22,7 @@ mod solution;
 
 pub use integrator::{Stats, StiffStretch};
 pub use simulator::{Shared, Simulator};
-pub use solution::{glob, CsvWriter, Solution};
+pub use solution::{glob, CsvWriter, Rows, Solution};
 
 use crate::assembly::Mechanism;
 
@@ -243,12 +245,20 @@ const RESERVE_LIMIT: f64 = 256e6;
 /// `options.start` to `options.stop`, when it is known and not too large:
 /// growing hundreds of columns sample by sample costs more than the dynamics.
 pub(crate) fn reserve_grid(solution: &mut Solution, options: &SimulationOptions) {
+    solution.reserve(grid_samples(solution.names().len(), options));
+}
+
+/// The samples of the output grid from `options.start` to `options.stop`
+/// of `width` signals, when it is known and not too large to make room for
+/// at once; otherwise 0.
+pub(crate) fn grid_samples(width: usize, options: &SimulationOptions) -> usize {
     if options.saveat > 0.0 && options.stop > options.start {
         let samples = ((options.stop - options.start) / options.saveat).ceil() + 1.0;
-        if samples * (solution.names().len() + 1) as f64 * 8.0 < RESERVE_LIMIT {
-            solution.reserve(samples as usize);
+        if samples * (width + 1) as f64 * 8.0 < RESERVE_LIMIT {
+            return samples as usize;
         }
     }
+    0
 }
 
 // The error carries the partial solution by value; it is returned once per

@@ -13,14 +13,25 @@
 //! again. Time events (a source's switching times) end a stretch of
 //! integration exactly, the dynamics seeing the sources' left limits up to
 //! them.
+//!
+//! The Euler-angle singularity is one indicator among the others: each
+//! Euler-angle joint's middle angle must stay 0.1 rad away from its
+//! singular values. Where it comes closer, the event moves the joint to a
+//! chart (its orientation integrated as Euler angles from a turned base,
+//! `dynamics::chart`), a note says so once, and the run goes on; the
+//! outputs still report the library's angles.
 
 use super::integrator::{DenseStep, Failure, Observer, OdeSystem, Reached, Stats, Tolerances};
-use super::{dopri5, rk4, rodas, Method, RunReport, SampleSink, SimulationOptions, Solution, Stopped};
+use super::{dopri5, rk4, rodas, Method, Rows, RunReport, SampleSink, SimulationOptions, Solution, Stopped};
 use crate::assembly::Mechanism;
+use crate::dynamics::chart::{self, EulerChart};
 use crate::dynamics::{DynamicsError, Workspace};
+use crate::math::rotation::{axes_rotations, axes_rotations_rate_matrix};
+use crate::math::{Mat3, Transform, Vec3};
 use crate::outputs::OutputScratch;
+use crate::system::joint::RotationCoordinates;
 use std::ops::Deref;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 /// Passes of one event iteration before it is declared not to settle.
 const EVENT_ITERATIONS: usize = 50;
@@ -82,6 +93,17 @@ impl Stepper {
             Stepper::DormandPrince(s) => s.start(sys, t, y, horizon),
             Stepper::Rk4(s) => s.start(sys, t, y),
             Stepper::Rodas4(s) => s.start(sys, t, y, horizon),
+        }
+    }
+
+    /// Starts again at `(t, y)` after an input changed, the state going on
+    /// smoothly: the first step is the one the integrator would have taken
+    /// next (the error control cuts it if the new input needs it), instead
+    /// of a new estimate.
+    fn restart<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64], horizon: f64) -> Result<(), Stop<S::Error>> {
+        match self {
+            Stepper::DormandPrince(s) => s.restart(sys, t, y, horizon),
+            _ => self.start(sys, t, y, horizon),
         }
     }
 
@@ -166,7 +188,8 @@ struct Indicators {
     above: Vec<bool>,
     y: Vec<f64>,
     dy: Vec<f64>,
-    /// The indicator that changed sign at the last event located.
+    /// The indicator that changed sign at the last event located: one of
+    /// the model's, or past them, the Euler-angle joint of that number.
     last: Option<usize>,
 }
 
@@ -181,11 +204,53 @@ impl Indicators {
 struct Dynamics<'a> {
     mechanism: &'a Mechanism,
     ws: &'a mut Workspace,
-    /// Side of the singular configuration of each Euler-angle joint.
-    euler_sides: &'a mut Vec<f64>,
-    /// The same at the end of the step being accepted (scratch).
-    euler_sides_now: &'a mut Vec<f64>,
+    /// The Euler-angle joints' distance from their singular configuration.
+    charts: &'a [ChartWatch],
     indicators: &'a mut Indicators,
+}
+
+/// Points inside a step where the Euler-angle indicators are looked at
+/// besides its end: a middle angle that enters the band around a singular
+/// value and leaves it again within one step (a near touch) is found when
+/// it stays in for more than a sixteenth of the step. (A pass through the
+/// singular value, however long the step, ends outside the safe interval
+/// and is found at the step's end.)
+const CHART_PROBES: usize = 16;
+
+/// An Euler-angle joint's indicator: its middle angle (state `at`) must
+/// stay in `[lo, hi]`, [`chart::CHART_BAND`] from the singular values on either side
+/// of where it stood when the integration last started. The indicator is
+/// the signed distance to the nearer end, monotone in the angle, so that a
+/// step that jumps over the singular value, or past several, still ends on
+/// the other sign.
+#[derive(Clone, Debug)]
+struct ChartWatch {
+    link: usize,
+    at: usize,
+    sequence: [usize; 3],
+    lo: f64,
+    hi: f64,
+    /// A joint traversed from its frame_b: no chart, the run stops there.
+    inverted: bool,
+    /// Whether the note was given.
+    noted: bool,
+}
+
+impl ChartWatch {
+    fn indicator(&self, y: &[f64]) -> f64 {
+        (y[self.at] - self.lo).min(self.hi - y[self.at])
+    }
+
+    /// Whether the indicator changed sign (a NaN angle counts).
+    fn crossed(&self, y: &[f64]) -> bool {
+        let g = self.indicator(y);
+        g.is_nan() || g < 0.0
+    }
+}
+
+/// The first Euler-angle joint whose indicator changed sign at `y`.
+fn chart_crossed(charts: &[ChartWatch], y: &[f64]) -> Option<usize> {
+    charts.iter().position(|c| c.crossed(y))
 }
 
 impl OdeSystem for Dynamics<'_> {
@@ -198,14 +263,11 @@ impl OdeSystem for Dynamics<'_> {
     }
 
     fn accept(&mut self, step: &dyn DenseStep, y: &mut [f64]) -> Result<bool, StepError> {
-        if !self.euler_sides.is_empty() {
-            self.euler_crossing(step, y)?;
-        }
         Ok(self.mechanism.project(self.ws, step.span().1, y)?)
     }
 
     fn locate(&mut self, step: &dyn DenseStep, end_evaluated: bool) -> Result<Option<f64>, StepError> {
-        if self.indicators.above.is_empty() {
+        if self.indicators.above.is_empty() && self.charts.is_empty() {
             return Ok(None);
         }
         let (t0, t1) = step.span();
@@ -221,6 +283,8 @@ impl Dynamics<'_> {
     /// to the resolution of the time: bisection on the dense output
     /// (whether any indicator changed is monotone in time where the step
     /// meets a single crossing, as it does at the integrator's tolerance).
+    /// The Euler-angle indicators, functions of the state alone, are also
+    /// looked at inside the step ([`CHART_PROBES`]).
     fn first_change(
         &mut self,
         step: &dyn DenseStep,
@@ -229,11 +293,28 @@ impl Dynamics<'_> {
         end_evaluated: bool,
         ind: &mut Indicators,
     ) -> Result<Option<f64>, StepError> {
-        if !end_evaluated {
+        let model = !ind.above.is_empty();
+        if model && !end_evaluated {
             self.mechanism.rhs(self.ws, t1, step.y(), &mut ind.dy)?;
         }
-        let Some(mut which) = ind.changed(&self.ws.indicators) else { return Ok(None) };
-        let (mut lo, mut hi) = (t0, t1);
+        let mut which = match chart_crossed(self.charts, step.y()) {
+            Some(k) => Some(ind.above.len() + k),
+            None if model => ind.changed(&self.ws.indicators),
+            None => None,
+        };
+        let mut hi = t1;
+        if which.is_none() && !self.charts.is_empty() {
+            for j in 1..CHART_PROBES {
+                let t = t0 + (t1 - t0) * j as f64 / CHART_PROBES as f64;
+                step.interpolate(t, &mut ind.y);
+                if let Some(k) = chart_crossed(self.charts, &ind.y) {
+                    (hi, which) = (t, Some(ind.above.len() + k));
+                    break;
+                }
+            }
+        }
+        let Some(mut which) = which else { return Ok(None) };
+        let mut lo = t0;
         let resolution = 4.0 * f64::EPSILON * t0.abs().max(t1.abs()).max(1.0);
         while hi - lo > resolution {
             let mid = 0.5 * (lo + hi);
@@ -241,8 +322,15 @@ impl Dynamics<'_> {
                 break;
             }
             step.interpolate(mid, &mut ind.y);
-            self.mechanism.rhs(self.ws, mid, &ind.y, &mut ind.dy)?;
-            match ind.changed(&self.ws.indicators) {
+            let changed = match chart_crossed(self.charts, &ind.y) {
+                Some(k) => Some(ind.above.len() + k),
+                None if model => {
+                    self.mechanism.rhs(self.ws, mid, &ind.y, &mut ind.dy)?;
+                    ind.changed(&self.ws.indicators)
+                }
+                None => None,
+            };
+            match changed {
                 Some(k) => {
                     hi = mid;
                     which = k;
@@ -253,58 +341,11 @@ impl Dynamics<'_> {
         ind.last = Some(which);
         Ok(Some(hi))
     }
-
-    /// Stops at an Euler-angle joint's singular configuration, also when the
-    /// step went across it (the motion may pass smoothly, the angles not):
-    /// the time is where `det J` changes sign, found on the dense output.
-    fn euler_crossing(&mut self, step: &dyn DenseStep, y: &[f64]) -> Result<(), DynamicsError> {
-        let (t0, t1) = step.span();
-        let sides = |mech: &Mechanism, y: &[f64], out: &mut Vec<f64>| mech.system.euler_sides(y, out);
-        let mut now = std::mem::take(self.euler_sides_now);
-        let crossed = match sides(self.mechanism, y, &mut now) {
-            Err(link) => Some(link),
-            Ok(()) => now.iter().zip(self.euler_sides.iter()).position(|(a, b)| a != b).map(|k| self.euler_link(k)),
-        };
-        let Some(link) = crossed else {
-            // Swap, so that accepted steps reuse both buffers.
-            *self.euler_sides_now = std::mem::replace(self.euler_sides, now);
-            return Ok(());
-        };
-        let (mut lo, mut hi) = (t0, t1);
-        let mut mid_state = vec![0.0; y.len()];
-        for _ in 0..60 {
-            let mid = 0.5 * (lo + hi);
-            step.interpolate(mid, &mut mid_state);
-            match sides(self.mechanism, &mid_state, &mut now) {
-                Ok(()) if now == *self.euler_sides => lo = mid,
-                _ => hi = mid,
-            }
-        }
-        Err(DynamicsError::EulerSingularity { link, time: hi })
-    }
-
-    /// The link of the k-th Euler-angle joint.
-    fn euler_link(&self, k: usize) -> usize {
-        self.mechanism
-            .system
-            .links
-            .iter()
-            .enumerate()
-            .filter(|(_, l)| {
-                matches!(
-                    l.joint.rotation_coordinates(),
-                    Some((_, crate::system::joint::RotationCoordinates::Euler { .. }))
-                )
-            })
-            .nth(k)
-            .map_or(0, |(i, _)| i)
-    }
 }
 
 /// What the recorder keeps between calls: the output grid's progress, its
-/// own workspace, and with Euler-angle joints the samples of the latest
-/// step, which wait until the step is final (a singular configuration found
-/// inside it cuts it short).
+/// own workspace, and the samples of the latest step while they wait to be
+/// final (when `hold`).
 struct RecorderState {
     ws: Workspace,
     scratch: OutputScratch,
@@ -426,11 +467,20 @@ pub struct Simulator<'m> {
     stepper: Stepper,
     ws: Workspace,
     indicators: Indicators,
-    euler_sides: Vec<f64>,
-    euler_sides_now: Vec<f64>,
+    /// The Euler-angle joints, watched for their singular configuration.
+    charts: Vec<ChartWatch>,
+    /// The mechanism as given, before any joint moved to a chart (what
+    /// [`Simulator::reset`] goes back to).
+    original: Shared<'m>,
     recorder: RecorderState,
-    /// The samples [`Simulator::step_until`] records.
-    solution: Solution,
+    /// The samples [`Simulator::step_until`] records, row by row.
+    recorded: Rows,
+    /// The same as columns, made when [`Simulator::solution`] asks and
+    /// kept up to date from then on.
+    columns: OnceLock<Solution>,
+    /// What the run found worth saying once (a note each), given with the
+    /// samples.
+    notes: Vec<String>,
     /// The time and state reached.
     t: f64,
     y: Vec<f64>,
@@ -439,6 +489,11 @@ pub struct Simulator<'m> {
     /// Whether the integrator holds `(t, y)` with its derivative, ready to
     /// step on (events, inputs and a new state make it start again).
     started: bool,
+    /// Whether only an input changed since the integrator stood ready: it
+    /// starts again with the step it would have taken next, and (a host
+    /// that sets an input before a call will likely do so before the next)
+    /// the call does not step past the time asked for.
+    input_changed: bool,
     /// Whether the integrator stands past `t`, its last step covering it
     /// (`y` read on that step's dense output): the next call goes on from
     /// there unless the host changed an input or the state.
@@ -459,7 +514,7 @@ impl<'m> Simulator<'m> {
         let mechanism = mechanism.into();
         let y0 = mechanism.system.states.start.clone();
         let mut sim = Self::from_state(mechanism, &y0, options, None)?;
-        super::reserve_grid(&mut sim.solution, options);
+        sim.recorded.reserve(super::grid_samples(sim.recorded.width(), options));
         Ok(sim)
     }
 
@@ -518,14 +573,17 @@ impl<'m> Simulator<'m> {
             stepper: Stepper::new(n, options),
             ws: mechanism.workspace(),
             indicators: Indicators::default(),
-            euler_sides: Vec::new(),
-            euler_sides_now: Vec::new(),
+            charts: Vec::new(),
+            original: mechanism.clone(),
             recorder,
-            solution: Solution::with_signals(mechanism.signal_table().clone()),
+            recorded: Rows::new(mechanism.signal_table().names().len()),
+            columns: OnceLock::new(),
+            notes: Vec::new(),
             t: options.start,
             y: y0.to_vec(),
             y0: y0.to_vec(),
             started: false,
+            input_changed: false,
             ahead: false,
             piled: (0, f64::NEG_INFINITY),
             events: 0,
@@ -555,13 +613,14 @@ impl<'m> Simulator<'m> {
         self.ws.initial = false;
         settled?;
         self.event_iteration(false)?;
-        if let Err(link) = self.mechanism.system.euler_sides(&self.y, &mut self.euler_sides) {
-            return Err(StepError::Dynamics(DynamicsError::EulerSingularity { link, time: self.t }));
-        }
-        self.recorder.hold = !self.euler_sides.is_empty();
+        self.charts = self.watch_charts();
+        // A start near the singular configuration moves to a chart at once.
+        self.switch_charts()?;
+        self.recorder.hold = false;
         self.recorder.next = 0;
         self.recorder.past_stop = false;
         self.started = false;
+        self.input_changed = false;
         self.ahead = false;
         self.piled = (0, f64::NEG_INFINITY);
         Ok(())
@@ -572,7 +631,12 @@ impl<'m> Simulator<'m> {
         self.t
     }
 
-    /// The state reached, in the order of [`Simulator::state_names`].
+    /// The state reached, in the order of [`Simulator::state_names`]. A
+    /// body whose Euler angles came near their singular configuration is
+    /// integrated in a chart from then on (a note says so): its states
+    /// `phi`, `phid` (and a free body's `r_0`, `v_0`) hold the chart's
+    /// coordinates, which [`Simulator::set_state`] takes back; its outputs
+    /// (`phi`, `phid`, `r_0`, ...) stay the library's.
     pub fn state(&self) -> &[f64] {
         &self.y
     }
@@ -592,7 +656,10 @@ impl<'m> Simulator<'m> {
         }
         self.y.copy_from_slice(y);
         self.started = false;
-        Ok(())
+        self.input_changed = false;
+        // The Euler-angle joints watch from the new state (in the
+        // coordinates they are integrated in).
+        self.switch_charts().map_err(|e| self.stopped(e, self.t).reason)
     }
 
     /// Sets one state by its name (`rev.phi`, `body.v_0[2]`).
@@ -628,6 +695,10 @@ impl<'m> Simulator<'m> {
     }
 
     fn input_index(&self, name: &str) -> Result<usize, String> {
+        // Without collecting the names: a controller calls this every step.
+        if let Some(k) = self.mechanism.system.events.inputs.iter().position(|(n, _)| n == name) {
+            return Ok(k);
+        }
         let names = self.mechanism.input_names();
         names.iter().position(|n| *n == name).ok_or_else(|| {
             if names.is_empty() {
@@ -661,6 +732,9 @@ impl<'m> Simulator<'m> {
             self.ws.inputs[k] = value;
             self.recorder.ws.inputs[k] = value;
             // The derivative the integrator carries is stale.
+            if self.started {
+                self.input_changed = true;
+            }
             self.started = false;
         }
         Ok(())
@@ -698,13 +772,43 @@ impl<'m> Simulator<'m> {
     /// The samples recorded so far on the output grid (every `saveat`
     /// from `start`; at the end of each step with `saveat = 0`).
     pub fn solution(&self) -> &Solution {
-        &self.solution
+        self.columns.get_or_init(|| {
+            let mut solution = Solution::with_signals(self.mechanism.signal_table().clone());
+            self.recorded.append_to(&mut solution, 0);
+            solution.set_warnings(self.notes.clone());
+            solution
+        })
+    }
+
+    /// The names of the signals recorded (the columns of
+    /// [`Simulator::solution`], the values of a row of [`Simulator::recorded`]).
+    pub fn signal_names(&self) -> &[String] {
+        self.mechanism.signal_table().names()
+    }
+
+    /// The position of a signal among [`Simulator::signal_names`].
+    pub fn signal_index(&self, name: &str) -> Option<usize> {
+        self.mechanism.signal_table().index(name)
+    }
+
+    /// What the run found worth a note so far (each said once), as
+    /// [`Solution::warnings`] gives them.
+    pub fn notes(&self) -> &[String] {
+        &self.notes
+    }
+
+    /// The samples recorded so far, row by row (as [`Simulator::solution`]
+    /// has them, without making columns).
+    pub fn recorded(&self) -> &Rows {
+        &self.recorded
     }
 
     /// Takes the samples recorded so far, leaving none.
     pub fn take_solution(&mut self) -> Solution {
-        let empty = Solution::with_signals(self.mechanism.signal_table().clone());
-        std::mem::replace(&mut self.solution, empty)
+        self.solution();
+        let solution = self.columns.take().expect("made just now");
+        self.recorded.clear();
+        solution
     }
 
     /// How many events were handled (time events and state events).
@@ -714,20 +818,135 @@ impl<'m> Simulator<'m> {
 
     /// When the last event was, and what the indicator that made it
     /// watches (`None` for a source's switching time).
-    pub fn last_event(&self) -> Option<(f64, Option<&str>)> {
+    pub fn last_event(&self) -> Option<(f64, Option<String>)> {
+        self.last_event.map(|(t, k)| (t, k.map(|k| self.indicator_name(k))))
+    }
+
+    /// The name of indicator `k`: one of the model's, or past them, an
+    /// Euler-angle joint's distance from its singular configuration.
+    fn indicator_name(&self, k: usize) -> String {
         let names = &self.mechanism.system.events.indicators;
-        self.last_event.map(|(t, k)| (t, k.and_then(|k| names.get(k)).map(String::as_str)))
+        match names.get(k) {
+            Some(name) => name.clone(),
+            None => match self.charts.get(k - names.len()) {
+                Some(c) => format!("{}.phi near its singular configuration", self.component_of(c.link)),
+                None => format!("indicator {k}"),
+            },
+        }
+    }
+
+    /// The name of the component whose states move link `link`.
+    fn component_of(&self, link: usize) -> &str {
+        &self.mechanism.components[self.mechanism.system.links[link].states_of].name
+    }
+
+    /// Watches on the Euler-angle joints, each with the safe interval of
+    /// its middle angle where it stands.
+    fn watch_charts(&self) -> Vec<ChartWatch> {
+        let mut charts = Vec::new();
+        for (link, l) in self.mechanism.system.links.iter().enumerate().skip(1) {
+            if let Some((offset, RotationCoordinates::Euler { sequence })) = l.joint.rotation_coordinates() {
+                let at = l.q_offset + offset + 1;
+                let (lo, hi) = chart::safe_interval(sequence, self.y[at]);
+                charts.push(ChartWatch { link, at, sequence, lo, hi, inverted: l.inverted, noted: false });
+            }
+        }
+        charts
+    }
+
+    /// Moves every Euler-angle joint whose middle angle is within the band
+    /// of a singular value to a chart (see [`crate::dynamics::chart`]),
+    /// saying so once per joint, and takes the safe intervals from where
+    /// the angles stand. A joint traversed from its frame_b stops the run
+    /// there.
+    fn switch_charts(&mut self) -> Result<(), StepError> {
+        for k in 0..self.charts.len() {
+            // The safe interval where the angle stands: it leaves the angle
+            // out only within the band of a singular value.
+            let c = &mut self.charts[k];
+            (c.lo, c.hi) = chart::safe_interval(c.sequence, self.y[c.at]);
+            if !c.crossed(&self.y) {
+                continue;
+            }
+            let ChartWatch { link, sequence, inverted, noted, .. } = self.charts[k];
+            if inverted {
+                return Err(StepError::Dynamics(DynamicsError::EulerSingularity { link, time: self.t }));
+            }
+            self.move_to_chart(link, sequence);
+            if !noted {
+                self.charts[k].noted = true;
+                let note = format!(
+                    "`{}` came near the singular configuration of its Euler angles (sequence {sequence:?}, the \
+                     first and third axes lining up) at t = {:.6} s: the run went on with its orientation \
+                     integrated in an internal chart (the same sequence from a turned base), and its `phi`, `phid` \
+                     are still reported from its orientation. From then on the states `{0}.phi`, `{0}.phid` \
+                     (and for a free body `r_0`, `v_0`) hold the chart's coordinates",
+                    self.component_of(link),
+                    self.t
+                );
+                self.notes.push(note);
+                if let Some(solution) = self.columns.get_mut() {
+                    solution.set_warnings(self.notes.clone());
+                }
+            }
+        }
+        for c in &mut self.charts {
+            (c.lo, c.hi) = chart::safe_interval(c.sequence, self.y[c.at]);
+        }
+        Ok(())
+    }
+
+    /// Moves the Euler-angle joint of `link` to a chart started at its
+    /// present orientation: the new base goes into the joint's parent-side
+    /// transform, and the state into the chart's coordinates.
+    fn move_to_chart(&mut self, link: usize, sequence: [usize; 3]) {
+        if let Shared::Borrowed(m) = self.mechanism {
+            self.mechanism = Shared::Owned(Arc::new(m.clone()));
+        }
+        let Shared::Owned(mechanism) = &mut self.mechanism else { unreachable!("owned just now") };
+        let mechanism = Arc::make_mut(mechanism);
+        let nq = mechanism.system.states.nq;
+        let l = &mut mechanism.system.links[link];
+        let offset = l.joint.rotation_coordinates().map_or(0, |(offset, _)| offset);
+        let (qa, ua) = (l.q_offset + offset, nq + l.v_offset + offset);
+        let y = &mut self.y;
+        let v3 = |y: &[f64], i: usize| Vec3::new(y[i], y[i + 1], y[i + 2]);
+        let (psi, psid) = (v3(y, qa), v3(y, ua));
+        let old = l.chart.map_or(Mat3::identity(), |c| c.base);
+        let r = axes_rotations(sequence, &psi) * old;
+        let w = axes_rotations_rate_matrix(sequence, &psi) * psid;
+        let (base, psi_new, psid_new) = chart::chart_at(sequence, &r, &w);
+        let turn = base * old.transpose();
+        if offset == 3 {
+            // A free joint's position and velocity are resolved in its frame_a, which turns.
+            for at in [l.q_offset, nq + l.v_offset] {
+                let turned = turn * v3(y, at);
+                y[at..at + 3].copy_from_slice(turned.as_slice());
+            }
+        }
+        y[qa..qa + 3].copy_from_slice(psi_new.as_slice());
+        y[ua..ua + 3].copy_from_slice(psid_new.as_slice());
+        l.x_tree = Transform::new(turn * l.x_tree.rot, l.x_tree.trans);
+        // The library's angles are where their branch continues from.
+        let phi = l.chart.map_or(psi, |c| c.phi);
+        l.chart = Some(EulerChart { base, phi });
+        self.started = false;
     }
 
     /// Back to the start state, time, inputs and discrete state; the
     /// samples recorded are dropped.
     pub fn reset(&mut self) -> Result<(), String> {
         self.stats = self.stats();
+        // Joints moved to charts go back to the library's coordinates.
+        self.mechanism = self.original.clone();
+        self.recorder.scratch = OutputScratch::default();
         self.stepper = Stepper::new(self.y.len(), &self.options);
         let inputs: Vec<f64> = self.mechanism.system.events.inputs.iter().map(|i| i.1).collect();
         self.ws.inputs.copy_from_slice(&inputs);
         self.recorder.ws.inputs.copy_from_slice(&inputs);
-        self.take_solution();
+        self.recorded.clear();
+        self.columns = OnceLock::new();
+        self.notes.clear();
         self.events = 0;
         self.last_event = None;
         self.begin().map_err(|e| self.stopped(e, self.options.start).reason)
@@ -750,9 +969,16 @@ impl<'m> Simulator<'m> {
     /// failure the simulator stays at the last good time, and what was
     /// recorded is kept.
     pub fn step_until(&mut self, t: f64) -> Result<(), Stopped> {
-        let mut solution = std::mem::take(&mut self.solution);
-        let result = self.run_to(t, &mut solution, None, true);
-        self.solution = solution;
+        let mut recorded = std::mem::take(&mut self.recorded);
+        let result = self.run_to(t, &mut recorded, None, true);
+        self.recorded = recorded;
+        if let Some(solution) = self.columns.get_mut() {
+            let from = solution.len();
+            self.recorded.append_to(solution, from);
+            if solution.warnings().len() != self.notes.len() {
+                solution.set_warnings(self.notes.clone());
+            }
+        }
         result
     }
 
@@ -775,7 +1001,7 @@ impl<'m> Simulator<'m> {
     fn may_look_ahead(&self) -> bool {
         self.stepper.ahead().is_some()
             && self.mechanism.system.events.indicators.is_empty()
-            && self.euler_sides.is_empty()
+            && self.charts.is_empty()
             && !self.recorder.hold
     }
 
@@ -787,7 +1013,7 @@ impl<'m> Simulator<'m> {
         mut progress: Option<&mut Progress>,
         look_ahead: bool,
     ) -> Result<(), Stopped> {
-        let look_ahead = look_ahead && self.may_look_ahead();
+        let look_ahead = look_ahead && self.may_look_ahead() && !self.input_changed;
         if !target.is_finite() {
             return Err(self.stopped(StepError::Caller(format!("cannot step until t = {target}")), self.t));
         }
@@ -810,7 +1036,11 @@ impl<'m> Simulator<'m> {
             }
             let time_event = self.mechanism.next_time_event(self.t);
             let tf = target.min(time_event);
-            let limit = if look_ahead && tf < time_event { time_event } else { tf };
+            // Up to the stop, the steps are those of one call to the stop
+            // (the last cut short at it), so that stepping records what
+            // `simulate` records.
+            let end = if tf <= self.options.stop { time_event.min(self.options.stop) } else { time_event };
+            let limit = if look_ahead && tf < end { end } else { tf };
             let reached = match self.advance(tf, limit, sink, progress.as_deref_mut()) {
                 Err(stopped) if limit > tf && !stopped.by_caller && self.may_retry(&stopped, tf) => {
                     // A step past `tf` failed: go again from where the
@@ -887,15 +1117,21 @@ impl<'m> Simulator<'m> {
         sink: &mut dyn SampleSink,
         progress: Option<&mut Progress<'q>>,
     ) -> Result<Reached, Stopped> {
-        let Simulator { mechanism, stepper, ws, indicators, euler_sides, euler_sides_now, recorder, .. } = self;
+        let Simulator { mechanism, stepper, ws, indicators, charts, recorder, .. } = self;
         let mechanism: &Mechanism = mechanism;
         let time_event = mechanism.next_time_event(self.t) == tf;
         // Up to a time event the sources show their values before it.
         ws.left_limit_at = if time_event { tf } else { f64::NAN };
-        let mut system = Dynamics { mechanism, ws, euler_sides, euler_sides_now, indicators };
+        let mut system = Dynamics { mechanism, ws, charts, indicators };
         let horizon = (self.options.stop - self.options.start).max(tf - self.t);
         if !self.started {
-            if let Err(stop) = stepper.start(&mut system, self.t, &self.y, horizon) {
+            let started = if self.input_changed {
+                stepper.restart(&mut system, self.t, &self.y, horizon)
+            } else {
+                stepper.start(&mut system, self.t, &self.y, horizon)
+            };
+            self.input_changed = false;
+            if let Err(stop) = started {
                 system.ws.left_limit_at = f64::NAN;
                 return Err(self.stop_integration(stop));
             }
@@ -973,6 +1209,7 @@ impl<'m> Simulator<'m> {
             self.piled = (1, t);
         }
         self.event_iteration(true)?;
+        self.switch_charts()?;
         self.started = false;
         Ok(())
     }
@@ -980,9 +1217,7 @@ impl<'m> Simulator<'m> {
     /// Why a run stopped where events pile up (the last made by indicator
     /// `k`, `span` seconds before).
     fn piling_up(&self, k: Option<usize>, span: f64) -> String {
-        let which = k
-            .and_then(|k| self.mechanism.system.events.indicators.get(k))
-            .map_or("a source's switching time".to_string(), |n| format!("`{n}`"));
+        let which = k.map_or("a source's switching time".to_string(), |k| format!("`{}`", self.indicator_name(k)));
         format!(
             "the events pile up ({} events so far, the last {span:.1e} s before, at {which}): a bounce that loses \
              energy geometrically, or a condition that switches back and forth. Stop it with a condition that \
@@ -1050,7 +1285,9 @@ impl<'m> Simulator<'m> {
     /// The warnings and counts of a run that reached its end.
     pub(crate) fn report(&self) -> RunReport {
         let stats = self.stats();
-        RunReport { stats, warnings: self.mechanism.doubts(&stats, &self.options) }
+        let mut warnings = self.notes.clone();
+        warnings.extend(self.mechanism.doubts(&stats, &self.options));
+        RunReport { stats, warnings }
     }
 }
 

@@ -13,6 +13,78 @@ pub struct Solution {
     warnings: Vec<String>,
 }
 
+/// Samples recorded row by row: one append per sample, where a
+/// [`Solution`] pushes onto every column. A [`crate::Simulator`] records
+/// this way (5000 samples of 107 signals pushed column by column cost it
+/// about a fifth of its time) and makes the columns when they are asked for.
+#[derive(Clone, Debug, Default)]
+pub struct Rows {
+    width: usize,
+    time: Vec<f64>,
+    /// Row-major: `values[k * width + j]` is signal `j` at `time[k]`.
+    values: Vec<f64>,
+}
+
+impl Rows {
+    pub fn new(width: usize) -> Self {
+        Self { width, time: Vec::new(), values: Vec::new() }
+    }
+
+    /// Values per sample.
+    pub fn width(&self) -> usize {
+        self.width
+    }
+
+    pub fn time(&self) -> &[f64] {
+        &self.time
+    }
+
+    /// Every sample's values, one row after the other.
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
+    /// The values of sample `k`.
+    pub fn row(&self, k: usize) -> &[f64] {
+        &self.values[k * self.width..(k + 1) * self.width]
+    }
+
+    pub fn len(&self) -> usize {
+        self.time.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.time.is_empty()
+    }
+
+    pub fn reserve(&mut self, samples: usize) {
+        self.time.reserve(samples);
+        self.values.reserve(samples * self.width);
+    }
+
+    pub fn clear(&mut self) {
+        self.time.clear();
+        self.values.clear();
+    }
+
+    /// Appends the samples from `from` on to `solution`.
+    pub(crate) fn append_to(&self, solution: &mut Solution, from: usize) {
+        solution.reserve(self.len().saturating_sub(from));
+        for k in from..self.len() {
+            solution.push(self.time[k], self.row(k));
+        }
+    }
+}
+
+impl super::SampleSink for Rows {
+    fn sample(&mut self, t: f64, row: &[f64]) -> Result<(), String> {
+        debug_assert_eq!(row.len(), self.width);
+        self.time.push(t);
+        self.values.extend_from_slice(row);
+        Ok(())
+    }
+}
+
 impl std::fmt::Debug for Solution {
     /// A summary: a solution can hold millions of numbers.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {

@@ -7,6 +7,7 @@
 //! Assembly writes it once; `dynamics` reads it with a
 //! [`Workspace`](crate::dynamics::Workspace).
 
+pub mod chart;
 pub mod drive;
 pub(crate) mod equations;
 pub mod friction;
@@ -241,6 +242,10 @@ pub(crate) struct Link {
     /// Bit `k` set: a drive imposes the acceleration of velocity
     /// coordinate `k` of this joint.
     pub driven: u8,
+    /// An Euler-angle joint that a simulator moved to a chart near its
+    /// singular configuration: its coordinates are the chart's, and
+    /// `x_tree` includes the chart's base.
+    pub chart: Option<chart::EulerChart>,
 }
 
 impl Link {
@@ -267,6 +272,7 @@ impl Link {
             inverted: false,
             armature: 0.0,
             driven: 0,
+            chart: None,
         }
     }
 
