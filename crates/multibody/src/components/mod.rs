@@ -19,6 +19,7 @@ mod body_box;
 mod body_cylinder;
 mod body_shape;
 mod constraint_joint;
+mod contact_1d;
 mod coordinate_joint;
 mod cut_mount;
 mod cylindrical;
@@ -176,6 +177,8 @@ static REGISTRY: &[&ComponentSpec] = &[
     &friction::BEARING_FRICTION,
     &friction::TRANSLATIONAL_BRAKE,
     &friction::SUPPORT_FRICTION,
+    &contact_1d::ELASTO_BACKLASH,
+    &contact_1d::ELASTO_GAP,
     &blocks::constant::SPEC,
     &blocks::input::SPEC,
     &blocks::step::SPEC,
