@@ -6,6 +6,7 @@
 use super::Workspace;
 use crate::system::friction::{
     FrictionFlags, FrictionMode, FrictionValues, FRICTION_DISCRETE, FRICTION_INDICATORS, ONE_WAY_EPS,
+    stop_tolerance,
 };
 use crate::system::System;
 
@@ -112,7 +113,7 @@ impl System {
                 let next = FrictionFlags::next(&flags, &values, law, free, ws.initial);
                 next.write(&mut ws.discrete[slots]);
                 if let Some(stops) = law.stops {
-                    self.stop_at(ws, k, stops, (s_a, v_a), (s_rel, v_rel));
+                    self.stop_at(ws, k, stops, (q, u), (s_a, v_a), (s_rel, v_rel));
                 }
             }
         }
@@ -122,18 +123,30 @@ impl System {
     /// moving into it, is put on it at rest relative to its flange a
     /// (Modelica's `reinit(s, ...)` and `reinit(v, 0)`): a hard stop that
     /// takes the speed. Its flange b is a coordinate's (assembly checks).
-    fn stop_at(&self, ws: &mut Workspace, k: usize, (lo, hi): (f64, f64), (s_a, v_a): (f64, f64), (s_rel, v_rel): (f64, f64)) {
+    fn stop_at(
+        &self,
+        ws: &mut Workspace,
+        k: usize,
+        (lo, hi): (f64, f64),
+        (q, u): (&[f64], &[f64]),
+        (s_a, v_a): (f64, f64),
+        (s_rel, v_rel): (f64, f64),
+    ) {
         let b = &self.frictions[k].b;
-        let target = if s_rel > hi || s_rel >= hi && v_rel > 0.0 {
+        let (tol_hi, tol_lo) = (stop_tolerance(hi), stop_tolerance(lo));
+        let target = if s_rel > hi + tol_hi || s_rel >= hi - tol_hi && v_rel > 0.0 {
             hi
-        } else if s_rel < lo || s_rel <= lo && v_rel < 0.0 {
+        } else if s_rel < lo - tol_lo || s_rel <= lo + tol_lo && v_rel < 0.0 {
             lo
         } else {
             return;
         };
-        if let Some((q, v)) = b.coordinate() {
-            ws.reinits.push((q, (s_a + target - b.offset) / b.scale));
-            ws.reinits.push((self.states.nq + v, v_a / b.scale));
+        let Some((qi, vi)) = b.coordinate() else { return };
+        let (q_on, u_on) = ((s_a + target - b.offset) / b.scale, v_a / b.scale);
+        // Once there, the next pass finds nothing to do (the iteration settles).
+        if q[qi] != q_on || u[vi] != u_on {
+            ws.reinits.push((qi, q_on));
+            ws.reinits.push((self.states.nq + vi, u_on));
         }
     }
 }

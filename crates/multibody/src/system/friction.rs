@@ -59,6 +59,12 @@ pub struct FrictionLaw {
     pub stops: Option<(f64, f64)>,
 }
 
+/// How near a stop counts as on it: a flange placed on a stop by the
+/// state's affine map may land a rounding error off it.
+pub(crate) fn stop_tolerance(stop: f64) -> f64 {
+    1e-12 * (1.0 + stop.abs())
+}
+
 /// Stribeck's friction curve: `F_prop v + F_Coulomb + F_Stribeck
 /// exp(-fexp v)` at speeds `v >= 0`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -217,7 +223,9 @@ impl FrictionFlags {
             return FrictionFlags { mode, start_forward, start_backward: false, free: false };
         }
         // With stops, no sliding into a stop that is reached.
-        let (below_top, above_bottom) = law.stops.map_or((true, true), |(lo, hi)| (s_rel < hi, s_rel > lo));
+        let (below_top, above_bottom) = law
+            .stops
+            .map_or((true, true), |(lo, hi)| (s_rel < hi - stop_tolerance(hi), s_rel > lo + stop_tolerance(lo)));
         let start_forward = pre.mode == Stuck && (sa > f0_max || pre.start_forward && sa > f0) && below_top
             || pre.mode == Backward && v > v_small
             || initial && v > 0.0;
