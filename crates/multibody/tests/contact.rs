@@ -23,7 +23,7 @@ fn bounce(h: f64, v0: f64, w: f64, t: f64) -> (f64, f64) {
     let (fly, press) = (2.0 * h / v0, PI / w);
     let period = 2.0 * (fly + press);
     let mut t = (t + h / v0).rem_euclid(period); // from the left contact's end
-    // Right-going flight, right contact, left-going flight, left contact.
+                                                 // Right-going flight, right contact, left-going flight, left contact.
     if t < fly {
         return (-h + v0 * t, v0);
     }

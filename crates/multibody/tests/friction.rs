@@ -160,7 +160,8 @@ fn one_way_speeds(engaged: f64, t: f64) -> ((f64, f64), f64) {
     let w1 = 1.0 / (J_A + J_B);
     // From t = 1 the torque -1 would need a holding torque J_B / 3 = 2/3
     // against b's overrun, beyond what the clutch holds: b slides ahead.
-    let at = |t0: f64, w0: (f64, f64), alpha: (f64, f64), t: f64| (w0.0 + alpha.0 * (t - t0), w0.1 + alpha.1 * (t - t0));
+    let at =
+        |t0: f64, w0: (f64, f64), alpha: (f64, f64), t: f64| (w0.0 + alpha.0 * (t - t0), w0.1 + alpha.1 * (t - t0));
     let alpha2 = ((-1.0 + tau) / J_A, -tau / J_B);
     let w2 = at(1.0, (w1, w1), alpha2, 2.5);
     let alpha3 = ((2.0 + tau) / J_A, -tau / J_B);
@@ -317,7 +318,13 @@ fn stribeck_friction_stops_a_mass_at_the_time_its_curve_gives() {
     let h = v0 / n as f64;
     let simpson: f64 = (0..=n)
         .map(|k| {
-            let w = if k == 0 || k == n { 1.0 } else if k % 2 == 1 { 4.0 } else { 2.0 };
+            let w = if k == 0 || k == n {
+                1.0
+            } else if k % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            };
             w * f(k as f64 * h)
         })
         .sum::<f64>()
@@ -349,4 +356,58 @@ fn bad_stops_and_contact_parameters_name_the_component_and_parameter() {
         println!("{kind}: {message}");
         assert!(message.contains(&format!("`part.{bad}`")), "{message}");
     }
+}
+
+#[test]
+fn support_friction_on_a_prismatic_axis_stops_a_sliding_body_and_a_ramp_holds_it() {
+    // A body sliding along a horizontal prismatic (gravity across the axis
+    // does no work) with 3 N of support friction stops at t = m v0 / F
+    // after m v0^2 / (2 F). Tilted 30 degrees, its weight along the axis
+    // (m g / 2) is held while below the holding force, else it slides down
+    // at g / 2 - F / m.
+    let (m, v0, f) = (1.5, 2.0, 3.0);
+    let slide = |axis: [f64; 3], v0: f64, f_pos: f64| {
+        let mut model = Model::new("slider");
+        model.add("world", "World");
+        model.add("joint", "Prismatic").set("n", axis).set("axisflange", true).initial("s", 0.0).initial("v", v0);
+        model.add("body", "Body").set("m", m).set("r_cm", [0.0, 0.0, 0.0]);
+        model
+            .add("friction", "TranslationalComponents.SupportFriction")
+            .set("f_pos", multibody::Value::Matrix(vec![vec![0.0, f_pos]]))
+            .set("peak", 1.1);
+        model.connect(["world.frame_b", "joint.frame_a"]);
+        model.connect(["joint.frame_b", "body.frame_a"]);
+        model.connect(["friction.flange_a", "joint.axis"]);
+        model.connect(["friction.support", "joint.support"]);
+        model.assemble().unwrap()
+    };
+    let mechanism = slide([1.0, 0.0, 0.0], v0, f);
+    let mut sim = Simulator::new(&mechanism, &options(2.0)).unwrap();
+    sim.step_until(2.0).unwrap();
+    let (t_stop, _) = sim.last_event().unwrap();
+    let errors = [(t_stop - m * v0 / f).abs(), (sim.state_value("joint.s").unwrap() - m * v0 * v0 / (2.0 * f)).abs()];
+    println!("prismatic: stop time and distance errors {errors:?} (tolerance 1e-9)");
+    assert!(errors.iter().all(|e| *e < 1e-9), "{errors:?}");
+    assert_eq!(sim.state_value("joint.v").unwrap(), 0.0);
+
+    // On a 30 degree incline, from rest: weight along the axis m g / 2.
+    let g = 9.80665;
+    let incline = [3f64.sqrt() / 2.0, 0.5, 0.0];
+    let weight = m * g / 2.0;
+    let held = slide(incline, 0.0, weight / 1.05); // holds up to 1.1 / 1.05 of the weight
+    let mut sim = Simulator::new(&held, &options(1.0)).unwrap();
+    sim.step_until(1.0).unwrap();
+    assert_eq!(sim.state_value("joint.s").unwrap(), 0.0, "held on the incline");
+    assert!((sim.value("friction.f").unwrap() + weight).abs() < 1e-9, "holding the weight");
+    let sliding = slide(incline, 0.0, weight / 2.0);
+    let mut sim = Simulator::new(&sliding, &options(1.0)).unwrap();
+    sim.step_until(1.0).unwrap();
+    let a = -(weight - weight / 2.0) / m;
+    let error = (sim.state_value("joint.s").unwrap() - a / 2.0).abs();
+    println!(
+        "prismatic on an incline: slid {} against {}: {error:.2e} (tolerance 1e-9)",
+        sim.state_value("joint.s").unwrap(),
+        a / 2.0
+    );
+    assert!(error < 1e-9);
 }
