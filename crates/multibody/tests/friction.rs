@@ -7,6 +7,7 @@
 //! mass at the time its integral gives.
 
 use multibody::{Model, SimulationOptions, Simulator};
+use std::f64::consts::PI;
 
 const M: f64 = 2.0;
 /// Sliding friction (N) and the holding force's ratio to it.
@@ -410,4 +411,25 @@ fn support_friction_on_a_prismatic_axis_stops_a_sliding_body_and_a_ramp_holds_it
         a / 2.0
     );
     assert!(error < 1e-9);
+}
+
+#[test]
+fn a_swinging_push_breaks_a_stuck_block_away_within_a_long_quiet_stretch() {
+    // F = 30 sin(pi t) against 15 N: stuck (the states do not move, so
+    // nothing in them bounds the steps) until F = 15 N at t = 1/6, then
+    // M v' = F - 15 N: v = (30 / pi)(cos(pi / 6) - cos(pi t)) / M - 15 (t - 1/6) / M.
+    let mut model = block(0.0, ("BlockComponents.Sine", &[("amplitude", 30.0), ("frequency", 0.5)]));
+    let friction = model.component_mut("friction").unwrap();
+    friction.set("f_pos", multibody::Value::Matrix(vec![vec![0.0, 15.0]])).set("peak", 1.0);
+    let mechanism = model.assemble().unwrap();
+    let mut sim =
+        Simulator::new(&mechanism, &SimulationOptions { stop: 0.5, saveat: 0.1, ..Default::default() }).unwrap();
+    sim.step_until(0.5).unwrap();
+    let t_break = 1.0 / 6.0;
+    let break_error = (sim.last_event().unwrap().0 - t_break).abs();
+    let v = (30.0 / PI) * ((PI / 6.0).cos() - (PI * 0.5).cos()) / M - 15.0 * (0.5 - t_break) / M;
+    let error = (sim.state_value("mass.v").unwrap() - v).abs();
+    println!("v {} mode {}", sim.state_value("mass.v").unwrap(), sim.value("friction.mode").unwrap());
+    println!("breaks away at 1/6 s: error {break_error:.2e} (tolerance 1e-8); speed at 0.5 s: error {error:.2e} (tolerance 1e-6)");
+    assert!(break_error < 1e-8 && error < 1e-6);
 }

@@ -78,9 +78,16 @@ impl Component for FrictionElement {
         let truth = |b: bool| if b { 1.0 } else { 0.0 };
         // A mass with stops reports its centre, L/2 beyond its flange a.
         let (centre, stopped) = match (self.kind, self.law.stops) {
-            (Kind::MassWithStop { length, .. }, Some((lo, hi))) => {
-                (length / 2.0, if v.s_rel <= lo { -1.0 } else if v.s_rel >= hi { 1.0 } else { 0.0 })
-            }
+            (Kind::MassWithStop { length, .. }, Some((lo, hi))) => (
+                length / 2.0,
+                if v.s_rel <= lo {
+                    -1.0
+                } else if v.s_rel >= hi {
+                    1.0
+                } else {
+                    0.0
+                },
+            ),
             _ => (0.0, 0.0),
         };
         for var in self.variables {
@@ -150,7 +157,12 @@ fn one_way(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
     let fn_max = p.non_negative("fn_max", true)?;
     let law = FrictionLaw {
         one_way: true,
-        ..FrictionLaw::from_table(table(p, "mu_pos", (0.0, 0.5))?, peak(p)?, cgeo * fn_max, p.non_negative("w_small", false)?)
+        ..FrictionLaw::from_table(
+            table(p, "mu_pos", (0.0, 0.5))?,
+            peak(p)?,
+            cgeo * fn_max,
+            p.non_negative("w_small", false)?,
+        )
     };
     Ok(Box::new(FrictionElement { kind: Kind::OneWay, law, cgeo, variables: ONE_WAY_CLUTCH.variables }))
 }

@@ -5,8 +5,7 @@
 
 use super::Workspace;
 use crate::system::friction::{
-    FrictionFlags, FrictionMode, FrictionValues, FRICTION_DISCRETE, FRICTION_INDICATORS, ONE_WAY_EPS,
-    stop_tolerance,
+    stop_tolerance, FrictionFlags, FrictionMode, FrictionValues, FRICTION_DISCRETE, FRICTION_INDICATORS, ONE_WAY_EPS,
 };
 use crate::system::System;
 

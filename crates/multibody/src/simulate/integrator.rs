@@ -208,7 +208,11 @@ pub(crate) fn initial_step<S: OdeSystem>(
     let der2 = der2.sqrt() / h;
     let der12 = der2.abs().max(dnf.sqrt());
     let h1 = if der12 <= 1e-15 { (h.abs() * 1e-3).max(1e-6) } else { (0.01 / der12).powf(exponent) };
-    Ok((100.0 * h).min(h1).min(h_max))
+    // Hairer's first guess goes as |y| / |y'|: a state just off zero (a
+    // speed of 1e-15 after an event) would give a step the time cannot
+    // resolve, which stops the run before the error control could grow it.
+    let resolvable = 1e3 * f64::EPSILON * t.abs();
+    Ok((100.0 * h).min(h1).max(resolvable).min(h_max))
 }
 
 /// Settings of the adaptive integrators.

@@ -216,8 +216,8 @@ impl FrictionFlags {
             // forward otherwise. Held without limit backwards: no start
             // backward.
             let was_stuck = pre.mode == Stuck;
-            let start_forward = was_stuck && (sa > f0_max || pre.start_forward && sa > f0 || v > v_small)
-                || initial && v > 0.0;
+            let start_forward =
+                was_stuck && (sa > f0_max || pre.start_forward && sa > f0 || v > v_small) || initial && v > 0.0;
             let locked = was_stuck && !start_forward;
             let mode = if locked || v <= 0.0 { Stuck } else { Forward };
             return FrictionFlags { mode, start_forward, start_backward: false, free: false };
@@ -255,8 +255,8 @@ impl FrictionFlags {
         match self.mode {
             _ if values.free => out[0] = pressed,
             _ if values.locked => {
-                out[0] = values.f0_max - values.sa;
-                out[1] = values.sa + values.f0_max;
+                out[0] = held(values.f0_max - values.sa);
+                out[1] = held(values.sa + values.f0_max);
                 out[2] = pressed;
             }
             Stuck if self.start_forward => {
@@ -288,13 +288,27 @@ impl FrictionFlags {
         out.fill(1.0);
         out[2] = values.normal;
         if values.locked {
-            out[0] = values.f0_max - values.sa;
+            out[0] = held(values.f0_max - values.sa);
         } else if self.mode == FrictionMode::Stuck && self.start_forward {
             out[0] = values.v_rel;
             out[1] = values.sa - values.f0;
         } else if self.mode == FrictionMode::Forward {
             out[0] = values.v_rel;
         }
+    }
+}
+
+/// A locked element's margin to its holding limit as an indicator: it
+/// breaks away only beyond the limit (`sa > f0_max`, strictly), so the
+/// margin zero still counts as held (positive). Otherwise an event located
+/// where the force just reaches the limit would leave it locked with an
+/// indicator of zero, read as already crossed, and its crossing would be
+/// missed.
+fn held(margin: f64) -> f64 {
+    if margin >= 0.0 {
+        margin.max(f64::MIN_POSITIVE)
+    } else {
+        margin
     }
 }
 
