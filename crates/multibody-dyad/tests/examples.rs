@@ -691,7 +691,7 @@ fn elasto_gap() {
     let mut m = Model::new("DroppedMass");
     m.add("mass", "TranslationalComponents.Mass")
         .set("m", 1.0)
-        .set("theta", -1.5707963267948966)
+        .set("theta", -std::f64::consts::FRAC_PI_2)
         .initial("s", 1.0)
         .initial("v", 0.0);
     m.add("stop", "TranslationalComponents.ElastoGap").set("c", 10000.0).set("d", 20.0);

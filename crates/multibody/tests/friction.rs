@@ -341,7 +341,9 @@ fn stribeck_friction_stops_a_mass_at_the_time_its_curve_gives() {
 
 #[test]
 fn bad_stops_and_contact_parameters_name_the_component_and_parameter() {
-    let cases: [(&str, &[(&str, f64)], &str); 4] = [
+    // The kind, its parameters, and the parameter the message must name.
+    type Case = (&'static str, &'static [(&'static str, f64)], &'static str);
+    let cases: [Case; 4] = [
         ("TranslationalComponents.MassWithStopAndFriction", &[("m", 1.0), ("smin", 1.0), ("smax", -1.0)], "smax"),
         ("TranslationalComponents.ElastoGap", &[("c", -1.0), ("d", 0.0)], "c"),
         ("RotationalComponents.ElastoBacklash", &[("c", 1.0), ("d", 0.0), ("b", -0.1)], "b"),
@@ -353,7 +355,8 @@ fn bad_stops_and_contact_parameters_name_the_component_and_parameter() {
         for &(name, value) in params {
             c.set(name, value);
         }
-        let message = model.assemble().err().expect("refused").to_string();
+        let Err(error) = model.assemble() else { panic!("{kind} with {params:?} was accepted") };
+        let message = error.to_string();
         println!("{kind}: {message}");
         assert!(message.contains(&format!("`part.{bad}`")), "{message}");
     }

@@ -79,7 +79,7 @@ fn elasto_backlash(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
 fn elasto_gap(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
     let (c, d) = spring(p, false)?;
     let n = p.real("n");
-    if !(n >= 1.0) {
+    if n.is_nan() || n < 1.0 {
         return Err(p.invalid("n", "the exponent of the spring force must be at least 1"));
     }
     let law = Law1D::Contact { c, d, s_rel0: p.real("s_rel0"), lo: 0.0, hi: f64::INFINITY, n };

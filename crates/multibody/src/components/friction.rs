@@ -173,7 +173,7 @@ fn mass_with_stop(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
     let m = p.non_negative("m", false)?;
     let length = p.non_negative("L", true)?;
     let (smin, smax) = (p.real("smin"), p.real("smax"));
-    if !(smax - smin >= length) {
+    if (smax - smin).is_nan() || smax - smin < length {
         return Err(p.invalid(
             "smax",
             format!("the stops must leave room for the mass: smax - smin >= L (smin = {smin}, L = {length})"),
