@@ -651,6 +651,74 @@ fn planar_measured_pendulum() {
 }
 
 #[test]
+fn one_way_clutch() {
+    let mut m = Model::new("OneWayClutchDrive");
+    m.add("motor", "RotationalComponents.Inertia").set("J", 1.0).initial("phi", 0.0).initial("w", 0.0);
+    m.add("load", "RotationalComponents.Inertia").set("J", 2.0).initial("phi", 0.0).initial("w", 0.0);
+    m.add("clutch", "RotationalComponents.OneWayClutch")
+        .set("fn_max", 10.0)
+        .set("mu_pos", multibody::Value::Matrix(vec![vec![0.0, 0.3]]));
+    m.add("drive", "RotationalComponents.Torque");
+    m.add("brake", "RotationalComponents.ConstantTorque").set("tau_constant", -0.5);
+    m.add("swing", "BlockComponents.Sine").set("amplitude", 10.0).set("frequency", 0.5);
+    m.add("press", "BlockComponents.Step").set("height", 1.0).set("start_time", 2.0);
+    m.connect(["swing.y", "drive.tau"]);
+    m.connect(["drive.spline", "motor.spline_a"]);
+    m.connect(["motor.spline_b", "clutch.spline_a"]);
+    m.connect(["clutch.spline_b", "load.spline_a"]);
+    m.connect(["brake.spline", "load.spline_b"]);
+    m.connect(["press.y", "clutch.f_normalized"]);
+    assert_same("one_way_clutch.dyad", m, options(6.0, 0.01));
+}
+
+#[test]
+fn elasto_backlash() {
+    let mut m = Model::new("GearRattle");
+    m.add("motor", "RotationalComponents.Inertia").set("J", 1.0).initial("phi", 0.0).initial("w", 0.0);
+    m.add("load", "RotationalComponents.Inertia").set("J", 0.5).initial("phi", 0.0).initial("w", 0.0);
+    m.add("backlash", "RotationalComponents.ElastoBacklash").set("c", 200.0).set("d", 2.0).set("b", 0.1);
+    m.add("drive", "RotationalComponents.Torque");
+    m.add("swing", "BlockComponents.Sine").set("amplitude", 5.0).set("frequency", 1.0);
+    m.connect(["swing.y", "drive.tau"]);
+    m.connect(["drive.spline", "motor.spline_a"]);
+    m.connect(["motor.spline_b", "backlash.spline_a"]);
+    m.connect(["backlash.spline_b", "load.spline_a"]);
+    assert_same("elasto_backlash.dyad", m, options(3.0, 0.005));
+}
+
+#[test]
+fn elasto_gap() {
+    let mut m = Model::new("DroppedMass");
+    m.add("mass", "TranslationalComponents.Mass")
+        .set("m", 1.0)
+        .set("theta", -std::f64::consts::FRAC_PI_2)
+        .initial("s", 1.0)
+        .initial("v", 0.0);
+    m.add("stop", "TranslationalComponents.ElastoGap").set("c", 10000.0).set("d", 20.0);
+    m.add("ground", "TranslationalComponents.Fixed");
+    m.connect(["ground.flange", "stop.flange_a"]);
+    m.connect(["stop.flange_b", "mass.flange_a"]);
+    assert_same("elasto_gap.dyad", m, options(3.0, 0.002));
+}
+
+#[test]
+fn mass_with_stops() {
+    let mut m = Model::new("StopsAndFriction");
+    m.add("block", "TranslationalComponents.MassWithStopAndFriction")
+        .set("m", 1.0)
+        .set("L", 0.2)
+        .set("smin", -1.0)
+        .set("smax", 1.0)
+        .initial("s", 0.0)
+        .initial("v", 0.0);
+    m.add("push", "TranslationalComponents.Force");
+    m.add("swing", "BlockComponents.Sine").set("amplitude", 30.0).set("frequency", 0.5);
+    m.connect(["swing.y", "push.f"]);
+    m.connect(["push.flange", "block.flange_a"]);
+    assert_same("mass_with_stops.dyad", m, options(6.0, 0.01));
+}
+
+#[test]
 fn every_example_is_checked() {
     let checked = [
         "pendulum.dyad",
@@ -668,6 +736,10 @@ fn every_example_is_checked() {
         "cable_bridge.dyad",
         "wheeled_cart.dyad",
         "slipping_wheels.dyad",
+        "one_way_clutch.dyad",
+        "elasto_backlash.dyad",
+        "elasto_gap.dyad",
+        "mass_with_stops.dyad",
         "docs/annotated_swing.dyad",
         "PlanarMechanics/slider_crank.dyad",
         "PlanarMechanics/springs.dyad",

@@ -439,12 +439,14 @@ pub fn of_connectors(conn: &Connectors, places: &Places) -> Vec<FlangeRef> {
 }
 
 /// The elements, and for each component the indices of its own; signal
-/// inputs of driven sources become signal slots.
+/// inputs of driven sources become signal slots, and the indicators of
+/// contact laws are added to `events`.
 pub fn elements(
     components: &mut [CompiledComponent],
     conn: &Connectors,
     places: &Places,
     signal_of_connector: &[usize],
+    events: &mut crate::system::EventLayout,
 ) -> Result<Vec<AxisElement>, Error> {
     let mut elements = Vec::new();
     for ci in 0..components.len() {
@@ -458,8 +460,17 @@ pub fn elements(
                     Law1D::Flow { signal } => Law1D::Flow { signal: signal_of_connector[id(signal)] },
                     other => other,
                 };
+                let indicator = events.indicators.len();
+                if law.indicator_count() > 0 {
+                    let name = &components[ci].name;
+                    events.indicators.extend([
+                        format!("{name}: contact beyond the upper end of the gap"),
+                        format!("{name}: contact beyond the lower end of the gap"),
+                    ]);
+                    debug_assert_eq!(events.indicators.len() - indicator, law.indicator_count());
+                }
                 own.push(elements.len());
-                elements.push(AxisElement { a, b, law });
+                elements.push(AxisElement { a, b, law, indicator });
             }
         }
         components[ci].elements = own;

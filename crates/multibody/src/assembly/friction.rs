@@ -26,8 +26,12 @@ pub fn elements(
         for part in &components[ci].parts {
             let Part::Friction { a, b, law, normal } = part else { continue };
             let id = |local: usize| Connectors::id(components, ci, local);
-            let (a, b) =
-                (axis::flange(components, conn, places, id(*a))?, axis::flange(components, conn, places, id(*b))?);
+            // Without a flange a, against the fixed ground.
+            let a = match a {
+                Some(a) => axis::flange(components, conn, places, id(*a))?,
+                None => crate::system::FlangeRef::FIXED,
+            };
+            let b = axis::flange(components, conn, places, id(*b))?;
             if a.on_line() || b.on_line() {
                 return Err(axis::on_a_line(components, ci, "friction"));
             }
@@ -39,6 +43,17 @@ pub fn elements(
                 format!("{name}: normal force"),
             ]);
             debug_assert_eq!(events.indicators.len() - indicator, FRICTION_INDICATORS);
+            let stop_indicator = law.stops.map(|_| {
+                events.indicators.extend([format!("{name}: the upper stop"), format!("{name}: the lower stop")]);
+                events.indicators.len() - 2
+            });
+            if law.stops.is_some() && b.coordinate().is_none() {
+                return Err(crate::Error::Unsupported {
+                    component: name.clone(),
+                    what: "hard stops on a flange that no coordinate of its own moves".into(),
+                    fix: "let the sliding mass move freely between its stops (no joint or gear drives it)".into(),
+                });
+            }
             let discrete = events.discrete_start.len();
             events.discrete_start.extend(FrictionFlags::START);
             debug_assert_eq!(events.discrete_start.len() - discrete, FRICTION_DISCRETE);
@@ -51,6 +66,7 @@ pub fn elements(
                 row: first_row + frictions.len(),
                 discrete,
                 indicator,
+                stop_indicator,
             });
         }
         components[ci].frictions = own;

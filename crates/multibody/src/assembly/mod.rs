@@ -118,10 +118,10 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
 
     let mut signals = signals::resolve(&components, &conn, &tree, &drive.places)?;
     warnings.extend(std::mem::take(&mut signals.warnings));
-    let axis_elements = axis::elements(&mut components, &conn, &drive.places, &signals.of_connector)?;
+    let mut events = crate::system::EventLayout { inputs: std::mem::take(&mut signals.inputs), ..Default::default() };
+    let axis_elements = axis::elements(&mut components, &conn, &drive.places, &signals.of_connector, &mut events)?;
     let couplings = axis::couplings(&components, &conn, &drive, constraint_rows)?;
     let constraint_rows = constraint_rows + couplings.len();
-    let mut events = crate::system::EventLayout { inputs: std::mem::take(&mut signals.inputs), ..Default::default() };
     let frictions =
         friction::elements(&mut components, &conn, &drive.places, &signals.of_connector, constraint_rows, &mut events)?;
     let constraint_rows = constraint_rows + frictions.len();

@@ -19,6 +19,7 @@ mod body_box;
 mod body_cylinder;
 mod body_shape;
 mod constraint_joint;
+mod contact_1d;
 mod coordinate_joint;
 mod cut_mount;
 mod cylindrical;
@@ -176,6 +177,10 @@ static REGISTRY: &[&ComponentSpec] = &[
     &friction::BEARING_FRICTION,
     &friction::TRANSLATIONAL_BRAKE,
     &friction::SUPPORT_FRICTION,
+    &friction::ONE_WAY_CLUTCH,
+    &friction::MASS_WITH_STOP_AND_FRICTION,
+    &contact_1d::ELASTO_BACKLASH,
+    &contact_1d::ELASTO_GAP,
     &blocks::constant::SPEC,
     &blocks::input::SPEC,
     &blocks::step::SPEC,
@@ -398,10 +403,11 @@ pub enum Part {
     Owner { frame: usize, model: JointModel, states: StateNames, fallback: bool },
     /// A 1-D force element between two flanges.
     Element1D { a: usize, b: usize, law: Law1D },
-    /// A 1-D friction element with modes between flanges `a` and `b`
-    /// (sliding, stuck as a constraint, free), pressed by the signal at the
-    /// input connector `normal` (always, without one).
-    Friction { a: usize, b: usize, law: crate::system::friction::FrictionLaw, normal: Option<usize> },
+    /// A 1-D friction element with modes between flanges `a` (the fixed
+    /// ground when `None`) and `b` (sliding, stuck as a constraint, free),
+    /// pressed by the signal at the input connector `normal` (always,
+    /// without one).
+    Friction { a: Option<usize>, b: usize, law: crate::system::friction::FrictionLaw, normal: Option<usize> },
     /// A signal block driving the output connector `output`: a function of
     /// time, of the signals at the input connectors `inputs`, or of the
     /// motion of `frames` (frame a, or the world when `None`; frame b) or

@@ -48,7 +48,8 @@ impl Element1D {
             Law1D::Spring { c, s_rel0 } => (c, 0.0, s_rel0),
             Law1D::Damper { d } => (0.0, d, 0.0),
             Law1D::SpringDamper { c, d, s_rel0 } => (c, d, s_rel0),
-            Law1D::Source { .. } | Law1D::Input { .. } | Law1D::Flow { .. } => (0.0, 0.0, 0.0),
+            // Contact laws have their own component (contact_1d).
+            Law1D::Source { .. } | Law1D::Input { .. } | Law1D::Flow { .. } | Law1D::Contact { .. } => (0.0, 0.0, 0.0),
         };
         let source = matches!(self.law, Law1D::Source { .. } | Law1D::Input { .. } | Law1D::Flow { .. });
         match name {

@@ -141,6 +141,10 @@ impl System {
             let force = e.law.force(s_b - s_a, v_b - v_a, &ws.signals);
             e.b.push(&mut ws.tau, &mut ws.lines, -force);
             e.a.push(&mut ws.tau, &mut ws.lines, force);
+            let watched = e.law.indicator_count();
+            if watched > 0 {
+                e.law.indicators(s_b - s_a, &mut ws.indicators[e.indicator..e.indicator + watched]);
+            }
         }
         for &(v, force) in &self.axis_forces {
             ws.tau[v] += force;

@@ -4,7 +4,9 @@
 //! they hold, their indicators, and at events their next modes.
 
 use super::Workspace;
-use crate::system::friction::{FrictionFlags, FrictionValues, FRICTION_DISCRETE, FRICTION_INDICATORS};
+use crate::system::friction::{
+    stop_tolerance, FrictionFlags, FrictionMode, FrictionValues, FRICTION_DISCRETE, FRICTION_INDICATORS, ONE_WAY_EPS,
+};
 use crate::system::System;
 
 impl System {
@@ -12,7 +14,9 @@ impl System {
     /// without a normal-force input).
     fn friction_normal(&self, ws: &Workspace, k: usize) -> f64 {
         let f = &self.frictions[k];
-        f.normal.map_or(f.law.scale, |slot| f.law.scale * ws.signals[slot])
+        // A one-way clutch is not pressed by a negative signal (Modelica's `free`).
+        let floor = if f.law.one_way { 0.0 } else { f64::NEG_INFINITY };
+        f.normal.map_or(f.law.scale, |slot| (f.law.scale * ws.signals[slot]).max(floor))
     }
 
     /// The sliding forces on the coordinates, as the modes have them.
@@ -59,14 +63,23 @@ impl System {
             let (s_rel, v_rel) = (s_b - s_a, v_b - v_a);
             let a_rel = f.b.acceleration(ud, &[]) - f.a.acceleration(ud, &[]);
             let normal = self.friction_normal(ws, k);
-            let f0 = f.law.mu(0.0) * normal;
-            let f0_max = f.law.peak * f0;
+            let law = &f.law;
+            let f0 = law.mu(0.0) * normal;
+            let f0_max = if !law.one_way {
+                law.peak * f0
+            } else if normal <= 0.0 {
+                ONE_WAY_EPS * law.mu(0.0) * law.scale
+            } else {
+                law.peak.max(1.0 + ONE_WAY_EPS) * f0
+            };
             let locked = flags.locked();
-            let forward = flags.start_forward || flags.mode == crate::system::friction::FrictionMode::Forward;
+            let forward = flags.start_forward || flags.mode == FrictionMode::Forward;
             // Modelica's path parameter: the holding force while locked,
             // else defined by the acceleration.
             let sa = if locked {
                 -ws.lambda[f.row]
+            } else if law.one_way {
+                a_rel + f0
             } else if flags.free {
                 a_rel
             } else if forward {
@@ -74,16 +87,65 @@ impl System {
             } else {
                 a_rel - f0_max
             };
-            let force = if locked { sa } else { flags.force(&f.law, normal, v_rel) };
+            let force = if locked { sa } else { flags.force(law, normal, v_rel) };
             let values =
                 FrictionValues { s_rel, v_rel, a_rel, force, normal, f0, f0_max, sa, locked, free: flags.free };
             ws.friction[k] = values;
-            flags.indicators(&values, &mut ws.indicators[f.indicator..f.indicator + FRICTION_INDICATORS]);
-            if ws.at_event {
-                let free = f.normal.is_some() && normal <= 0.0;
-                let next = FrictionFlags::next(&flags, &values, f.law.v_small, free, ws.initial);
-                next.write(&mut ws.discrete[slots]);
+            let own = &mut ws.indicators[f.indicator..f.indicator + FRICTION_INDICATORS];
+            if law.one_way {
+                flags.one_way_indicators(&values, own);
+            } else {
+                flags.indicators(&values, own);
             }
+            if let (Some(slot), Some((lo, hi))) = (f.stop_indicator, law.stops) {
+                ws.indicators[slot] = s_rel - hi;
+                ws.indicators[slot + 1] = lo - s_rel;
+            }
+            if ws.at_event {
+                let free = match (law.stops, law.stribeck) {
+                    // Without any friction, free between the stops (held at them).
+                    (Some((lo, hi)), stribeck) => {
+                        f0 <= 0.0 && stribeck.is_none_or(|c| c.f_prop <= 0.0) && s_rel > lo && s_rel < hi
+                    }
+                    _ => f.normal.is_some() && normal <= 0.0 && !law.one_way,
+                };
+                let next = FrictionFlags::next(&flags, &values, law, free, ws.initial);
+                next.write(&mut ws.discrete[slots]);
+                if let Some(stops) = law.stops {
+                    self.stop_at(ws, k, stops, (q, u), (s_a, v_a), (s_rel, v_rel));
+                }
+            }
+        }
+    }
+
+    /// At an event, an element past one of its `stops`, or on it and
+    /// moving into it, is put on it at rest relative to its flange a
+    /// (Modelica's `reinit(s, ...)` and `reinit(v, 0)`): a hard stop that
+    /// takes the speed. Its flange b is a coordinate's (assembly checks).
+    fn stop_at(
+        &self,
+        ws: &mut Workspace,
+        k: usize,
+        (lo, hi): (f64, f64),
+        (q, u): (&[f64], &[f64]),
+        (s_a, v_a): (f64, f64),
+        (s_rel, v_rel): (f64, f64),
+    ) {
+        let b = &self.frictions[k].b;
+        let (tol_hi, tol_lo) = (stop_tolerance(hi), stop_tolerance(lo));
+        let target = if s_rel > hi + tol_hi || s_rel >= hi - tol_hi && v_rel > 0.0 {
+            hi
+        } else if s_rel < lo - tol_lo || s_rel <= lo + tol_lo && v_rel < 0.0 {
+            lo
+        } else {
+            return;
+        };
+        let Some((qi, vi)) = b.coordinate() else { return };
+        let (q_on, u_on) = ((s_a + target - b.offset) / b.scale, v_a / b.scale);
+        // Once there, the next pass finds nothing to do (the iteration settles).
+        if q[qi] != q_on || u[vi] != u_on {
+            ws.reinits.push((qi, q_on));
+            ws.reinits.push((self.states.nq + vi, u_on));
         }
     }
 }

@@ -208,7 +208,15 @@ pub(crate) fn initial_step<S: OdeSystem>(
     let der2 = der2.sqrt() / h;
     let der12 = der2.abs().max(dnf.sqrt());
     let h1 = if der12 <= 1e-15 { (h.abs() * 1e-3).max(1e-6) } else { (0.01 / der12).powf(exponent) };
-    Ok((100.0 * h).min(h1).min(h_max))
+    // Hairer's first guess goes as |y| / |y'|: a state just off zero (a
+    // friction element's speed of 1e-15 after its break-away's second
+    // event) gives a step the time cannot resolve, which stops the run
+    // before the error control could grow it. Runs with a step bound (the
+    // simulator sets one for models with friction) start at least at a
+    // resolvable step; unbounded runs keep Hairer's guess, whose collapse
+    // is how events that pile up (a ball bouncing to rest) are noticed.
+    let first = if tol.dtmax > 0.0 { (100.0 * h).max(1e3 * f64::EPSILON * t.abs()) } else { 100.0 * h };
+    Ok(first.min(h1).min(h_max))
 }
 
 /// Settings of the adaptive integrators.

@@ -533,9 +533,13 @@ impl<'m> Simulator<'m> {
         let n = mechanism.system.states.start.len();
         // Without states nothing bounds the steps, and a relation of the
         // signals could change and change back inside one: steps no longer
-        // than the output interval then.
+        // than the output interval then. So too with friction: a stuck
+        // element freezes its states (the error estimate is zero, the
+        // steps grow), while the force it holds follows the sources and
+        // may pass its limit and fall back inside one long step.
         let bounded;
-        let options = if n == 0 && !mechanism.system.events.indicators.is_empty() && options.saveat > 0.0 {
+        let frozen = n == 0 || !mechanism.system.frictions.is_empty();
+        let options = if frozen && !mechanism.system.events.indicators.is_empty() && options.saveat > 0.0 {
             let dtmax = if options.dtmax > 0.0 { options.dtmax.min(options.saveat) } else { options.saveat };
             bounded = SimulationOptions { dtmax, ..options.clone() };
             &bounded

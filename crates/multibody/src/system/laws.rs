@@ -23,6 +23,14 @@ pub enum Law1D {
     /// The flow (torque or force) that the model's equations give a
     /// component at flange_b, from a signal: flange_b receives its opposite.
     Flow { signal: usize },
+    /// A spring and damper that act only in contact (ElastoGap,
+    /// ElastoBacklash): with `x = s_rel - s_rel0`, in contact above `hi`
+    /// with `f_c = c (x - hi)^n` and below `lo` with `f_c = -c (lo - x)^n`,
+    /// free between. The damping force is bounded by the spring force,
+    /// `f = f_c + clamp(d v_rel, -|f_c|, |f_c|)`, so the contact force never
+    /// pulls and starts from zero. Entering and leaving contact are events
+    /// (see [`Law1D::indicators`]).
+    Contact { c: f64, d: f64, s_rel0: f64, lo: f64, hi: f64, n: f64 },
 }
 
 impl Law1D {
@@ -37,6 +45,48 @@ impl Law1D {
             Law1D::Source { value } => -value,
             Law1D::Input { signal } => -signals[signal],
             Law1D::Flow { signal } => signals[signal],
+            Law1D::Contact { .. } => {
+                let (f_c, f_d) = self.contact_parts(s_rel, v_rel);
+                f_c + f_d
+            }
+        }
+    }
+
+    /// A contact law's spring force and its bounded damping force (zero
+    /// out of contact and for the other laws).
+    #[inline]
+    pub fn contact_parts(&self, s_rel: f64, v_rel: f64) -> (f64, f64) {
+        let Law1D::Contact { c, d, s_rel0, lo, hi, n } = *self else { return (0.0, 0.0) };
+        let x = s_rel - s_rel0;
+        let power = |depth: f64| if n == 1.0 { depth } else { depth.powf(n) };
+        let f_c = if x > hi {
+            c * power(x - hi)
+        } else if x < lo {
+            -c * power(lo - x)
+        } else {
+            return (0.0, 0.0);
+        };
+        let bound = f_c.abs();
+        (f_c, (d * v_rel).clamp(-bound, bound))
+    }
+
+    /// How many event indicators the law watches (contact laws: two).
+    pub fn indicator_count(&self) -> usize {
+        match self {
+            Law1D::Contact { .. } => 2,
+            _ => 0,
+        }
+    }
+
+    /// The law's indicators at relative position `s_rel`: a contact law's
+    /// change sign where contact above `hi` and below `lo` begins or ends,
+    /// so the integrator stops there rather than stepping over the kink.
+    #[inline]
+    pub fn indicators(&self, s_rel: f64, out: &mut [f64]) {
+        if let Law1D::Contact { s_rel0, lo, hi, .. } = *self {
+            let x = s_rel - s_rel0;
+            out[0] = x - hi;
+            out[1] = lo - x;
         }
     }
 }

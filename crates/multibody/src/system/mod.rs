@@ -414,6 +414,8 @@ pub(crate) struct AxisElement {
     pub a: FlangeRef,
     pub b: FlangeRef,
     pub law: Law1D,
+    /// Its first event indicator, if its law has any (`Law1D::indicator_count`).
+    pub indicator: usize,
 }
 
 #[derive(Debug, Clone, Copy)]
