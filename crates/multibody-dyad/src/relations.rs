@@ -195,7 +195,7 @@ pub fn is_runtime(expr: &Expr, runtime: &[String]) -> bool {
             first == "time" || runtime.iter().any(|r| r == first)
         }
         ExprKind::Call { callee, args } => {
-            matches!(callee.last().name.as_str(), "der" | "pre" | "initial" | "edge" | "change")
+            matches!(callee.last().name.as_str(), "der" | "pre" | "initial" | "sample" | "edge" | "change")
                 || args.iter().any(|a| is_runtime(a, runtime))
         }
         ExprKind::Array(items) => items.iter().any(|i| is_runtime(i, runtime)),

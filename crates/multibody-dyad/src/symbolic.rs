@@ -463,6 +463,7 @@ pub const FUNCTIONS: &[&str] = &[
     "pre",
     "noEvent",
     "initial",
+    "sample",
     "edge",
     "change",
     "norm",
@@ -565,6 +566,23 @@ fn function(callee: &Path, args: &[Expr], span: Span, names: &mut dyn Names) -> 
         "initial" => {
             arity(0)?;
             Ok(Sym::Scalar(E::Initial))
+        }
+        "sample" => {
+            arity(2)?;
+            let mut constant = |k: usize, what: &str| -> Result<f64, Diagnostic> {
+                match arg(k, names)? {
+                    Sym::Scalar(E::Const(x)) if x.is_finite() => Ok(x),
+                    _ => Err(Diagnostic::error(format!("the {what} of `sample` must be a number or a parameter"))
+                        .primary(args[k].span, "changes during the simulation")
+                        .help("write `sample(start, interval)` with parameters: its instants are fixed")),
+                }
+            };
+            let (start, interval) = (constant(0, "start")?, constant(1, "interval")?);
+            if interval <= 0.0 {
+                return Err(Diagnostic::error(format!("the interval of `sample` must be positive, not {interval}"))
+                    .primary(args[1].span, "not positive"));
+            }
+            Ok(Sym::Scalar(E::Sample { start, interval }))
         }
         "pre" => {
             arity(1)?;

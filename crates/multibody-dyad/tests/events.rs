@@ -271,3 +271,71 @@ fn bounces_that_pile_up_stop_the_run_with_a_clear_message() {
     assert!((error.time - t_zeno).abs() < 1e-3, "stopped at {} (bounces pile up at {t_zeno})", error.time);
     assert!(error.partial.time().last().is_some_and(|&t| t > 4.0), "the samples before are kept");
 }
+
+/// `sample(start, interval)` in a `when`: a zero-order hold of `sin(time)`
+/// at 0.1, 0.35, 0.6, 0.85 s, fired once at each instant (time events), and
+/// the integral of the held value against its closed form.
+#[test]
+fn sample_holds_a_signal_at_its_instants() {
+    let (mechanism, options) = load(
+        "sample.dyad",
+        r#"
+example component Held
+  variable u::Real = initial 0
+  variable ticks::Real = initial 0
+  variable last::Real = initial -1
+  variable x::Real = initial 0
+relations
+  der(x) = u
+  when sample(0.1, 0.25)
+    u = sin(time)
+    ticks = pre(ticks) + 1
+    last = time
+  end
+end
+analysis HeldRun
+  extends TransientAnalysis(stop = 1, saveat = 0.01, abstol = 1e-10, reltol = 1e-10)
+  model = Held()
+end
+"#,
+    );
+    let mut sim = Simulator::new(&mechanism, &options).unwrap();
+    sim.step_until(1.0).unwrap();
+    let instants = [0.1f64, 0.35, 0.6, 0.85];
+    assert_eq!(sim.value("ticks"), Ok(4.0), "one firing per instant");
+    assert_eq!(sim.value("last"), Ok(0.85), "the last instant, exactly");
+    assert_eq!(sim.value("u"), Ok(0.85f64.sin()));
+    // x(1) = sum of sin(t_k) times how long each value is held.
+    let exact: f64 = instants.iter().zip([0.35, 0.6, 0.85, 1.0]).map(|(t, end)| t.sin() * (end - *t)).sum();
+    let error = (sim.value("x").unwrap() - exact).abs();
+    println!("sampled hold: x(1) error {error:.2e} (tolerance 1e-9: {:.3})", error / 1e-9);
+    assert!(error <= 1e-9);
+    // Between instants the held value does not move.
+    let solution = sim.solution();
+    let (time, u) = (solution.time(), solution.get("u").unwrap());
+    for (t, u) in time.iter().zip(u) {
+        let held = instants.iter().rev().find(|&&s| s < *t - 1e-12).map_or(0.0, |s| s.sin());
+        assert!(
+            (u - held).abs() < 1e-15 || instants.iter().any(|s| (s - t).abs() < 1e-12),
+            "u({t}) = {u}, held {held}"
+        );
+    }
+}
+
+/// `sample` needs fixed instants: an interval that is not positive, or one
+/// that changes, is an error at its argument.
+#[test]
+fn sample_with_a_bad_interval_is_refused() {
+    for (interval, expected) in [("0", "must be positive"), ("x", "must be a number or a parameter")] {
+        let text = format!(
+            "example component Bad\n  variable x::Real = initial 0\n  variable n::Real = initial 0\nrelations\n  der(x) = 1\n  when sample(0, {interval})\n    n = pre(n) + 1\n  end\nend\n"
+        );
+        let mut package = Package::new();
+        package.add_source("bad.dyad", text).unwrap();
+        let message = match package.lower_component("Bad") {
+            Err(d) => d.render(package.sources(), false),
+            Ok(_) => panic!("accepted"),
+        };
+        assert!(message.contains(expected) && message.contains("bad.dyad:6:"), "{message}");
+    }
+}

@@ -8,7 +8,7 @@ use crate::math::dense::{lu, lu_solve};
 use crate::math::expr::Cmp;
 use crate::math::{skew, Vec3};
 use crate::system::equations::{
-    EquationProgram, FrameQuantity, Gather, Op, Solve, NEWTON_ITERATIONS, NEWTON_TOLERANCE, TIME,
+    EquationProgram, FrameQuantity, Gather, Op, Sample, Solve, NEWTON_ITERATIONS, NEWTON_TOLERANCE, TIME,
 };
 use crate::system::System;
 
@@ -21,11 +21,12 @@ struct Events<'w> {
     reinits: &'w mut Vec<(usize, f64)>,
     at_event: bool,
     initial: bool,
+    samples: &'w [Sample],
 }
 
 /// Runs `ops` on the workspace's registers and signal slots.
 #[inline]
-fn run_ops(ops: &[Op], ws: &mut Workspace) {
+fn run_ops(ops: &[Op], samples: &[Sample], ws: &mut Workspace) {
     let mut events = Events {
         indicators: &mut ws.indicators,
         discrete: &mut ws.discrete,
@@ -33,6 +34,7 @@ fn run_ops(ops: &[Op], ws: &mut Workspace) {
         reinits: &mut ws.reinits,
         at_event: ws.at_event,
         initial: ws.initial,
+        samples,
     };
     run(ops, &mut ws.registers, &mut ws.signals, &mut events);
 }
@@ -73,9 +75,19 @@ fn run(ops: &[Op], r: &mut [f64], signals: &mut [f64], ev: &mut Events) {
                 r[dst as usize] = ev.discrete[slot as usize];
             }
             Op::Initial(d) => r[d as usize] = truth(ev.initial),
+            Op::Sample { dst, index } => {
+                r[dst as usize] = truth(ev.at_event && ev.samples[index as usize].holds_at(r[TIME as usize]))
+            }
             Op::LoadPre(d, slot) => r[d as usize] = ev.pre[slot as usize],
-            Op::Fire { dst, cond, slot, at_start } => {
-                let fired = if ev.at_event {
+            Op::Fire { dst, cond, slot, at_start, impulse } => {
+                let fired = if ev.at_event && impulse {
+                    // The slot keeps the instant it last held at: once per instant.
+                    let (now, t) = (r[cond as usize] != 0.0, r[TIME as usize]);
+                    if now {
+                        ev.discrete[slot as usize] = t;
+                    }
+                    now && ev.pre[slot as usize] != t && (at_start || !ev.initial)
+                } else if ev.at_event {
                     let now = r[cond as usize] != 0.0;
                     let before = ev.pre[slot as usize] != 0.0;
                     ev.discrete[slot as usize] = truth(now);
@@ -175,13 +187,13 @@ impl System {
     pub(crate) fn run_equation_block(&self, ws: &mut Workspace, b: usize) -> Result<(), DynamicsError> {
         let program: &EquationProgram = &self.equations;
         let block = &program.blocks[b];
-        run_ops(&program.ops[block.before.clone()], ws);
+        run_ops(&program.ops[block.before.clone()], &program.samples, ws);
         if let Solve::Newton { unknowns, residuals, jacobian, residual_ops, jacobian_ops, linear } = &block.solve {
             let n = unknowns.len();
             let mut converged = false;
             for iteration in 0..NEWTON_ITERATIONS {
-                run_ops(&program.ops[residual_ops.clone()], ws);
-                run_ops(&program.ops[jacobian_ops.clone()], ws);
+                run_ops(&program.ops[residual_ops.clone()], &program.samples, ws);
+                run_ops(&program.ops[jacobian_ops.clone()], &program.samples, ws);
                 let (matrix, rest) = ws.newton.split_at_mut(n * n);
                 let (step, work) = rest.split_at_mut(n);
                 for (m, &reg) in matrix.iter_mut().zip(jacobian) {
@@ -212,7 +224,7 @@ impl System {
                 return Err(DynamicsError::EquationsDiverged { block: b });
             }
         }
-        run_ops(&program.ops[block.after.clone()], ws);
+        run_ops(&program.ops[block.after.clone()], &program.samples, ws);
         Ok(())
     }
 
@@ -220,9 +232,9 @@ impl System {
     /// watch for events), and at events what they do.
     pub(crate) fn run_when_clauses(&self, ws: &mut Workspace) {
         let program: &EquationProgram = &self.equations;
-        run_ops(&program.ops[program.when_conditions.clone()], ws);
+        run_ops(&program.ops[program.when_conditions.clone()], &program.samples, ws);
         if ws.at_event {
-            run_ops(&program.ops[program.when_actions.clone()], ws);
+            run_ops(&program.ops[program.when_actions.clone()], &program.samples, ws);
         }
     }
 

@@ -8,13 +8,12 @@ use crate::system::{Anchor, Attachment, Resolve, SignalLaw, System};
 impl System {
     /// The first time after `t` at which a source of time switches.
     pub(crate) fn next_time_event(&self, t: f64) -> f64 {
-        self.signals
-            .iter()
-            .filter_map(|b| match &b.law {
-                SignalLaw::Source(source) => Some(source.next_switch(t)),
-                _ => None,
-            })
-            .fold(f64::INFINITY, f64::min)
+        let sources = self.signals.iter().filter_map(|b| match &b.law {
+            SignalLaw::Source(source) => Some(source.next_switch(t)),
+            _ => None,
+        });
+        let samples = self.equations.samples.iter().map(|s| s.next_after(t));
+        sources.chain(samples).fold(f64::INFINITY, f64::min)
     }
 
     /// Every block's output into `ws.signals`, with the blocks of the

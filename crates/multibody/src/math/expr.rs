@@ -45,6 +45,12 @@ pub enum Expr {
     Edge(Box<Expr>),
     /// `change(v)`: true at the event where `v` changed.
     Change(Box<Expr>),
+    /// `sample(start, interval)`: true at the time events `start + k
+    /// interval` (k = 0, 1, ...), false between them.
+    Sample {
+        start: f64,
+        interval: f64,
+    },
 }
 
 /// The name formulas of time had before equations could name variables.
@@ -292,7 +298,7 @@ impl Expr {
     pub fn visit<'a>(&'a self, f: &mut impl FnMut(&'a Expr)) {
         f(self);
         match self {
-            Expr::Const(_) | Expr::Time | Expr::Var(_) | Expr::Initial | Expr::Pre(_) => {}
+            Expr::Const(_) | Expr::Time | Expr::Var(_) | Expr::Initial | Expr::Pre(_) | Expr::Sample { .. } => {}
             Expr::Der(a)
             | Expr::Neg(a)
             | Expr::Call(_, a)
@@ -472,10 +478,10 @@ fn compile(expr: &Expr, ops: &mut Vec<Op>) -> Result<usize, String> {
         Expr::Var(name) => return Err(format!("`{name}` is not a function of time alone")),
         Expr::Der(_) => return Err("`der` of a formula of time is not supported; differentiate it by hand".into()),
         Expr::NoEvent(a) => compile(a, ops)?,
-        Expr::Pre(_) | Expr::Initial | Expr::Edge(_) | Expr::Change(_) => {
-            return Err(
-                "`pre`, `initial`, `edge` and `change` belong in `when` clauses, not in a formula of time".into()
-            )
+        Expr::Pre(_) | Expr::Initial | Expr::Edge(_) | Expr::Change(_) | Expr::Sample { .. } => {
+            return Err("`pre`, `initial`, `edge`, `change` and `sample` belong in `when` clauses, not in a formula \
+                        of time"
+                .into())
         }
         Expr::Neg(a) | Expr::Not(a) | Expr::Call(_, a) => {
             let d = compile(a, ops)?;

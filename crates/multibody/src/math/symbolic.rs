@@ -37,6 +37,8 @@ pub enum Sym {
     Edge(Rc<Sym>),
     /// True at the event where the argument changed.
     Change(Rc<Sym>),
+    /// True at the time events `start + k interval`.
+    Sample(f64, f64),
 }
 
 pub type S = Rc<Sym>;
@@ -68,7 +70,7 @@ impl Sym {
     /// The expression's operands (up to three), in order.
     pub fn children(&self) -> [Option<&S>; 3] {
         match self {
-            Sym::Const(_) | Sym::Time | Sym::Var(_) | Sym::Pre(_) | Sym::Initial => [None; 3],
+            Sym::Const(_) | Sym::Time | Sym::Var(_) | Sym::Pre(_) | Sym::Initial | Sym::Sample(..) => [None; 3],
             Sym::Neg(a) | Sym::Call(_, a) | Sym::Not(a) | Sym::NoEvent(a) | Sym::Edge(a) | Sym::Change(a) => {
                 [Some(a), None, None]
             }
@@ -294,6 +296,7 @@ fn differentiate(e: &S, leaf: &mut impl FnMut(&Sym) -> Option<S>) -> S {
         | Sym::Not(_)
         | Sym::Pre(_)
         | Sym::Initial
+        | Sym::Sample(..)
         | Sym::Edge(_)
         | Sym::Change(_) => constant(0.0),
         Sym::If(c, a, b) => if_else(c.clone(), d(a), d(b)),
@@ -336,7 +339,7 @@ pub fn substitute_all(e: &S, by: &dyn Fn(usize) -> Option<S>) -> S {
     let s = |x: &S| substitute_all(x, by);
     match &**e {
         Sym::Var(w) => by(*w).unwrap_or_else(|| e.clone()),
-        Sym::Const(_) | Sym::Time | Sym::Pre(_) | Sym::Initial => e.clone(),
+        Sym::Const(_) | Sym::Time | Sym::Pre(_) | Sym::Initial | Sym::Sample(..) => e.clone(),
         Sym::NoEvent(a) => no_event(s(a)),
         Sym::Edge(a) => Rc::new(Sym::Edge(s(a))),
         Sym::Change(a) => Rc::new(Sym::Change(s(a))),
@@ -378,7 +381,7 @@ pub fn affine_in(e: &S, v: usize) -> Option<(S, S)> {
 /// (where the derivative hides it).
 fn has_condition_on(e: &S, v: usize) -> bool {
     match &**e {
-        Sym::Const(_) | Sym::Time | Sym::Var(_) | Sym::Pre(_) | Sym::Initial => false,
+        Sym::Const(_) | Sym::Time | Sym::Var(_) | Sym::Pre(_) | Sym::Initial | Sym::Sample(..) => false,
         Sym::Compare(..) | Sym::And(..) | Sym::Or(..) | Sym::Not(_) | Sym::Edge(_) | Sym::Change(_) => e.depends_on(v),
         Sym::NoEvent(a) => has_condition_on(a, v),
         Sym::Call(Func::Sign | Func::Floor | Func::Ceil | Func::Abs, a) => a.depends_on(v),
@@ -401,7 +404,7 @@ pub fn evaluate(e: &Sym, t: f64, vars: &dyn Fn(usize) -> f64) -> f64 {
         Sym::Var(v) => vars(*v),
         // Outside events: the value as it is, no edge, no change.
         Sym::Pre(v) => vars(*v),
-        Sym::Initial | Sym::Edge(_) | Sym::Change(_) => 0.0,
+        Sym::Initial | Sym::Edge(_) | Sym::Change(_) | Sym::Sample(..) => 0.0,
         Sym::NoEvent(a) => ev(a),
         Sym::Neg(a) => -ev(a),
         Sym::Add(a, b) => ev(a) + ev(b),

@@ -61,12 +61,21 @@ pub enum Op {
     LoadPre(Reg, u32),
     /// At events: whether `cond` became true (`discrete[slot]` keeps its
     /// value; at the start only with `at_start`, for `initial()`); between
-    /// events false.
+    /// events false. An `impulse` condition (one with `sample`) holds only
+    /// at its own instants: the slot keeps the last instant it fired at
+    /// (from minus infinity), so it fires once at each.
     Fire {
         dst: Reg,
         cond: Reg,
         slot: u32,
         at_start: bool,
+        impulse: bool,
+    },
+    /// `dst = sample(start, interval)` of the program's sample number
+    /// `index`: true at events at one of its instants.
+    Sample {
+        dst: Reg,
+        index: u32,
     },
     /// At events: whether `value` changed (`discrete[slot]` keeps it); false
     /// at the start and between events.
@@ -183,6 +192,36 @@ pub struct EquationProgram {
     pub when_actions: Range<usize>,
     /// How many `reinit`s the `when` clauses hold (room for them).
     pub reinits: usize,
+    /// The `sample(start, interval)` of the equations: time events.
+    pub samples: Vec<Sample>,
+}
+
+/// The instants `start + k interval`, k = 0, 1, ...
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    pub start: f64,
+    pub interval: f64,
+}
+
+impl Sample {
+    /// Whether `t` is one of the instants (as [`Sample::next_after`] makes them).
+    #[inline]
+    pub fn holds_at(&self, t: f64) -> bool {
+        let k = ((t - self.start) / self.interval).round();
+        k >= 0.0 && self.start + k * self.interval == t
+    }
+
+    /// The first instant after `t`.
+    pub fn next_after(&self, t: f64) -> f64 {
+        if t < self.start {
+            return self.start;
+        }
+        let mut k = ((t - self.start) / self.interval).floor() + 1.0;
+        while self.start + k * self.interval <= t {
+            k += 1.0;
+        }
+        self.start + k * self.interval
+    }
 }
 
 impl EquationProgram {

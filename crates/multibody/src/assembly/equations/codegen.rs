@@ -38,6 +38,8 @@ struct Emitter {
     discrete_of: Vec<Option<usize>>,
     /// The equations being written, to name their indicators.
     label: String,
+    /// The `sample`s met, each once.
+    samples: Vec<crate::system::equations::Sample>,
 }
 
 impl Emitter {
@@ -80,6 +82,19 @@ impl Emitter {
                 self.ops.push(Op::Initial(d));
                 d
             }
+            &Sym::Sample(start, interval) => {
+                let sample = crate::system::equations::Sample { start, interval };
+                let index = match self.samples.iter().position(|s| *s == sample) {
+                    Some(k) => k,
+                    None => {
+                        self.samples.push(sample);
+                        self.samples.len() - 1
+                    }
+                };
+                let dst = self.register();
+                self.ops.push(Op::Sample { dst, index: index as u32 });
+                dst
+            }
             Sym::NoEvent(a) => {
                 let was = std::mem::replace(&mut self.live, true);
                 let r = self.emit(a, vars);
@@ -88,8 +103,9 @@ impl Emitter {
             }
             Sym::Edge(a) => {
                 let cond = self.emit(a, vars);
-                let (dst, slot) = (self.register(), self.discrete_slot(0.0));
-                self.ops.push(Op::Fire { dst, cond, slot, at_start: false });
+                let impulse = mentions_sample(a);
+                let (dst, slot) = (self.register(), self.discrete_slot(if impulse { f64::NEG_INFINITY } else { 0.0 }));
+                self.ops.push(Op::Fire { dst, cond, slot, at_start: false, impulse });
                 dst
             }
             Sym::Change(a) => {
@@ -208,6 +224,7 @@ fn result_mut(op: &mut Op) -> Option<&mut Reg> {
         | Op::Initial(d)
         | Op::LoadPre(d, _)
         | Op::Fire { dst: d, .. }
+        | Op::Sample { dst: d, .. }
         | Op::Change { dst: d, .. } => Some(d),
         Op::Store(..) | Op::Assign { .. } | Op::Reinit { .. } => None,
     }
@@ -254,6 +271,7 @@ pub(super) fn generate(
             .collect(),
         discrete_of,
         label: String::new(),
+        samples: Vec::new(),
     };
     let mut reg = vec![Reg::MAX; n];
     let mut slot_reads: Vec<Option<usize>> = vec![None; n];
@@ -467,6 +485,7 @@ pub(super) fn generate(
         when_conditions,
         when_actions,
         reinits,
+        samples: em.samples,
     };
     events.indicators.append(&mut em.indicators);
     events.discrete_start.append(&mut em.discrete);
@@ -500,8 +519,9 @@ fn when_clauses(
         let mut taken: Option<Reg> = None;
         for ((condition, actions), &cond) in w.branches.iter().zip(regs) {
             let fired = em.register();
-            let slot = em.discrete_slot(0.0);
-            em.ops.push(Op::Fire { dst: fired, cond, slot, at_start: mentions_initial(condition) });
+            let impulse = mentions_sample(condition);
+            let slot = em.discrete_slot(if impulse { f64::NEG_INFINITY } else { 0.0 });
+            em.ops.push(Op::Fire { dst: fired, cond, slot, at_start: mentions_initial(condition), impulse });
             let fire = match taken {
                 None => {
                     taken = Some(fired);
@@ -534,6 +554,11 @@ fn when_clauses(
     }
     em.live = false;
     Ok((start..conditions_end, conditions_end..em.ops.len(), reinits))
+}
+
+/// Whether `e` holds `sample`, true only at its own events.
+fn mentions_sample(e: &S) -> bool {
+    e.find(&mut |node| matches!(node, Sym::Sample(..)).then_some(())).is_some()
 }
 
 fn mentions_initial(e: &S) -> bool {

@@ -713,6 +713,7 @@ fn to_sym(
             std::rc::Rc::new(Sym::Pre(classify(name, table, extras).map_err(|e| with_origin(e, origin))?))
         }
         Expr::Initial => std::rc::Rc::new(Sym::Initial),
+        Expr::Sample { start, interval } => std::rc::Rc::new(Sym::Sample(*start, *interval)),
         Expr::Edge(a) => std::rc::Rc::new(Sym::Edge(go(a, table)?)),
         Expr::Change(a) => std::rc::Rc::new(Sym::Change(go(a, table)?)),
     })
