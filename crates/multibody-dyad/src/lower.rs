@@ -613,16 +613,15 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                     .help(format!("change its parameters instead: `{key}(m = 2)`")));
                 }
                 forwarded.insert(key.to_string(), m.nested);
-            } else if let Some((c, _)) = key
+            } else if key
                 .strip_suffix(']')
                 .and_then(|k| k.split_once('['))
                 .and_then(|(base, _)| decl_of(base))
-                .filter(|(c, _)| c.array.is_some())
+                .is_some_and(|(c, _)| c.array.is_some())
             {
                 // One element of an array of components (`joints[1].Q_hat`
                 // from an `initial` of the enclosing component): checked
                 // against the array's range when its instances are made.
-                let _ = c;
                 forwarded.insert(key.to_string(), m.nested);
             } else {
                 let names: Vec<&str> = params

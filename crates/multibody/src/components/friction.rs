@@ -229,6 +229,12 @@ const FN_MAX: ParamSpec = ParamSpec::required("fn_max", ParamType::Real, "N", "L
 const F_NORMALIZED: ConnectorSpec = ConnectorSpec::input("f_normalized", "Normal force over fn_max (0..1)");
 
 macro_rules! friction_variables {
+    (rotational $(, $extra:expr)*) => {
+        friction_variables!("phi", "w", "a", "tau", "rad", "rad/s", "rad/s2", "N.m" $(, $extra)*)
+    };
+    (translational $(, $extra:expr)*) => {
+        friction_variables!("s", "v", "a", "f", "m", "m/s", "m/s2", "N" $(, $extra)*)
+    };
     ($pos:literal, $speed:literal, $acc:literal, $force:literal, $pos_unit:literal, $speed_unit:literal,
      $acc_unit:literal, $force_unit:literal $(, $extra:expr)*) => {
         &[
@@ -339,14 +345,7 @@ pub static MASS_WITH_STOP_AND_FRICTION: ComponentSpec = ComponentSpec {
         ConnectorSpec::flange("flange_b", ConnectorType::Flange, "Right flange (at s + L/2)"),
     ],
     variables: friction_variables!(
-        "s",
-        "v",
-        "a",
-        "f",
-        "m",
-        "m/s",
-        "m/s2",
-        "N",
+        translational,
         VarSpec::scalar("f0", "N", "Sliding force at rest"),
         VarSpec::scalar("f0_max", "N", "Largest force held while stuck"),
         VarSpec::scalar("stopped", "", "-1 at the left stop, 1 at the right stop, 0 between")
@@ -368,14 +367,7 @@ pub static ROTATIONAL_BRAKE: ComponentSpec = ComponentSpec {
         F_NORMALIZED,
     ],
     variables: friction_variables!(
-        "phi",
-        "w",
-        "a",
-        "tau",
-        "rad",
-        "rad/s",
-        "rad/s2",
-        "N.m",
+        rotational,
         VarSpec::scalar("fn", "N", "Normal force"),
         VarSpec::scalar("tau0", "N.m", "Sliding torque at rest"),
         VarSpec::scalar("tau0_max", "N.m", "Largest torque held while stuck")
@@ -395,14 +387,7 @@ pub static BEARING_FRICTION: ComponentSpec = ComponentSpec {
         ConnectorSpec::flange("support", ConnectorType::Spline, "Housing (fixed when unconnected)"),
     ],
     variables: friction_variables!(
-        "phi",
-        "w",
-        "a",
-        "tau",
-        "rad",
-        "rad/s",
-        "rad/s2",
-        "N.m",
+        rotational,
         VarSpec::scalar("tau0", "N.m", "Sliding torque at rest"),
         VarSpec::scalar("tau0_max", "N.m", "Largest torque held while stuck")
     ),
@@ -423,14 +408,7 @@ pub static TRANSLATIONAL_BRAKE: ComponentSpec = ComponentSpec {
         F_NORMALIZED,
     ],
     variables: friction_variables!(
-        "s",
-        "v",
-        "a",
-        "f",
-        "m",
-        "m/s",
-        "m/s2",
-        "N",
+        translational,
         VarSpec::scalar("fn", "N", "Normal force"),
         VarSpec::scalar("f0", "N", "Sliding force at rest"),
         VarSpec::scalar("f0_max", "N", "Largest force held while stuck")
@@ -450,14 +428,7 @@ pub static SUPPORT_FRICTION: ComponentSpec = ComponentSpec {
         ConnectorSpec::flange("support", ConnectorType::Flange, "Housing (fixed when unconnected)"),
     ],
     variables: friction_variables!(
-        "s",
-        "v",
-        "a",
-        "f",
-        "m",
-        "m/s",
-        "m/s2",
-        "N",
+        translational,
         VarSpec::scalar("f0", "N", "Sliding force at rest"),
         VarSpec::scalar("f0_max", "N", "Largest force held while stuck")
     ),
