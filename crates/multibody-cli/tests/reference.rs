@@ -309,3 +309,13 @@ fn coupled_clutches() {
     let signals: Vec<&str> = signals.iter().map(String::as_str).collect();
     check("CoupledClutches", &signals);
 }
+
+/// A gear whose housing is an inertia on a stiff spring-damper: the gear's
+/// output, with no inertia of its own, follows the shaft and the housing
+/// together; the housing's 22.6 Hz ringing (`springDamper.w_rel`, a tube of
+/// 1.75e-6 rad/s) has to be resolved.
+#[test]
+fn elastic_bearing() {
+    let signals = ["load.phi", "load.w", "shaft.phi", "shaft.w", "springDamper.phi_rel", "springDamper.w_rel"];
+    check("ElasticBearing", &signals);
+}

@@ -12,6 +12,22 @@ const LIBRARIES: &[(&str, &str, &str)] = &[
     ("BlockComponents", "<stdlib>/BlockComponents.dyad", include_str!("../stdlib/BlockComponents.dyad")),
     ("MultibodyComponents", "<stdlib>/MultibodyComponents.dyad", include_str!("../stdlib/MultibodyComponents.dyad")),
     ("PlanarMechanics", "<stdlib>/PlanarMechanics.dyad", include_str!("../stdlib/PlanarMechanics.dyad")),
+    ("RotationalComponents", "<stdlib>/RotationalComponents.dyad", include_str!("../stdlib/RotationalComponents.dyad")),
+    (
+        "TranslationalComponents",
+        "<stdlib>/TranslationalComponents.dyad",
+        include_str!("../stdlib/TranslationalComponents.dyad"),
+    ),
+    (
+        "RotationalComponents.Acausal",
+        "<stdlib>/Acausal/RotationalComponents.dyad",
+        include_str!("../stdlib/Acausal/RotationalComponents.dyad"),
+    ),
+    (
+        "TranslationalComponents.Acausal",
+        "<stdlib>/Acausal/TranslationalComponents.dyad",
+        include_str!("../stdlib/Acausal/TranslationalComponents.dyad"),
+    ),
 ];
 
 /// The libraries' names, file names and texts, in file order.

@@ -14,7 +14,7 @@ use super::mechanism::{CompiledComponent, JointRef};
 use crate::components::{Law1D, Part, StateNames};
 use crate::math::union_find::UnionFind;
 use crate::math::{RigidInertia, Transform, Vec3};
-use crate::system::{Anchor, AxisElement, Coupling, FlangeRef, JointModel, Link, Mover, GROUND};
+use crate::system::{Anchor, AxisElement, Coupling, FlangeRef, JointModel, Link, GROUND};
 use crate::Error;
 
 /// For every 1-D node, where it sits and the connector that placed it
@@ -28,9 +28,9 @@ type GearTerms = Vec<(usize, f64, usize)>;
 /// the constant forces on coordinates.
 pub struct DriveTrain {
     pub places: Places,
-    /// `(component, terms (node, coefficient, connector))` of each gear that
-    /// could not be made rigid.
-    pending: Vec<(usize, GearTerms)>,
+    /// `(component, terms (node, coefficient, connector), constant)` of
+    /// each gear that could not be made rigid.
+    pending: Vec<(usize, GearTerms, f64)>,
     pub axis_forces: Vec<(usize, f64)>,
     /// `(component, centre, state names)` of each 1-D body that turns with
     /// another coordinate than its own.
@@ -98,7 +98,7 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
                 Part::Inertia1D { a, b, length, .. } => {
                     rigid.push((ci, pi, node_of(components, ci, *a), node_of(components, ci, *b), *length))
                 }
-                Part::Coupling { terms } => {
+                Part::Coupling { terms, constant } => {
                     let terms = terms
                         .iter()
                         .map(|&(local, k)| {
@@ -106,7 +106,7 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
                             (conn.flange_node_of[id], k, id)
                         })
                         .collect::<Vec<_>>();
-                    gears.push((ci, terms));
+                    gears.push((ci, terms, *constant));
                 }
                 _ => {}
             }
@@ -134,11 +134,11 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
             }
             progress = true;
         }
-        for (g, (_, terms)) in gears.iter().enumerate() {
+        for (g, (_, terms, constant)) in gears.iter().enumerate() {
             if gear_done[g] {
                 continue;
             }
-            if let Some((node, r, id)) = solve_for_the_unplaced(terms, &place) {
+            if let Some((node, r, id)) = solve_for_the_unplaced(terms, *constant, &place, 1) {
                 place[node] = Some((r, id));
                 gear_done[g] = true;
                 progress = true;
@@ -146,6 +146,25 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
         }
         if progress {
             continue;
+        }
+        // A gear's side with no inertia behind it, between two coordinates
+        // (its output, on a housing that turns): it follows both, without a
+        // coordinate or constraint of its own. Only when no inertia is left
+        // to place, since an inertia there would couple the two.
+        if rigid.iter().all(|r| place[r.2].is_some() || place[r.3].is_some()) {
+            for (g, (_, terms, constant)) in gears.iter().enumerate() {
+                if gear_done[g] {
+                    continue;
+                }
+                if let Some((node, r, id)) = solve_for_the_unplaced(terms, *constant, &place, 2) {
+                    place[node] = Some((r, id));
+                    gear_done[g] = true;
+                    progress = true;
+                }
+            }
+            if progress {
+                continue;
+            }
         }
         // A free inertia: its centre becomes a coordinate of its own.
         let Some(&(ci, pi, a, b, length)) = rigid.iter().find(|r| place[r.2].is_none() && place[r.3].is_none()) else {
@@ -169,6 +188,7 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
         if !tree.links.iter().any(|l| l.source == (ci, pi)) {
             geared.push((ci, r.affine(1.0, length / 2.0), states));
         }
+        debug_assert!(r.second.is_none(), "inertias are placed before places that follow two coordinates");
         let Some((_, v)) = r.coordinate() else { continue };
         let link = tree.links.iter_mut().find(|l| l.v_offset == v && l.joint.nv() == 1);
         let link = link.expect("1-D coordinates are those of 1-DOF links");
@@ -273,7 +293,7 @@ fn check_moving_mounts(
         for part in &c.parts {
             let joined: Vec<usize> = match part {
                 Part::Element1D { a, b, .. } => vec![*a, *b],
-                Part::Coupling { terms } => terms.iter().map(|t| t.0).collect(),
+                Part::Coupling { terms, .. } => terms.iter().map(|t| t.0).collect(),
                 Part::Inertia1D { a, b, .. } => {
                     worldly.push((node_of(ci, *a), ci, "an Inertia (or Mass), which turns in the world,"));
                     vec![*a, *b]
@@ -370,14 +390,26 @@ fn set(
 
 fn same_place(a: FlangeRef, b: FlangeRef) -> bool {
     let close = |x: f64, y: f64| (x - y).abs() <= 1e-12 * (1.0 + x.abs().max(y.abs()));
-    a.mover == b.mover && close(a.offset, b.offset) && (a.mover.is_none() || close(a.scale, b.scale))
+    let second = match (a.second, b.second) {
+        (None, None) => true,
+        (Some(x), Some(y)) => x.0 == y.0 && close(x.2, y.2),
+        _ => false,
+    };
+    a.mover == b.mover && close(a.offset, b.offset) && (a.mover.is_none() || close(a.scale, b.scale)) && second
 }
 
-/// For a gear `sum c_k x_k = 0` with one node unplaced and the others on one
-/// coordinate (or fixed): that node's place.
-fn solve_for_the_unplaced(terms: &[(usize, f64, usize)], place: &Places) -> Option<(usize, FlangeRef, usize)> {
+/// For a gear `sum c_k x_k + constant = 0` with one node unplaced and the
+/// others on at most `most` coordinates (or fixed): that node's place.
+fn solve_for_the_unplaced(
+    terms: &[(usize, f64, usize)],
+    constant: f64,
+    place: &Places,
+    most: usize,
+) -> Option<(usize, FlangeRef, usize)> {
     let mut unplaced = None;
-    let (mut coordinate, mut scale, mut offset, mut c_unplaced) = (None, 0.0, 0.0, 0.0);
+    let (mut offset, mut c_unplaced) = (constant, 0.0);
+    // `(q, v, coefficient)` of each coordinate the placed nodes follow.
+    let mut coordinates: Vec<(usize, usize, f64)> = Vec::with_capacity(2);
     for &(node, c, id) in terms {
         match place[node] {
             None => match unplaced {
@@ -390,31 +422,27 @@ fn solve_for_the_unplaced(terms: &[(usize, f64, usize)], place: &Places) -> Opti
             // A line's length is no coordinate a gear could follow rigidly.
             Some((r, _)) if r.on_line() => return None,
             Some((r, _)) => {
-                if let Some(rc) = r.coordinate() {
-                    if coordinate.is_some_and(|x| x != rc) {
-                        return None;
+                for (q, v, k) in r.coordinates() {
+                    match coordinates.iter_mut().find(|x| x.0 == q) {
+                        Some(x) => x.2 += c * k,
+                        None => coordinates.push((q, v, c * k)),
                     }
-                    coordinate = Some(rc);
                 }
-                scale += c * r.scale;
                 offset += c * r.offset;
             }
         }
     }
     let (node, id) = unplaced?;
-    if c_unplaced == 0.0 {
+    coordinates.retain(|x| x.2 != 0.0);
+    if c_unplaced == 0.0 || coordinates.len() > most {
         return None;
     }
-    Some((
-        node,
-        FlangeRef {
-            mover: coordinate.map(|(q, v)| Mover::State { q, v }),
-            scale: -scale / c_unplaced,
-            offset: -offset / c_unplaced,
-        }
-        .affine(1.0, 0.0),
-        id,
-    ))
+    let mut r = FlangeRef::fixed(-offset / c_unplaced);
+    if let Some(&(q, v, k)) = coordinates.first() {
+        r = FlangeRef::on(q, v).affine(-k / c_unplaced, r.offset);
+    }
+    r.second = coordinates.get(1).map(|&(q, v, k)| (q, v, -k / c_unplaced));
+    Some((node, r, id))
 }
 
 /// Where the 1-D connector `id` sits, or an error naming it.
@@ -488,17 +516,17 @@ pub fn couplings(
     first_row: usize,
 ) -> Result<Vec<Coupling>, Error> {
     let mut couplings = Vec::new();
-    for (ci, terms) in &drive.pending {
+    for (ci, terms, constant) in &drive.pending {
         let mut coupling =
-            Coupling { terms: Vec::new(), constant: 0.0, row: first_row + couplings.len(), component: *ci };
+            Coupling { terms: Vec::new(), constant: *constant, row: first_row + couplings.len(), component: *ci };
         for &(_, c, id) in terms {
             let r = flange(components, conn, &drive.places, id)?;
             if r.on_line() {
                 return Err(on_a_line(components, *ci, "a gear"));
             }
             coupling.constant += c * r.offset;
-            if let Some((q, v)) = r.coordinate() {
-                coupling.terms.push((q, v, c * r.scale));
+            for (q, v, k) in r.coordinates() {
+                coupling.terms.push((q, v, c * k));
             }
         }
         couplings.push(coupling);

@@ -55,7 +55,9 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     } else {
         let mut m = model.clone();
         for extra in &plan.extras {
-            m.connect([format!("{}.{}", extra.name, extra.joins.0), extra.joins.1.clone()]);
+            for (local, theirs) in &extra.joins {
+                m.connect([format!("{}.{local}", extra.name), theirs.clone()]);
+            }
         }
         with_equations = m;
         &with_equations

@@ -419,11 +419,12 @@ pub enum Part {
         frames: [Option<usize>; 2],
         flanges: [Option<usize>; 2],
     },
-    /// A linear relation `sum c_k phi_k = 0` between the positions of 1-D
-    /// connectors: an ideal gear. Where it can, assembly makes it rigid
-    /// (the driven side follows the driving one, with no constraint force
-    /// to solve for); otherwise it is a constraint.
-    Coupling { terms: Vec<(usize, f64)> },
+    /// A linear relation `sum c_k phi_k + constant = 0` between the
+    /// positions of 1-D connectors: an ideal gear, or a rod of length
+    /// `-constant`. Where it can, assembly makes it rigid (the driven side
+    /// follows the driving one, with no constraint force to solve for);
+    /// otherwise it is a constraint.
+    Coupling { terms: Vec<(usize, f64)>, constant: f64 },
     /// A rigid 1-D body from connector `a` to connector `b` (`b` sits at
     /// `a + length`) with inertia `inertia` (kg.m2 or kg) and a constant
     /// force `weight` along its axis. If nothing else moves it, its centre

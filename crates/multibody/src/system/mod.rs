@@ -305,39 +305,52 @@ pub(crate) enum Mover {
 
 /// Where a 1-D connector sits: at `offset + scale * x`, where `x` is what
 /// moves it (a joint's axis, a free inertia's own coordinate, anything
-/// rigidly geared to one, or a line's length), or fixed at `offset`.
+/// rigidly geared to one, or a line's length), or fixed at `offset`; plus
+/// `k * q` of a second coordinate where a gear without inertia behind it
+/// follows two (its output on a housing that turns).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct FlangeRef {
     pub mover: Option<Mover>,
     pub scale: f64,
     pub offset: f64,
+    /// `(position index, velocity index, k)` of the second coordinate.
+    pub second: Option<(usize, usize, f64)>,
 }
 
 impl FlangeRef {
     /// Fixed at 0.
-    pub const FIXED: FlangeRef = FlangeRef { mover: None, scale: 0.0, offset: 0.0 };
+    pub const FIXED: FlangeRef = FlangeRef { mover: None, scale: 0.0, offset: 0.0, second: None };
 
     /// Fixed at `at`.
     pub fn fixed(at: f64) -> Self {
-        FlangeRef { mover: None, scale: 0.0, offset: at }
+        FlangeRef { mover: None, scale: 0.0, offset: at, second: None }
     }
 
     /// The coordinate itself.
     pub fn on(q: usize, v: usize) -> Self {
-        FlangeRef { mover: Some(Mover::State { q, v }), scale: 1.0, offset: 0.0 }
+        FlangeRef { mover: Some(Mover::State { q, v }), scale: 1.0, offset: 0.0, second: None }
     }
 
     /// The length of line `k`.
     pub fn line(k: usize) -> Self {
-        FlangeRef { mover: Some(Mover::Line(k)), scale: 1.0, offset: 0.0 }
+        FlangeRef { mover: Some(Mover::Line(k)), scale: 1.0, offset: 0.0, second: None }
     }
 
-    /// The coordinate `(q, v)` that moves it, if a coordinate does.
+    /// The coordinate `(q, v)` that moves it, if one coordinate alone does.
     pub fn coordinate(&self) -> Option<(usize, usize)> {
-        match self.mover {
-            Some(Mover::State { q, v }) => Some((q, v)),
+        match (self.mover, self.second) {
+            (Some(Mover::State { q, v }), None) => Some((q, v)),
             _ => None,
         }
+    }
+
+    /// The coordinates that move it, `(q, v, k)`, where no line does.
+    pub fn coordinates(&self) -> impl Iterator<Item = (usize, usize, f64)> {
+        let first = match self.mover {
+            Some(Mover::State { q, v }) => Some((q, v, self.scale)),
+            _ => None,
+        };
+        first.into_iter().chain(self.second)
     }
 
     /// Whether a line's length moves it.
@@ -348,16 +361,21 @@ impl FlangeRef {
     /// The place `offset + scale * x`, where `x` is this place.
     pub fn affine(self, scale: f64, offset: f64) -> Self {
         let mover = if scale == 0.0 { None } else { self.mover };
-        FlangeRef { mover, scale: self.scale * scale, offset: self.offset * scale + offset }
+        let second = if scale == 0.0 { None } else { self.second.map(|(q, v, k)| (q, v, k * scale)) };
+        FlangeRef { mover, scale: self.scale * scale, offset: self.offset * scale + offset, second }
     }
 
     /// Position and speed of the flange at `(q, u)`, with the lines' lengths.
     #[inline]
     pub fn motion(&self, q: &[f64], u: &[f64], lines: &[LineState]) -> (f64, f64) {
-        match self.mover {
+        let (s, v) = match self.mover {
             None => (self.offset, 0.0),
             Some(Mover::State { q: i, v }) => (self.offset + self.scale * q[i], self.scale * u[v]),
             Some(Mover::Line(k)) => (self.offset + self.scale * lines[k].s, self.scale * lines[k].v),
+        };
+        match self.second {
+            None => (s, v),
+            Some((i, j, k)) => (s + k * q[i], v + k * u[j]),
         }
     }
 
@@ -365,11 +383,12 @@ impl FlangeRef {
     /// lines' accelerations `line_a`.
     #[inline]
     pub fn acceleration(&self, ud: &[f64], line_a: &[f64]) -> f64 {
-        match self.mover {
+        let a = match self.mover {
             None => 0.0,
             Some(Mover::State { v, .. }) => self.scale * ud[v],
             Some(Mover::Line(k)) => self.scale * line_a[k],
-        }
+        };
+        self.second.map_or(a, |(_, j, k)| a + k * ud[j])
     }
 
     /// Adds the generalised force of `force` pushing this flange forward:
@@ -380,6 +399,9 @@ impl FlangeRef {
             None => {}
             Some(Mover::State { v, .. }) => tau[v] += self.scale * force,
             Some(Mover::Line(k)) => lines[k].force += self.scale * force,
+        }
+        if let Some((_, j, k)) = self.second {
+            tau[j] += k * force;
         }
     }
 }

@@ -15,6 +15,7 @@
 //!    blocks.
 
 mod codegen;
+mod couplings;
 mod initial;
 mod reduce;
 mod sort;
@@ -44,8 +45,8 @@ pub(crate) struct Extra {
     pub part: EquationPart,
     /// For a 1-D flow: whether the connector is a spline (rotational).
     pub rotational: bool,
-    /// The connector of the extra (local name) and the model's connector it joins.
-    pub joins: (&'static str, String),
+    /// The connectors of the extra (local names) and the model's connectors they join.
+    pub joins: Vec<(&'static str, String)>,
 }
 
 /// What [`plan`] found: hidden components to add, and the equations to
@@ -233,11 +234,14 @@ fn problem(
 
 /// Classifies the equations' names and finds the hidden components they need.
 pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
-    let eqs = &model.equations;
-    if eqs.is_empty() {
+    if model.equations.is_empty() {
         return Ok(Plan { extras: Vec::new(), equations: None });
     }
     let mut net = Connectivity::new(model);
+    // Equations between positions become couplings of the drive train.
+    let mut eqs = model.equations.clone();
+    let mut extras = couplings::extract(&mut eqs, &mut net, model)?;
+    let eqs = &eqs;
     let declared: HashMap<&str, usize> = eqs.variables.iter().enumerate().map(|(i, v)| (v.name.as_str(), i)).collect();
     if declared.len() != eqs.variables.len() {
         let mut seen = std::collections::HashSet::new();
@@ -263,7 +267,6 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
     }
 
     // Formulas of time for signal inputs: source blocks with exact derivatives.
-    let mut extras = Vec::new();
     let mut formulas: Vec<String> = Vec::new();
     let mut general = Vec::new();
     for e in &eqs.equations {
@@ -279,7 +282,7 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
                     name: format!("{input} (equation)"),
                     part: EquationPart::Formula(formula),
                     rotational: false,
-                    joins: ("y", input.clone()),
+                    joins: vec![("y", input.clone())],
                 });
                 formulas.push(input.clone());
                 continue;
@@ -313,7 +316,7 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
                     name: extra.clone(),
                     part: EquationPart::Written,
                     rotational: false,
-                    joins: ("y", name.to_string()),
+                    joins: vec![("y", name.to_string())],
                 });
                 let v = table.add(name.to_string(), Role::Written { extra });
                 if let Some(s) = set {
@@ -464,7 +467,7 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
             _ if rotational => "spline",
             _ => "flange",
         };
-        extras.push(Extra { name: extra, part, rotational, joins: (local, connector.clone()) });
+        extras.push(Extra { name: extra, part, rotational, joins: vec![(local, connector.clone())] });
     }
 
     let mut pending = Pending {

@@ -116,6 +116,31 @@ pub static FLANGE_FLOW: ComponentSpec = ComponentSpec {
     shapes: crate::components::shapes::none,
 };
 
+/// An equation between positions of 1-D connectors, as a coupling of up to
+/// four rotational (`spline_1` ... `spline_4`, local numbers 0 to 3) and
+/// four translational (`flange_1` ... `flange_4`, 4 to 7) connectors.
+pub static COUPLING: ComponentSpec = ComponentSpec {
+    kind: "EquationCoupling",
+    doc: "An equation between positions of 1-D connectors, held as a constraint.",
+    params: &[],
+    connectors: &[
+        ConnectorSpec::flange("spline_1", ConnectorType::Spline, "A rotational connector of the equation"),
+        ConnectorSpec::flange("spline_2", ConnectorType::Spline, "A rotational connector of the equation"),
+        ConnectorSpec::flange("spline_3", ConnectorType::Spline, "A rotational connector of the equation"),
+        ConnectorSpec::flange("spline_4", ConnectorType::Spline, "A rotational connector of the equation"),
+        ConnectorSpec::flange("flange_1", ConnectorType::Flange, "A translational connector of the equation"),
+        ConnectorSpec::flange("flange_2", ConnectorType::Flange, "A translational connector of the equation"),
+        ConnectorSpec::flange("flange_3", ConnectorType::Flange, "A translational connector of the equation"),
+        ConnectorSpec::flange("flange_4", ConnectorType::Flange, "A translational connector of the equation"),
+    ],
+    variables: &[],
+    build: not_by_name,
+    shapes: crate::components::shapes::none,
+};
+
+/// How many connectors of each kind a coupling of the equations holds.
+pub const COUPLING_CONNECTORS: usize = 4;
+
 /// A piece of the model's equations, as a component.
 #[derive(Clone, Debug)]
 pub enum EquationPart {
@@ -129,6 +154,9 @@ pub enum EquationPart {
     PlanarFlow,
     /// A flow at a 1-D connector.
     AxisFlow,
+    /// `sum c_k x_k + constant = 0` over the connectors of [`COUPLING`]
+    /// (by local number).
+    Coupling { terms: Vec<(usize, f64)>, constant: f64 },
 }
 
 impl EquationPart {
@@ -140,6 +168,7 @@ impl EquationPart {
             EquationPart::PlanarFlow => &PLANAR_FLOW,
             EquationPart::AxisFlow if rotational => &SPLINE_FLOW,
             EquationPart::AxisFlow => &FLANGE_FLOW,
+            EquationPart::Coupling { .. } => &COUPLING,
         }
     }
 }
@@ -182,6 +211,9 @@ impl Component for EquationPart {
                 Part::Element1D { a: 1, b: 0, law: Law1D::Flow { signal: 2 } },
                 Part::Housing { flange: 1 },
             ],
+            EquationPart::Coupling { terms, constant } => {
+                vec![Part::Coupling { terms: terms.clone(), constant: *constant }]
+            }
         }
     }
 

@@ -1,0 +1,340 @@
+//! Equations between positions of 1-D connectors, as the libraries write
+//! their rigid parts (a rod, a gear, a planetary gear, a rack): each is a
+//! constraint of the drive train. Checked against closed forms and against
+//! the built-in parts; the Dyad-written twins of the standard library
+//! (`RotationalComponents.Acausal.*`, `TranslationalComponents.Acausal.*`)
+//! against the built-in elements of the same names on a chain. Each test
+//! prints its worst error as a fraction of its tolerance.
+
+use multibody::Solution;
+use multibody_dyad::{DefinitionKind, Package};
+
+/// Runs the only analysis in `text`.
+fn simulate(text: &str) -> Solution {
+    let mut package = Package::new();
+    if let Err(d) = package.add_source("constraints.dyad", text.to_string()) {
+        panic!("{}", d.render(package.sources(), false));
+    }
+    let analysis =
+        package.definitions().into_iter().find(|d| d.kind == DefinitionKind::Analysis).expect("an analysis").name;
+    let lowered =
+        package.lower_analysis(&analysis).unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false)));
+    let mechanism = lowered.assemble().unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false)));
+    mechanism.simulate(&lowered.options).unwrap()
+}
+
+/// The message of the first error the model gives, as the command prints it.
+fn error_of(text: &str) -> String {
+    let mut package = Package::new();
+    if let Err(d) = package.add_source("constraints.dyad", text.to_string()) {
+        return d.render(package.sources(), false);
+    }
+    let analysis =
+        package.definitions().into_iter().find(|d| d.kind == DefinitionKind::Analysis).expect("an analysis").name;
+    match package.lower_analysis(&analysis) {
+        Err(d) => d.render(package.sources(), false),
+        Ok(lowered) => match lowered.assemble() {
+            Err(d) => d.render(package.sources(), false),
+            Ok(_) => panic!("the model was accepted"),
+        },
+    }
+}
+
+fn column<'s>(s: &'s Solution, name: &str) -> &'s [f64] {
+    s.get(name).unwrap_or_else(|| panic!("no column {name}"))
+}
+
+/// Worst |a - b| over two columns, printed against its tolerance.
+fn compare(s: &Solution, a: &str, b: &str, tolerance: f64) {
+    let worst = column(s, a).iter().zip(column(s, b)).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+    println!("{a} vs {b}: worst {worst:.2e} ({:.3} of {tolerance:e})", worst / tolerance);
+    assert!(worst <= tolerance, "{a} vs {b}: {worst:e} > {tolerance:e}");
+}
+
+/// Worst |signal - exact(t)|, printed against its tolerance.
+fn check(s: &Solution, name: &str, tolerance: f64, exact: impl Fn(f64) -> f64) {
+    let worst = column(s, name).iter().zip(s.time()).map(|(y, &t)| (y - exact(t)).abs()).fold(0.0, f64::max);
+    println!("{name}: worst {worst:.2e} ({:.3} of {tolerance:e})", worst / tolerance);
+    assert!(worst <= tolerance, "{name}: {worst:e} > {tolerance:e}");
+}
+
+const RUN: &str = "extends TransientAnalysis(stop = 2, saveat = 0.01, abstol = 1e-11, reltol = 1e-11)";
+const TIGHT: &str = "extends TransientAnalysis(stop = 2, saveat = 0.01, abstol = 1e-13, reltol = 1e-13)";
+
+/// The library's Rod (its middle `s` eliminated) carries a second mass
+/// rigidly: one degree of freedom, the closed-form oscillation of both
+/// masses on the spring, the rod's length kept.
+#[test]
+fn a_rod_in_the_library_form_carries_the_mass_behind_it() {
+    let s = simulate(&format!(
+        "example component RodOnSpring
+  wall = TranslationalComponents.Fixed()
+  spring = TranslationalComponents.Spring(c = 10)
+  m1 = TranslationalComponents.Mass(m = 1, s(initial = 0.5), v(initial = 0))
+  rod = TranslationalComponents.Rod(L = 0.3)
+  m2 = TranslationalComponents.Mass(m = 3)
+relations
+  connect(wall.flange, spring.flange_a)
+  connect(spring.flange_b, m1.flange_a)
+  connect(m1.flange_b, rod.flange_a)
+  connect(rod.flange_b, m2.flange_a)
+end
+analysis Run
+  {RUN}
+  model = RodOnSpring()
+end"
+    ));
+    let w = (10.0f64 / 4.0).sqrt();
+    check(&s, "m1.s", 1e-9, |t| 0.5 * (w * t).cos());
+    check(&s, "m2.s", 1e-9, |t| 0.5 * (w * t).cos() + 0.3);
+    check(&s, "rod.s", 1e-9, |t| 0.5 * (w * t).cos() + 0.15);
+}
+
+/// A gear written by the user (`phi_a = ratio * phi_b` and its torque
+/// balance) beside the built-in IdealGear, and the library's planetary gear
+/// with its ring held: the reflected inertias give the closed-form
+/// accelerations.
+#[test]
+fn written_gears_reflect_their_inertias() {
+    let s = simulate(&format!(
+        "component MyGear
+  flange_a = Spline()
+  flange_b = Spline()
+  parameter ratio::Real = 1
+relations
+  flange_a.phi = ratio * flange_b.phi
+  0 = ratio * flange_a.tau + flange_b.tau
+end
+example component Gears
+  fixed = RotationalComponents.Fixed()
+  k = BlockComponents.Constant(k = 2)
+  src = RotationalComponents.Torque()
+  j1 = RotationalComponents.Inertia(J = 1, phi(initial = 0), w(initial = 0))
+  gear = MyGear(ratio = 3)
+  j2 = RotationalComponents.Inertia(J = 9)
+  srcb = RotationalComponents.Torque()
+  j1b = RotationalComponents.Inertia(J = 1, phi(initial = 0), w(initial = 0))
+  gearb = RotationalComponents.IdealGear(ratio = 3)
+  j2b = RotationalComponents.Inertia(J = 9)
+  srcc = RotationalComponents.Torque()
+  sun = RotationalComponents.Inertia(J = 0.5, phi(initial = 0), w(initial = 0))
+  planetary = RotationalComponents.Components.IdealPlanetaryGear(ratio = 2)
+  carrier = RotationalComponents.Inertia(J = 2)
+relations
+  connect(k.y, src.tau, srcb.tau, srcc.tau)
+  connect(src.support, srcb.support, srcc.support, fixed.spline, planetary.ring)
+  connect(src.spline, j1.spline_a)
+  connect(j1.spline_b, gear.flange_a)
+  connect(gear.flange_b, j2.spline_a)
+  connect(srcb.spline, j1b.spline_a)
+  connect(j1b.spline_b, gearb.spline_a)
+  connect(gearb.spline_b, j2b.spline_a)
+  connect(srcc.spline, sun.spline_a)
+  connect(sun.spline_b, planetary.sun)
+  connect(planetary.carrier, carrier.spline_a)
+end
+analysis Run
+  {RUN}
+  model = Gears()
+end"
+    ));
+    // Torque 2 on J1 + J2 / ratio^2 = 2: acceleration 1.
+    check(&s, "j1.phi", 1e-9, |t| 0.5 * t * t);
+    check(&s, "j2.phi", 1e-9, |t| 0.5 * t * t / 3.0);
+    compare(&s, "j1.phi", "j1b.phi", 1e-10);
+    compare(&s, "j2.phi", "j2b.phi", 1e-10);
+    // Ring held: carrier = sun / (1 + ratio); J = 0.5 + 2 / 9 at the sun.
+    let a = 2.0 / (0.5 + 2.0 / 9.0);
+    check(&s, "sun.phi", 1e-9, |t| 0.5 * a * t * t);
+    check(&s, "carrier.phi", 1e-9, |t| 0.5 * a * t * t / 3.0);
+}
+
+/// A chain of five bodies (`body`, its parameters) from a wall, joined by
+/// `element` (a kind with its parameters); names start with `prefix`. The
+/// bodies start spread out and at rest.
+fn chain(prefix: &str, element: &str, body: &str, rotational: bool) -> (String, String) {
+    let (a, b, wall, wall_end, p, v) = if rotational {
+        ("spline_a", "spline_b", "RotationalComponents.Fixed()", "spline", "phi", "w")
+    } else {
+        ("flange_a", "flange_b", "TranslationalComponents.Fixed()", "flange", "s", "v")
+    };
+    let mut parts = format!("  {prefix}wall = {wall}\n");
+    let mut links = String::new();
+    for i in 1..=5 {
+        let start = 0.1 * i as f64 + 0.01 * (i * i) as f64;
+        parts += &format!(
+            "  {prefix}e{i} = {element}\n  {prefix}b{i} = {body}, {p}(initial = {start}), {v}(initial = 0))\n"
+        );
+        let previous = if i == 1 { format!("{prefix}wall.{wall_end}") } else { format!("{prefix}b{}.{b}", i - 1) };
+        links += &format!("  connect({previous}, {prefix}e{i}.{a})\n  connect({prefix}e{i}.{b}, {prefix}b{i}.{a})\n");
+    }
+    (parts, links)
+}
+
+/// A Dyad-written twin in a chain of five, beside the same chain of the
+/// built-in element: every body's position agrees to 1e-10. At tolerance
+/// 1e-13: a written relation (the backlash's contact) holds its value
+/// until its event, as in Modelica, where the built-in law switches inside
+/// the integration step that crosses it, so the two differ by the
+/// integrator's error (1.9e-10 at 1e-11, 7e-12 at 1e-13).
+fn twin_chain(twin: &str, builtin: &str, params: &str, rotational: bool) {
+    let (body, p) = if rotational {
+        ("RotationalComponents.Inertia(J = 0.3", "phi")
+    } else {
+        ("TranslationalComponents.Mass(m = 0.3", "s")
+    };
+    let (tw_parts, tw_links) = chain("t_", &format!("{twin}({params})"), body, rotational);
+    let (bi_parts, bi_links) = chain("l_", &format!("{builtin}({params})"), body, rotational);
+    let s = simulate(&format!(
+        "example component Twins\n{tw_parts}{bi_parts}relations\n{tw_links}{bi_links}end\n\
+         analysis Run\n  {TIGHT}\n  model = Twins()\nend\n"
+    ));
+    for i in 1..=5 {
+        compare(&s, &format!("t_b{i}.{p}"), &format!("l_b{i}.{p}"), 1e-10);
+    }
+}
+
+#[test]
+fn the_rotational_twins_move_as_the_built_in_elements() {
+    twin_chain("RotationalComponents.Acausal.Spring", "RotationalComponents.Spring", "c = 40", true);
+    twin_chain("RotationalComponents.Acausal.Damper", "RotationalComponents.Damper", "d = 0.7", true);
+    twin_chain(
+        "RotationalComponents.Acausal.SpringDamper",
+        "RotationalComponents.SpringDamper",
+        "c = 40, d = 0.7, phi_rel0 = 0.02",
+        true,
+    );
+    twin_chain(
+        "RotationalComponents.Acausal.ElastoBacklash",
+        "RotationalComponents.ElastoBacklash",
+        "c = 40, d = 0.7, b = 0.05",
+        true,
+    );
+}
+
+#[test]
+fn the_translational_twins_move_as_the_built_in_elements() {
+    twin_chain(
+        "TranslationalComponents.Acausal.Spring",
+        "TranslationalComponents.Spring",
+        "c = 40, s_rel0 = 0.05",
+        false,
+    );
+    twin_chain("TranslationalComponents.Acausal.Damper", "TranslationalComponents.Damper", "d = 0.7", false);
+    twin_chain(
+        "TranslationalComponents.Acausal.SpringDamper",
+        "TranslationalComponents.SpringDamper",
+        "c = 40, d = 0.7",
+        false,
+    );
+}
+
+/// Two inertias and a written part between them, run as an analysis.
+fn between_inertias(part: &str) -> String {
+    format!(
+        "{part}
+example component Between
+  j1 = RotationalComponents.Inertia(J = 1, phi(initial = 0), w(initial = 1))
+  part = Part()
+  j2 = RotationalComponents.Inertia(J = 2)
+relations
+  connect(j1.spline_b, part.flange_a)
+  connect(part.flange_b, j2.spline_a)
+end
+analysis Run
+  {RUN}
+  model = Between()
+end"
+    )
+}
+
+#[test]
+fn flows_that_would_do_work_are_refused() {
+    let message = error_of(&between_inertias(
+        "component Part
+  flange_a = Spline()
+  flange_b = Spline()
+relations
+  flange_a.phi = 2 * flange_b.phi
+  flange_a.tau + flange_b.tau = 0
+end",
+    ));
+    println!("{message}");
+    assert!(message.contains("not those of an ideal constraint"), "{message}");
+    assert!(message.contains("flange_a.tau + flange_b.tau = 0"), "the caret shows the equation: {message}");
+}
+
+#[test]
+fn reading_the_flow_through_a_rigid_part_is_refused_clearly() {
+    let message = error_of(&between_inertias(
+        "component Part
+  flange_a = Spline()
+  flange_b = Spline()
+  variable tau::Torque
+relations
+  flange_a.phi = flange_b.phi
+  flange_a.tau + flange_b.tau = 0
+  tau = flange_a.tau
+end",
+    ));
+    println!("{message}");
+    assert!(message.contains("measuring such a flow in line is not supported yet"), "{message}");
+    assert!(message.contains("tau = flange_a.tau"), "the caret shows the equation: {message}");
+}
+
+#[test]
+fn position_equations_that_contradict_each_other_are_refused() {
+    let message = error_of(&between_inertias(
+        "component Part
+  flange_a = Spline()
+  flange_b = Spline()
+relations
+  flange_b.phi - flange_a.phi = 1
+  flange_a.phi - flange_b.phi = 1
+end",
+    ));
+    println!("{message}");
+    assert!(message.contains("contradict each other"), "{message}");
+}
+
+/// A pinion driven by a torque moves a rack on a spring through the written
+/// rack and through the built-in one: the same motion to 1e-10.
+#[test]
+fn the_rack_twin_moves_as_the_built_in_rack() {
+    let s = simulate(&format!(
+        "example component Racks
+  k = BlockComponents.Sine(amplitude = 3, frequency = 0.7)
+  rfix = RotationalComponents.Fixed()
+  tfix = TranslationalComponents.Fixed()
+  src_w = RotationalComponents.Torque()
+  pinion_w = RotationalComponents.Inertia(J = 0.02, phi(initial = 0), w(initial = 0))
+  rack_w = RotationalComponents.Acausal.IdealGearR2T(ratio = 20)
+  mass_w = TranslationalComponents.Mass(m = 4)
+  spring_w = TranslationalComponents.Spring(c = 300)
+  src_b = RotationalComponents.Torque()
+  pinion_b = RotationalComponents.Inertia(J = 0.02, phi(initial = 0), w(initial = 0))
+  rack_b = RotationalComponents.IdealGearR2T(ratio = 20)
+  mass_b = TranslationalComponents.Mass(m = 4)
+  spring_b = TranslationalComponents.Spring(c = 300)
+relations
+  connect(k.y, src_w.tau, src_b.tau)
+  connect(rfix.spline, src_w.support, src_b.support)
+  connect(src_w.spline, pinion_w.spline_a)
+  connect(pinion_w.spline_b, rack_w.spline)
+  connect(rack_w.flange, mass_w.flange_a)
+  connect(mass_w.flange_b, spring_w.flange_a)
+  connect(spring_w.flange_b, tfix.flange)
+  connect(src_b.spline, pinion_b.spline_a)
+  connect(pinion_b.spline_b, rack_b.spline)
+  connect(rack_b.flange, mass_b.flange_a)
+  connect(mass_b.flange_b, spring_b.flange_a)
+  connect(spring_b.flange_b, tfix.flange)
+end
+analysis Run
+  {RUN}
+  model = Racks()
+end"
+    ));
+    compare(&s, "pinion_w.phi", "pinion_b.phi", 1e-10);
+    compare(&s, "mass_w.s", "mass_b.s", 1e-10);
+}
