@@ -150,6 +150,18 @@ fn rigid_parts_written_as_position_equations_move_as_one_body() {
     check(&table, "rope.s", 1e-7, move |t| 1.0 + phi(t) / 40.0);
 }
 
+/// A node with no mass between a written spring and damper: its position
+/// is a state of the equations, held by the balance of their forces; the
+/// spring's force and the block's speed follow their closed forms.
+#[test]
+fn a_massless_node_between_written_elements_is_held_by_their_forces() {
+    let table = run("massless_node.dyad", None);
+    let decay = |t: f64| (-5.0 * t).exp();
+    check(&table, "spring.f", 1e-7, move |t| 10.0 - 10.0 * decay(t) * ((5.0 * t).cos() + (5.0 * t).sin()));
+    check(&table, "damper.f", 1e-7, move |t| 10.0 - 10.0 * decay(t) * ((5.0 * t).cos() + (5.0 * t).sin()));
+    check(&table, "block.v", 1e-7, move |t| 2.0 * (1.0 - decay(t) * (5.0 * t).cos()));
+}
+
 #[test]
 fn every_model_with_equations_is_checked() {
     let source = std::fs::read_to_string(crate_path("tests/equations.rs")).unwrap();
