@@ -4,39 +4,10 @@
 //! built-in component it repeats, and prints its worst error as a fraction
 //! of its tolerance.
 
-use multibody::Solution;
-use multibody_dyad::{DefinitionKind, Package};
+mod common;
 
-/// Runs the only analysis in `text`.
-fn simulate(text: &str) -> Solution {
-    let mut package = Package::new();
-    if let Err(d) = package.add_source("acausal.dyad", text.to_string()) {
-        panic!("{}", d.render(package.sources(), false));
-    }
-    let analysis =
-        package.definitions().into_iter().find(|d| d.kind == DefinitionKind::Analysis).expect("an analysis").name;
-    let lowered =
-        package.lower_analysis(&analysis).unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false)));
-    let mechanism = lowered.assemble().unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false)));
-    mechanism.simulate(&lowered.options).unwrap()
-}
-
-/// The message of the first error the model gives, as the command prints it.
-fn error_of(text: &str) -> String {
-    let mut package = Package::new();
-    if let Err(d) = package.add_source("acausal.dyad", text.to_string()) {
-        return d.render(package.sources(), false);
-    }
-    let analysis =
-        package.definitions().into_iter().find(|d| d.kind == DefinitionKind::Analysis).expect("an analysis").name;
-    match package.lower_analysis(&analysis) {
-        Err(d) => d.render(package.sources(), false),
-        Ok(lowered) => match lowered.assemble() {
-            Err(d) => d.render(package.sources(), false),
-            Ok(_) => panic!("the model was accepted"),
-        },
-    }
-}
+use common::{error_of, simulate};
+use multibody_dyad::Package;
 
 fn worst_difference(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
@@ -254,7 +225,7 @@ end
     );
     println!("{message}");
     assert!(message.contains("second derivative") && message.contains("acceleration"), "{message}");
-    assert!(message.contains("acausal.dyad:"), "the message points at the model: {message}");
+    assert!(message.contains("model.dyad:"), "the message points at the model: {message}");
 }
 
 /// A drag force on a frame, `der` of the frame's own position (a model

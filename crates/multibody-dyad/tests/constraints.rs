@@ -6,39 +6,10 @@
 //! against the built-in elements of the same names on a chain. Each test
 //! prints its worst error as a fraction of its tolerance.
 
+mod common;
+
+use common::{error_of, simulate};
 use multibody::Solution;
-use multibody_dyad::{DefinitionKind, Package};
-
-/// Runs the only analysis in `text`.
-fn simulate(text: &str) -> Solution {
-    let mut package = Package::new();
-    if let Err(d) = package.add_source("constraints.dyad", text.to_string()) {
-        panic!("{}", d.render(package.sources(), false));
-    }
-    let analysis =
-        package.definitions().into_iter().find(|d| d.kind == DefinitionKind::Analysis).expect("an analysis").name;
-    let lowered =
-        package.lower_analysis(&analysis).unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false)));
-    let mechanism = lowered.assemble().unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false)));
-    mechanism.simulate(&lowered.options).unwrap()
-}
-
-/// The message of the first error the model gives, as the command prints it.
-fn error_of(text: &str) -> String {
-    let mut package = Package::new();
-    if let Err(d) = package.add_source("constraints.dyad", text.to_string()) {
-        return d.render(package.sources(), false);
-    }
-    let analysis =
-        package.definitions().into_iter().find(|d| d.kind == DefinitionKind::Analysis).expect("an analysis").name;
-    match package.lower_analysis(&analysis) {
-        Err(d) => d.render(package.sources(), false),
-        Ok(lowered) => match lowered.assemble() {
-            Err(d) => d.render(package.sources(), false),
-            Ok(_) => panic!("the model was accepted"),
-        },
-    }
-}
 
 fn column<'s>(s: &'s Solution, name: &str) -> &'s [f64] {
     s.get(name).unwrap_or_else(|| panic!("no column {name}"))

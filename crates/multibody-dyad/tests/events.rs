@@ -3,23 +3,12 @@
 //! checked against closed forms. Each test prints its worst error as a
 //! fraction of its tolerance.
 
-use multibody::{Mechanism, SimulationOptions, Simulator};
-use multibody_dyad::{DefinitionKind, Package};
-use std::path::Path;
+mod common;
 
-/// The mechanism and options of the only analysis in `text`.
-fn load(name: &str, text: &str) -> (Mechanism, SimulationOptions) {
-    let mut package = Package::new();
-    if let Err(d) = package.add_source(name, text.to_string()) {
-        panic!("{}", d.render(package.sources(), false));
-    }
-    let analysis =
-        package.definitions().into_iter().find(|d| d.kind == DefinitionKind::Analysis).expect("an analysis").name;
-    let lowered =
-        package.lower_analysis(&analysis).unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false)));
-    let mechanism = lowered.assemble().unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false)));
-    (mechanism, lowered.options)
-}
+use common::load;
+use multibody::{Mechanism, SimulationOptions, Simulator};
+use multibody_dyad::Package;
+use std::path::Path;
 
 fn example(relative: &str) -> (Mechanism, SimulationOptions) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples").join(relative);

@@ -134,37 +134,28 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
             }
             progress = true;
         }
-        for (g, (_, terms, constant)) in gears.iter().enumerate() {
-            if gear_done[g] {
-                continue;
-            }
-            if let Some((node, r, id)) = solve_for_the_unplaced(terms, *constant, &place, 1) {
-                place[node] = Some((r, id));
-                gear_done[g] = true;
-                progress = true;
-            }
-        }
-        if progress {
-            continue;
-        }
-        // A gear's side with no inertia behind it, between two coordinates
-        // (its output, on a housing that turns): it follows both, without a
-        // coordinate or constraint of its own. Only when no inertia is left
-        // to place, since an inertia there would couple the two.
-        if rigid.iter().all(|r| place[r.2].is_some() || place[r.3].is_some()) {
+        // Gears carry places from one coordinate; where no inertia is left
+        // to place, a gear's side with no inertia behind it may follow two
+        // (its output, on a housing that turns), with no coordinate or
+        // constraint of its own (an inertia there would couple the two).
+        let no_inertia_left = rigid.iter().all(|r| place[r.2].is_some() || place[r.3].is_some());
+        for most in if no_inertia_left { [1, 2].as_slice() } else { &[1] } {
             for (g, (_, terms, constant)) in gears.iter().enumerate() {
                 if gear_done[g] {
                     continue;
                 }
-                if let Some((node, r, id)) = solve_for_the_unplaced(terms, *constant, &place, 2) {
+                if let Some((node, r, id)) = solve_for_the_unplaced(terms, *constant, &place, *most) {
                     place[node] = Some((r, id));
                     gear_done[g] = true;
                     progress = true;
                 }
             }
             if progress {
-                continue;
+                break;
             }
+        }
+        if progress {
+            continue;
         }
         // A free inertia: its centre becomes a coordinate of its own.
         let Some(&(ci, pi, a, b, length)) = rigid.iter().find(|r| place[r.2].is_none() && place[r.3].is_none()) else {

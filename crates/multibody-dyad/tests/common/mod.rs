@@ -1,0 +1,45 @@
+//! What the tests of model files share: running the only analysis of a
+//! file's text, and the first error it gives as the command prints it.
+
+#![allow(dead_code)] // each test file uses what it needs
+
+use multibody::{Mechanism, SimulationOptions, Solution};
+use multibody_dyad::{DefinitionKind, Package};
+
+/// The mechanism and options of the only analysis in `text` (file `name`).
+pub fn load(name: &str, text: &str) -> (Mechanism, SimulationOptions) {
+    let mut package = Package::new();
+    if let Err(d) = package.add_source(name, text.to_string()) {
+        panic!("{}", d.render(package.sources(), false));
+    }
+    let analysis = only_analysis(&package);
+    let lowered =
+        package.lower_analysis(&analysis).unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false)));
+    let mechanism = lowered.assemble().unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false)));
+    (mechanism, lowered.options)
+}
+
+/// Runs the only analysis in `text`.
+pub fn simulate(text: &str) -> Solution {
+    let (mechanism, options) = load("model.dyad", text);
+    mechanism.simulate(&options).unwrap()
+}
+
+/// The message of the first error the model gives, as the command prints it.
+pub fn error_of(text: &str) -> String {
+    let mut package = Package::new();
+    if let Err(d) = package.add_source("model.dyad", text.to_string()) {
+        return d.render(package.sources(), false);
+    }
+    match package.lower_analysis(&only_analysis(&package)) {
+        Err(d) => d.render(package.sources(), false),
+        Ok(lowered) => match lowered.assemble() {
+            Err(d) => d.render(package.sources(), false),
+            Ok(_) => panic!("the model was accepted"),
+        },
+    }
+}
+
+fn only_analysis(package: &Package) -> String {
+    package.definitions().into_iter().find(|d| d.kind == DefinitionKind::Analysis).expect("an analysis").name
+}
