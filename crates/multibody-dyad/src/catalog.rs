@@ -4,7 +4,7 @@
 //! included).
 
 use crate::ast::{Causality, ComponentKind, Declaration, Item};
-use crate::lower::{Index, CONNECTOR_TYPES};
+use crate::index::{Index, CONNECTOR_TYPES};
 use crate::relations::effective;
 use crate::stdlib;
 

@@ -37,6 +37,7 @@ mod connections;
 pub mod diagnostics;
 mod engine_errors;
 pub mod eval;
+mod index;
 pub mod lexer;
 mod lower;
 mod modifiers;
@@ -224,7 +225,7 @@ impl Package {
     /// Lowers the analysis `name` with parameters or start values of its
     /// model given from outside the files (they win over the files').
     pub fn lower_analysis_with(&self, name: &str, overrides: &[Override]) -> Result<Lowered, Diagnostic> {
-        let index = lower::Index::new(stdlib::files(), &self.files)?;
+        let index = index::Index::new(stdlib::files(), &self.files)?;
         let analysis = index.analyses.get(name).copied().ok_or_else(|| self.not_found(name, "analysis"))?;
         lower::Lowerer::analysis(&index, analysis, overrides)
     }
@@ -237,7 +238,7 @@ impl Package {
     /// Lowers the component `name` with parameters or start values given
     /// from outside the files.
     pub fn lower_component_with(&self, name: &str, overrides: &[Override]) -> Result<Lowered, Diagnostic> {
-        let index = lower::Index::new(stdlib::files(), &self.files)?;
+        let index = index::Index::new(stdlib::files(), &self.files)?;
         let def = index.components.get(name).copied().ok_or_else(|| self.not_found(name, "component"))?;
         lower::Lowerer::component(&index, def, overrides)
     }

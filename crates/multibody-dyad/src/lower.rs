@@ -11,8 +11,9 @@ use crate::ast::*;
 use crate::connections::{ConnectionGraph, End};
 use crate::diagnostics::{did_you_mean, Diagnostic};
 use crate::eval::{eval, Val};
+use crate::index::{Index, CONNECTOR_TYPES};
 use crate::modifiers::{apply_overrides, eval_modifiers, merge_outer, merge_same_level, Mod, Override};
-use crate::relations::{self, Flat, WithEnv};
+use crate::relations::{self, Entity, Flat, RelationsOut, WithEnv};
 use crate::scope::ParamScope;
 use crate::source::Span;
 use crate::source_map::{ComponentSite, MemberSite, Shadowing, SourceMap};
@@ -25,115 +26,11 @@ use std::collections::HashMap;
 const MAX_NESTING: usize = 32;
 /// How many library components one model may have.
 const MAX_COMPONENTS: usize = 20_000;
-/// The connector types users can declare, by the names the library gives them.
-pub(crate) const CONNECTOR_TYPES: [ConnectorType; 6] = [
-    ConnectorType::Frame,
-    ConnectorType::Frame2D,
-    ConnectorType::Spline,
-    ConnectorType::Flange,
-    ConnectorType::RealInput,
-    ConnectorType::RealOutput,
-];
-
-/// Every definition of the package, by name (the standard library's with
-/// their library's name first: `BlockComponents.Integrator`).
-pub struct Index<'a> {
-    pub components: HashMap<String, &'a ComponentDef>,
-    pub analyses: HashMap<&'a str, &'a AnalysisDef>,
-    pub aliases: HashMap<&'a str, &'a TypeAlias>,
-    /// The library package of each file inside one (see `File::package`).
-    pub packages: HashMap<crate::source::FileId, &'a str>,
-}
-
-impl<'a> Index<'a> {
-    /// Indexes the standard library and the package's files; a name
-    /// defined twice in the files is an error.
-    pub fn new(
-        libraries: &'a [(&'static str, File)],
-        files: impl IntoIterator<Item = &'a File>,
-    ) -> Result<Self, Diagnostic> {
-        let mut index = Index {
-            components: HashMap::new(),
-            analyses: HashMap::new(),
-            aliases: HashMap::new(),
-            packages: HashMap::new(),
-        };
-        for (library, file) in libraries {
-            for item in &file.items {
-                if let Item::Component(c) = item {
-                    index.components.insert(format!("{library}.{}", c.name.name), c);
-                }
-            }
-        }
-        for (_, file) in libraries {
-            if let (Some(package), Some(Item::Component(c))) = (&file.package, file.items.first()) {
-                index.packages.insert(c.header.file, package.as_str());
-            }
-        }
-        let mut seen: HashMap<&'a str, Span> = HashMap::new();
-        for file in files {
-            for item in &file.items {
-                let (name, span) = match item {
-                    Item::Component(c) => (&c.name, c.header),
-                    Item::Analysis(a) => (&a.name, a.header),
-                    Item::TypeAlias(t) => (&t.name, t.span),
-                };
-                if let Some(package) = &file.package {
-                    index.packages.insert(span.file, package.as_str());
-                }
-                if let Some(first) = seen.insert(name.name.as_str(), span) {
-                    return Err(Diagnostic::error(format!("`{}` is defined twice", name.name))
-                        .primary(name.span, "defined again here")
-                        .secondary(first, "first defined here")
-                        .help("rename one of the definitions"));
-                }
-                match item {
-                    Item::Component(c) => index.components.insert(c.name.name.clone(), c).map(|_| ()),
-                    Item::Analysis(a) => index.analyses.insert(&a.name.name, a).map(|_| ()),
-                    Item::TypeAlias(t) => index.aliases.insert(&t.name.name, t).map(|_| ()),
-                };
-            }
-        }
-        Ok(index)
-    }
-
-    /// The component `name`, also by the library's longer names
-    /// (`BlockComponents.Continuous.Integrator`).
-    pub fn component(&self, name: &str) -> Option<&'a ComponentDef> {
-        if let Some(c) = self.components.get(name) {
-            return Some(c);
-        }
-        if let Some(planar) = name.strip_prefix("MultibodyComponents.").filter(|n| n.starts_with("PlanarMechanics.")) {
-            return self.components.get(planar).copied();
-        }
-        let parts: Vec<&str> = name.split('.').collect();
-        match parts.as_slice() {
-            [library, "Continuous" | "Sources" | "Math" | "Nonlinear" | "Interfaces" | "Components" | "Sensors", rest] => {
-                self.components.get(&format!("{library}.{rest}")).copied()
-            }
-            _ => None,
-        }
-    }
-}
-
 /// What a declaration's kind names.
 #[derive(Clone, Copy)]
 enum Kind<'a> {
     Library(&'static ComponentSpec),
     User(&'a ComponentDef),
-    Connector(ConnectorType),
-}
-
-/// What a flattened name is, for resolving names in equations.
-#[derive(Clone, Debug)]
-pub enum Entity {
-    User,
-    Library(&'static ComponentSpec),
-    /// An array of components of this length (elements `name[k]`).
-    Array(usize),
-    /// A variable of these sizes.
-    Variable(Vec<usize>),
-    /// A connector a user component declares.
     Connector(ConnectorType),
 }
 
@@ -151,14 +48,14 @@ struct Instance<'d, 'a> {
 
 pub struct Lowerer<'a, 'i> {
     index: &'i Index<'a>,
-    pub(crate) model: Model,
+    model: Model,
     map: SourceMap,
     warnings: Vec<Diagnostic>,
     graph: ConnectionGraph,
     /// The user components being instantiated, outermost first.
     stack: Vec<&'a str>,
     /// Every flattened name met so far.
-    pub(crate) entities: HashMap<String, Entity>,
+    entities: HashMap<String, Entity>,
     /// Declared connectors that equations read, with the quantities used
     /// (none for a signal), and where each is in that list.
     used: Vec<UsedConnector>,
@@ -169,7 +66,7 @@ pub struct Lowerer<'a, 'i> {
     outputs: Vec<(String, Span)>,
     /// Inputs of sub-components that an enclosing component's equations
     /// name: those equations decide them (`smoother.u = sin(time)`).
-    pub(crate) set_from_outside: std::collections::HashSet<String>,
+    set_from_outside: std::collections::HashSet<String>,
 }
 
 fn flat(prefix: &str, name: &str) -> String {
@@ -224,7 +121,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
     }
 
     /// Notes that equations read `connector` (a quantity `field` of it).
-    pub(crate) fn use_connector(&mut self, connector: &str, ty: ConnectorType, field: Option<&'static str>) {
+    fn use_connector(&mut self, connector: &str, ty: ConnectorType, field: Option<&'static str>) {
         let k = match self.used_index.get(connector) {
             Some(&k) => k,
             None => {
@@ -849,7 +746,14 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         }
 
         // Equations, initial equations, guesses and assertions.
-        let mut context = relations::Context { lowerer: self, prefix, scope: &mut scope, runtime: &runtime_names };
+        let mut context = relations::Context {
+            entities: &self.entities,
+            variables: &self.model.equations.variables,
+            prefix,
+            scope: &mut scope,
+            runtime: &runtime_names,
+            out: RelationsOut::new(self.map.origins.len()),
+        };
         for (k, flat_relation) in flats.iter().enumerate() {
             if !consumed[k] {
                 context.relation(flat_relation)?;
@@ -868,6 +772,8 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 )?;
             }
         }
+        let out = context.out;
+        self.add_relations(out);
         self.stack.pop();
         Ok(())
     }
@@ -976,9 +882,29 @@ impl<'a, 'i> Lowerer<'a, 'i> {
     }
 
     /// A name for `span` that engine messages carry back.
-    pub(crate) fn origin(&mut self, span: Span) -> String {
+    fn origin(&mut self, span: Span) -> String {
         self.map.origins.push(span);
-        format!("#{}", self.map.origins.len() - 1)
+        SourceMap::origin_name(self.map.origins.len() - 1)
+    }
+
+    /// Adds what the relations of an instance give to the model.
+    fn add_relations(&mut self, out: RelationsOut) {
+        self.map.origins.extend(out.origins);
+        let equations = &mut self.model.equations;
+        equations.equations.extend(out.equations);
+        equations.initial.extend(out.initial);
+        equations.whens.extend(out.whens);
+        for (name, x) in out.guesses {
+            if let Some(v) = equations.variables.iter_mut().find(|v| v.name == name) {
+                v.start = Some(x);
+            }
+        }
+        for u in out.uses {
+            self.use_connector(&u.connector, u.ty, u.field);
+            if u.set_from_outside {
+                self.set_from_outside.insert(u.connector);
+            }
+        }
     }
 
     /// What one end of a `connect` in `def` names.

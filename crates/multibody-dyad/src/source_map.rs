@@ -84,6 +84,12 @@ impl SourceMap {
         self.variables.get(name).copied()
     }
 
+    /// The name of the origin `origins[k]`, `#k`, that equations and
+    /// variables carry.
+    pub fn origin_name(k: usize) -> String {
+        format!("#{k}")
+    }
+
     /// The span of an origin `#k` the lowering gave an equation or variable.
     pub fn origin(&self, origin: &str) -> Option<Span> {
         origin.strip_prefix('#')?.parse::<usize>().ok().and_then(|k| self.origins.get(k).copied())
