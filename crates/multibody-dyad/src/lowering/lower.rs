@@ -6,17 +6,17 @@
 //! and connections that reach connectors with equations become equations
 //! between their quantities (potentials equal, flows loading the mechanics).
 
-use crate::analysis::transient_options;
-use crate::ast::*;
-use crate::connections::{ConnectionGraph, End};
-use crate::diagnostics::{did_you_mean, Diagnostic};
-use crate::eval::{eval, Val};
-use crate::index::{Index, CONNECTOR_TYPES};
-use crate::modifiers::{apply_overrides, eval_modifiers, merge_outer, merge_same_level, Mod, Override};
-use crate::relations::{self, Entity, Flat, RelationsOut, WithEnv};
-use crate::scope::ParamScope;
-use crate::source::Span;
-use crate::source_map::{ComponentSite, MemberSite, Shadowing, SourceMap};
+use crate::lowering::analysis::transient_options;
+use crate::lowering::connections::{ConnectionGraph, End};
+use crate::lowering::relations::{self, Entity, Flat, RelationsOut, WithEnv};
+use crate::reports::diagnostics::{did_you_mean, Diagnostic};
+use crate::reports::source_map::{ComponentSite, MemberSite, Shadowing, SourceMap};
+use crate::semantics::eval::{eval, Val};
+use crate::semantics::index::{Index, CONNECTOR_TYPES};
+use crate::semantics::modifiers::{apply_overrides, eval_modifiers, merge_outer, merge_same_level, Mod, Override};
+use crate::semantics::scope::ParamScope;
+use crate::syntax::ast::*;
+use crate::syntax::source::Span;
 use crate::Lowered;
 use multibody::components::{lookup, registry, ComponentSpec, ConnectorType};
 use multibody::{Model, SimulationOptions};
@@ -1261,7 +1261,7 @@ fn surfaces(
             i.local == first.name && matches!(i.kind, Kind::Library(spec) if spec.param("surface").is_some())
         };
         if part.name == "surface" && subs.iter().any(is_road) {
-            let road = crate::symbolic::road(rhs, &mut WithEnv { scope, env })?;
+            let road = crate::lowering::symbolic::road(rhs, &mut WithEnv { scope, env })?;
             surfaces.push((flat(prefix, &first.name), road));
             consumed[k] = true;
         }

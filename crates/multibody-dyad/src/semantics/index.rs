@@ -2,9 +2,9 @@
 //! type aliases of the files and the standard library, and the connector
 //! types users can declare.
 
-use crate::ast::*;
-use crate::diagnostics::Diagnostic;
-use crate::source::Span;
+use crate::reports::diagnostics::Diagnostic;
+use crate::syntax::ast::*;
+use crate::syntax::source::Span;
 use multibody::components::ConnectorType;
 use std::collections::HashMap;
 
@@ -25,7 +25,7 @@ pub struct Index<'a> {
     pub analyses: HashMap<&'a str, &'a AnalysisDef>,
     pub aliases: HashMap<&'a str, &'a TypeAlias>,
     /// The library package of each file inside one (see `File::package`).
-    pub packages: HashMap<crate::source::FileId, &'a str>,
+    pub packages: HashMap<crate::syntax::source::FileId, &'a str>,
 }
 
 impl<'a> Index<'a> {

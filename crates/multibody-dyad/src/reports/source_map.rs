@@ -1,7 +1,7 @@
 //! Where each part of a lowered model came from, so that errors the engine
 //! finds (by component name) point at the source.
 
-use crate::source::Span;
+use crate::syntax::source::Span;
 use std::collections::HashMap;
 
 /// The declaration of one engine component of the flattened model.

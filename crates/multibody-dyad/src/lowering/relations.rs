@@ -3,14 +3,14 @@
 //! turned into scalar equations of the model, their names resolved to the
 //! flattened variables and connector quantities.
 
-use crate::ast::*;
-use crate::diagnostics::{did_you_mean, Diagnostic};
-use crate::eval::{eval, Scope, Val};
-use crate::index::Index;
-use crate::scope::ParamScope;
-use crate::source::Span;
-use crate::source_map::SourceMap;
-use crate::symbolic::{self, Names, Sym};
+use crate::lowering::symbolic::{self, Names, Sym};
+use crate::reports::diagnostics::{did_you_mean, Diagnostic};
+use crate::reports::source_map::SourceMap;
+use crate::semantics::eval::{eval, Scope, Val};
+use crate::semantics::index::Index;
+use crate::semantics::scope::ParamScope;
+use crate::syntax::ast::*;
+use crate::syntax::source::Span;
 use multibody::components::{ComponentSpec, ConnectorType};
 use multibody::Expr as E;
 use std::collections::HashMap;

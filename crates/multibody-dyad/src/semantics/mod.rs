@@ -1,0 +1,10 @@
+//! Semantics: what the names of a package mean. The definitions by name
+//! and what each declares, parameter scopes and constant evaluation, types,
+//! and how modifiers from different levels combine.
+
+pub mod catalog;
+pub mod eval;
+pub(crate) mod index;
+pub(crate) mod modifiers;
+pub(crate) mod scope;
+pub(crate) mod types;
