@@ -12,6 +12,7 @@ use crate::lowering::relations::{self, Entity, Flat, RelationsOut, WithEnv};
 use crate::reports::diagnostics::{did_you_mean, Diagnostic};
 use crate::reports::source_map::{ComponentSite, MemberSite, Shadowing, SourceMap};
 use crate::semantics::eval::{eval, Val};
+use crate::semantics::extends::{effective, Effective};
 use crate::semantics::index::{Index, CONNECTOR_TYPES};
 use crate::semantics::modifiers::{apply_overrides, eval_modifiers, merge_outer, merge_same_level, Mod, Override};
 use crate::semantics::scope::ParamScope;
@@ -94,7 +95,7 @@ pub struct Lowerer<'a, 'i> {
     used: Vec<UsedConnector>,
     used_index: HashMap<String, usize>,
     /// Each definition with what it extends merged in, made once.
-    effective: HashMap<*const ComponentDef, std::rc::Rc<relations::Effective>>,
+    effective: HashMap<*const ComponentDef, std::rc::Rc<Effective>>,
     /// The simulated component's own `RealOutput`s, with their declarations.
     outputs: Vec<(String, Span)>,
     /// Inputs of sub-components that an enclosing component's equations
@@ -465,11 +466,11 @@ impl<'a, 'i> Lowerer<'a, 'i> {
     }
 
     /// `def` with what it extends merged in, made once per definition.
-    fn effective_of(&mut self, def: &ComponentDef) -> Result<std::rc::Rc<relations::Effective>, Diagnostic> {
+    fn effective_of(&mut self, def: &ComponentDef) -> Result<std::rc::Rc<Effective>, Diagnostic> {
         Ok(match self.effective.get(&(def as *const ComponentDef)) {
             Some(e) => e.clone(),
             None => {
-                let e = std::rc::Rc::new(relations::effective(self.index, def, 0)?);
+                let e = std::rc::Rc::new(effective(self.index, def, 0)?);
                 self.effective.insert(def as *const ComponentDef, e.clone());
                 e
             }
@@ -480,7 +481,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
     /// kinds of its components resolved.
     fn declarations<'d>(
         &mut self,
-        effective: &'d relations::Effective,
+        effective: &'d Effective,
         solved: &'d [VariableDecl],
     ) -> Result<Declarations<'d, 'a>, Diagnostic> {
         let params: Vec<&ParameterDecl> = effective
@@ -915,7 +916,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 if let Some(e) = declared(format!("{child}.{}", connector.name), d.name.name.clone()) {
                     return Ok(e);
                 }
-                let is_component = relations::effective(self.index, d, 0)
+                let is_component = effective(self.index, d, 0)
                     .map(|e| e.declarations.iter().any(|x| x.name().name == connector.name))
                     .unwrap_or(false);
                 if is_component {
@@ -1066,7 +1067,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
 
 /// A parameter with a guess and no value (none given here either) is
 /// decided by the initialization: a variable that keeps its start.
-fn solved_parameters(effective: &relations::Effective, modifiers: &[Mod]) -> Vec<VariableDecl> {
+fn solved_parameters(effective: &Effective, modifiers: &[Mod]) -> Vec<VariableDecl> {
     effective
         .declarations
         .iter()

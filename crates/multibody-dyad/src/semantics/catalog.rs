@@ -3,7 +3,7 @@
 //! defaults as written, connectors, and variables (inherited ones
 //! included).
 
-use crate::lowering::relations::effective;
+use crate::semantics::extends::effective;
 use crate::semantics::index::{Index, CONNECTOR_TYPES};
 use crate::stdlib;
 use crate::syntax::ast::{Causality, ComponentKind, Declaration, Item};
