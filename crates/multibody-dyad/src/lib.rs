@@ -30,29 +30,26 @@
 //! assert_eq!(solution.time().last(), Some(&1.0));
 //! ```
 
-mod analysis;
-pub mod ast;
-pub mod catalog;
-mod connections;
-pub mod diagnostics;
-mod engine_errors;
-pub mod eval;
-pub mod lexer;
-mod lower;
-mod modifiers;
-pub mod parser;
-mod relations;
-mod scope;
-pub mod source;
-pub mod source_map;
+// The crate's files are grouped by stage, as data flows through them:
+// syntax (text to trees), semantics (what names mean), lowering (trees to
+// an engine model) and reports (diagnostics). The standard library's
+// sources and studies (many runs of one package) sit beside the package.
+mod lowering;
+mod reports;
+mod semantics;
+mod syntax;
+
 pub mod stdlib;
 pub mod study;
-pub mod symbolic;
-mod types;
+
+pub use lowering::symbolic;
+pub use reports::{diagnostics, source_map};
+pub use semantics::{catalog, eval};
+pub use syntax::{ast, lexer, parser, source};
 
 pub use diagnostics::{Diagnostic, Severity};
-pub use engine_errors::engine_diagnostic;
-pub use modifiers::Override;
+pub use reports::engine_errors::engine_diagnostic;
+pub use semantics::modifiers::Override;
 pub use source::{FileId, Sources, Span};
 pub use source_map::SourceMap;
 pub use study::{BadOption, OptionOverrides, RunError, Samples, Target};
@@ -95,7 +92,7 @@ pub struct Lowered {
 impl Lowered {
     /// Assembles the model; the engine's errors point at the source.
     pub fn assemble(&self) -> Result<Mechanism, Diagnostic> {
-        self.model.assemble().map_err(|e| engine_errors::engine_diagnostic(&e, &self.source_map))
+        self.model.assemble().map_err(|e| reports::engine_errors::engine_diagnostic(&e, &self.source_map))
     }
 }
 
@@ -224,9 +221,9 @@ impl Package {
     /// Lowers the analysis `name` with parameters or start values of its
     /// model given from outside the files (they win over the files').
     pub fn lower_analysis_with(&self, name: &str, overrides: &[Override]) -> Result<Lowered, Diagnostic> {
-        let index = lower::Index::new(stdlib::files(), &self.files)?;
+        let index = semantics::index::Index::new(stdlib::files(), &self.files)?;
         let analysis = index.analyses.get(name).copied().ok_or_else(|| self.not_found(name, "analysis"))?;
-        lower::Lowerer::analysis(&index, analysis, overrides)
+        lowering::lower::Lowerer::analysis(&index, analysis, overrides)
     }
 
     /// Lowers the component `name` as a whole model, with default options.
@@ -237,9 +234,9 @@ impl Package {
     /// Lowers the component `name` with parameters or start values given
     /// from outside the files.
     pub fn lower_component_with(&self, name: &str, overrides: &[Override]) -> Result<Lowered, Diagnostic> {
-        let index = lower::Index::new(stdlib::files(), &self.files)?;
+        let index = semantics::index::Index::new(stdlib::files(), &self.files)?;
         let def = index.components.get(name).copied().ok_or_else(|| self.not_found(name, "component"))?;
-        lower::Lowerer::component(&index, def, overrides)
+        lowering::lower::Lowerer::component(&index, def, overrides)
     }
 
     fn not_found(&self, name: &str, what: &str) -> Diagnostic {

@@ -1,7 +1,7 @@
 //! The syntax tree of a `.dyad` file. Every node keeps its source span
 //! for diagnostics.
 
-use crate::source::Span;
+use crate::syntax::source::Span;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Ident {

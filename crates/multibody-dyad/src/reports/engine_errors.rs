@@ -2,9 +2,9 @@
 //! engine names components (and a parameter, variable or connector); the
 //! source map knows where those were written.
 
-use crate::diagnostics::Diagnostic;
-use crate::source::Span;
-use crate::source_map::SourceMap;
+use crate::reports::diagnostics::Diagnostic;
+use crate::reports::source_map::SourceMap;
+use crate::syntax::source::Span;
 use multibody::Error;
 
 /// At most this many other components get a label.

@@ -3,10 +3,10 @@
 //! defaults as written, connectors, and variables (inherited ones
 //! included).
 
-use crate::ast::{Causality, ComponentKind, Declaration, Item};
-use crate::lower::{Index, CONNECTOR_TYPES};
-use crate::relations::effective;
+use crate::semantics::extends::effective;
+use crate::semantics::index::{Index, CONNECTOR_TYPES};
 use crate::stdlib;
+use crate::syntax::ast::{Causality, ComponentKind, Declaration, Item};
 
 /// A component of the library written in Dyad.
 pub struct Description {
@@ -47,7 +47,7 @@ pub fn describe(name: &str) -> Option<Description> {
         .iter()
         .position(|(_, f)| f.items.iter().any(|i| matches!(i, Item::Component(c) if std::ptr::eq(c, def))))?;
     let text = stdlib::sources().nth(library)?.1;
-    let source = |span: crate::source::Span| text.get(span.range()).unwrap_or_default().trim().to_string();
+    let source = |span: crate::syntax::source::Span| text.get(span.range()).unwrap_or_default().trim().to_string();
     let merged = effective(&index, def, 0).ok()?;
     let mut parameters = Vec::new();
     let mut connectors = Vec::new();

@@ -1,25 +1,24 @@
-//! The relations of a component instance: `extends` merged in, `for`
-//! loops unrolled, `if` and `switch` on parameters decided, and equations
-//! turned into scalar equations of the model, their names resolved to the
-//! flattened variables and connector quantities.
+//! The relations of a component instance: `for` loops unrolled, `if` and
+//! `switch` on parameters decided, and equations turned into scalar
+//! equations of the model, their names resolved to the flattened variables
+//! and connector quantities.
 
-use crate::ast::*;
-use crate::diagnostics::{did_you_mean, Diagnostic};
-use crate::eval::{eval, Scope, Val};
-use crate::lower::{Entity, Index, Lowerer};
-use crate::scope::ParamScope;
-use crate::source::Span;
-use crate::symbolic::{self, Names, Sym};
-use multibody::components::ConnectorType;
+use crate::lowering::symbolic::{self, Names, Sym};
+use crate::reports::diagnostics::{did_you_mean, Diagnostic};
+use crate::reports::source_map::SourceMap;
+use crate::semantics::eval::{eval, Scope, Val};
+use crate::semantics::scope::ParamScope;
+use crate::syntax::ast::*;
+use crate::syntax::source::Span;
+use multibody::components::{ComponentSpec, ConnectorType};
 use multibody::Expr as E;
+use std::collections::HashMap;
 
 /// Loop variables in scope, innermost last.
 pub type Env = Vec<(String, f64)>;
 
 /// How many times loops may run in one component, in all.
 const MAX_ITERATIONS: usize = 1_000_000;
-/// How deeply `extends` may chain.
-const MAX_EXTENDS: usize = 32;
 
 /// A scope of parameters with loop variables over it.
 pub struct WithEnv<'s, 'a, 'i> {
@@ -44,101 +43,6 @@ impl Scope for WithEnv<'_, '_, '_> {
     fn is_component(&self, name: &str) -> bool {
         self.scope.is_component(name)
     }
-}
-
-/// A component's declarations and relations with those of the components
-/// it extends merged in (the base's first).
-pub struct Effective {
-    pub declarations: Vec<Declaration>,
-    pub relations: Vec<Relation>,
-}
-
-pub fn effective(index: &Index, def: &ComponentDef, depth: usize) -> Result<Effective, Diagnostic> {
-    let mut declarations = Vec::new();
-    let mut relations = Vec::new();
-    for d in &def.declarations {
-        let Declaration::Extends(e) = d else { continue };
-        if depth >= MAX_EXTENDS {
-            return Err(Diagnostic::error(format!("`extends` chains more than {MAX_EXTENDS} levels deep"))
-                .primary(e.span, "too deep")
-                .help("check for components that extend each other"));
-        }
-        let Some(base) = index.component(&e.base.text()) else {
-            let mut d = Diagnostic::error(format!("`{}` is not a component of these files", e.base.text()))
-                .primary(e.base.span, "cannot extend it");
-            if let Some(s) = did_you_mean(&e.base.text(), index.components.keys().map(String::as_str)) {
-                d = d.help(s);
-            } else {
-                d = d.help("a component extends a component of these files (`partial component Base ... end`); use a library component as a sub-component instead");
-            }
-            return Err(d);
-        };
-        if std::ptr::eq(base, def) {
-            return Err(Diagnostic::error(format!("`{}` extends itself", def.name.name)).primary(e.span, "here"));
-        }
-        let mut inherited = effective(index, base, depth + 1)?;
-        apply_extends_modifiers(&mut inherited, &e.modifiers, &e.base)?;
-        declarations.extend(inherited.declarations);
-        relations.extend(inherited.relations);
-    }
-    declarations.extend(def.declarations.iter().filter(|d| !matches!(d, Declaration::Extends(_))).cloned());
-    relations.extend(def.relations.iter().cloned());
-    Ok(Effective { declarations, relations })
-}
-
-/// `extends Base(k = 2, body(m = 1), x(initial = 0))`: new defaults for
-/// the base's parameters, modifiers for its components and variables.
-fn apply_extends_modifiers(base: &mut Effective, modifiers: &[Modifier], base_name: &Path) -> Result<(), Diagnostic> {
-    for m in modifiers {
-        let found = base.declarations.iter_mut().find(|d| d.name().name == m.name.name);
-        match (found, &m.value, &m.nested) {
-            (Some(Declaration::Parameter(p)), Some(value), None) => {
-                p.default = Some(value.clone());
-                if m.is_final {
-                    p.variability = Variability::Final;
-                }
-            }
-            (Some(Declaration::Component(c)), None, Some(nested)) => {
-                for n in nested {
-                    c.modifiers.retain(|own| own.name.name != n.name.name);
-                    c.modifiers.push(n.clone());
-                }
-            }
-            (Some(Declaration::Variable(v)), value, nested) => {
-                if let Some(value) = value {
-                    v.binding = Some(value.clone());
-                }
-                for n in nested.iter().flatten() {
-                    match (n.name.name.as_str(), &n.value) {
-                        ("initial" | "guess", Some(e)) => v.initial = Some(e.clone()),
-                        _ => {
-                            return Err(Diagnostic::error(format!(
-                                "`{}` is not an attribute of a variable here",
-                                n.name.name
-                            ))
-                            .primary(n.span, "unknown attribute")
-                            .help("variables take `initial`: `x(initial = 0)`"))
-                        }
-                    }
-                }
-            }
-            (Some(_), _, _) => {
-                return Err(Diagnostic::error(format!("`{}` cannot be modified this way", m.name.name))
-                    .primary(m.span, "not a parameter value or component modifier")
-                    .help("give parameters values (`k = 2`) and components modifiers (`body(m = 2)`)"))
-            }
-            (None, _, _) => {
-                let names: Vec<&str> = base.declarations.iter().map(|d| d.name().name.as_str()).collect();
-                let mut d = Diagnostic::error(format!("`{}` has no member `{}`", base_name.text(), m.name.name))
-                    .primary(m.name.span, "unknown name");
-                if let Some(s) = did_you_mean(&m.name.name, names.iter().copied()) {
-                    d = d.help(s);
-                }
-                return Err(d);
-            }
-        }
-    }
-    Ok(())
 }
 
 /// A relation after the structure is unrolled, with its loop variables.
@@ -650,21 +554,89 @@ pub fn connector_fields(ty: ConnectorType) -> &'static [(&'static str, &'static 
     }
 }
 
-/// What equations of one component instance see.
-pub struct Context<'l, 's, 'a, 'i, 'e, 'j, 'p> {
-    pub lowerer: &'l mut Lowerer<'a, 'i>,
-    pub prefix: &'p str,
+/// What a flattened name is, for resolving names in equations.
+#[derive(Clone, Debug)]
+pub enum Entity {
+    User,
+    Library(&'static ComponentSpec),
+    /// An array of components of this length (elements `name[k]`).
+    Array(usize),
+    /// A variable of these sizes.
+    Variable(Vec<usize>),
+    /// A connector a user component declares.
+    Connector(ConnectorType),
+}
+
+/// A connector that equations read.
+pub struct ConnectorUse {
+    pub connector: String,
+    pub ty: ConnectorType,
+    /// The quantity read (`f`, `phi`); none for a signal.
+    pub field: Option<&'static str>,
+    /// An input of a sub-component that the enclosing component's
+    /// equations name: those equations decide it (`smoother.u = sin(time)`).
+    pub set_from_outside: bool,
+}
+
+/// What the relations of one component instance give the model, for the
+/// lowering to add: equations, start values, `when` clauses, and the
+/// connectors they read (whose connections become equations later).
+pub struct RelationsOut {
+    pub equations: Vec<multibody::Equation>,
+    pub initial: Vec<multibody::Equation>,
+    pub whens: Vec<multibody::When>,
+    /// Guesses: start values of variables the equations solve for and that
+    /// no `initial` fixes.
+    pub guesses: Vec<(String, f64)>,
+    /// The connectors read, in the order read (a connector may recur).
+    pub uses: Vec<ConnectorUse>,
+    /// Where the new origins point, numbered on from `first_origin`: the
+    /// source map's origins continue with these.
+    pub origins: Vec<Span>,
+    first_origin: usize,
+}
+
+impl RelationsOut {
+    /// Nothing yet; the origins given are numbered from `first_origin`
+    /// (how many the source map has).
+    pub fn new(first_origin: usize) -> Self {
+        Self {
+            equations: Vec::new(),
+            initial: Vec::new(),
+            whens: Vec::new(),
+            guesses: Vec::new(),
+            uses: Vec::new(),
+            origins: Vec::new(),
+            first_origin,
+        }
+    }
+
+    /// A name for `span` that engine messages carry back.
+    fn origin(&mut self, span: Span) -> String {
+        self.origins.push(span);
+        SourceMap::origin_name(self.first_origin + self.origins.len() - 1)
+    }
+}
+
+/// What equations of one component instance see, and what they give.
+pub struct Context<'c, 's, 'e, 'j> {
+    /// What each flattened name met so far is.
+    pub entities: &'c HashMap<String, Entity>,
+    /// The variables of the model's equations so far (guesses name them).
+    pub variables: &'c [multibody::Variable],
+    pub prefix: &'c str,
     pub scope: &'s mut ParamScope<'e, 'j>,
-    pub runtime: &'p [String],
+    pub runtime: &'c [String],
+    pub out: RelationsOut,
 }
 
 /// Names resolved for one relation (with its loop variables).
-struct Resolver<'c, 'l, 's, 'a, 'i, 'e, 'j, 'p> {
-    context: &'c mut Context<'l, 's, 'a, 'i, 'e, 'j, 'p>,
-    env: &'c [(String, f64)],
+struct Resolver<'r, 'c, 's, 'e, 'j> {
+    context: &'r mut Context<'c, 's, 'e, 'j>,
+    env: &'r [(String, f64)],
 }
 
-impl Names for Resolver<'_, '_, '_, '_, '_, '_, '_, '_> {
+impl Names for Resolver<'_, '_, '_, '_, '_> {
     fn reference(&mut self, expr: &Expr) -> Result<Option<Sym>, Diagnostic> {
         let env = self.env;
         let ctx = &mut *self.context;
@@ -689,7 +661,7 @@ impl Names for Resolver<'_, '_, '_, '_, '_, '_, '_, '_> {
         let mut index = first_index.clone();
         let mut rest = &parts[1..];
         loop {
-            let entity = ctx.lowerer.entities.get(&name).cloned();
+            let entity = ctx.entities.get(&name).cloned();
             let Some(entity) = entity else { return Ok(None) };
             match entity {
                 Entity::Array(n) => {
@@ -776,7 +748,7 @@ impl Names for Resolver<'_, '_, '_, '_, '_, '_, '_, '_> {
 /// quantity of a connector the model declares is noted for the
 /// connection equations.
 fn connector_quantity(
-    ctx: &mut Context<'_, '_, '_, '_, '_, '_, '_>,
+    ctx: &mut Context<'_, '_, '_, '_>,
     connector: &str,
     ty: ConnectorType,
     rest: &[(Ident, Vec<usize>)],
@@ -788,11 +760,13 @@ fn connector_quantity(
             return Err(Diagnostic::error(format!("the signal `{connector}` has no fields")).primary(span, "no fields"));
         }
         if declared {
-            ctx.lowerer.use_connector(connector, ty, None);
             let owner = connector.rsplit_once('.').map_or("", |(owner, _)| owner);
-            if ty == ConnectorType::RealInput && owner != ctx.prefix {
-                ctx.lowerer.set_from_outside.insert(connector.to_string());
-            }
+            ctx.out.uses.push(ConnectorUse {
+                connector: connector.to_string(),
+                ty,
+                field: None,
+                set_from_outside: ty == ConnectorType::RealInput && owner != ctx.prefix,
+            });
         }
         return Ok(Sym::Scalar(E::var(connector)));
     }
@@ -816,13 +790,18 @@ fn connector_quantity(
         return Err(Diagnostic::error(format!("`{connector}.{name}` has no fields")).primary(span, "no fields"));
     }
     if declared {
-        ctx.lowerer.use_connector(connector, ty, Some(name));
+        ctx.out.uses.push(ConnectorUse {
+            connector: connector.to_string(),
+            ty,
+            field: Some(name),
+            set_from_outside: false,
+        });
     }
     let full = format!("{connector}.{name}");
     selected_variables(&full, dims, index, span, &full)
 }
 
-impl Context<'_, '_, '_, '_, '_, '_, '_> {
+impl Context<'_, '_, '_, '_> {
     fn eval(&mut self, e: &Expr, env: &[(String, f64)]) -> Result<Sym, Diagnostic> {
         let mut r = Resolver { context: self, env };
         symbolic::eval(e, &mut r)
@@ -855,17 +834,17 @@ impl Context<'_, '_, '_, '_, '_, '_, '_> {
         Ok(xs.into_iter().zip(ys).collect())
     }
 
-    /// Adds `lhs = rhs` to the model's equations.
+    /// Adds `lhs = rhs` to the equations.
     pub fn equation_of(&mut self, lhs: &Expr, rhs: &Expr, span: Span, env: &[(String, f64)]) -> Result<(), Diagnostic> {
         let pairs = self.residuals(lhs, rhs, span, env)?;
-        let origin = self.lowerer.origin(span);
+        let origin = self.out.origin(span);
         for (l, r) in pairs {
             if !mentions_variable(&l) && !mentions_variable(&r) {
                 return Err(Diagnostic::error("this equation has no variable: both sides are constants")
                     .primary(span, "nothing to solve for")
                     .help("an equation relates variables; a constant value belongs in a parameter"));
             }
-            self.lowerer.model.equations.equations.push(multibody::Equation { lhs: l, rhs: r, origin: origin.clone() });
+            self.out.equations.push(multibody::Equation { lhs: l, rhs: r, origin: origin.clone() });
         }
         Ok(())
     }
@@ -877,13 +856,9 @@ impl Context<'_, '_, '_, '_, '_, '_, '_> {
             Flat::Equation { lhs, rhs, span, env } => self.equation_of(lhs, rhs, *span, env),
             Flat::Initial { lhs, rhs, span, env } => {
                 let pairs = self.residuals(lhs, rhs, *span, env)?;
-                let origin = self.lowerer.origin(*span);
+                let origin = self.out.origin(*span);
                 for (l, r) in pairs {
-                    self.lowerer.model.equations.initial.push(multibody::Equation {
-                        lhs: l,
-                        rhs: r,
-                        origin: origin.clone(),
-                    });
+                    self.out.initial.push(multibody::Equation { lhs: l, rhs: r, origin: origin.clone() });
                 }
                 Ok(())
             }
@@ -894,8 +869,8 @@ impl Context<'_, '_, '_, '_, '_, '_, '_> {
                         return Err(Diagnostic::error("`guess` gives a variable a constant start value")
                             .primary(*span, "not `guess variable = constant`"));
                     };
-                    match self.lowerer.model.equations.variables.iter_mut().find(|v| v.name == *name) {
-                        Some(v) if !v.fixed => v.start = Some(*x),
+                    match self.variables.iter().find(|v| v.name == *name) {
+                        Some(v) if !v.fixed => self.out.guesses.push((name.clone(), *x)),
                         Some(_) => {}
                         None => return Err(Diagnostic::error(format!(
                             "`guess` for `{name}`, which the equations do not solve for"
@@ -923,7 +898,7 @@ impl Context<'_, '_, '_, '_, '_, '_, '_> {
                 }
             }
             Flat::When { branches, span, env } => {
-                let mut when = multibody::When { branches: Vec::new(), origin: self.lowerer.origin(*span) };
+                let mut when = multibody::When { branches: Vec::new(), origin: self.out.origin(*span) };
                 for (condition, body) in branches {
                     let c = self.eval(condition, env)?;
                     let Sym::Scalar(c) = c else {
@@ -937,7 +912,7 @@ impl Context<'_, '_, '_, '_, '_, '_, '_> {
                     }
                     when.branches.push((c, actions));
                 }
-                self.lowerer.model.equations.whens.push(when);
+                self.out.whens.push(when);
                 Ok(())
             }
             Flat::Conditional { branches, otherwise, span, env } => {
@@ -964,13 +939,13 @@ impl Context<'_, '_, '_, '_, '_, '_, '_> {
                     .primary(*span, "unequal branches")
                     .help("each branch must give the same number of scalar equations"));
                 }
-                let origin = self.lowerer.origin(*span);
+                let origin = self.out.origin(*span);
                 for k in 0..n {
                     let mut value = cases.last().expect("otherwise").1[k].clone();
                     for (cond, residuals) in cases.iter().rev().skip(1) {
                         value = E::if_else(cond.clone().expect("a condition"), residuals[k].clone(), value);
                     }
-                    self.lowerer.model.equations.equations.push(multibody::Equation {
+                    self.out.equations.push(multibody::Equation {
                         lhs: value,
                         rhs: E::Const(0.0),
                         origin: origin.clone(),
@@ -994,7 +969,7 @@ impl Context<'_, '_, '_, '_, '_, '_, '_> {
             Relation::Reinit { state, value, span } => (state, value, *span, true),
             _ => unreachable!("only assignments and reinit get here"),
         };
-        let origin = self.lowerer.origin(span);
+        let origin = self.out.origin(span);
         let pairs = self.residuals(target, value, span, env)?;
         for (t, v) in pairs {
             let E::Var(name) = t else {

@@ -2,9 +2,9 @@
 //! `Boolean`, `String`, the library's enumerations, unit types such as
 //! `Length` (numbers), arrays `Length[3]`, and aliases `type X = ...`.
 
-use crate::ast::{Dim, Modifier, TypeAlias, TypeRef};
-use crate::diagnostics::Diagnostic;
-use crate::eval::Val;
+use crate::reports::diagnostics::Diagnostic;
+use crate::semantics::eval::Val;
+use crate::syntax::ast::{Dim, Modifier, TypeAlias, TypeRef};
 use multibody::components::{registry, ParamType};
 use std::collections::HashMap;
 

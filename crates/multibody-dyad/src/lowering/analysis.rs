@@ -1,9 +1,9 @@
 //! `analysis ... extends TransientAnalysis(...)`: the simulation options.
 
-use crate::ast::AnalysisDef;
-use crate::diagnostics::{did_you_mean, Diagnostic};
-use crate::eval::Val;
-use crate::modifiers::Mod;
+use crate::reports::diagnostics::{did_you_mean, Diagnostic};
+use crate::semantics::eval::Val;
+use crate::semantics::modifiers::Mod;
+use crate::syntax::ast::AnalysisDef;
 use multibody::{Method, SimulationOptions};
 
 /// TransientAnalysis parameters that set the simulation options.
@@ -35,8 +35,8 @@ pub fn transient_options(
     let mut options = SimulationOptions::default();
     let mut stop_given = false;
     // Where each option was given, for pointing at a bad value.
-    let mut given: Vec<(String, crate::source::Span)> = Vec::new();
-    let mut alg: Option<(Val, crate::source::Span)> = None;
+    let mut given: Vec<(String, crate::syntax::source::Span)> = Vec::new();
+    let mut alg: Option<(Val, crate::syntax::source::Span)> = None;
     for m in modifiers {
         let name = m.name.name.as_str();
         if IGNORED.contains(&name) {
@@ -100,7 +100,7 @@ pub fn transient_options(
 /// `ODEAlg.Auto()`, `"auto"` and the adaptive default; RK4 with a fixed step.
 fn method(
     value: &Val,
-    span: crate::source::Span,
+    span: crate::syntax::source::Span,
     options: &SimulationOptions,
     warnings: &mut Vec<Diagnostic>,
 ) -> Result<Method, Diagnostic> {

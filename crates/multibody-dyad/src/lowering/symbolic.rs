@@ -4,10 +4,10 @@
 //! (`R * v`, `cross`, `resolve1`, `axes_rotations`, ...) are written out
 //! element by element, so that the engine sees scalar equations only.
 
-use crate::ast::{BinaryOp, Expr, ExprKind, Path, UnaryOp};
-use crate::diagnostics::{did_you_mean, Diagnostic};
-use crate::eval::Val;
-use crate::source::Span;
+use crate::reports::diagnostics::{did_you_mean, Diagnostic};
+use crate::semantics::eval::Val;
+use crate::syntax::ast::{BinaryOp, Expr, ExprKind, Path, UnaryOp};
+use crate::syntax::source::Span;
 use multibody::{Cmp, Expr as E, Func, Func2};
 
 /// A value of an equation's expression: a scalar, or an array of values
@@ -785,7 +785,7 @@ fn function(callee: &Path, args: &[Expr], span: Span, names: &mut dyn Names) -> 
         }
         helper if helper.starts_with("world_default_") => {
             arity(0)?;
-            let value = crate::eval::world_default(helper).ok_or_else(|| {
+            let value = crate::semantics::eval::world_default(helper).ok_or_else(|| {
                 Diagnostic::error(format!("unknown function `{fname}`")).primary(callee.span, "not a World default")
             })?;
             from_val(&value).ok_or_else(|| {
@@ -823,9 +823,9 @@ fn fill(
 
 /// A road's height for `wheel.surface = ...`: an expression in the
 /// world's `x` and `z`, with the component's parameters as numbers.
-pub fn road(expr: &Expr, scope: &mut dyn crate::eval::Scope) -> Result<E, Diagnostic> {
+pub fn road(expr: &Expr, scope: &mut dyn crate::semantics::eval::Scope) -> Result<E, Diagnostic> {
     struct Road<'s> {
-        scope: &'s mut dyn crate::eval::Scope,
+        scope: &'s mut dyn crate::semantics::eval::Scope,
     }
     impl Names for Road<'_> {
         fn reference(&mut self, expr: &Expr) -> Result<Option<Sym>, Diagnostic> {

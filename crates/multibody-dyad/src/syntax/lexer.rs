@@ -2,8 +2,8 @@
 //! parser decides which are keywords where, because Dyad uses some of them
 //! as names too (`phi(initial = 0)`).
 
-use crate::diagnostics::Diagnostic;
-use crate::source::{FileId, Span};
+use crate::reports::diagnostics::Diagnostic;
+use crate::syntax::source::{FileId, Span};
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum TokenKind {

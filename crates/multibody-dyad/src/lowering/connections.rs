@@ -4,9 +4,9 @@
 //! merged here (union-find) and each `connect` becomes a connection between
 //! the library components' connectors it reaches.
 
-use crate::diagnostics::Diagnostic;
-use crate::source::Span;
-use crate::source_map::SourceMap;
+use crate::reports::diagnostics::Diagnostic;
+use crate::reports::source_map::SourceMap;
+use crate::syntax::source::Span;
 use multibody::components::ConnectorType;
 use multibody::Model;
 use std::collections::HashMap;

@@ -2,10 +2,10 @@
 //! combine: the outer declaration wins over the inner one, except where the
 //! inner one is `final`.
 
-use crate::ast::{self, Ident};
-use crate::diagnostics::Diagnostic;
-use crate::eval::{eval, Scope, Val};
-use crate::source::Span;
+use crate::reports::diagnostics::Diagnostic;
+use crate::semantics::eval::{eval, Scope, Val};
+use crate::syntax::ast::{self, Ident};
+use crate::syntax::source::Span;
 
 /// `name = value` and/or `name(nested...)`, with the value computed where
 /// it was written.

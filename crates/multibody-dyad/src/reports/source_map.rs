@@ -1,7 +1,7 @@
 //! Where each part of a lowered model came from, so that errors the engine
 //! finds (by component name) point at the source.
 
-use crate::source::Span;
+use crate::syntax::source::Span;
 use std::collections::HashMap;
 
 /// The declaration of one engine component of the flattened model.
@@ -82,6 +82,12 @@ impl SourceMap {
     /// Where the variable `name` of the equations was declared.
     pub fn variable(&self, name: &str) -> Option<Span> {
         self.variables.get(name).copied()
+    }
+
+    /// The name of the origin `origins[k]`, `#k`, that equations and
+    /// variables carry.
+    pub fn origin_name(k: usize) -> String {
+        format!("#{k}")
     }
 
     /// The span of an origin `#k` the lowering gave an equation or variable.

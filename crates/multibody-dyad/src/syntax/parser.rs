@@ -4,10 +4,10 @@
 //! recognised where they start and reported as "not supported yet",
 //! pointing at them.
 
-use crate::ast::*;
-use crate::diagnostics::Diagnostic;
-use crate::lexer::{tokenize, Token, TokenKind};
-use crate::source::{FileId, Span};
+use crate::reports::diagnostics::Diagnostic;
+use crate::syntax::ast::*;
+use crate::syntax::lexer::{tokenize, Token, TokenKind};
+use crate::syntax::source::{FileId, Span};
 
 /// How deeply expressions and modifiers may nest; deeper input is refused
 /// rather than risking the stack.

@@ -1,9 +1,9 @@
 //! Values and the evaluation of constant expressions: numbers, booleans,
 //! arrays, enumeration values, and references to parameters.
 
-use crate::ast::{BinaryOp, Expr, ExprKind, Ident, Path, UnaryOp};
-use crate::diagnostics::{did_you_mean, Diagnostic};
-use crate::source::Span;
+use crate::reports::diagnostics::{did_you_mean, Diagnostic};
+use crate::syntax::ast::{BinaryOp, Expr, ExprKind, Ident, Path, UnaryOp};
+use crate::syntax::source::Span;
 
 /// A value of an expression.
 #[derive(Clone, Debug, PartialEq)]
@@ -564,7 +564,7 @@ fn binary(op: BinaryOp, a: Val, b: Val, lspan: Span, rspan: Span, span: Span) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::parser::parse;
+    use crate::syntax::parser::parse;
 
     struct Params(Vec<(String, Val)>);
     impl Scope for Params {
@@ -582,8 +582,8 @@ mod tests {
     fn value(text: &str) -> EResult {
         let source = format!("component A\n parameter x::Real = {text}\nend");
         let file = parse(0, &source)?;
-        let crate::ast::Item::Component(c) = &file.items[0] else { unreachable!() };
-        let crate::ast::Declaration::Parameter(p) = &c.declarations[0] else { unreachable!() };
+        let crate::syntax::ast::Item::Component(c) = &file.items[0] else { unreachable!() };
+        let crate::syntax::ast::Declaration::Parameter(p) = &c.declarations[0] else { unreachable!() };
         eval(p.default.as_ref().unwrap(), &mut Params(vec![("L".into(), Val::Number(2.0))]))
     }
 

@@ -6,7 +6,7 @@
 //! characters are shown as `�`, so that a hostile file cannot flood or
 //! drive the terminal. The `file:line:col` stays that of the real file.
 
-use crate::source::{FileId, Sources, Span};
+use crate::syntax::source::{FileId, Sources, Span};
 use codespan_reporting::diagnostic::{
     Diagnostic as Report, Label as ReportLabel, LabelStyle, Severity as ReportSeverity,
 };

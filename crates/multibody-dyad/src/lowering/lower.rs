@@ -6,16 +6,18 @@
 //! and connections that reach connectors with equations become equations
 //! between their quantities (potentials equal, flows loading the mechanics).
 
-use crate::analysis::transient_options;
-use crate::ast::*;
-use crate::connections::{ConnectionGraph, End};
-use crate::diagnostics::{did_you_mean, Diagnostic};
-use crate::eval::{eval, Val};
-use crate::modifiers::{apply_overrides, eval_modifiers, merge_outer, merge_same_level, Mod, Override};
-use crate::relations::{self, Flat, WithEnv};
-use crate::scope::ParamScope;
-use crate::source::Span;
-use crate::source_map::{ComponentSite, MemberSite, Shadowing, SourceMap};
+use crate::lowering::analysis::transient_options;
+use crate::lowering::connections::{ConnectionGraph, End};
+use crate::lowering::relations::{self, Entity, Flat, RelationsOut, WithEnv};
+use crate::reports::diagnostics::{did_you_mean, Diagnostic};
+use crate::reports::source_map::{ComponentSite, MemberSite, Shadowing, SourceMap};
+use crate::semantics::eval::{eval, Val};
+use crate::semantics::extends::{effective, Effective};
+use crate::semantics::index::{Index, CONNECTOR_TYPES};
+use crate::semantics::modifiers::{apply_overrides, eval_modifiers, merge_outer, merge_same_level, Mod, Override};
+use crate::semantics::scope::ParamScope;
+use crate::syntax::ast::*;
+use crate::syntax::source::Span;
 use crate::Lowered;
 use multibody::components::{lookup, registry, ComponentSpec, ConnectorType};
 use multibody::{Model, SimulationOptions};
@@ -25,115 +27,11 @@ use std::collections::HashMap;
 const MAX_NESTING: usize = 32;
 /// How many library components one model may have.
 const MAX_COMPONENTS: usize = 20_000;
-/// The connector types users can declare, by the names the library gives them.
-pub(crate) const CONNECTOR_TYPES: [ConnectorType; 6] = [
-    ConnectorType::Frame,
-    ConnectorType::Frame2D,
-    ConnectorType::Spline,
-    ConnectorType::Flange,
-    ConnectorType::RealInput,
-    ConnectorType::RealOutput,
-];
-
-/// Every definition of the package, by name (the standard library's with
-/// their library's name first: `BlockComponents.Integrator`).
-pub struct Index<'a> {
-    pub components: HashMap<String, &'a ComponentDef>,
-    pub analyses: HashMap<&'a str, &'a AnalysisDef>,
-    pub aliases: HashMap<&'a str, &'a TypeAlias>,
-    /// The library package of each file inside one (see `File::package`).
-    pub packages: HashMap<crate::source::FileId, &'a str>,
-}
-
-impl<'a> Index<'a> {
-    /// Indexes the standard library and the package's files; a name
-    /// defined twice in the files is an error.
-    pub fn new(
-        libraries: &'a [(&'static str, File)],
-        files: impl IntoIterator<Item = &'a File>,
-    ) -> Result<Self, Diagnostic> {
-        let mut index = Index {
-            components: HashMap::new(),
-            analyses: HashMap::new(),
-            aliases: HashMap::new(),
-            packages: HashMap::new(),
-        };
-        for (library, file) in libraries {
-            for item in &file.items {
-                if let Item::Component(c) = item {
-                    index.components.insert(format!("{library}.{}", c.name.name), c);
-                }
-            }
-        }
-        for (_, file) in libraries {
-            if let (Some(package), Some(Item::Component(c))) = (&file.package, file.items.first()) {
-                index.packages.insert(c.header.file, package.as_str());
-            }
-        }
-        let mut seen: HashMap<&'a str, Span> = HashMap::new();
-        for file in files {
-            for item in &file.items {
-                let (name, span) = match item {
-                    Item::Component(c) => (&c.name, c.header),
-                    Item::Analysis(a) => (&a.name, a.header),
-                    Item::TypeAlias(t) => (&t.name, t.span),
-                };
-                if let Some(package) = &file.package {
-                    index.packages.insert(span.file, package.as_str());
-                }
-                if let Some(first) = seen.insert(name.name.as_str(), span) {
-                    return Err(Diagnostic::error(format!("`{}` is defined twice", name.name))
-                        .primary(name.span, "defined again here")
-                        .secondary(first, "first defined here")
-                        .help("rename one of the definitions"));
-                }
-                match item {
-                    Item::Component(c) => index.components.insert(c.name.name.clone(), c).map(|_| ()),
-                    Item::Analysis(a) => index.analyses.insert(&a.name.name, a).map(|_| ()),
-                    Item::TypeAlias(t) => index.aliases.insert(&t.name.name, t).map(|_| ()),
-                };
-            }
-        }
-        Ok(index)
-    }
-
-    /// The component `name`, also by the library's longer names
-    /// (`BlockComponents.Continuous.Integrator`).
-    pub fn component(&self, name: &str) -> Option<&'a ComponentDef> {
-        if let Some(c) = self.components.get(name) {
-            return Some(c);
-        }
-        if let Some(planar) = name.strip_prefix("MultibodyComponents.").filter(|n| n.starts_with("PlanarMechanics.")) {
-            return self.components.get(planar).copied();
-        }
-        let parts: Vec<&str> = name.split('.').collect();
-        match parts.as_slice() {
-            [library, "Continuous" | "Sources" | "Math" | "Nonlinear" | "Interfaces" | "Components" | "Sensors", rest] => {
-                self.components.get(&format!("{library}.{rest}")).copied()
-            }
-            _ => None,
-        }
-    }
-}
-
 /// What a declaration's kind names.
 #[derive(Clone, Copy)]
 enum Kind<'a> {
     Library(&'static ComponentSpec),
     User(&'a ComponentDef),
-    Connector(ConnectorType),
-}
-
-/// What a flattened name is, for resolving names in equations.
-#[derive(Clone, Debug)]
-pub enum Entity {
-    User,
-    Library(&'static ComponentSpec),
-    /// An array of components of this length (elements `name[k]`).
-    Array(usize),
-    /// A variable of these sizes.
-    Variable(Vec<usize>),
-    /// A connector a user component declares.
     Connector(ConnectorType),
 }
 
@@ -149,27 +47,60 @@ struct Instance<'d, 'a> {
     env: relations::Env,
 }
 
+/// Modifiers by the name of what they modify.
+type ModsByName = HashMap<String, Vec<Mod>>;
+
+/// The user component instance being made: its definition, its flattened
+/// name, where it is declared, and the instances it is inside.
+#[derive(Clone, Copy)]
+struct Level<'x, 'a> {
+    def: &'a ComponentDef,
+    prefix: &'x str,
+    site: Span,
+    within: &'x [(String, Span)],
+}
+
+/// A component's declarations, sorted.
+struct Declarations<'d, 'a> {
+    /// Parameters, those the initialization solves for left out.
+    params: Vec<&'d ParameterDecl>,
+    /// Variables, with the parameters the initialization solves for.
+    variables: Vec<&'d VariableDecl>,
+    /// Sub-components and connectors, with what their kinds name.
+    components: Vec<(&'d ComponentDecl, Kind<'a>)>,
+    /// The names of things that change during the simulation: the
+    /// components and the variables.
+    runtime: Vec<String>,
+}
+
+impl<'d, 'a> Declarations<'d, 'a> {
+    /// The component or connector declared as `name`.
+    fn component(&self, name: &str) -> Option<(&'d ComponentDecl, Kind<'a>)> {
+        self.components.iter().find(|(c, _)| c.name.name == name).map(|(c, k)| (*c, *k))
+    }
+}
+
 pub struct Lowerer<'a, 'i> {
     index: &'i Index<'a>,
-    pub(crate) model: Model,
+    model: Model,
     map: SourceMap,
     warnings: Vec<Diagnostic>,
     graph: ConnectionGraph,
     /// The user components being instantiated, outermost first.
     stack: Vec<&'a str>,
     /// Every flattened name met so far.
-    pub(crate) entities: HashMap<String, Entity>,
+    entities: HashMap<String, Entity>,
     /// Declared connectors that equations read, with the quantities used
     /// (none for a signal), and where each is in that list.
     used: Vec<UsedConnector>,
     used_index: HashMap<String, usize>,
     /// Each definition with what it extends merged in, made once.
-    effective: HashMap<*const ComponentDef, std::rc::Rc<relations::Effective>>,
+    effective: HashMap<*const ComponentDef, std::rc::Rc<Effective>>,
     /// The simulated component's own `RealOutput`s, with their declarations.
     outputs: Vec<(String, Span)>,
     /// Inputs of sub-components that an enclosing component's equations
     /// name: those equations decide them (`smoother.u = sin(time)`).
-    pub(crate) set_from_outside: std::collections::HashSet<String>,
+    set_from_outside: std::collections::HashSet<String>,
 }
 
 fn flat(prefix: &str, name: &str) -> String {
@@ -224,7 +155,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
     }
 
     /// Notes that equations read `connector` (a quantity `field` of it).
-    pub(crate) fn use_connector(&mut self, connector: &str, ty: ConnectorType, field: Option<&'static str>) {
+    fn use_connector(&mut self, connector: &str, ty: ConnectorType, field: Option<&'static str>) {
         let k = match self.used_index.get(connector) {
             Some(&k) => k,
             None => {
@@ -474,6 +405,44 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         within: &[(String, Span)],
     ) -> Result<(), Diagnostic> {
         let name = def.name.name.as_str();
+        self.enter(def, site)?;
+        let effective = self.effective_of(def)?;
+        check_unique(effective.declarations.iter().map(Declaration::name))?;
+        let solved = solved_parameters(&effective, &modifiers);
+        let decls = self.declarations(&effective, &solved)?;
+
+        // Modifiers from outside: parameter values, start values of
+        // variables, and modifiers of sub-components.
+        let mut scope = ParamScope::new(name, decls.params.clone(), decls.runtime.clone(), site, &self.index.aliases);
+        let (forwarded, mut variable_mods) = sort_modifiers(def, &decls, modifiers, &mut scope)?;
+        scope.resolve_all()?;
+
+        // The relations with their structure unrolled: `for` loops, and
+        // `if` and `switch` on parameters.
+        let flats = relations::expand(&effective.relations, &mut scope, &decls.runtime, &mut Vec::new())?;
+        let (subs, absent) = self.instances(prefix, &decls, &mut scope)?;
+        let mut consumed = vec![false; flats.len()];
+        let initial = start_modifiers(&flats, &decls, &subs, &absent, &mut scope, &mut variable_mods, &mut consumed)?;
+        let surfaces = surfaces(prefix, &flats, &subs, &mut scope, &mut consumed)?;
+
+        let level = Level { def, prefix, site, within };
+        self.subcomponents(&level, &subs, &mut scope, initial, forwarded)?;
+        for (component, road) in surfaces {
+            if let Some(c) = self.model.component_mut(&component) {
+                c.surface(road);
+            }
+        }
+        self.own_variables(prefix, name, &decls.variables, &solved, variable_mods, &mut scope)?;
+        self.connections(&level, &flats, &subs, &absent, &mut scope)?;
+        self.own_relations(prefix, &flats, &consumed, &decls, &mut scope)?;
+        self.stack.pop();
+        Ok(())
+    }
+
+    /// Enters the user component `def`, used at `site`: one that is
+    /// partial, contains itself or nests too deeply is an error.
+    fn enter(&mut self, def: &'a ComponentDef, site: Span) -> Result<(), Diagnostic> {
+        let name = def.name.name.as_str();
         if def.kind == ComponentKind::Partial {
             return Err(Diagnostic::error(format!("`{name}` is a partial component and cannot be used directly"))
                 .primary(site, "used here")
@@ -493,39 +462,28 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 .primary(site, "too deep"));
         }
         self.stack.push(name);
-        let effective = match self.effective.get(&(def as *const ComponentDef)) {
+        Ok(())
+    }
+
+    /// `def` with what it extends merged in, made once per definition.
+    fn effective_of(&mut self, def: &ComponentDef) -> Result<std::rc::Rc<Effective>, Diagnostic> {
+        Ok(match self.effective.get(&(def as *const ComponentDef)) {
             Some(e) => e.clone(),
             None => {
-                let e = std::rc::Rc::new(relations::effective(self.index, def, 0)?);
+                let e = std::rc::Rc::new(effective(self.index, def, 0)?);
                 self.effective.insert(def as *const ComponentDef, e.clone());
                 e
             }
-        };
-        check_unique(effective.declarations.iter().map(Declaration::name))?;
+        })
+    }
 
-        // A parameter with a guess and no value (none given here either) is
-        // decided by the initialization: a variable that keeps its start.
-        let solved: Vec<VariableDecl> = effective
-            .declarations
-            .iter()
-            .filter_map(|d| match d {
-                Declaration::Parameter(p)
-                    if p.default.is_none() && !modifiers.iter().any(|m| m.name.name == p.name.name) =>
-                {
-                    let guess = p.ty.attributes.iter().find(|a| a.name.name == "guess")?.value.clone()?;
-                    Some(VariableDecl {
-                        doc: p.doc.clone(),
-                        causality: Causality::Internal,
-                        name: p.name.clone(),
-                        ty: TypeRef { attributes: Vec::new(), ..p.ty.clone() },
-                        binding: None,
-                        initial: Some(guess),
-                        span: p.span,
-                    })
-                }
-                _ => None,
-            })
-            .collect();
+    /// The declarations of a component sorted by what they declare, the
+    /// kinds of its components resolved.
+    fn declarations<'d>(
+        &mut self,
+        effective: &'d Effective,
+        solved: &'d [VariableDecl],
+    ) -> Result<Declarations<'d, 'a>, Diagnostic> {
         let params: Vec<&ParameterDecl> = effective
             .declarations
             .iter()
@@ -536,7 +494,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             .declarations
             .iter()
             .filter_map(|d| if let Declaration::Variable(v) = d { Some(v) } else { None })
-            .chain(&solved)
+            .chain(solved)
             .collect();
         let mut decls: Vec<(&ComponentDecl, Kind<'a>)> = Vec::new();
         for d in &effective.declarations {
@@ -552,116 +510,27 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 decls.push((c, kind));
             }
         }
-        let decl_of = |n: &str| decls.iter().find(|(c, _)| c.name.name == n).map(|(c, k)| (*c, *k));
-        let runtime_names: Vec<String> = decls
+        let runtime: Vec<String> = decls
             .iter()
             .map(|(c, _)| c.name.name.clone())
             .chain(variables.iter().map(|v| v.name.name.clone()))
             .collect();
+        Ok(Declarations { params, variables, components: decls, runtime })
+    }
 
-        // Modifiers from outside: parameter values, start values of
-        // variables, and modifiers of sub-components.
-        let mut scope = ParamScope::new(
-            name,
-            params.iter().map(|p| &**p).collect(),
-            runtime_names.clone(),
-            site,
-            &self.index.aliases,
-        );
-        let mut forwarded: HashMap<String, Vec<Mod>> = HashMap::new();
-        let mut variable_mods: HashMap<String, Vec<Mod>> = HashMap::new();
-        for m in modifiers {
-            let key = m.name.name.as_str();
-            if let Some(p) = params.iter().find(|p| p.name.name == key) {
-                if p.variability == Variability::Final {
-                    return Err(Diagnostic::error(format!(
-                        "`{key}` is a final parameter of `{name}` and cannot be changed"
-                    ))
-                    .primary(m.name.span, "changes a final parameter")
-                    .secondary(p.span, "declared final here"));
-                }
-                match (&m.value, m.has_nested) {
-                    (Some(v), false) => {
-                        scope.overrides.insert(key.to_string(), v.clone());
-                    }
-                    _ => {
-                        return Err(Diagnostic::error(format!("`{key}` is a parameter; give it a value"))
-                            .primary(m.span, "not a value")
-                            .help(format!("write `{key} = ...`")))
-                    }
-                }
-            } else if variables.iter().any(|v| v.name.name == key) {
-                if m.value.is_some() || !m.has_nested {
-                    return Err(Diagnostic::error(format!("`{key}` is a variable of `{name}`; give it a start value"))
-                        .primary(m.span, "not a start value")
-                        .help(format!("write `{key}(initial = ...)` or `{key}(guess = ...)`")));
-                }
-                variable_mods.insert(key.to_string(), m.nested);
-            } else if let Some((c, kind)) = decl_of(key) {
-                if matches!(kind, Kind::Connector(_)) {
-                    return Err(Diagnostic::error(format!(
-                        "`{key}` is a connector of `{name}`; it takes no modifiers"
-                    ))
-                    .primary(m.span, "modifies a connector")
-                    .secondary(c.span, "declared here"));
-                }
-                if m.value.is_some() {
-                    return Err(Diagnostic::error(format!(
-                        "`{key}` is a component of `{name}`; it cannot be replaced"
-                    ))
-                    .primary(m.span, "replaces a component")
-                    .help(format!("change its parameters instead: `{key}(m = 2)`")));
-                }
-                forwarded.insert(key.to_string(), m.nested);
-            } else if key
-                .strip_suffix(']')
-                .and_then(|k| k.split_once('['))
-                .and_then(|(base, _)| decl_of(base))
-                .is_some_and(|(c, _)| c.array.is_some())
-            {
-                // One element of an array of components (`joints[1].Q_hat`
-                // from an `initial` of the enclosing component): checked
-                // against the array's range when its instances are made.
-                forwarded.insert(key.to_string(), m.nested);
-            } else {
-                let names: Vec<&str> = params
-                    .iter()
-                    .map(|p| p.name.name.as_str())
-                    .chain(
-                        decls
-                            .iter()
-                            .filter(|(_, k)| !matches!(k, Kind::Connector(_)))
-                            .map(|(c, _)| c.name.name.as_str()),
-                    )
-                    .chain(variables.iter().map(|v| v.name.name.as_str()))
-                    .collect();
-                let mut d = Diagnostic::error(format!("`{name}` has no parameter `{key}`"))
-                    .primary(m.name.span, "unknown parameter")
-                    .secondary(def.header, format!("`{name}` is defined here"));
-                if let Some(s) = did_you_mean(key, names.iter().copied()) {
-                    d = d.help(s);
-                }
-                let param_names: Vec<&str> = params.iter().map(|p| p.name.name.as_str()).collect();
-                d = if param_names.is_empty() {
-                    d.note(format!("`{name}` declares no parameters"))
-                } else {
-                    d.note(format!("its parameters are: {}", param_names.join(", ")))
-                };
-                return Err(d);
-            }
-        }
-        scope.resolve_all()?;
-
-        // The relations with their structure unrolled: `for` loops, and
-        // `if` and `switch` on parameters.
-        let flats = relations::expand(&effective.relations, &mut scope, &runtime_names, &mut Vec::new())?;
-
-        // The instances: arrays and conditional components resolved.
-        let mut subs: Vec<Instance<'_, 'a>> = Vec::new();
+    /// The instances of the components: arrays and conditional components
+    /// resolved. Also the names of the components that are absent.
+    fn instances<'d>(
+        &mut self,
+        prefix: &str,
+        decls: &Declarations<'d, 'a>,
+        scope: &mut ParamScope,
+    ) -> Result<(Vec<Instance<'d, 'a>>, Vec<String>), Diagnostic> {
+        let mut subs: Vec<Instance<'d, 'a>> = Vec::new();
         let mut absent: Vec<String> = Vec::new();
-        for &(decl, kind) in &decls {
+        for &(decl, kind) in &decls.components {
             if let Some(condition) = &decl.condition {
-                let v = eval(condition, &mut scope)?;
+                let v = eval(condition, scope)?;
                 let present = match v {
                     Val::Bool(b) => b,
                     other => {
@@ -680,7 +549,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             match &decl.array {
                 None => subs.push(Instance { local: decl.name.name.clone(), decl, kind, env: Vec::new() }),
                 Some((var, range)) => {
-                    let values = relations::range_values(range, &mut scope, &[])?;
+                    let values = relations::range_values(range, scope, &[])?;
                     self.entities.insert(flat(prefix, &decl.name.name), Entity::Array(values.len()));
                     for (k, value) in values.into_iter().enumerate() {
                         subs.push(Instance {
@@ -693,75 +562,26 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 }
             }
         }
+        Ok((subs, absent))
+    }
 
-        // `initial a.b = v` (and `guess`) with a constant value act as
-        // modifiers `a(b(initial = v))` of this level.
-        let mut initial: HashMap<String, Vec<Mod>> = HashMap::new();
-        let mut consumed = vec![false; flats.len()];
-        for (k, flat_relation) in flats.iter().enumerate() {
-            let (lhs, rhs, span, env, attribute) = match flat_relation {
-                Flat::Initial { lhs, rhs, span, env } => (*lhs, *rhs, *span, env, "initial"),
-                Flat::Guess { lhs, rhs, span, env } => (*lhs, *rhs, *span, env, "guess"),
-                _ => continue,
-            };
-            let Some(target) = relations::start_target(lhs, &mut scope, env)? else { continue };
-            let first = &target[0];
-            let is_sub = subs.iter().any(|i| i.local == first.name && !matches!(i.kind, Kind::Connector(_)));
-            let is_variable = target.len() == 1 && variables.iter().any(|v| v.name.name == first.name);
-            if !is_sub && !is_variable {
-                if target.len() >= 2 || decl_of(&first.name).is_some() || absent.contains(&first.name) {
-                    continue;
-                }
-                if params.iter().any(|p| p.name.name == first.name) {
-                    return Err(Diagnostic::error(format!(
-                        "`initial {}` names no variable of a component",
-                        first.name
-                    ))
-                    .primary(lhs.span, "not a variable of a sub-component")
-                    .help(format!("`{}` is a parameter: give its value in its declaration", first.name)));
-                }
-                continue;
-            }
-            let Ok(v) = eval(rhs, &mut WithEnv { scope: &mut scope, env }) else { continue };
-            if is_sub && target.len() < 2 {
-                return Err(Diagnostic::error(format!("`initial {}` names no variable of a component", first.name))
-                    .primary(lhs.span, "not a variable of a sub-component")
-                    .help(format!("name one of its variables: `initial {}.phi = ...`", first.name)));
-            }
-            let m = Mod::start_at(&target[if is_sub { 1 } else { 0 }..], attribute, v, rhs.span, span);
-            let key = if is_sub { first.name.clone() } else { String::new() };
-            if is_sub {
-                let list = initial.remove(&key).unwrap_or_default();
-                initial.insert(key, merge_same_level(list, vec![m])?);
-            } else {
-                let list = variable_mods.remove(&first.name).unwrap_or_default();
-                let inner = m.nested;
-                variable_mods.insert(first.name.clone(), merge_same_level(list, inner)?);
-            }
-            consumed[k] = true;
-        }
-
-        // `wheel.surface = formula`: the road a wheel rolls on, a formula
-        // of x and z rather than an equation of the model.
-        let mut surfaces = Vec::new();
-        for (k, flat_relation) in flats.iter().enumerate() {
-            let Flat::Equation { lhs, rhs, env, .. } = flat_relation else { continue };
-            let Some(target) = relations::start_target(lhs, &mut scope, env)? else { continue };
-            let [first, part] = &target[..] else { continue };
-            let is_road = |i: &Instance| {
-                i.local == first.name && matches!(i.kind, Kind::Library(spec) if spec.param("surface").is_some())
-            };
-            if part.name == "surface" && subs.iter().any(is_road) {
-                let road = crate::symbolic::road(rhs, &mut WithEnv { scope: &mut scope, env })?;
-                surfaces.push((flat(prefix, &first.name), road));
-                consumed[k] = true;
-            }
-        }
-
-        for instance in &subs {
+    /// Makes the instances `subs` of the component at `level`, with the
+    /// modifiers its declarations give, the start values its `initial`s
+    /// give, and the modifiers `forwarded` from outside.
+    fn subcomponents(
+        &mut self,
+        level: &Level,
+        subs: &[Instance<'_, 'a>],
+        scope: &mut ParamScope,
+        mut initial: ModsByName,
+        mut forwarded: ModsByName,
+    ) -> Result<(), Diagnostic> {
+        let Level { def, prefix, site, within } = *level;
+        let name = def.name.name.as_str();
+        for instance in subs {
             let child = flat(prefix, &instance.local);
             let decl = instance.decl;
-            let mut sub_scope = WithEnv { scope: &mut scope, env: &instance.env };
+            let mut sub_scope = WithEnv { scope, env: &instance.env };
             let own = eval_modifiers(&decl.modifiers, &mut sub_scope)?;
             let own = merge_same_level(own, initial.remove(&instance.local).unwrap_or_default())?;
             let outer = forwarded.get(&decl.name.name).cloned().unwrap_or_default();
@@ -803,22 +623,29 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 .primary(span, "no such element")
                 .help("index the array from 1 to its length"));
         }
-        for (component, road) in surfaces {
-            if let Some(c) = self.model.component_mut(&component) {
-                c.surface(road);
-            }
-        }
+        Ok(())
+    }
 
-        // The component's own variables; `input` and `output` ones are
-        // signal connectors too.
-        for v in &variables {
-            self.variable(prefix, name, v, variable_mods.remove(&v.name.name).unwrap_or_default(), &mut scope)?;
+    /// The component's own variables; `input` and `output` ones are
+    /// signal connectors too. Parameters the initialization solves for
+    /// are constant in time.
+    fn own_variables(
+        &mut self,
+        prefix: &str,
+        owner: &str,
+        variables: &[&VariableDecl],
+        solved: &[VariableDecl],
+        mut variable_mods: ModsByName,
+        scope: &mut ParamScope,
+    ) -> Result<(), Diagnostic> {
+        for v in variables {
+            self.variable(prefix, owner, v, variable_mods.remove(&v.name.name).unwrap_or_default(), scope)?;
         }
-        for v in &solved {
+        for v in solved {
             // Constant in time, its start free: `der(k) = 0` and a guess.
             let full = flat(prefix, &v.name.name);
             let origin = self.origin(v.span);
-            for n in relations::scalar_names(&full, &relations::dims(&v.ty, &mut scope)?) {
+            for n in relations::scalar_names(&full, &relations::dims(&v.ty, scope)?) {
                 if let Some(var) = self.model.equations.variables.iter_mut().find(|var| var.name == n) {
                     var.fixed = false;
                 }
@@ -829,33 +656,65 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 });
             }
         }
+        Ok(())
+    }
 
+    /// The `connect`s of the component at `level` (those of absent
+    /// components left out), into the connection graph.
+    fn connections(
+        &mut self,
+        level: &Level<'_, 'a>,
+        flats: &[Flat],
+        subs: &[Instance],
+        absent: &[String],
+        scope: &mut ParamScope,
+    ) -> Result<(), Diagnostic> {
+        let Level { def, prefix, .. } = *level;
         let by_local: HashMap<&str, usize> = subs.iter().enumerate().map(|(k, i)| (i.local.as_str(), k)).collect();
-        for flat_relation in &flats {
+        for flat_relation in flats {
             let Flat::Connect { ends, env } = flat_relation else { continue };
             let mut resolved = Vec::with_capacity(ends.len());
             let mut skip = false;
             for end in ends.iter() {
-                let path = relations::connect_path(end, &mut scope, env)?;
+                let path = relations::connect_path(end, scope, env)?;
                 if absent.contains(&path.parts[0].name) {
                     skip = true;
                     break;
                 }
-                resolved.push((self.connect_end(&path, prefix, def, &subs, &by_local)?, end.span));
+                resolved.push((self.connect_end(&path, prefix, def, subs, &by_local)?, end.span));
             }
             if !skip {
                 self.graph.connect(resolved)?;
             }
         }
+        Ok(())
+    }
 
-        // Equations, initial equations, guesses and assertions.
-        let mut context = relations::Context { lowerer: self, prefix, scope: &mut scope, runtime: &runtime_names };
+    /// The component's equations, initial equations, guesses and
+    /// assertions (the relations not `consumed` already), and the
+    /// equations of its variables' bindings.
+    fn own_relations(
+        &mut self,
+        prefix: &str,
+        flats: &[Flat],
+        consumed: &[bool],
+        decls: &Declarations,
+        scope: &mut ParamScope,
+    ) -> Result<(), Diagnostic> {
+        let mut context = relations::Context {
+            entities: &self.entities,
+            variables: &self.model.equations.variables,
+            prefix,
+            scope,
+            runtime: &decls.runtime,
+            out: RelationsOut::new(self.map.origins.len()),
+        };
         for (k, flat_relation) in flats.iter().enumerate() {
             if !consumed[k] {
                 context.relation(flat_relation)?;
             }
         }
-        for v in &variables {
+        for v in &decls.variables {
             if let Some(binding) = &v.binding {
                 context.equation_of(
                     &Expr {
@@ -868,7 +727,8 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 )?;
             }
         }
-        self.stack.pop();
+        let out = context.out;
+        self.add_relations(out);
         Ok(())
     }
 
@@ -976,9 +836,29 @@ impl<'a, 'i> Lowerer<'a, 'i> {
     }
 
     /// A name for `span` that engine messages carry back.
-    pub(crate) fn origin(&mut self, span: Span) -> String {
+    fn origin(&mut self, span: Span) -> String {
         self.map.origins.push(span);
-        format!("#{}", self.map.origins.len() - 1)
+        SourceMap::origin_name(self.map.origins.len() - 1)
+    }
+
+    /// Adds what the relations of an instance give to the model.
+    fn add_relations(&mut self, out: RelationsOut) {
+        self.map.origins.extend(out.origins);
+        let equations = &mut self.model.equations;
+        equations.equations.extend(out.equations);
+        equations.initial.extend(out.initial);
+        equations.whens.extend(out.whens);
+        for (name, x) in out.guesses {
+            if let Some(v) = equations.variables.iter_mut().find(|v| v.name == name) {
+                v.start = Some(x);
+            }
+        }
+        for u in out.uses {
+            self.use_connector(&u.connector, u.ty, u.field);
+            if u.set_from_outside {
+                self.set_from_outside.insert(u.connector);
+            }
+        }
     }
 
     /// What one end of a `connect` in `def` names.
@@ -1036,7 +916,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 if let Some(e) = declared(format!("{child}.{}", connector.name), d.name.name.clone()) {
                     return Ok(e);
                 }
-                let is_component = relations::effective(self.index, d, 0)
+                let is_component = effective(self.index, d, 0)
                     .map(|e| e.declarations.iter().any(|x| x.name().name == connector.name))
                     .unwrap_or(false);
                 if is_component {
@@ -1183,6 +1063,211 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         }
         Ok(())
     }
+}
+
+/// A parameter with a guess and no value (none given here either) is
+/// decided by the initialization: a variable that keeps its start.
+fn solved_parameters(effective: &Effective, modifiers: &[Mod]) -> Vec<VariableDecl> {
+    effective
+        .declarations
+        .iter()
+        .filter_map(|d| match d {
+            Declaration::Parameter(p)
+                if p.default.is_none() && !modifiers.iter().any(|m| m.name.name == p.name.name) =>
+            {
+                let guess = p.ty.attributes.iter().find(|a| a.name.name == "guess")?.value.clone()?;
+                Some(VariableDecl {
+                    doc: p.doc.clone(),
+                    causality: Causality::Internal,
+                    name: p.name.clone(),
+                    ty: TypeRef { attributes: Vec::new(), ..p.ty.clone() },
+                    binding: None,
+                    initial: Some(guess),
+                    span: p.span,
+                })
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+/// Sorts the modifiers given from outside: parameter values go into
+/// `scope`; the modifiers of sub-components (or of one element of an
+/// array of them) and the start values of variables are returned, in
+/// that order.
+fn sort_modifiers(
+    def: &ComponentDef,
+    decls: &Declarations,
+    modifiers: Vec<Mod>,
+    scope: &mut ParamScope,
+) -> Result<(ModsByName, ModsByName), Diagnostic> {
+    let name = def.name.name.as_str();
+    let Declarations { params, variables, components, .. } = decls;
+    let decl_of = |n: &str| decls.component(n);
+    let mut forwarded: ModsByName = HashMap::new();
+    let mut variable_mods: ModsByName = HashMap::new();
+    for m in modifiers {
+        let key = m.name.name.as_str();
+        if let Some(p) = params.iter().find(|p| p.name.name == key) {
+            if p.variability == Variability::Final {
+                return Err(Diagnostic::error(format!(
+                    "`{key}` is a final parameter of `{name}` and cannot be changed"
+                ))
+                .primary(m.name.span, "changes a final parameter")
+                .secondary(p.span, "declared final here"));
+            }
+            match (&m.value, m.has_nested) {
+                (Some(v), false) => {
+                    scope.overrides.insert(key.to_string(), v.clone());
+                }
+                _ => {
+                    return Err(Diagnostic::error(format!("`{key}` is a parameter; give it a value"))
+                        .primary(m.span, "not a value")
+                        .help(format!("write `{key} = ...`")))
+                }
+            }
+        } else if variables.iter().any(|v| v.name.name == key) {
+            if m.value.is_some() || !m.has_nested {
+                return Err(Diagnostic::error(format!("`{key}` is a variable of `{name}`; give it a start value"))
+                    .primary(m.span, "not a start value")
+                    .help(format!("write `{key}(initial = ...)` or `{key}(guess = ...)`")));
+            }
+            variable_mods.insert(key.to_string(), m.nested);
+        } else if let Some((c, kind)) = decl_of(key) {
+            if matches!(kind, Kind::Connector(_)) {
+                return Err(Diagnostic::error(format!("`{key}` is a connector of `{name}`; it takes no modifiers"))
+                    .primary(m.span, "modifies a connector")
+                    .secondary(c.span, "declared here"));
+            }
+            if m.value.is_some() {
+                return Err(Diagnostic::error(format!("`{key}` is a component of `{name}`; it cannot be replaced"))
+                    .primary(m.span, "replaces a component")
+                    .help(format!("change its parameters instead: `{key}(m = 2)`")));
+            }
+            forwarded.insert(key.to_string(), m.nested);
+        } else if key
+            .strip_suffix(']')
+            .and_then(|k| k.split_once('['))
+            .and_then(|(base, _)| decl_of(base))
+            .is_some_and(|(c, _)| c.array.is_some())
+        {
+            // One element of an array of components (`joints[1].Q_hat`
+            // from an `initial` of the enclosing component): checked
+            // against the array's range when its instances are made.
+            forwarded.insert(key.to_string(), m.nested);
+        } else {
+            let names: Vec<&str> = params
+                .iter()
+                .map(|p| p.name.name.as_str())
+                .chain(
+                    components
+                        .iter()
+                        .filter(|(_, k)| !matches!(k, Kind::Connector(_)))
+                        .map(|(c, _)| c.name.name.as_str()),
+                )
+                .chain(variables.iter().map(|v| v.name.name.as_str()))
+                .collect();
+            let mut d = Diagnostic::error(format!("`{name}` has no parameter `{key}`"))
+                .primary(m.name.span, "unknown parameter")
+                .secondary(def.header, format!("`{name}` is defined here"));
+            if let Some(s) = did_you_mean(key, names.iter().copied()) {
+                d = d.help(s);
+            }
+            let param_names: Vec<&str> = params.iter().map(|p| p.name.name.as_str()).collect();
+            d = if param_names.is_empty() {
+                d.note(format!("`{name}` declares no parameters"))
+            } else {
+                d.note(format!("its parameters are: {}", param_names.join(", ")))
+            };
+            return Err(d);
+        }
+    }
+    Ok((forwarded, variable_mods))
+}
+
+/// `initial a.b = v` (and `guess`) with a constant value act as
+/// modifiers `a(b(initial = v))` of this level.
+/// Returns them by component (`a`); those of the component's own
+/// variables join `variable_mods`. The relations taken are `consumed`.
+fn start_modifiers(
+    flats: &[Flat],
+    decls: &Declarations,
+    subs: &[Instance],
+    absent: &[String],
+    scope: &mut ParamScope,
+    variable_mods: &mut ModsByName,
+    consumed: &mut [bool],
+) -> Result<ModsByName, Diagnostic> {
+    let Declarations { params, variables, .. } = decls;
+    let decl_of = |n: &str| decls.component(n);
+    let mut initial: ModsByName = HashMap::new();
+    for (k, flat_relation) in flats.iter().enumerate() {
+        let (lhs, rhs, span, env, attribute) = match flat_relation {
+            Flat::Initial { lhs, rhs, span, env } => (*lhs, *rhs, *span, env, "initial"),
+            Flat::Guess { lhs, rhs, span, env } => (*lhs, *rhs, *span, env, "guess"),
+            _ => continue,
+        };
+        let Some(target) = relations::start_target(lhs, scope, env)? else { continue };
+        let first = &target[0];
+        let is_sub = subs.iter().any(|i| i.local == first.name && !matches!(i.kind, Kind::Connector(_)));
+        let is_variable = target.len() == 1 && variables.iter().any(|v| v.name.name == first.name);
+        if !is_sub && !is_variable {
+            if target.len() >= 2 || decl_of(&first.name).is_some() || absent.contains(&first.name) {
+                continue;
+            }
+            if params.iter().any(|p| p.name.name == first.name) {
+                return Err(Diagnostic::error(format!("`initial {}` names no variable of a component", first.name))
+                    .primary(lhs.span, "not a variable of a sub-component")
+                    .help(format!("`{}` is a parameter: give its value in its declaration", first.name)));
+            }
+            continue;
+        }
+        let Ok(v) = eval(rhs, &mut WithEnv { scope, env }) else { continue };
+        if is_sub && target.len() < 2 {
+            return Err(Diagnostic::error(format!("`initial {}` names no variable of a component", first.name))
+                .primary(lhs.span, "not a variable of a sub-component")
+                .help(format!("name one of its variables: `initial {}.phi = ...`", first.name)));
+        }
+        let m = Mod::start_at(&target[if is_sub { 1 } else { 0 }..], attribute, v, rhs.span, span);
+        let key = if is_sub { first.name.clone() } else { String::new() };
+        if is_sub {
+            let list = initial.remove(&key).unwrap_or_default();
+            initial.insert(key, merge_same_level(list, vec![m])?);
+        } else {
+            let list = variable_mods.remove(&first.name).unwrap_or_default();
+            let inner = m.nested;
+            variable_mods.insert(first.name.clone(), merge_same_level(list, inner)?);
+        }
+        consumed[k] = true;
+    }
+    Ok(initial)
+}
+
+/// `wheel.surface = formula`: the road a wheel rolls on, a formula
+/// of x and z rather than an equation of the model.
+/// The relations taken are `consumed`.
+fn surfaces(
+    prefix: &str,
+    flats: &[Flat],
+    subs: &[Instance],
+    scope: &mut ParamScope,
+    consumed: &mut [bool],
+) -> Result<Vec<(String, multibody::Expr)>, Diagnostic> {
+    let mut surfaces = Vec::new();
+    for (k, flat_relation) in flats.iter().enumerate() {
+        let Flat::Equation { lhs, rhs, env, .. } = flat_relation else { continue };
+        let Some(target) = relations::start_target(lhs, scope, env)? else { continue };
+        let [first, part] = &target[..] else { continue };
+        let is_road = |i: &Instance| {
+            i.local == first.name && matches!(i.kind, Kind::Library(spec) if spec.param("surface").is_some())
+        };
+        if part.name == "surface" && subs.iter().any(is_road) {
+            let road = crate::lowering::symbolic::road(rhs, &mut WithEnv { scope, env })?;
+            surfaces.push((flat(prefix, &first.name), road));
+            consumed[k] = true;
+        }
+    }
+    Ok(surfaces)
 }
 
 fn check_unique<'b>(names: impl Iterator<Item = &'b Ident>) -> Result<(), Diagnostic> {

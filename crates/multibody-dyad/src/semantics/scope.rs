@@ -1,11 +1,11 @@
 //! The parameters of one component instance (or analysis): their values,
 //! from modifiers or defaults, computed on first use and type-checked.
 
-use crate::ast::{Dim, Ident, ParameterDecl, TypeAlias};
-use crate::diagnostics::Diagnostic;
-use crate::eval::{eval, Scope, Val};
-use crate::source::Span;
-use crate::types::{self, BaseType};
+use crate::reports::diagnostics::Diagnostic;
+use crate::semantics::eval::{eval, Scope, Val};
+use crate::semantics::types::{self, BaseType};
+use crate::syntax::ast::{Dim, Ident, ParameterDecl, TypeAlias};
+use crate::syntax::source::Span;
 use std::collections::{HashMap, HashSet};
 
 /// How deeply parameters may refer to parameters.
@@ -166,7 +166,7 @@ impl<'a, 'i> ParamScope<'a, 'i> {
         decl: &ParameterDecl,
         value: &Val,
         span: Span,
-        attributes: &[&'a crate::ast::Modifier],
+        attributes: &[&'a crate::syntax::ast::Modifier],
     ) -> Result<(), Diagnostic> {
         for attr in attributes {
             let name = attr.name.name.as_str();
