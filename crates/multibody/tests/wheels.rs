@@ -115,6 +115,67 @@ fn the_default_angles_are_the_library_s_heading_spin_and_tumble() {
     assert!(worst < 1e-9 && angle_error < 1e-9);
 }
 
+/// Two RollingWheels on an axle 1 m long (each on a revolute about z), the
+/// second marked `iscut`: its coordinates are computed from the motion, not
+/// integrated. Started with the first at der_angles [Omega, w1, 0], the axle
+/// turns steadily at Omega about the vertical, the first wheel's centre on a
+/// circle of radius rho1 = R w1 / Omega, the second's of rho2 = rho1 - 1,
+/// both about (0, 0, rho1 - 0.5); the second spins at w2 = Omega rho2 / R,
+/// so its angles are [Omega t, w2 t, 0]: reported continuously as its spin
+/// passes the sequence's singular values.
+#[test]
+fn a_cut_wheel_on_an_axle_reports_the_library_s_angles() {
+    let (omega, w1) = (0.3f64, 8.0f64);
+    let mut model = Model::new("axle");
+    model.add("world", "World");
+    model.add("axle", "Body").set("m", 2.0).set("I_11", 0.1).set("I_22", 0.1).set("I_33", 0.1);
+    for (k, z) in [(1, -0.5), (2, 0.5)] {
+        model.add(format!("t{k}"), "FixedTranslation").set("r", vec![0.0, 0.0, z]);
+        model.add(format!("rev{k}"), "Revolute").set("n", vec![0.0, 0.0, 1.0]);
+        model
+            .add(format!("w{k}"), "RollingWheel")
+            .set("radius", R)
+            .set("m", M)
+            .set("I_axis", I_AXIS)
+            .set("I_long", I_LONG);
+        model.connect(["axle.frame_a".to_string(), format!("t{k}.frame_a")]);
+        model.connect([format!("t{k}.frame_b"), format!("rev{k}.frame_a")]);
+        model.connect([format!("rev{k}.frame_b"), format!("w{k}.frame_a")]);
+    }
+    model
+        .component_mut("w1")
+        .unwrap()
+        .initial("x", 0.0)
+        .initial("z", -0.5)
+        .initial("angles", vec![0.0; 3])
+        .initial("der_angles", vec![omega, w1, 0.0]);
+    model.component_mut("w2").unwrap().set("iscut", true);
+    let s = model.assemble().unwrap().simulate(&tight(3.0, 0.01)).unwrap();
+    let rho1 = R * w1 / omega;
+    let rho2 = rho1 - 1.0;
+    let w2 = omega * rho2 / R;
+    let centre_z = rho1 - 0.5;
+    let (mut path, mut angle_error) = (0.0f64, 0.0f64);
+    for (k, &t) in s.time().iter().enumerate() {
+        let (x, z) = (column(&s, "w2.x")[k], column(&s, "w2.z")[k]);
+        path = path.max(((x * x + (z - centre_z).powi(2)).sqrt() - rho2).abs());
+        // Away from the singular values of the spin, as for the wheel on its own.
+        if (w2 * t).cos().abs() > 0.1f64.sin() {
+            let angles = vector(&s, "w2.angles", k);
+            for (a, e) in angles.iter().zip([omega * t, w2 * t, 0.0]) {
+                angle_error = angle_error.max((a - e).abs());
+            }
+        }
+    }
+    // Steady motion integrated at 1e-11: 1e-9 as for the wheel on its own.
+    println!(
+        "cut wheel on an axle: path error {path:.2e} m = {:.3} of 1e-9, angles {angle_error:.2e} rad = {:.3} of 1e-9",
+        path / 1e-9,
+        angle_error / 1e-9
+    );
+    assert!(path < 1e-9 && angle_error < 1e-9);
+}
+
 #[test]
 fn a_rolling_wheel_keeps_its_energy_and_its_contact_point_still() {
     // Leaning, heading turning and spinning: a general rolling motion. The
