@@ -411,7 +411,7 @@ fn slipping_wheels() {
             .initial("z", z)
             .initial("angles", vec![0.0; 3])
             .initial("v_0", vec![0.0; 3])
-            .initial("der_angles", vec![0.0, 0.0, 25.0]);
+            .initial("der_angles", vec![0.0, 25.0, 0.0]);
     }
     m.component_mut("pacejka").unwrap().set("elastic_contact", true).set("color", [0.0, 0.0, 1.0, 1.0]);
     {
@@ -427,7 +427,7 @@ fn slipping_wheels() {
             .initial("z", 2.0)
             .initial("angles", vec![0.0; 3])
             .initial("v_0", vec![0.0; 3])
-            .initial("der_angles", vec![0.0, 0.0, 25.0])
+            .initial("der_angles", vec![0.0, 25.0, 0.0])
             .surface(S::Mul(
                 b(S::Const(0.05)),
                 b(S::Call(Func::Sin, b(S::Mul(b(S::Const(2.0)), b(S::Var("x".into())))))),

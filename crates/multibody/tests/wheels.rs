@@ -16,7 +16,8 @@ fn tight(stop: f64, saveat: f64) -> SimulationOptions {
 }
 
 /// A RollingWheel alone on the plane (the World for gravity), started at
-/// `angles` (heading about y, lean about x, spin about z) turning at `der_angles`.
+/// `angles` turning at `der_angles`, of the library's default sequence
+/// [2, 3, 1]: at zero angles, a rotation about y, z (the spin axis), x.
 fn rolling_wheel(angles: [f64; 3], der_angles: [f64; 3]) -> Model {
     let mut model = Model::new("wheel");
     model.add("world", "World");
@@ -61,7 +62,7 @@ fn an_upright_wheel_started_straight_rolls_in_a_straight_line() {
     // Spinning at 10 rad/s about +z (its axis along the world's z), the
     // contact point stays: the centre moves at -R * 10 along x, at height R.
     let spin = 10.0;
-    let mechanism = rolling_wheel([0.0; 3], [0.0, 0.0, spin]).assemble().unwrap();
+    let mechanism = rolling_wheel([0.0; 3], [0.0, spin, 0.0]).assemble().unwrap();
     let s = mechanism.simulate(&tight(5.0, 0.01)).unwrap();
     let mut worst = 0.0f64;
     for (k, &t) in s.time().iter().enumerate() {
@@ -76,10 +77,115 @@ fn an_upright_wheel_started_straight_rolls_in_a_straight_line() {
     assert!(worst < 1e-9);
 }
 
+/// The default sequence is the library's [2, 3, 1]: a turn about the
+/// world's y (heading), then about z (the spin axis), then about x. Started
+/// at angles [h, s, 0] turning at der_angles [0, w, 0] with no `sequence`
+/// given, a wheel stands upright with its axis along (sin h, 0, cos h),
+/// spins at w about it and rolls at R w along (-cos h, 0, sin h); its angles
+/// stay [h, s + w t, 0]. (Read as [2, 1, 3], the same numbers lean it by s
+/// and it falls.)
+#[test]
+fn the_default_angles_are_the_library_s_heading_spin_and_tumble() {
+    let (h, s0, w) = (0.7f64, 1.2f64, 8.0f64);
+    let mechanism = rolling_wheel([h, s0, 0.0], [0.0, w, 0.0]).assemble().unwrap();
+    let s = mechanism.simulate(&tight(2.0, 0.01)).unwrap();
+    let (mut worst, mut angle_error) = (0.0f64, 0.0f64);
+    for (k, &t) in s.time().iter().enumerate() {
+        let expected = [-R * w * h.cos() * t, R, R * w * h.sin() * t];
+        for (i, name) in ["wheel.x", "wheel.y", "wheel.z"].iter().enumerate() {
+            worst = worst.max((column(&s, name)[k] - expected[i]).abs());
+        }
+        // The spin passes the sequence's singular values (pi/2 + n pi), where
+        // the angles are ill-determined from the orientation: compare them
+        // where the spin is more than 0.1 rad from those.
+        let spin = s0 + w * t;
+        if spin.cos().abs() > 0.1f64.sin() {
+            let angles = vector(&s, "wheel.angles", k);
+            for (a, e) in angles.iter().zip([h, spin, 0.0]) {
+                angle_error = angle_error.max((a - e).abs());
+            }
+        }
+    }
+    // As for straight rolling: uniform motion at the integrator's 1e-11.
+    println!(
+        "default sequence: worst deviation {worst:.2e} m = {:.3} of 1e-9, angles {angle_error:.2e} rad = {:.3} of 1e-9",
+        worst / 1e-9,
+        angle_error / 1e-9
+    );
+    assert!(worst < 1e-9 && angle_error < 1e-9);
+}
+
+/// Two RollingWheels on an axle 1 m long (each on a revolute about z), the
+/// second marked `iscut`: its coordinates are computed from the motion, not
+/// integrated. Started with the first at der_angles [Omega, w1, 0], the axle
+/// turns steadily at Omega about the vertical, the first wheel's centre on a
+/// circle of radius rho1 = R w1 / Omega, the second's of rho2 = rho1 - 1,
+/// both about (0, 0, rho1 - 0.5); the second spins at w2 = Omega rho2 / R,
+/// so its angles are [Omega t, w2 t, 0]: reported continuously as its spin
+/// passes the sequence's singular values.
+#[test]
+fn a_cut_wheel_on_an_axle_reports_the_library_s_angles() {
+    let (omega, w1) = (0.3f64, 8.0f64);
+    let mut model = Model::new("axle");
+    model.add("world", "World");
+    model.add("axle", "Body").set("m", 2.0).set("I_11", 0.1).set("I_22", 0.1).set("I_33", 0.1);
+    for (k, z) in [(1, -0.5), (2, 0.5)] {
+        model.add(format!("t{k}"), "FixedTranslation").set("r", vec![0.0, 0.0, z]);
+        model.add(format!("rev{k}"), "Revolute").set("n", vec![0.0, 0.0, 1.0]);
+        model
+            .add(format!("w{k}"), "RollingWheel")
+            .set("radius", R)
+            .set("m", M)
+            .set("I_axis", I_AXIS)
+            .set("I_long", I_LONG);
+        model.connect(["axle.frame_a".to_string(), format!("t{k}.frame_a")]);
+        model.connect([format!("t{k}.frame_b"), format!("rev{k}.frame_a")]);
+        model.connect([format!("rev{k}.frame_b"), format!("w{k}.frame_a")]);
+    }
+    model
+        .component_mut("w1")
+        .unwrap()
+        .initial("x", 0.0)
+        .initial("z", -0.5)
+        .initial("angles", vec![0.0; 3])
+        .initial("der_angles", vec![omega, w1, 0.0]);
+    model.component_mut("w2").unwrap().set("iscut", true);
+    let s = model.assemble().unwrap().simulate(&tight(3.0, 0.01)).unwrap();
+    let rho1 = R * w1 / omega;
+    let rho2 = rho1 - 1.0;
+    let w2 = omega * rho2 / R;
+    let centre_z = rho1 - 0.5;
+    let (mut path, mut angle_error) = (0.0f64, 0.0f64);
+    for (k, &t) in s.time().iter().enumerate() {
+        let (x, z) = (column(&s, "w2.x")[k], column(&s, "w2.z")[k]);
+        path = path.max(((x * x + (z - centre_z).powi(2)).sqrt() - rho2).abs());
+        // Away from the singular values of the spin, as for the wheel on its own.
+        if (w2 * t).cos().abs() > 0.1f64.sin() {
+            let angles = vector(&s, "w2.angles", k);
+            for (a, e) in angles.iter().zip([omega * t, w2 * t, 0.0]) {
+                angle_error = angle_error.max((a - e).abs());
+            }
+        }
+    }
+    // Steady motion integrated at 1e-11: 1e-9 as for the wheel on its own.
+    println!(
+        "cut wheel on an axle: path error {path:.2e} m = {:.3} of 1e-9, angles {angle_error:.2e} rad = {:.3} of 1e-9",
+        path / 1e-9,
+        angle_error / 1e-9
+    );
+    assert!(path < 1e-9 && angle_error < 1e-9);
+}
+
 #[test]
 fn a_rolling_wheel_keeps_its_energy_and_its_contact_point_still() {
-    // Leaning, heading turning and spinning: a general rolling motion.
-    let mechanism = rolling_wheel([0.0, -0.3, 0.0], [0.8, 0.2, -6.0]).assemble().unwrap();
+    // Leaning, heading turning and spinning: a general rolling motion. The
+    // lean is -0.3 about x; the angular velocity in frame_a is
+    // (0.2, 0.8 cos 0.3, 0.8 sin 0.3 - 6): heading rate 0.8 about the world's
+    // y, falling rate 0.2, spin -6. In [2, 3, 1] at [0, 0, -0.3] that is
+    // der_angles = [0.8 - 6 sin 0.3, -6 cos 0.3, 0.2].
+    let lean = 0.3f64;
+    let der_angles = [0.8 - 6.0 * lean.sin(), -6.0 * lean.cos(), 0.2];
+    let mechanism = rolling_wheel([0.0, 0.0, -lean], der_angles).assemble().unwrap();
     assert_eq!(mechanism.degrees_of_freedom(), 3, "5 positional and 3 velocity degrees of freedom");
     let s = mechanism.simulate(&tight(10.0, 0.01)).unwrap();
     let e0 = energy(&s, 0);
@@ -116,11 +222,14 @@ fn a_leaning_wheel_traces_the_circle_of_the_steady_rolling_disk() {
         / ((I_AXIS + M * R * R) * rho * theta.cos() / R + I_LONG * theta.sin() * theta.cos()))
     .sqrt();
     let w_a = -rho * omega / R;
-    // Sequence [2, 1, 3]: angles [heading, lean, spin]; a lean of -theta
-    // about x gives the axis (0, sin theta, cos theta). The angular velocity
-    // is Omega y + spin_rate axis, so w_a = Omega sin(theta) + spin_rate.
+    // Sequence [2, 1, 3] (given: its first rate is the heading rate here):
+    // angles [heading, lean, spin]; a lean of -theta about x gives the axis
+    // (0, sin theta, cos theta). The angular velocity is Omega y + spin_rate
+    // axis, so w_a = Omega sin(theta) + spin_rate.
     let spin_rate = w_a - omega * theta.sin();
-    let mechanism = rolling_wheel([0.0, -theta, 0.0], [omega, 0.0, spin_rate]).assemble().unwrap();
+    let mut model = rolling_wheel([0.0, -theta, 0.0], [omega, 0.0, spin_rate]);
+    model.component_mut("wheel").unwrap().set("sequence", [2.0, 1.0, 3.0]);
+    let mechanism = model.assemble().unwrap();
     let lap = 2.0 * std::f64::consts::PI / omega;
     let s = mechanism.simulate(&tight(lap, 0.01)).unwrap();
     // The axis (0, sin theta, cos theta) tilts up towards +z: the wheel
@@ -164,7 +273,7 @@ fn spinning_wheel(kind: &str, spin: f64, elastic: bool) -> Model {
         .initial("z", 0.0)
         .initial("angles", vec![0.0; 3])
         .initial("v_0", vec![0.0; 3])
-        .initial("der_angles", vec![0.0, 0.0, spin]);
+        .initial("der_angles", vec![0.0, spin, 0.0]);
     if elastic {
         // Start resting on the spring: the weight's compression.
         wheel.set("elastic_contact", true).initial("y", R - M * G / 250000.0);
@@ -245,14 +354,14 @@ fn bad_wheel_parameters_are_named() {
 /// the fixed values named (not silently changed).
 #[test]
 fn start_velocities_that_slip_are_refused() {
-    let mut model = rolling_wheel([0.0; 3], [0.0, 0.0, 10.0]);
+    let mut model = rolling_wheel([0.0; 3], [0.0, 10.0, 0.0]);
     model.component_mut("wheel").unwrap().initial("v_0", vec![0.0; 3]);
     let message = match model.assemble() {
         Ok(_) => panic!("a spinning wheel whose centre is held still cannot roll"),
         Err(e) => e.to_string(),
     };
     println!("{message}");
-    assert!(message.contains("wheel.v_0[1] = 0") && message.contains("wheel.der_angles[3] = 10"), "{message}");
+    assert!(message.contains("wheel.v_0[1] = 0") && message.contains("wheel.der_angles[2] = 10"), "{message}");
 }
 
 /// A Pacejka wheel (grip along its path only: friction_ellipse = false) on
@@ -365,9 +474,10 @@ fn a_road_for_a_body_is_refused() {
 /// Multibody.jl's WheelInWorld (the library's tests.WheelInWorld): a
 /// RollingWheel (radius 0.3, m 2, I_axis 0.06, I_long 0.12) started upright
 /// at (x, z) = (0.2, 0.2), spinning at -5 rad/s about its axis and falling
-/// over at -1 rad/s, rolls under gravity for 4 s. The library starts it with
-/// der_angles = [0, -5, -1] of its sequence [2, 3, 1]; at zero angles that is
-/// the angular velocity (-1, 0, -5), which is [0, -1, -5] of ours [2, 1, 3].
+/// over at -1 rad/s, rolls under gravity for 4 s: the library's start,
+/// der_angles = [0, -5, -1] of its (and our default) sequence [2, 3, 1], the
+/// angular velocity (-1, 0, -5) in frame_a. Its spin angle passes the
+/// sequence's singular values (+-pi/2, ...) a dozen times on the way.
 ///
 /// Two references: `tests/independent/rolling_disk.py`, a separate Newton-Euler
 /// integration (the contact force an unknown beside the accelerations, the
@@ -387,7 +497,7 @@ fn the_library_s_wheel_in_world() {
         .initial("x", 0.2)
         .initial("z", 0.2)
         .initial("angles", vec![0.0; 3])
-        .initial("der_angles", vec![0.0, -1.0, -5.0]);
+        .initial("der_angles", vec![0.0, -5.0, -1.0]);
     let s = model.assemble().unwrap().simulate(&tight(4.0, 0.01)).unwrap();
     let (x, z) = (s.last("wheel.x").unwrap(), s.last("wheel.z").unwrap());
     let newton_euler = (0.163_003_482_97, -2.237_614_341_63);

@@ -25,12 +25,12 @@ pub const ISCUT: ParamSpec = ParamSpec::boolean(
 pub const SEQUENCE: ParamSpec = ParamSpec {
     name: "sequence",
     ty: ParamType::IntVector(3),
-    default: super::spec::Default::Vector(&[2.0, 1.0, 3.0]),
+    default: super::spec::Default::Vector(&[2.0, 3.0, 1.0]),
     unit: "",
-    doc: "Axes of the Cardan angles that rotate the world into frame_a: heading about y, lean about x, spin \
-          about z (singular only when the wheel lies flat). The library's default is [2, 3, 1], which puts the \
-          spin in the middle: its angles are singular every half turn of the wheel, where a simulation here \
-          stops, so give it explicitly only for motions that turn less",
+    doc: "Axes of the Cardan angles that rotate the world into frame_a (the library's [2, 3, 1]: about y, the \
+          heading; about z, the spin; about x). Their middle angle, the spin, passes a singular value every half \
+          turn; there the run goes on in an internal chart and the angles are still reported. [2, 1, 3] makes \
+          them heading, lean, spin (singular only when the wheel lies flat)",
 };
 pub const SURFACE: ParamSpec = ParamSpec::boolean(
     "surface",

@@ -833,7 +833,7 @@ impl<'m> Simulator<'m> {
         match names.get(k) {
             Some(name) => name.clone(),
             None => match self.charts.get(k - names.len()) {
-                Some(c) => format!("{}.phi near its singular configuration", self.component_of(c.link)),
+                Some(c) => format!("{} near its singular configuration", self.mechanism.system.states.names[c.at]),
                 None => format!("indicator {k}"),
             },
         }
@@ -842,6 +842,25 @@ impl<'m> Simulator<'m> {
     /// The name of the component whose states move link `link`.
     fn component_of(&self, link: usize) -> &str {
         &self.mechanism.components[self.mechanism.system.links[link].states_of].name
+    }
+
+    /// The names of the states of link `link`'s joint, a vector's once
+    /// (`wheel.x`, `wheel.angles`, ...): the note on a chart names them as
+    /// the component does (a Body's `phi`, a wheel's `angles`).
+    fn joint_states(&self, link: usize) -> String {
+        let system = &self.mechanism.system;
+        let l = &system.links[link];
+        let (nq, nv) = (l.joint.nq(), l.joint.nv());
+        let at = (l.q_offset..l.q_offset + nq).chain(system.states.nq + l.v_offset..system.states.nq + l.v_offset + nv);
+        let mut names: Vec<&str> = Vec::new();
+        for k in at {
+            let name = system.states.names[k].as_str();
+            let base = name.split_once('[').map_or(name, |(base, _)| base);
+            if !names.contains(&base) {
+                names.push(base);
+            }
+        }
+        names.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ")
     }
 
     /// Watches on the Euler-angle joints, each with the safe interval of
@@ -882,11 +901,12 @@ impl<'m> Simulator<'m> {
                 let note = format!(
                     "`{}` came near the singular configuration of its Euler angles (sequence {sequence:?}, the \
                      first and third axes lining up) at t = {:.6} s: the run went on with its orientation \
-                     integrated in an internal chart (the same sequence from a turned base), and its `phi`, `phid` \
-                     are still reported from its orientation. From then on the states `{0}.phi`, `{0}.phid` \
-                     (and for a free body `r_0`, `v_0`) hold the chart's coordinates",
+                     integrated in an internal chart (the same sequence from a turned base), and its angles and \
+                     their rates are still reported from its orientation. From then on the states {} hold the \
+                     chart's coordinates",
                     self.component_of(link),
-                    self.t
+                    self.t,
+                    self.joint_states(link)
                 );
                 self.notes.push(note);
                 if let Some(solution) = self.columns.get_mut() {

@@ -363,11 +363,19 @@ fn rotation_coordinates_of(rot: &RotationCoordinates, r: &crate::math::Mat3, gue
             q[..4].copy_from_slice(crate::math::to_q(r, &g).as_slice());
         }
         RotationCoordinates::Euler { sequence } => {
-            let phi = crate::math::axes_rotations_angles(r, sequence);
-            for k in 0..3 {
-                let turns = ((guess[k] - phi[k]) / std::f64::consts::TAU).round();
-                q[k] = phi[k] + if k == 1 { 0.0 } else { turns * std::f64::consts::TAU };
-            }
+            // Of the two triples of angles of r (the other: phi1 + pi, the
+            // middle mirrored, phi3 + pi), each angle within pi of its
+            // guess, the one nearer the guess: continuous along a motion,
+            // also where the middle angle passes a singular value (a
+            // wheel's spin in the library's sequence [2, 3, 1]).
+            use std::f64::consts::{PI, TAU};
+            let first = crate::math::axes_rotations_angles(r, sequence);
+            let mirrored = if sequence[0] == sequence[2] { -first[1] } else { PI - first[1] };
+            let second = Vec3::new(first[0] + PI, mirrored, first[2] + PI);
+            let g = Vec3::new(guess[0], guess[1], guess[2]);
+            let near = |a: Vec3| a.zip_map(&g, |x, g| x + ((g - x) / TAU).round() * TAU);
+            let (a, b) = (near(first), near(second));
+            q[..3].copy_from_slice(if (a - g).norm() <= (b - g).norm() { a.as_slice() } else { b.as_slice() });
         }
     }
 }
