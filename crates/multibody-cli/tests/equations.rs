@@ -141,8 +141,8 @@ fn a_spring_damper_in_the_library_form_gives_the_damped_oscillator() {
 fn rigid_parts_written_as_position_equations_move_as_one_body() {
     let table = run("rigid_parts.dyad", None);
     // On the rotor's angle: J = 0.01 + 0.2 / 4^2 + 5 / 40^2, k = 100 / 40^2, torque 1.5.
-    let (j, k, tau) = (0.01 + 0.2 / 16.0 + 5.0 / 1600.0, 100.0 / 1600.0, 1.5);
-    let w = (k / j as f64).sqrt();
+    let (j, k, tau): (f64, f64, f64) = (0.01 + 0.2 / 16.0 + 5.0 / 1600.0, 100.0 / 1600.0, 1.5);
+    let w = (k / j).sqrt();
     let phi = move |t: f64| tau / k * (1.0 - (w * t).cos());
     check(&table, "rotor.phi", 1e-7, phi);
     check(&table, "drum.phi", 1e-7, move |t| phi(t) / 4.0);
