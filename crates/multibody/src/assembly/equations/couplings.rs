@@ -79,6 +79,23 @@ fn linear(e: &Expr) -> Option<Linear> {
     }
 }
 
+/// Names numbered in the order first met.
+#[derive(Default)]
+struct Numbered {
+    names: Vec<String>,
+    index: HashMap<String, usize>,
+}
+
+impl Numbered {
+    fn number(&mut self, name: String) -> usize {
+        let next = self.names.len();
+        *self.index.entry(name).or_insert_with_key(|name| {
+            self.names.push(name.clone());
+            next
+        })
+    }
+}
+
 /// A linear equation between positions: its terms on variables of the
 /// equations (to eliminate) and on positions of library connectors.
 struct Row {
@@ -105,8 +122,7 @@ pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity, model: &Model
     let no_declared = HashMap::new();
 
     // The rows, over numbered own variables and library positions.
-    let (mut own_names, mut own_index): (Vec<String>, HashMap<String, usize>) = Default::default();
-    let (mut position_names, mut position_index): (Vec<String>, HashMap<String, usize>) = Default::default();
+    let (mut own, mut positions) = (Numbered::default(), Numbered::default());
     let mut rows = Vec::new();
     'equations: for (i, e) in eqs.equations.iter().enumerate() {
         let Some(form) = linear(&Expr::Sub(Box::new(e.lhs.clone()), Box::new(e.rhs.clone()))) else { continue };
@@ -116,21 +132,11 @@ pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity, model: &Model
                 if assigned.contains(name.as_str()) {
                     continue 'equations;
                 }
-                let n = own_index.len();
-                let k = *own_index.entry(name.clone()).or_insert(n);
-                if k == own_names.len() {
-                    own_names.push(name);
-                }
-                row.own.push((k, c));
+                row.own.push((own.number(name), c));
             } else if let Ok(Some(Role::Read(Read::Axis { speed: false, .. }))) =
                 classify_library(&name, net, &[], &no_declared, model)
             {
-                let n = position_index.len();
-                let k = *position_index.entry(name.clone()).or_insert(n);
-                if k == position_names.len() {
-                    position_names.push(name);
-                }
-                row.positions.push((k, c));
+                row.positions.push((positions.number(name), c));
             } else {
                 continue 'equations;
             }
@@ -144,7 +150,7 @@ pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity, model: &Model
     }
 
     // Groups of rows that share own variables.
-    let mut groups = UnionFind::new(rows.len() + own_names.len());
+    let mut groups = UnionFind::new(rows.len() + own.names.len());
     for (r, row) in rows.iter().enumerate() {
         for &(k, _) in &row.own {
             groups.union(r, rows.len() + k);
@@ -189,13 +195,10 @@ pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity, model: &Model
         if group.iter().all(|&r| rows[r].positions.is_empty()) || group.len() > MAX_GROUP {
             continue;
         }
-        let own: Vec<usize> = {
-            let mut own: Vec<usize> = group.iter().flat_map(|&r| rows[r].own.iter().map(|t| t.0)).collect();
-            own.sort_unstable();
-            own.dedup();
-            own
-        };
-        let (constraints, replaced) = eliminate(group, &own, &rows, position_names.len(), &eqs.equations)?;
+        let mut own_here: Vec<usize> = group.iter().flat_map(|&r| rows[r].own.iter().map(|t| t.0)).collect();
+        own_here.sort_unstable();
+        own_here.dedup();
+        let (constraints, replaced) = eliminate(group, &own_here, &rows, positions.names.len(), &eqs.equations)?;
         drop_equations.extend(replaced);
         if constraints.is_empty() {
             continue;
@@ -203,10 +206,10 @@ pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity, model: &Model
 
         // The flows of the connectors held: the constraints' reaction.
         let mut held: Vec<(String, usize)> = Vec::new(); // (flow variable, position it loads)
-        for &k in &own {
-            if let Some((f, value, connector)) = flow_of.get(&own_names[k]) {
+        for &k in &own_here {
+            if let Some((f, value, connector)) = flow_of.get(&own.names[k]) {
                 let field = if net.connector_type(connector) == Some(ConnectorType::Spline) { "phi" } else { "s" };
-                let Some(&p) = position_index.get(&format!("{connector}.{field}")) else { continue };
+                let Some(&p) = positions.index.get(&format!("{connector}.{field}")) else { continue };
                 drop_flows.insert(*f);
                 held.push((value.clone(), p));
             }
@@ -257,13 +260,13 @@ pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity, model: &Model
         }
         drop_variables.extend(held.iter().map(|h| h.0.clone()));
 
-        let prefix = common_prefix(group.iter().flat_map(|&r| rows[r].own.iter().map(|t| own_names[t.0].as_str())));
+        let prefix = common_prefix(group.iter().flat_map(|&r| rows[r].own.iter().map(|t| own.names[t.0].as_str())));
         for (n, reaction) in constraints.iter().enumerate() {
             let mut terms = Vec::new();
             let mut joins = Vec::new();
             let (mut splines, mut flanges) = (0, 0);
-            for (p, &c) in reaction[..position_names.len()].iter().enumerate().filter(|(_, c)| **c != 0.0) {
-                let (connector, _) = position_names[p].rsplit_once('.').expect("a connector's position");
+            for (p, &c) in reaction[..positions.names.len()].iter().enumerate().filter(|(_, c)| **c != 0.0) {
+                let (connector, _) = positions.names[p].rsplit_once('.').expect("a connector's position");
                 let spline = net.connector_type(connector) == Some(ConnectorType::Spline);
                 let count = if spline { &mut splines } else { &mut flanges };
                 *count += 1;
