@@ -371,3 +371,29 @@ fn a_bad_command_line_value_is_blamed_on_its_option() {
         insta::assert_snapshot!(name, stderr(&o));
     }
 }
+
+/// `r_cm = [1e300, 0, 0]` said "has no mass or inertia behind it": the
+/// inertia about frame_a overflowed to infinity. The overflow is named at
+/// the parameter, with the value written short.
+#[test]
+fn a_centre_of_mass_that_overflows_the_inertia_is_named() {
+    let dir = scratch("far-centre");
+    std::fs::write(
+        dir.join("far.dyad"),
+        "example component Far
+  world = MultibodyComponents.World()
+  rev = MultibodyComponents.Revolute()
+  body = MultibodyComponents.Body(m = 1, r_cm = [1e300, 0, 0])
+relations
+  connect(world.frame_b, rev.frame_a)
+  connect(rev.frame_b, body.frame_a)
+end
+",
+    )
+    .unwrap();
+    let o = multibody(&dir, &["check", "far.dyad"]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("`body.r_cm` = [1e300, 0, 0] is not allowed: the inertia about frame_a overflows"), "{err}");
+    assert!(err.contains("far.dyad:4:"), "the caret is on the parameter: {err}");
+}

@@ -45,18 +45,27 @@ impl Value {
 
 impl fmt::Display for Value {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        // Very large and very small numbers in exponent form (`1e300`, not
+        // three hundred digits).
+        fn number(f: &mut fmt::Formatter<'_>, x: f64) -> fmt::Result {
+            if x != 0.0 && !(1e-5..1e15).contains(&x.abs()) {
+                write!(f, "{x:e}")
+            } else {
+                write!(f, "{x}")
+            }
+        }
         fn list(f: &mut fmt::Formatter<'_>, v: &[f64]) -> fmt::Result {
             write!(f, "[")?;
             for (i, x) in v.iter().enumerate() {
                 if i > 0 {
                     write!(f, ", ")?;
                 }
-                write!(f, "{x}")?;
+                number(f, *x)?;
             }
             write!(f, "]")
         }
         match self {
-            Value::Number(x) => write!(f, "{x}"),
+            Value::Number(x) => number(f, *x),
             Value::Bool(b) => write!(f, "{b}"),
             Value::Array(v) => list(f, v),
             Value::Matrix(rows) => {

@@ -191,6 +191,18 @@ impl MassProperties {
                 ),
             ));
         }
+        // A centre of mass far out makes the inertia about frame_a overflow,
+        // which would read as a body without mass.
+        if !(m * r_cm.norm_squared() + scale).is_finite() {
+            return Err(p.invalid(
+                "r_cm",
+                format!(
+                    "the inertia about frame_a overflows (m |r_cm|^2 = {:e}); give r_cm and m in metres and \
+                     kilograms within a physical range",
+                    m * r_cm.norm_squared()
+                ),
+            ));
+        }
         Ok(Self { m, r_cm, inertia })
     }
 }
