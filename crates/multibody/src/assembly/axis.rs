@@ -432,7 +432,7 @@ fn solve_for_the_unplaced(
     if let Some(&(q, v, k)) = coordinates.first() {
         r = FlangeRef::on(q, v).affine(-k / c_unplaced, r.offset);
     }
-    r.second = coordinates.get(1).map(|&(q, v, k)| (q, v, -k / c_unplaced));
+    r.second = coordinates.get(1).map(|&(q, v, k)| (q as u32, v as u32, -k / c_unplaced));
     Some((node, r, id))
 }
 

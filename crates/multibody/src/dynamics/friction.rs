@@ -44,8 +44,8 @@ impl System {
             let flags = FrictionFlags::read(&ws.discrete[f.discrete..f.discrete + FRICTION_DISCRETE]);
             if flags.locked() {
                 for (end, sign) in [(&f.b, 1.0), (&f.a, -1.0)] {
-                    if let Some((_, v)) = end.coordinate() {
-                        ws.jac[f.row * nv + v] += sign * end.scale;
+                    for (_, v, k) in end.coordinates() {
+                        ws.jac[f.row * nv + v] += sign * k;
                     }
                 }
             }

@@ -313,8 +313,9 @@ pub(crate) struct FlangeRef {
     pub mover: Option<Mover>,
     pub scale: f64,
     pub offset: f64,
-    /// `(position index, velocity index, k)` of the second coordinate.
-    pub second: Option<(usize, usize, f64)>,
+    /// `(position index, velocity index, k)` of the second coordinate
+    /// (indices as `u32`, to keep every place small).
+    pub second: Option<(u32, u32, f64)>,
 }
 
 impl FlangeRef {
@@ -350,7 +351,7 @@ impl FlangeRef {
             Some(Mover::State { q, v }) => Some((q, v, self.scale)),
             _ => None,
         };
-        first.into_iter().chain(self.second)
+        first.into_iter().chain(self.second.map(|(q, v, k)| (q as usize, v as usize, k)))
     }
 
     /// Whether a line's length moves it.
@@ -375,7 +376,7 @@ impl FlangeRef {
         };
         match self.second {
             None => (s, v),
-            Some((i, j, k)) => (s + k * q[i], v + k * u[j]),
+            Some(second) => with_second(second, (s, v), q, u),
         }
     }
 
@@ -388,7 +389,7 @@ impl FlangeRef {
             Some(Mover::State { v, .. }) => self.scale * ud[v],
             Some(Mover::Line(k)) => self.scale * line_a[k],
         };
-        self.second.map_or(a, |(_, j, k)| a + k * ud[j])
+        self.second.map_or(a, |(_, j, k)| a + k * ud[j as usize])
     }
 
     /// Adds the generalised force of `force` pushing this flange forward:
@@ -401,9 +402,17 @@ impl FlangeRef {
             Some(Mover::Line(k)) => lines[k].force += self.scale * force,
         }
         if let Some((_, j, k)) = self.second {
-            tau[j] += k * force;
+            tau[j as usize] += k * force;
         }
     }
+}
+
+/// A place's motion with its second coordinate's added: out of the way of
+/// the usual one-coordinate places.
+#[cold]
+#[inline(never)]
+fn with_second((i, j, k): (u32, u32, f64), (s, v): (f64, f64), q: &[f64], u: &[f64]) -> (f64, f64) {
+    (s + k * q[i as usize], v + k * u[j as usize])
 }
 
 /// The line between two frames' origins whose length places a
