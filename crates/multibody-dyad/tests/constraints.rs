@@ -309,3 +309,34 @@ end"
     compare(&s, "pinion_w.phi", "pinion_b.phi", 1e-10);
     compare(&s, "mass_w.s", "mass_b.s", 1e-10);
 }
+
+/// An equation between two joints' axis angles couples the joints: two
+/// pendulums held to one angle move as the single pendulum that carries
+/// both bodies.
+#[test]
+fn an_equation_between_joint_axes_couples_the_joints() {
+    let s = simulate(&format!(
+        "example component Coupled
+  world = MultibodyComponents.World()
+  rev1 = MultibodyComponents.Revolute(axisflange = true, phi(initial = 0.3), w(initial = 0))
+  body1 = MultibodyComponents.Body(m = 1, r_cm = [0.5, 0, 0])
+  rev2 = MultibodyComponents.Revolute(axisflange = true)
+  body2 = MultibodyComponents.Body(m = 2, r_cm = [0.3, 0.1, 0])
+  single = MultibodyComponents.Revolute(phi(initial = 0.3), w(initial = 0))
+  both1 = MultibodyComponents.Body(m = 1, r_cm = [0.5, 0, 0])
+  both2 = MultibodyComponents.Body(m = 2, r_cm = [0.3, 0.1, 0])
+relations
+  connect(world.frame_b, rev1.frame_a, rev2.frame_a, single.frame_a)
+  connect(rev1.frame_b, body1.frame_a)
+  connect(rev2.frame_b, body2.frame_a)
+  connect(single.frame_b, both1.frame_a, both2.frame_a)
+  rev1.axis.phi = rev2.axis.phi
+end
+analysis Run
+  {RUN}
+  model = Coupled()
+end"
+    ));
+    compare(&s, "rev1.phi", "single.phi", 1e-9);
+    compare(&s, "rev2.phi", "single.phi", 1e-9);
+}
