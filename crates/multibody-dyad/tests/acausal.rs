@@ -6,17 +6,8 @@
 
 mod common;
 
-use common::{error_of, simulate};
+use common::{error_of, report, simulate, worst_difference};
 use multibody_dyad::Package;
-
-fn worst_difference(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
-}
-
-fn report(what: &str, worst: f64, tolerance: f64) {
-    println!("{what}: worst {worst:.2e} ({:.3} of the tolerance {tolerance:e})", worst / tolerance);
-    assert!(worst <= tolerance, "{what}: {worst:e} > {tolerance:e}");
-}
 
 /// A rotational spring-damper in the library's form, `w_rel = der(phi_rel)`,
 /// between two inertias, beside the built-in one: the same motion.

@@ -43,3 +43,14 @@ pub fn error_of(text: &str) -> String {
 fn only_analysis(package: &Package) -> String {
     package.definitions().into_iter().find(|d| d.kind == DefinitionKind::Analysis).expect("an analysis").name
 }
+
+/// The largest |a - b| over two columns.
+pub fn worst_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+}
+
+/// Prints `worst` as a fraction of `tolerance` and holds it to it.
+pub fn report(what: &str, worst: f64, tolerance: f64) {
+    println!("{what}: worst {worst:.2e} ({:.3} of the tolerance {tolerance:e})", worst / tolerance);
+    assert!(worst <= tolerance, "{what}: {worst:e} > {tolerance:e}");
+}
