@@ -162,6 +162,35 @@ fn a_massless_node_between_written_elements_is_held_by_their_forces() {
     check(&table, "block.v", 1e-7, move |t| 2.0 * (1.0 - decay(t) * (5.0 * t).cos()));
 }
 
+/// Torque sensors of the library form in line on a driven shaft: each
+/// reads the closed-form torque at its place, the multi-sensor also the
+/// speed and power, and a filter written in the model integrates the torque
+/// at the wall (a state fed by a reaction).
+#[test]
+fn in_line_sensors_read_the_torque_through_them() {
+    let table = run("in_line_sensors.dyad", None);
+    let pi = std::f64::consts::PI;
+    let (j, c, t0, w): (f64, f64, f64, f64) = (2.0, 20.0, 2.0, pi);
+    let w0 = (c / j).sqrt();
+    let a = t0 / (c - j * w * w);
+    let phi = move |t: f64| a * ((w * t).sin() - w / w0 * (w0 * t).sin());
+    let speed = move |t: f64| a * w * ((w * t).cos() - (w0 * t).cos());
+    let accel = move |t: f64| a * (-w * w * (w * t).sin() + w * w0 * (w0 * t).sin());
+    let between = move |t: f64| 1.5 * accel(t) + c * phi(t);
+    // A first-order filter (T = 0.1) of sin(k t) from rest.
+    let filtered = |k: f64, t: f64| {
+        let kt = k * 0.1;
+        ((k * t).sin() - kt * (k * t).cos() + kt * (-t / 0.1).exp()) / (1.0 + kt * kt)
+    };
+    check(&table, "at_motor.tau", 1e-7, move |t| t0 * (w * t).sin());
+    check(&table, "between.tau", 1e-7, between);
+    check(&table, "between.w", 1e-7, speed);
+    check(&table, "between.power", 1e-7, move |t| between(t) * speed(t));
+    check(&table, "at_wall.tau", 1e-7, move |t| c * phi(t));
+    check(&table, "smoother.y", 1e-7, move |t| c * a * (filtered(w, t) - w / w0 * filtered(w0, t)));
+    check(&table, "second.phi", 1e-7, phi);
+}
+
 #[test]
 fn every_model_with_equations_is_checked() {
     let source = std::fs::read_to_string(crate_path("tests/equations.rs")).unwrap();

@@ -240,19 +240,136 @@ end",
     );
 }
 
+/// Force sensors of the library form in line on a chain of masses and
+/// springs (at the wall, between two masses, between a spring and the last
+/// mass), side by side with the same chain without them: the motion is the
+/// same, and each reading is the force the built-in elements give there.
 #[test]
-fn reading_the_flow_through_a_rigid_part_is_refused_clearly() {
+fn force_sensors_in_line_read_the_forces_of_the_chain_without_them() {
+    let s = simulate(&format!(
+        "example component Sensed
+  wall = TranslationalComponents.Fixed()
+  at_wall = TranslationalComponents.ForceSensor()
+  spring1 = TranslationalComponents.Spring(c = 40)
+  m1 = TranslationalComponents.Mass(m = 1, s(initial = 0.3), v(initial = 0))
+  middle = TranslationalComponents.MultiSensor()
+  m2 = TranslationalComponents.Mass(m = 2)
+  spring2 = TranslationalComponents.Spring(c = 25, s_rel0 = 0.5)
+  at_end = TranslationalComponents.PowerSensor()
+  m3 = TranslationalComponents.Mass(m = 0.5, s(initial = 1), v(initial = 0.5))
+  twin_wall = TranslationalComponents.Fixed()
+  twin_spring1 = TranslationalComponents.Spring(c = 40)
+  twin_m1 = TranslationalComponents.Mass(m = 1, s(initial = 0.3), v(initial = 0))
+  twin_m2 = TranslationalComponents.Mass(m = 2)
+  twin_spring2 = TranslationalComponents.Spring(c = 25, s_rel0 = 0.5)
+  twin_m3 = TranslationalComponents.Mass(m = 0.5, s(initial = 1), v(initial = 0.5))
+relations
+  connect(wall.flange, at_wall.flange_a)
+  connect(at_wall.flange_b, spring1.flange_a)
+  connect(spring1.flange_b, m1.flange_a)
+  connect(m1.flange_b, middle.flange_a)
+  connect(middle.flange_b, m2.flange_a)
+  connect(m2.flange_b, spring2.flange_a)
+  connect(spring2.flange_b, at_end.flange_a)
+  connect(at_end.flange_b, m3.flange_a)
+  connect(twin_wall.flange, twin_spring1.flange_a)
+  connect(twin_spring1.flange_b, twin_m1.flange_a)
+  connect(twin_m1.flange_b, twin_m2.flange_a)
+  connect(twin_m2.flange_b, twin_spring2.flange_a)
+  connect(twin_spring2.flange_b, twin_m3.flange_a)
+end
+analysis Run
+  {TIGHT}
+  model = Sensed()
+end"
+    ));
+    for mass in ["m1", "m2", "m3"] {
+        compare(&s, &format!("{mass}.s"), &format!("twin_{mass}.s"), 1e-10);
+    }
+    let twin = |name: &str| column(&s, name).to_vec();
+    let (f1, f2, a2, a3, v3) =
+        (twin("twin_spring1.f"), twin("twin_spring2.f"), twin("twin_m2.a"), twin("twin_m3.a"), twin("twin_m3.v"));
+    let exact = |name: &str, value: &dyn Fn(usize) -> f64| {
+        let worst = column(&s, name).iter().enumerate().map(|(i, y)| (y - value(i)).abs()).fold(0.0, f64::max);
+        report(name, worst, 1e-9);
+    };
+    // The wall holds the first spring; the middle sensor pushes the second
+    // mass against the second spring; the last one alone moves the end mass.
+    exact("at_wall.f", &|i| -f1[i]);
+    exact("middle.f", &|i| 2.0 * a2[i] - f2[i]);
+    exact("middle.v", &|i| column(&s, "twin_m2.v")[i]);
+    exact("at_end.power", &|i| 0.5 * a3[i] * v3[i]);
+}
+
+/// A measured torque fed back into the drive would act on the motion that
+/// decides it: refused, naming what it would feed.
+#[test]
+fn a_measured_flow_cannot_drive_the_motion() {
+    let message = error_of(&format!(
+        "example component Feedback
+  fixed = RotationalComponents.Fixed()
+  motor = RotationalComponents.Torque()
+  sensor = RotationalComponents.TorqueSensor()
+  gain = BlockComponents.Gain(k = -1)
+  j = RotationalComponents.Inertia(J = 0.5, phi(initial = 0), w(initial = 1))
+relations
+  connect(sensor.tau, gain.u)
+  connect(gain.y, motor.tau)
+  connect(motor.support, fixed.spline)
+  connect(motor.spline, sensor.spline_a)
+  connect(sensor.spline_b, j.spline_a)
+end
+analysis Run
+  {RUN}
+  model = Feedback()
+end"
+    ));
+    println!("{message}");
+    for expected in ["gives `gain` a value from a flow measured through a rigid part", "tau = spline_a.tau"] {
+        assert!(message.contains(expected), "`{expected}` missing from: {message}");
+    }
+}
+
+/// A sensor whose two sides an inertia also joins measures nothing
+/// determined: refused.
+#[test]
+fn a_flow_with_two_rigid_paths_is_refused() {
+    let message = error_of(&format!(
+        "example component Loop
+  j = RotationalComponents.Inertia(J = 0.5, phi(initial = 0), w(initial = 1))
+  sensor = RotationalComponents.TorqueSensor()
+relations
+  connect(j.spline_b, sensor.spline_a)
+  connect(sensor.spline_b, j.spline_a)
+end
+analysis Run
+  {RUN}
+  model = Loop()
+end"
+    ));
+    println!("{message}");
+    assert!(message.contains("other rigid parts hold together too"), "{message}");
+}
+
+/// Events are watched before the accelerations, so a `when` on a measured
+/// torque is refused with its clause under the caret.
+#[test]
+fn a_when_on_a_measured_flow_is_refused() {
     assert_refused(
         "component Part
   flange_a = Spline()
   flange_b = Spline()
   variable tau::Torque
+  variable hits::Real = initial 0
 relations
   flange_a.phi = flange_b.phi
   flange_a.tau + flange_b.tau = 0
   tau = flange_a.tau
+  when tau > 1
+    hits = pre(hits) + 1
+  end
 end",
-        &["measuring such a flow in line is not supported yet", "tau = flange_a.tau"],
+        &["this `when` reads", "depends on a flow measured through a rigid part"],
     );
 }
 

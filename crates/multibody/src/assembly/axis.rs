@@ -17,6 +17,19 @@ use crate::math::{RigidInertia, Transform, Vec3};
 use crate::system::{Anchor, AxisElement, Coupling, FlangeRef, JointModel, Link, GROUND};
 use crate::Error;
 
+/// The states of a coordinate without inertia on a measured coupling's
+/// side, by the coupling's local connector (splines, then flanges).
+const SIDE_STATES: [StateNames; 8] = [
+    StateNames { q: &[("spline_1.phi", 1)], u: &[("spline_1.w", 1)] },
+    StateNames { q: &[("spline_2.phi", 1)], u: &[("spline_2.w", 1)] },
+    StateNames { q: &[("spline_3.phi", 1)], u: &[("spline_3.w", 1)] },
+    StateNames { q: &[("spline_4.phi", 1)], u: &[("spline_4.w", 1)] },
+    StateNames { q: &[("flange_1.s", 1)], u: &[("flange_1.v", 1)] },
+    StateNames { q: &[("flange_2.s", 1)], u: &[("flange_2.v", 1)] },
+    StateNames { q: &[("flange_3.s", 1)], u: &[("flange_3.v", 1)] },
+    StateNames { q: &[("flange_4.s", 1)], u: &[("flange_4.v", 1)] },
+];
+
 /// For every 1-D node, where it sits and the connector that placed it
 /// (`None`: nothing places it).
 pub type Places = Vec<Option<(FlangeRef, usize)>>;
@@ -28,9 +41,9 @@ type GearTerms = Vec<(usize, f64, usize)>;
 /// the constant forces on coordinates.
 pub struct DriveTrain {
     pub places: Places,
-    /// `(component, terms (node, coefficient, connector), constant)` of
-    /// each gear that could not be made rigid.
-    pending: Vec<(usize, GearTerms, f64)>,
+    /// `(component, terms (node, coefficient, connector), constant,
+    /// measured)` of each gear that could not be made rigid or is measured.
+    pending: Vec<(usize, GearTerms, f64, bool)>,
     pub axis_forces: Vec<(usize, f64)>,
     /// `(component, centre, state names)` of each 1-D body that turns with
     /// another coordinate than its own.
@@ -98,7 +111,7 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
                 Part::Inertia1D { a, b, length, .. } => {
                     rigid.push((ci, pi, node_of(components, ci, *a), node_of(components, ci, *b), *length))
                 }
-                Part::Coupling { terms, constant } => {
+                Part::Coupling { terms, constant, measured } => {
                     let terms = terms
                         .iter()
                         .map(|&(local, k)| {
@@ -106,13 +119,14 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
                             (conn.flange_node_of[id], k, id)
                         })
                         .collect::<Vec<_>>();
-                    gears.push((ci, terms, *constant));
+                    gears.push((ci, pi, terms, *constant, *measured));
                 }
                 _ => {}
             }
         }
     }
-    let mut gear_done = vec![false; gears.len()];
+    // A measured coupling's reaction is its multiplier: it stays a constraint.
+    let mut gear_done: Vec<bool> = gears.iter().map(|g| g.4).collect();
     loop {
         let mut progress = false;
         for &(ci, _, a, b, length) in &rigid {
@@ -140,7 +154,7 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
         // constraint of its own (an inertia there would couple the two).
         let no_inertia_left = rigid.iter().all(|r| place[r.2].is_some() || place[r.3].is_some());
         for most in if no_inertia_left { [1, 2].as_slice() } else { &[1] } {
-            for (g, (_, terms, constant)) in gears.iter().enumerate() {
+            for (g, (_, _, terms, constant, _)) in gears.iter().enumerate() {
                 if gear_done[g] {
                     continue;
                 }
@@ -159,7 +173,17 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
         }
         // A free inertia: its centre becomes a coordinate of its own.
         let Some(&(ci, pi, a, b, length)) = rigid.iter().find(|r| place[r.2].is_none() && place[r.3].is_none()) else {
-            break;
+            // A side of a measured coupling that nothing else places: a
+            // coordinate without inertia, which the constraint determines.
+            let side = gears.iter().filter(|g| g.4).find_map(|(ci, pi, terms, _, _)| {
+                let Part::Coupling { terms: locals, .. } = &components[*ci].parts[*pi] else { return None };
+                terms.iter().zip(locals).find(|(t, _)| place[t.0].is_none()).map(|(t, l)| (*ci, *pi, t.0, t.2, l.0))
+            });
+            let Some((ci, pi, node, id, local)) = side else { break };
+            let joint = JointModel::Prismatic { axis: Vec3::x() };
+            let k = push_link(tree, components, (ci, pi), GROUND, Transform::IDENTITY, joint, SIDE_STATES[local]);
+            place[node] = Some((FlangeRef::on(tree.links[k].q_offset, tree.links[k].v_offset), id));
+            continue;
         };
         let Part::Inertia1D { states, .. } = components[ci].parts[pi] else { unreachable!("rigid parts are inertias") };
         let joint = JointModel::Prismatic { axis: Vec3::x() };
@@ -188,7 +212,12 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
             axis_forces.push((v, weight * r.scale));
         }
     }
-    let pending = gears.into_iter().zip(gear_done).filter(|(_, done)| !done).map(|(g, _)| g).collect();
+    let pending = gears
+        .into_iter()
+        .zip(gear_done)
+        .filter(|(g, done)| g.4 || !done)
+        .map(|((ci, _, terms, constant, measured), _)| (ci, terms, constant, measured))
+        .collect();
     check_moving_mounts(components, conn, tree, &housings)?;
     Ok(DriveTrain { places: place, pending, axis_forces, geared })
 }
@@ -507,7 +536,7 @@ pub fn couplings(
     first_row: usize,
 ) -> Result<Vec<Coupling>, Error> {
     let mut couplings = Vec::new();
-    for (ci, terms, constant) in &drive.pending {
+    for (ci, terms, constant, measured) in &drive.pending {
         let mut coupling =
             Coupling { terms: Vec::new(), constant: *constant, row: first_row + couplings.len(), component: *ci };
         for &(_, c, id) in terms {
@@ -517,8 +546,21 @@ pub fn couplings(
             }
             coupling.constant += c * r.offset;
             for (q, v, k) in r.coordinates() {
-                coupling.terms.push((q, v, c * k));
+                match coupling.terms.iter_mut().find(|t| t.1 == v) {
+                    Some(t) => t.2 += c * k,
+                    None => coupling.terms.push((q, v, c * k)),
+                }
             }
+        }
+        let scale = terms.iter().map(|t| t.1.abs()).fold(0.0, f64::max);
+        if *measured && coupling.terms.iter().all(|t| t.2.abs() <= 1e-12 * scale) {
+            return Err(Error::Unsupported {
+                component: components[*ci].name.clone(),
+                what: "measuring the flow through a part whose two sides other rigid parts hold together too (how \
+                       the flow splits between them is not determined)"
+                    .into(),
+                fix: "measure where the flow has one path, or put a compliant element in the loop".into(),
+            });
         }
         couplings.push(coupling);
     }

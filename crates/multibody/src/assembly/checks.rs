@@ -5,18 +5,20 @@ use super::links::Tree;
 use super::mechanism::CompiledComponent;
 use crate::math::RigidInertia;
 use crate::system::joint::{JointModel, JointMotion, RotationCoordinates};
-use crate::system::GROUND;
+use crate::system::{Coupling, GROUND};
 use crate::Error;
 
 /// Every degree of freedom must move some inertia: `S' Ic S` must be
 /// positive definite for each joint, with `Ic` the composite inertia of
 /// what the joint moves, at the start configuration. Joints whose subtree
-/// reaches a constraint are left to the check of the constrained system
-/// (a loop may determine the motion of massless links).
+/// reaches a constraint, and coordinates that couplings hold, are left to
+/// the check of the constrained system (a loop, or an in-line sensor's
+/// constraint, may determine the motion of massless links).
 pub fn inertia_behind_every_joint(
     components: &[CompiledComponent],
     conn: &Connectors,
     tree: &Tree,
+    couplings: &[Coupling],
     q: &[f64],
 ) -> Result<(), Error> {
     let links = &tree.links;
@@ -43,6 +45,13 @@ pub fn inertia_behind_every_joint(
             while k != GROUND && !constrained[k] {
                 constrained[k] = true;
                 k = links[k].parent;
+            }
+        }
+    }
+    for c in couplings {
+        for &(_, v, _) in &c.terms {
+            if let Some(k) = links.iter().position(|l| l.v_offset == v && l.joint.nv() == 1) {
+                constrained[k] = true;
             }
         }
     }

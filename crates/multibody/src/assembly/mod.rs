@@ -141,9 +141,10 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         tree: &tree,
         places: &drive.places,
         links: &tree.links,
+        couplings: &couplings,
     };
     let (program, initial_of_equations) = plan.compile(&context, &mut signals, &mut states, &mut events)?;
-    checks::inertia_behind_every_joint(&components, &conn, &tree, &states.start[..states.nq])?;
+    checks::inertia_behind_every_joint(&components, &conn, &tree, &couplings, &states.start[..states.nq])?;
 
     // Start each massless group at the centre of the frames that hold it.
     let poses = link_poses(&tree.links, &states.start[..states.nq]);

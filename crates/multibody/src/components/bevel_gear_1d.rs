@@ -52,7 +52,8 @@ fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
 
 impl Component for BevelGear1D {
     fn parts(&self) -> Vec<Part> {
-        let mut parts = vec![Part::Coupling { terms: vec![(0, 1.0), (1, -self.ratio)], constant: 0.0 }];
+        let mut parts =
+            vec![Part::Coupling { terms: vec![(0, 1.0), (1, -self.ratio)], constant: 0.0, measured: false }];
         if self.mounted {
             parts.push(Part::Mount1D { frame: 2, flanges: vec![0, 1] });
         }

@@ -61,7 +61,7 @@ impl Component for FrictionElement {
             ],
             Kind::Brake | Kind::Bearing => vec![
                 // Both flanges are the one rubbing against the support.
-                Part::Coupling { terms: vec![(FLANGE_A, 1.0), (FLANGE_B, -1.0)], constant: 0.0 },
+                Part::Coupling { terms: vec![(FLANGE_A, 1.0), (FLANGE_B, -1.0)], constant: 0.0, measured: false },
                 Part::Housing { flange: SUPPORT },
                 Part::Friction { a: Some(SUPPORT), b: FLANGE_A, law, normal: (self.kind == Kind::Brake).then_some(3) },
             ],

@@ -91,7 +91,7 @@ impl Component for GearConstraint {
             ]
         };
         let mut parts: Vec<Part> = shaft(0, SHAFT_A).into_iter().chain(shaft(1, SHAFT_B)).collect();
-        parts.push(Part::Coupling { terms: vec![(5, 1.0), (6, -self.ratio)], constant: 0.0 });
+        parts.push(Part::Coupling { terms: vec![(5, 1.0), (6, -self.ratio)], constant: 0.0, measured: false });
         parts
     }
 

@@ -50,7 +50,11 @@ impl Component for IdealGear {
     fn parts(&self) -> Vec<Part> {
         // phi_a - phi_s = ratio (phi_b - phi_s)
         vec![
-            Part::Coupling { terms: vec![(0, 1.0), (1, -self.ratio), (2, self.ratio - 1.0)], constant: 0.0 },
+            Part::Coupling {
+                terms: vec![(0, 1.0), (1, -self.ratio), (2, self.ratio - 1.0)],
+                constant: 0.0,
+                measured: false,
+            },
             Part::Housing { flange: 2 },
         ]
     }
@@ -90,7 +94,11 @@ struct RackAndPinion {
 impl Component for RackAndPinion {
     fn parts(&self) -> Vec<Part> {
         vec![
-            Part::Coupling { terms: vec![(0, 1.0), (2, -1.0), (1, -self.ratio), (3, self.ratio)], constant: 0.0 },
+            Part::Coupling {
+                terms: vec![(0, 1.0), (2, -1.0), (1, -self.ratio), (3, self.ratio)],
+                constant: 0.0,
+                measured: false,
+            },
             Part::Housing { flange: 2 },
             Part::Housing { flange: 3 },
         ]

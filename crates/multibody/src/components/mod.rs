@@ -423,8 +423,10 @@ pub enum Part {
     /// positions of 1-D connectors: an ideal gear, or a rod of length
     /// `-constant`. Where it can, assembly makes it rigid (the driven side
     /// follows the driving one, with no constraint force to solve for);
-    /// otherwise it is a constraint.
-    Coupling { terms: Vec<(usize, f64)>, constant: f64 },
+    /// otherwise it is a constraint. A `measured` one (an in-line sensor
+    /// reads the flow through it) always stays a constraint, whose
+    /// multiplier is that flow.
+    Coupling { terms: Vec<(usize, f64)>, constant: f64, measured: bool },
     /// A rigid 1-D body from connector `a` to connector `b` (`b` sits at
     /// `a + length`) with inertia `inertia` (kg.m2 or kg) and a constant
     /// force `weight` along its axis. If nothing else moves it, its centre

@@ -228,6 +228,19 @@ impl System {
         Ok(())
     }
 
+    /// The blocks that read the multipliers of measured couplings (the
+    /// flows through in-line sensors), once the accelerations gave them.
+    pub(crate) fn run_blocks_after_accelerations(&self, ws: &mut Workspace) -> Result<(), DynamicsError> {
+        let program = &self.equations;
+        for &(row, register) in &program.reactions {
+            ws.registers[register as usize] = ws.lambda[row];
+        }
+        for b in program.first_post..program.blocks.len() {
+            self.run_equation_block(ws, b)?;
+        }
+        Ok(())
+    }
+
     /// The `when` clauses, after every block: their conditions (which
     /// watch for events), and at events what they do.
     pub(crate) fn run_when_clauses(&self, ws: &mut Workspace) {

@@ -254,6 +254,9 @@ impl System {
             DynamicsError::EulerSingularity { link, .. } => DynamicsError::EulerSingularity { link, time: t },
             other => other,
         })?;
+        if self.equations.first_post < self.equations.blocks.len() {
+            self.run_blocks_after_accelerations(ws)?;
+        }
         self.equation_rates(ws, dx);
         Ok(())
     }

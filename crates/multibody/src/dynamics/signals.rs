@@ -91,7 +91,7 @@ impl System {
             };
             ws.signals[block.output] = value;
         }
-        while next < positions.len() {
+        while next < self.equations.first_post {
             self.run_equation_block(ws, next)?;
             next += 1;
         }

@@ -185,6 +185,12 @@ pub struct EquationProgram {
     pub outputs: Vec<(String, Reg)>,
     /// Whether a gather reads frames (the kinematics then computes world poses).
     pub reads_frames: bool,
+    /// `(constraint row, register)`: the multipliers of measured couplings
+    /// (in-line sensors), loaded once the accelerations are known.
+    pub reactions: Vec<(usize, Reg)>,
+    /// The blocks from this one on read those multipliers (or depend on
+    /// them): they run after the accelerations.
+    pub first_post: usize,
     /// The conditions of `when` clauses: run after every block, on every
     /// evaluation (their relations watch for events).
     pub when_conditions: Range<usize>,

@@ -277,6 +277,7 @@ pub(super) fn generate(
     let mut slot_reads: Vec<Option<usize>> = vec![None; n];
     let mut frames: Vec<(usize, Vec<_>)> = Vec::new();
     let mut gathers = Vec::new();
+    let mut reactions = Vec::new();
     for (v, source) in reads.iter().enumerate() {
         let Some(source) = source else { continue };
         reg[v] = em.register();
@@ -291,6 +292,7 @@ pub(super) fn generate(
             }
             Source::State(index) => gathers.push(Gather::State { index: *index, register: reg[v] }),
             Source::Discrete(k) => gathers.push(Gather::Discrete { slot: em.first_discrete + k, register: reg[v] }),
+            Source::Reaction(row) => reactions.push((*row, reg[v])),
         }
     }
     let reads_frames = !frames.is_empty();
@@ -362,6 +364,7 @@ pub(super) fn generate(
     let mut block_writes: Vec<Vec<usize>> = Vec::with_capacity(sorted.blocks.len());
     let mut block_of_unknown = vec![usize::MAX; n];
     let mut block_deps: Vec<Vec<usize>> = Vec::with_capacity(sorted.blocks.len());
+    let mut reads_reaction = Vec::with_capacity(sorted.blocks.len());
     let mut largest_block = 0;
     for (b, (rows, unknowns)) in sorted.blocks.iter().enumerate() {
         em.new_block();
@@ -377,6 +380,7 @@ pub(super) fn generate(
                 }
             });
         }
+        reads_reaction.push(mentioned.iter().any(|&v| matches!(reads[v], Some(Source::Reaction(_)))));
         let before = em.ops.len();
         let mut loads = Vec::new();
         let mut deps = Vec::new();
@@ -449,8 +453,19 @@ pub(super) fn generate(
         block_deps.push(deps);
     }
 
-    let positions = place(&mut blocks, &block_reads, &block_writes, &block_deps, signals, ctx, pending, sorted)?;
+    let fed = |slot: usize| owner_of_slot(ctx, signals, slot);
+    let after_dynamics = after_the_accelerations(&reads_reaction, &block_deps, &block_writes, pending, sorted, fed)?;
+    let post_decided: Vec<bool> = (0..n)
+        .map(|v| {
+            let rep = sorted.alias[v].map_or(v, |(of, _)| of);
+            block_of_unknown[rep] != usize::MAX && after_dynamics[block_of_unknown[rep]]
+        })
+        .collect();
+    refuse_events_on_reactions(pending, &post_decided)?;
+    let positions =
+        place(&mut blocks, &block_reads, &block_writes, &block_deps, &after_dynamics, signals, ctx, pending, sorted)?;
     let (blocks, positions) = fuse_explicit(&mut em.ops, blocks, positions);
+    let first_post = positions.iter().position(|&p| p == AFTER_DYNAMICS).unwrap_or(positions.len());
     let (when_conditions, when_actions, reinits) = when_clauses(&mut em, pending, reads, sorted, &reg, states)?;
 
     // The states of the equations join the state vector.
@@ -482,6 +497,8 @@ pub(super) fn generate(
         largest_block,
         outputs,
         reads_frames,
+        reactions,
+        first_post,
         when_conditions,
         when_actions,
         reinits,
@@ -594,7 +611,9 @@ fn reinit_target(
         Role::Declared(_) => "a variable the equations solve for, not a state (its `der` appears nowhere)",
         Role::Derivative { .. } | Role::Read(Read::State { rate: true, .. }) => "a derivative",
         Role::Read(Read::Signal { .. }) | Role::Written { .. } => "a signal",
-        Role::Read(Read::Frame { .. } | Read::Axis { .. }) => "a quantity of a connector that the mechanics decides",
+        Role::Read(Read::Frame { .. } | Read::Axis { .. } | Read::Reaction { .. }) => {
+            "a quantity of a connector that the mechanics decides"
+        }
         Role::Read(Read::State { .. }) => "not a state",
     };
     let mut names: Vec<&str> = sorted.states.iter().map(|&s| pending.vars[s].name.as_str()).collect();
@@ -631,6 +650,7 @@ fn place(
     reads: &[Vec<usize>],
     writes: &[Vec<usize>],
     deps: &[Vec<usize>],
+    after_dynamics: &[bool],
     signals: &mut Signals,
     ctx: &Context,
     pending: &Pending,
@@ -654,6 +674,10 @@ fn place(
     for (i, b) in library.iter().enumerate() {
         needs[i] = b.inputs.iter().filter_map(|s| writer.get(s).copied()).filter(|&w| w != i).collect();
     }
+    debug_assert!(
+        (0..nl).all(|i| needs[i].iter().all(|&w| w < nl || !after_dynamics[w - nl])),
+        "blocks after the accelerations write no slot"
+    );
     for k in 0..blocks.len() {
         let mut list: Vec<usize> = reads[k].iter().filter_map(|s| writer.get(s).copied()).collect();
         list.extend(deps[k].iter().map(|&d| nl + d));
@@ -712,7 +736,9 @@ fn place(
     let mut positions = Vec::new();
     let mut kept = Vec::with_capacity(nl);
     let mut library: Vec<Option<_>> = library.into_iter().map(Some).collect();
-    for node in order {
+    // The blocks that read reactions run last, after the accelerations.
+    let (before, after): (Vec<usize>, Vec<usize>) = order.into_iter().partition(|&i| i < nl || !after_dynamics[i - nl]);
+    for node in before {
         if node < nl {
             kept.push(library[node].take().expect("each node once"));
         } else {
@@ -720,8 +746,88 @@ fn place(
             blocks.push(old[node - nl].take().expect("each node once"));
         }
     }
+    for node in after {
+        positions.push(AFTER_DYNAMICS);
+        blocks.push(old[node - nl].take().expect("each node once"));
+    }
     signals.blocks = kept;
     Ok(positions)
+}
+
+/// The place of the blocks that run after the accelerations.
+const AFTER_DYNAMICS: usize = usize::MAX;
+
+/// Which blocks run after the accelerations: those that read a measured
+/// coupling's multiplier, and what depends on them. They may decide
+/// variables and states' rates, but give the mechanics nothing (no flow,
+/// no input of a library component), since it moved before them.
+fn after_the_accelerations(
+    reads_reaction: &[bool],
+    deps: &[Vec<usize>],
+    writes: &[Vec<usize>],
+    pending: &Pending,
+    sorted: &Sorted,
+    fed: impl Fn(usize) -> String,
+) -> Result<Vec<bool>, Error> {
+    // Blocks come in dependency order.
+    let mut after = reads_reaction.to_vec();
+    for b in 0..after.len() {
+        after[b] = after[b] || deps[b].iter().any(|&d| after[d]);
+        if after[b] && !writes[b].is_empty() {
+            let origins = sorted.blocks[b].0.iter().map(|&r| pending.origins[sorted.source[r]].clone()).collect();
+            let names = sorted.blocks[b].1.iter().map(|&v| pending.vars[v].name.clone()).collect();
+            let mut fed: Vec<String> = writes[b].iter().map(|&slot| fed(slot)).collect();
+            fed.dedup();
+            return Err(problem(
+                format!(
+                    "this equation gives `{}` a value from a flow measured through a rigid part, which is known only \
+                     once the accelerations are: it cannot act on the motion",
+                    fed.join("`, `")
+                ),
+                origins,
+                names,
+                "record the measured flow, or use it in equations of your own (a filter with a state works); to \
+                 feed it back, measure the force of a compliant element (a spring's or damper's `tau` or `f`)",
+            ));
+        }
+    }
+    Ok(after)
+}
+
+/// A `when` clause watches its conditions before the accelerations, so it
+/// cannot read what is decided after them.
+fn refuse_events_on_reactions(pending: &Pending, post_decided: &[bool]) -> Result<(), Error> {
+    for w in &pending.whens {
+        let mut names = Vec::new();
+        let mut note = |v: usize| {
+            if post_decided[v] && !names.contains(&pending.vars[v].name) {
+                names.push(pending.vars[v].name.clone());
+            }
+        };
+        for (condition, actions) in &w.branches {
+            condition.each_var(&mut note);
+            for action in actions {
+                match action {
+                    PendingAction::Assign { value, .. } | PendingAction::Reinit { value, .. } => {
+                        value.each_var(&mut note)
+                    }
+                }
+            }
+        }
+        if !names.is_empty() {
+            return Err(problem(
+                format!(
+                    "this `when` reads `{}`, which depends on a flow measured through a rigid part: events cannot \
+                     watch it yet",
+                    names.join("`, `")
+                ),
+                vec![w.origin.clone()],
+                names,
+                "watch a quantity of the motion, or the force of a compliant element",
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Lays the ops out in evaluation order and fuses each run of blocks in

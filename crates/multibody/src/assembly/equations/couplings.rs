@@ -17,7 +17,7 @@ use crate::components::blocks::equation::{EquationPart, COUPLING_CONNECTORS};
 use crate::components::ConnectorType;
 use crate::math::expr::Expr;
 use crate::math::union_find::UnionFind;
-use crate::model::{Equations, Flow};
+use crate::model::{Equation, Equations, Flow};
 use crate::{Error, Model};
 use std::collections::{HashMap, HashSet};
 
@@ -105,9 +105,16 @@ struct Row {
     constant: f64,
 }
 
+/// The suffix of the variable that stands for a measured coupling's
+/// multiplier (`sensor (reaction)`): no name a model can write.
+pub(super) const REACTION: &str = " (reaction)";
+
 /// Takes the equations that relate positions of 1-D connectors alone out of
 /// `eqs` (with the flows and balance equations of the connectors they
-/// hold) and returns the hidden couplings that replace them.
+/// hold) and returns the hidden couplings that replace them. Where other
+/// equations read a held flow (an in-line sensor), the coupling is
+/// measured: the flow becomes `-c * reaction`, read from its multiplier
+/// after the accelerations.
 pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity, model: &Model) -> Result<Vec<Extra>, Error> {
     let declared: HashSet<&str> = eqs.variables.iter().map(|v| v.name.as_str()).collect();
     let assigned: HashSet<&str> = eqs
@@ -187,6 +194,7 @@ pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity, model: &Model
     let mut drop_equations: HashSet<usize> = HashSet::new();
     let mut drop_flows: HashSet<usize> = HashSet::new();
     let mut drop_variables: HashSet<String> = HashSet::new();
+    let mut measured_flows = Vec::new();
     for g in order {
         let group = &members[&g];
         // Only groups that reach positions can hold them; elimination is
@@ -215,6 +223,7 @@ pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity, model: &Model
             }
         }
         let held_names: HashSet<&str> = held.iter().map(|h| h.0.as_str()).collect();
+        let mut reader = None;
         for (i, e) in eqs.equations.iter().enumerate() {
             let mut names = Vec::new();
             e.lhs.variables(&mut names);
@@ -225,17 +234,8 @@ pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity, model: &Model
             let balance = linear(&Expr::Sub(Box::new(e.lhs.clone()), Box::new(e.rhs.clone())))
                 .filter(|f| f.terms.iter().all(|t| held_names.contains(t.0.as_str())) && f.constant == 0.0);
             let Some(balance) = balance else {
-                let flow = names.iter().find(|n| held_names.contains(*n)).expect("one is held");
-                return Err(problem(
-                    format!(
-                        "this equation reads `{flow}`, the flow through a connector that an equation between \
-                         positions holds rigidly; measuring such a flow in line is not supported yet"
-                    ),
-                    vec![e.origin.clone()],
-                    vec![flow.to_string()],
-                    "measure the flow with the library's sensors in the results, or put a stiff spring in line \
-                     and read its force",
-                ));
+                reader.get_or_insert_with(|| e.origin.clone());
+                continue;
             };
             for reaction in &constraints {
                 let work: f64 = balance
@@ -258,7 +258,10 @@ pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity, model: &Model
             }
             drop_equations.insert(i);
         }
-        drop_variables.extend(held.iter().map(|h| h.0.clone()));
+        let measured = reader.is_some();
+        if !measured {
+            drop_variables.extend(held.iter().map(|h| h.0.clone()));
+        }
 
         let prefix = common_prefix(group.iter().flat_map(|&r| rows[r].own.iter().map(|t| own.names[t.0].as_str())));
         for (n, reaction) in constraints.iter().enumerate() {
@@ -292,7 +295,24 @@ pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity, model: &Model
                 name.push('\'');
             }
             let constant = *reaction.last().expect("the constant is last");
-            extras.push(Extra { name, part: EquationPart::Coupling { terms, constant }, rotational: false, joins });
+            let part = EquationPart::Coupling { terms, constant, measured };
+            extras.push(Extra { name, part, rotational: false, joins });
+        }
+        // Each held flow is what the constraints apply at its connector,
+        // turned round: `flow = -sum_n c_n reaction_n`.
+        if let Some(origin) = reader {
+            let couplings = &extras[extras.len() - constraints.len()..];
+            for (flow, p) in &held {
+                let mut value = Expr::Const(0.0);
+                for (reaction, coupling) in constraints.iter().zip(couplings) {
+                    if reaction[*p] != 0.0 {
+                        let multiplier = Expr::Var(format!("{}{REACTION}", coupling.name));
+                        let term = Expr::Mul(Box::new(Expr::Const(-reaction[*p])), Box::new(multiplier));
+                        value = Expr::Add(Box::new(value), Box::new(term));
+                    }
+                }
+                measured_flows.push(Equation { lhs: Expr::Var(flow.clone()), rhs: value, origin: origin.clone() });
+            }
         }
     }
 
@@ -308,6 +328,7 @@ pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity, model: &Model
         !drop_flows.contains(&(f - 1))
     });
     eqs.variables.retain(|v| !drop_variables.contains(&v.name));
+    eqs.equations.extend(measured_flows);
     Ok(extras)
 }
 

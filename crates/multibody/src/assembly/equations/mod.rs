@@ -88,6 +88,11 @@ enum Read {
         name: String,
         rate: bool,
     },
+    /// The multiplier of a measured coupling (the hidden component
+    /// `coupling`), known once the accelerations are.
+    Reaction {
+        coupling: String,
+    },
 }
 
 #[derive(Clone, Debug)]
@@ -300,7 +305,10 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
         if let Some(&v) = table.by_name.get(name) {
             return Ok(v);
         }
-        let role = classify_library(name, &mut net, &formulas, &declared, model)?;
+        let role = match name.strip_suffix(couplings::REACTION) {
+            Some(coupling) => Some(Role::Read(Read::Reaction { coupling: coupling.to_string() })),
+            None => classify_library(name, &mut net, &formulas, &declared, model)?,
+        };
         let role = match role {
             Some(r) => r,
             None => {
@@ -528,6 +536,14 @@ impl Table {
             Role::Derivative { .. } | Role::Read(Read::Axis { speed: true, .. } | Read::State { rate: true, .. }) => {
                 return Err(second_derivative(&self.vars[v].name, origin))
             }
+            Role::Read(Read::Reaction { .. }) => {
+                return Err(problem(
+                    format!("`der` of `{}`, a flow measured through a rigid part, is not available", self.vars[v].name),
+                    vec![origin.to_string()],
+                    vec![self.vars[v].name.clone()],
+                    "filter the measured flow with a state of the equations instead",
+                ))
+            }
             Role::Written { .. } | Role::Read(Read::Signal { .. }) => {
                 return Err(problem(
                     format!(
@@ -739,6 +755,8 @@ pub(crate) struct Context<'a> {
     pub tree: &'a Tree,
     pub places: &'a Places,
     pub links: &'a [Link],
+    /// The couplings left as constraint rows (measured ones among them).
+    pub couplings: &'a [crate::system::Coupling],
 }
 
 impl Plan {
@@ -792,6 +810,8 @@ enum Source {
     State(usize),
     /// A discrete variable, by its number among them.
     Discrete(usize),
+    /// The multiplier of a constraint row, after the accelerations.
+    Reaction(usize),
 }
 
 /// The global connector number of `component.connector`.
@@ -833,6 +853,11 @@ fn resolve_reads(
                 Source::Axis { flange: axis::flange(ctx.components, ctx.conn, ctx.places, id)?, speed: *speed }
             }
             Read::State { name, rate } => Source::State(state_index(name, *rate, ctx, states)?),
+            Read::Reaction { coupling } => {
+                let ci = ctx.components.iter().position(|c| &c.name == coupling);
+                let row = ctx.couplings.iter().find(|c| Some(c.component) == ci).map(|c| c.row);
+                Source::Reaction(row.expect("a measured coupling stays a constraint row"))
+            }
         }));
     }
     Ok(out)

@@ -155,8 +155,8 @@ pub enum EquationPart {
     /// A flow at a 1-D connector.
     AxisFlow,
     /// `sum c_k x_k + constant = 0` over the connectors of [`COUPLING`]
-    /// (by local number).
-    Coupling { terms: Vec<(usize, f64)>, constant: f64 },
+    /// (by local number); `measured` when the equations read its reaction.
+    Coupling { terms: Vec<(usize, f64)>, constant: f64, measured: bool },
 }
 
 impl EquationPart {
@@ -211,8 +211,8 @@ impl Component for EquationPart {
                 Part::Element1D { a: 1, b: 0, law: Law1D::Flow { signal: 2 } },
                 Part::Housing { flange: 1 },
             ],
-            EquationPart::Coupling { terms, constant } => {
-                vec![Part::Coupling { terms: terms.clone(), constant: *constant }]
+            EquationPart::Coupling { terms, constant, measured } => {
+                vec![Part::Coupling { terms: terms.clone(), constant: *constant, measured: *measured }]
             }
         }
     }
