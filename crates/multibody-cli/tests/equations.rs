@@ -191,6 +191,22 @@ fn in_line_sensors_read_the_torque_through_them() {
     check(&table, "second.phi", 1e-7, phi);
 }
 
+/// Start values on variables that are not states (a spring's stretch, a
+/// damper's speed, an angle sensor's reading) are met by the free start
+/// values: each motion follows its closed form from that start.
+#[test]
+fn start_values_on_variables_that_are_not_states_place_the_mechanism() {
+    let table = run("start_on_non_states.dyad", None);
+    let w = 40f64.sqrt();
+    check(&table, "block.s", 1e-7, move |t| 0.5 + 0.3 * (w * t).cos());
+    check(&table, "spring.s_rel", 1e-7, move |t| 0.5 + 0.3 * (w * t).cos());
+    check(&table, "sliding.v", 1e-7, |t| 3.0 * (-t / 2.0).exp());
+    check(&table, "damper.v_rel", 1e-7, |t| 3.0 * (-t / 2.0).exp());
+    check(&table, "sliding.s", 1e-7, |t| 6.0 * (1.0 - (-t / 2.0).exp()));
+    check(&table, "disc.phi", 1e-7, |t| 0.4 * (2.0 * t).cos());
+    check(&table, "angle.phi", 1e-7, |t| 0.4 * (2.0 * t).cos());
+}
+
 #[test]
 fn every_model_with_equations_is_checked() {
     let source = std::fs::read_to_string(crate_path("tests/equations.rs")).unwrap();

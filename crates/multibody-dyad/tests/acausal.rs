@@ -276,6 +276,31 @@ fn a_start_value_on_a_computed_stretch_is_reported_not_dropped() {
     assert!(message.contains("variable s_rel::Length"), "the message points at the variable: {message}");
 }
 
+/// A library spring's stretch given at the start, with both ends' start
+/// values fixed otherwise: no free start value can meet it, and the message
+/// says where, what it reaches, and which start values held.
+#[test]
+fn a_start_stretch_the_fixed_starts_cannot_meet_is_named_at_its_place() {
+    let message = error_of(
+        "example component Pinned
+  wall = TranslationalComponents.Fixed()
+  spring = TranslationalComponents.Spring(c = 40, s_rel(initial = 0.8))
+  block = TranslationalComponents.Mass(m = 1, s(initial = 0.25), v(initial = 0))
+relations
+  connect(wall.flange, spring.flange_a)
+  connect(spring.flange_b, block.flange_a)
+end
+analysis Run
+  extends TransientAnalysis(stop = 1)
+  model = Pinned()
+end",
+    );
+    println!("{message}");
+    for expected in ["`spring.s_rel` cannot start at 0.8", "starts at 0.25 at best", "`block.s`", "s_rel(initial"] {
+        assert!(message.contains(expected), "`{expected}` missing from: {message}");
+    }
+}
+
 /// A parameter with a guess and no value is decided by the initialization
 /// (Modelica's `fixed = false` parameter): the spring constant that holds a
 /// pushed mass at rest at its start position, `c = F / s0`.

@@ -301,6 +301,29 @@ end"
     exact("at_end.power", &|i| 0.5 * a3[i] * v3[i]);
 }
 
+/// The MultiSensor that holds ElasticBearing's housing to its stiff
+/// spring-damper reads the torque the built-in spring-damper gives, the
+/// housing's speed, and their product.
+#[test]
+fn the_elastic_bearing_sensor_reads_the_spring_damper() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/msl/ElasticBearing.dyad"),
+    )
+    .unwrap();
+    let s = simulate(&text);
+    let spring_damper = column(&s, "springDamper.tau");
+    let scale = spring_damper.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    let negated: Vec<f64> = spring_damper.iter().map(|x| -x).collect();
+    report(
+        "multiSensor.tau vs -springDamper.tau",
+        worst_difference(column(&s, "multiSensor.tau"), &negated),
+        1e-12 * scale,
+    );
+    compare(&s, "multiSensor.w", "housing.w", 1e-12);
+    let power: Vec<f64> = negated.iter().zip(column(&s, "housing.w")).map(|(t, w)| t * w).collect();
+    report("multiSensor.power", worst_difference(column(&s, "multiSensor.power"), &power), 1e-12 * scale);
+}
+
 /// A measured torque fed back into the drive would act on the motion that
 /// decides it: refused, naming what it would feed.
 #[test]

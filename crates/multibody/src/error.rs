@@ -85,6 +85,9 @@ pub enum Error {
     #[error("`{component}.{variable}` is not a state here: {reason}")]
     NotAState { component: String, variable: String, reason: String },
 
+    #[error("`{component}.{variable}` cannot start at {value}: with the start values that hold{}, it starts at {} at best. Make one of them a guess (`guess` instead of `initial`), or change this value", if fixed.is_empty() { String::new() } else { format!(" ({})", list(fixed)) }, crate::Value::Number((reached * 1e9).round() / 1e9))]
+    StartUnmet { component: String, variable: String, value: f64, reached: f64, fixed: Vec<String> },
+
     #[error("the kinematic loop through {} cannot close: its constraints stay violated by {residual:.3e} (m or rad) at best.{}\nCheck the lengths and axes of the loop's parts, or fix fewer start values (use `guess` instead of `initial`).", list(joints), if fixed.is_empty() { String::new() } else { format!(" The fixed start values are {}.", fixed.join(", ")) })]
     LoopCannotClose { joints: Vec<String>, residual: f64, fixed: Vec<String> },
 
@@ -136,6 +139,7 @@ impl Error {
             | ConnectedRootPointMass { component, .. }
             | OwnerPositionedByJoints { component, .. }
             | NotAState { component, .. }
+            | StartUnmet { component, .. }
             | EulerSingularStart { component, .. }
             | Unsupported { component, .. } => vec![component],
             DuplicateName { name } => vec![name],
@@ -161,7 +165,9 @@ impl Error {
         use Error::*;
         match self {
             UnknownParameter { param, .. } | MissingParameter { param, .. } => Some(param),
-            UnknownVariable { variable, .. } | NotAState { variable, .. } => Some(variable),
+            UnknownVariable { variable, .. } | NotAState { variable, .. } | StartUnmet { variable, .. } => {
+                Some(variable)
+            }
             WrongSize { name, .. } | WrongType { name, .. } | InvalidValue { name, .. } => Some(name),
             UnknownConnector { connector, .. } => Some(connector),
             _ => None,

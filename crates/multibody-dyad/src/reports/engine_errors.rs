@@ -185,6 +185,7 @@ fn primary_label(error: &Error) -> String {
         Error::OwnerPositionedByJoints { .. } => "has an orientation state".into(),
         Error::NoInertia { .. } => "no inertia behind this joint".into(),
         Error::NotAState { .. } => "not a state".into(),
+        Error::StartUnmet { .. } => "cannot hold".into(),
         Error::Unsupported { .. } => "not supported yet".into(),
         Error::InconsistentRigidLoop { .. } => "part of the loop".into(),
         Error::AlgebraicLoop { .. } => "part of the algebraic loop".into(),

@@ -160,7 +160,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
             group.guess = ends.iter().sum::<Vec3>() / ends.len() as f64;
         }
     }
-    let initial_equations = initial::collect(model, &components, &conn, &tree)?;
+    let initial_equations = initial::collect(model, &components, &conn, &tree, &drive.places)?;
     let flow_tree = flows::flow_tree(&components, &conn, &tree);
 
     let flange_of_connector = axis::of_connectors(&conn, &drive.places);
