@@ -1,6 +1,6 @@
 //! `multibody check`: assemble and describe the mechanism without simulating.
 
-use crate::exit::Failure;
+use crate::exit::{error_word, Failure};
 use crate::load::{choose, file_of, lower, print_diagnostics, read_package, Target};
 use crate::run::number;
 use crate::Selection;
@@ -13,6 +13,23 @@ pub fn check(selection: &Selection) -> Result<(), Failure> {
         print_diagnostics(&package, &[d]);
         Failure::Model
     })?;
+    // The start itself: equations that fail there (a singular system, no
+    // solution) would stop the run at once.
+    let start = lowered.options.start;
+    let reason = match multibody::Simulator::new(&mechanism, &lowered.options) {
+        Err(stopped) => Some(stopped.reason),
+        Ok(_) => {
+            let y = &mechanism.states().start;
+            let mut dy = vec![0.0; y.len()];
+            let mut ws = mechanism.workspace();
+            mechanism.rhs(&mut ws, start, y, &mut dy).err().map(|e| mechanism.describe(&e))
+        }
+    };
+    if let Some(reason) = reason {
+        let reason = lowered.with_places(package.sources(), &reason);
+        say!("{}: the model cannot start at t = {}: {reason}", error_word(), number(start));
+        return Err(Failure::Model);
+    }
     let what = match &target {
         Target::Analysis(name) => format!("analysis {name}, model {}", lowered.model.name),
         Target::Component(name) => format!("component {name}"),

@@ -94,7 +94,8 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         }
         Err(stopped) => {
             let partial_csv = output::partial_path(&out);
-            say!("{}: the simulation stopped at t = {}: {}", error_word(), number(stopped.time), stopped.reason);
+            let reason = lowered.with_places(package.sources(), &stopped.reason);
+            say!("{}: the simulation stopped at t = {}: {reason}", error_word(), number(stopped.time));
             let kept = csv.finish(&partial_csv)?;
             if let Some(solution) = kept.solution.as_ref().filter(|s| !s.is_empty()) {
                 write_views(args, &files, true, &lowered.name, &mechanism, solution)?;

@@ -397,3 +397,39 @@ end
     assert!(err.contains("`body.r_cm` = [1e300, 0, 0] is not allowed: the inertia about frame_a overflows"), "{err}");
     assert!(err.contains("far.dyad:4:"), "the caret is on the parameter: {err}");
 }
+
+/// Equations that cannot determine their unknowns: constant and singular
+/// (`x + y = 1`, `x + y = 2`; `x = x + 1`) are refused by `check` with the
+/// equations under carets; singular or without solution only where the run
+/// starts (`x * x = -1 - time`) are refused by `check` too, and `run` names
+/// them with their file and line (they used to read "#2; #3").
+#[test]
+fn equations_that_determine_nothing_are_named_where_they_are_written() {
+    let dir = scratch("singular-equations");
+    let write = |name: &str, equations: &str| {
+        let text = format!(
+            "example component Sing\n  variable x::Real\n  variable y::Real\nrelations\n{equations}\nend\n\
+             analysis R\n  extends TransientAnalysis(stop = 1)\n  model = Sing()\nend\n"
+        );
+        std::fs::write(dir.join(name), text).unwrap();
+    };
+    write("repeated.dyad", "  x + y = 1\n  x + y = 2");
+    write("circular.dyad", "  x = x + 1\n  y = 0");
+    write("complex.dyad", "  x * x = -1 - time\n  y = 0");
+    for (file, expected) in [
+        ("repeated.dyad", ["do not determine `x`, `y`", "repeated.dyad:5:3"]),
+        ("circular.dyad", ["do not determine `x`", "circular.dyad:5:3"]),
+        ("complex.dyad", ["cannot start at t = 0", "complex.dyad:5:3)"]),
+    ] {
+        let o = multibody(&dir, &["check", file]);
+        println!("{}", stderr(&o));
+        assert_eq!(code(&o), 1, "{file}: {}", stderr(&o));
+        for e in expected {
+            assert!(stderr(&o).contains(e), "{file}: `{e}` missing from {}", stderr(&o));
+        }
+    }
+    let o = multibody(&dir, &["run", "complex.dyad", "--out", "r.csv"]);
+    assert_eq!(code(&o), 3, "{}", stderr(&o));
+    assert!(stderr(&o).contains("the equations `x * x = -1 - time` ("), "{}", stderr(&o));
+    assert!(stderr(&o).contains("complex.dyad:5:3)"), "{}", stderr(&o));
+}

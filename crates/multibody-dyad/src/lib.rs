@@ -94,6 +94,29 @@ impl Lowered {
     pub fn assemble(&self) -> Result<Mechanism, Diagnostic> {
         self.model.assemble().map_err(|e| reports::engine_errors::engine_diagnostic(&e, &self.source_map))
     }
+
+    /// `message` with each origin `#k` it names (the equations of a
+    /// message from the run) written as the equation and where it is:
+    /// "`x * x = -1 - time` (model.dyad:4:3)".
+    pub fn with_places(&self, sources: &Sources, message: &str) -> String {
+        let mut out = String::with_capacity(message.len());
+        let mut rest = message;
+        while let Some(at) = rest.find('#') {
+            out.push_str(&rest[..at]);
+            let digits = rest[at + 1..].bytes().take_while(u8::is_ascii_digit).count();
+            let token = &rest[at..at + 1 + digits];
+            match self.source_map.origin(token) {
+                Some(span) if digits > 0 => {
+                    let text = sources.slice(span).split_whitespace().collect::<Vec<_>>().join(" ");
+                    out.push_str(&format!("`{text}` ({})", sources.location(span)));
+                }
+                _ => out.push_str(token),
+            }
+            rest = &rest[at + token.len()..];
+        }
+        out.push_str(rest);
+        out
+    }
 }
 
 /// A definition of the package, for listing.

@@ -71,7 +71,8 @@ impl Package {
                 Ok(samples)
             }
             Err(stopped) => {
-                Err(RunError::Stopped { time: stopped.time, reason: stopped.reason, partial: Box::new(samples) })
+                let reason = lowered.with_places(self.sources(), &stopped.reason);
+                Err(RunError::Stopped { time: stopped.time, reason, partial: Box::new(samples) })
             }
         }
     }

@@ -330,7 +330,8 @@ impl Mechanism {
                 self.system.equations.blocks[block].label
             ),
             DynamicsError::EquationsDiverged { block } => format!(
-                "Newton's method found no solution of the equations {} here (no solution near the last one, or a                  discontinuity); give their variables better start values, or reformulate them",
+                "Newton's method found no solution of the equations {} here (no solution near the last one, or a \
+                 discontinuity); give their variables better start values, or reformulate them",
                 self.system.equations.blocks[block].label
             ),
         }

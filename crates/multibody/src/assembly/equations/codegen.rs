@@ -418,6 +418,7 @@ pub(super) fn generate(
                         jacobian.push(d);
                     }
                 }
+                refuse_constant_singular(&jacobian, rows, unknowns, pending, sorted)?;
                 let jacobian_start = em.ops.len();
                 let jacobian: Vec<Reg> = jacobian.iter().map(|d| em.emit(d, &reg)).collect();
                 Solve::Newton {
@@ -752,6 +753,37 @@ fn place(
     }
     signals.blocks = kept;
     Ok(positions)
+}
+
+/// A block whose Jacobian is constant and singular never determines its
+/// unknowns: its equations repeat or contradict each other (`x + y = 1`,
+/// `x + y = 2`; `x = x + 1`). Refused here, with the equations, rather than
+/// when the run starts.
+fn refuse_constant_singular(
+    jacobian: &[S],
+    rows: &[usize],
+    unknowns: &[usize],
+    pending: &Pending,
+    sorted: &Sorted,
+) -> Result<(), Error> {
+    let Some(mut matrix) = jacobian.iter().map(|d| d.as_const()).collect::<Option<Vec<f64>>>() else {
+        return Ok(());
+    };
+    let n = unknowns.len();
+    if crate::math::dense::lu(&mut matrix, n, &mut vec![0; n]) {
+        return Ok(());
+    }
+    let names: Vec<String> = unknowns.iter().map(|&v| pending.vars[v].name.clone()).collect();
+    Err(problem(
+        format!(
+            "these equations do not determine `{}`: they repeat or contradict each other (with the others fixed, \
+             no unique value satisfies them)",
+            names.join("`, `")
+        ),
+        rows.iter().map(|&r| pending.origins[sorted.source[r]].clone()).collect(),
+        names,
+        "remove the equation that repeats another, or give one of these variables another equation",
+    ))
 }
 
 /// The place of the blocks that run after the accelerations.
