@@ -207,6 +207,34 @@ fn start_values_on_variables_that_are_not_states_place_the_mechanism() {
     check(&table, "angle.phi", 1e-7, |t| 0.4 * (2.0 * t).cos());
 }
 
+/// Library parts without mass between compliant elements (Mass(m = 0),
+/// Inertia(J = 0), a spring meeting a damper): each node is held by the
+/// balance of its forces, and the chains follow their closed forms, the
+/// nodes' positions and accelerations included.
+#[test]
+fn massless_library_parts_are_held_by_the_forces_on_them() {
+    let table = run("massless_library_parts.dyad", None);
+    let decay = |t: f64| (-5.0 * t).exp();
+    let force = move |t: f64| 10.0 - 10.0 * decay(t) * ((5.0 * t).cos() + (5.0 * t).sin());
+    let speed = move |t: f64| 2.0 * (1.0 - decay(t) * (5.0 * t).cos());
+    for chain in ["", "bare_"] {
+        check(&table, &format!("{chain}spring.f"), 1e-7, force);
+        check(&table, &format!("{chain}block.v"), 1e-7, speed);
+    }
+    // The node sits where the spring's force puts it: s = f / c.
+    check(&table, "node.s", 1e-7, move |t| force(t) / 50.0);
+    check(&table, "node.v", 1e-7, move |t| 100.0 * decay(t) * (5.0 * t).sin() / 50.0);
+    check(&table, "node.a", 1e-7, move |t| 500.0 * decay(t) * ((5.0 * t).cos() - (5.0 * t).sin()) / 50.0);
+    let a = 0.8 / (12.0 - 27.0);
+    let phi = move |t: f64| 0.5 * (2.0 * t).cos() + a * ((3.0 * t).sin() - 1.5 * (2.0 * t).sin());
+    let torque = |t: f64| 2.0 * (3.0 * t).sin();
+    check(&table, "disc.phi", 1e-7, phi);
+    // The massless joint between the springs: 50 x = 20 phi + torque.
+    check(&table, "joint.phi", 1e-7, move |t| (20.0 * phi(t) + torque(t)) / 50.0);
+    let phi_dd = move |t: f64| (-12.0 * phi(t) + 0.8 * (3.0 * t).sin()) / 3.0;
+    check(&table, "joint.a", 1e-7, move |t| (20.0 * phi_dd(t) - 18.0 * (3.0 * t).sin()) / 50.0);
+}
+
 #[test]
 fn every_model_with_equations_is_checked() {
     let source = std::fs::read_to_string(crate_path("tests/equations.rs")).unwrap();

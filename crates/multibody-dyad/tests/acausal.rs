@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{error_of, report, simulate, worst_difference};
+use common::{error_of, example, report, simulate, worst_difference};
 use multibody_dyad::Package;
 
 /// A rotational spring-damper in the library's form, `w_rel = der(phi_rel)`,
@@ -262,11 +262,7 @@ end
 /// variable, never dropped.
 #[test]
 fn a_start_value_on_a_computed_stretch_is_reported_not_dropped() {
-    let text = std::fs::read_to_string(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/equations/compliant_element.dyad"),
-    )
-    .unwrap()
-    .replace(
+    let text = example("equations/compliant_element.dyad").replace(
         "written = LinearSpringDamper(c = 40, d = 0.8)",
         "written = LinearSpringDamper(c = 40, d = 0.8, s_rel(initial = 0.2))",
     );
@@ -330,4 +326,65 @@ end
     report("c = F / s0", (c[0] - 3.0 / 0.2).abs(), 1e-9);
     let s = solution.get("s").unwrap();
     report("the mass stays at rest", s.iter().map(|s| (s - 0.2).abs()).fold(0.0, f64::max), 1e-9);
+}
+
+/// Nodes without mass whose balance has no closed form here are refused,
+/// each naming the element and the node: a contact law there, forces alone
+/// with nothing to hold the node, and two such nodes side by side.
+#[test]
+fn massless_nodes_the_balance_cannot_hold_are_refused() {
+    let chain = |parts: &str, connections: &str| {
+        format!(
+            "example component Chain
+  wall = TranslationalComponents.Fixed()
+  block = TranslationalComponents.Mass(m = 1, s(initial = 0), v(initial = 0))
+  node = TranslationalComponents.Mass(m = 0)
+{parts}
+relations
+{connections}
+end
+analysis Run
+  extends TransientAnalysis(stop = 1)
+  model = Chain()
+end"
+        )
+    };
+    let cases = [
+        (
+            chain(
+                "  gap = TranslationalComponents.ElastoGap(c = 100, d = 1)\n  spring = TranslationalComponents.Spring(c = 10)",
+                "  connect(wall.flange, gap.flange_a)\n  connect(gap.flange_b, node.flange_a)\n  connect(node.flange_b, spring.flange_a)\n  connect(spring.flange_b, block.flange_a)",
+            ),
+            "`gap`: a contact (gap or backlash) at the node without mass of `node`",
+        ),
+        (
+            chain(
+                "  push = TranslationalComponents.Force()\n  k = BlockComponents.Constant(k = 1)\n  rod = TranslationalComponents.Rod(L = 0)",
+                "  connect(k.y, push.f)\n  connect(wall.flange, push.support)\n  connect(push.flange, node.flange_a)\n  connect(block.flange_a, wall.flange)",
+            ),
+            "`node`: a node without mass with no spring or damper on it",
+        ),
+        (
+            chain(
+                "  s1 = TranslationalComponents.Spring(c = 10)\n  s2 = TranslationalComponents.Spring(c = 10)\n  s3 = TranslationalComponents.Spring(c = 10)\n  other = TranslationalComponents.Mass(m = 0)",
+                "  connect(wall.flange, s1.flange_a)\n  connect(s1.flange_b, node.flange_a)\n  connect(node.flange_b, s2.flange_a)\n  connect(s2.flange_b, other.flange_a)\n  connect(other.flange_b, s3.flange_a)\n  connect(s3.flange_b, block.flange_a)",
+            ),
+            "`s2`: an element from another node without mass",
+        ),
+    ];
+    for (text, expected) in cases {
+        let message = error_of(&text);
+        println!("{message}");
+        assert!(message.contains(expected), "`{expected}` missing from: {message}");
+    }
+    // Between springs alone the balance decides the node's position: a
+    // start value there cannot hold, and says so at its place.
+    let text = example("equations/massless_library_parts.dyad").replace(
+        "joint = RotationalComponents.Inertia(J = 0)",
+        "joint = RotationalComponents.Inertia(J = 0, phi(initial = 0.3))",
+    );
+    let message = error_of(&text);
+    println!("{message}");
+    assert!(message.contains("`joint.phi` is not a state here: it sits at a node without mass"), "{message}");
+    assert!(message.contains("phi(initial = 0.3)"), "{message}");
 }

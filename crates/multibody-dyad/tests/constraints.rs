@@ -8,7 +8,7 @@
 
 mod common;
 
-use common::{error_of, report, simulate, worst_difference};
+use common::{error_of, example, report, simulate, worst_difference};
 use multibody::Solution;
 
 fn column<'s>(s: &'s Solution, name: &str) -> &'s [f64] {
@@ -306,10 +306,7 @@ end"
 /// housing's speed, and their product.
 #[test]
 fn the_elastic_bearing_sensor_reads_the_spring_damper() {
-    let text = std::fs::read_to_string(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/msl/ElasticBearing.dyad"),
-    )
-    .unwrap();
+    let text = example("msl/ElasticBearing.dyad");
     let s = simulate(&text);
     let spring_damper = column(&s, "springDamper.tau");
     let scale = spring_damper.iter().fold(0.0f64, |a, x| a.max(x.abs()));

@@ -511,7 +511,7 @@ fn negative_stiffness_damping_mass_and_density_are_refused() {
         ("BodyCylinder", "density", -1.0),
         ("BodyCylinder", "diameter", -0.1),
         ("RotationalComponents.Inertia", "J", -1.0),
-        ("TranslationalComponents.Mass", "m", 0.0),
+        ("TranslationalComponents.Mass", "m", -1.0),
         ("Rotor1D", "J", 0.0),
         ("RotationalComponents.IdealGear", "ratio", 0.0),
         ("BevelGear1D", "ratio", 0.0),

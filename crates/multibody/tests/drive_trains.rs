@@ -148,7 +148,7 @@ fn a_rack_and_pinion_reflects_the_rack_mass() {
 }
 
 /// A rigid 1-D body between two joint axes cannot move with both; and an
-/// inertia must have some.
+/// inertia without mass needs forces to hold it.
 #[test]
 fn impossible_drive_trains_are_explained() {
     let mut model = Model::new("bad");
@@ -190,8 +190,19 @@ fn impossible_drive_trains_are_explained() {
         }
     }
 
+    // An inertia without mass is a node the forces on it must hold; alone,
+    // nothing does. A negative one is no inertia at all.
     let mut model = Model::new("weightless");
     model.add("disc", "RotationalComponents.Inertia").set("J", 0.0);
+    match model.assemble() {
+        Err(Error::Unsupported { component, what, .. }) => {
+            assert_eq!(component, "disc");
+            assert!(what.contains("no spring or damper on it"), "{what}");
+        }
+        other => panic!("expected an error naming the disc, got {other:?}"),
+    }
+    let mut model = Model::new("negative_inertia");
+    model.add("disc", "RotationalComponents.Inertia").set("J", -1.0);
     assert!(matches!(model.assemble(), Err(Error::InvalidValue { name, .. }) if name == "J"));
 }
 

@@ -54,3 +54,9 @@ pub fn report(what: &str, worst: f64, tolerance: f64) {
     println!("{what}: worst {worst:.2e} ({:.3} of the tolerance {tolerance:e})", worst / tolerance);
     assert!(worst <= tolerance, "{what}: {worst:e} > {tolerance:e}");
 }
+
+/// The text of a model file of the repository's `examples/` folder.
+pub fn example(path: &str) -> String {
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples").join(path);
+    std::fs::read_to_string(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()))
+}

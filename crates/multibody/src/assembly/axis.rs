@@ -48,6 +48,8 @@ pub struct DriveTrain {
     /// `(component, centre, state names)` of each 1-D body that turns with
     /// another coordinate than its own.
     pub geared: Vec<(usize, FlangeRef, StateNames)>,
+    /// The links of the nodes without mass that the forces on them hold.
+    pub balance_links: Vec<usize>,
 }
 
 /// Places every 1-D node; free inertias become links of `tree` (with their
@@ -127,6 +129,7 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
     }
     // A measured coupling's reaction is its multiplier: it stays a constraint.
     let mut gear_done: Vec<bool> = gears.iter().map(|g| g.4).collect();
+    let mut balance_links = Vec::new();
     loop {
         let mut progress = false;
         for &(ci, _, a, b, length) in &rigid {
@@ -172,26 +175,34 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
             continue;
         }
         // A free inertia: its centre becomes a coordinate of its own.
-        let Some(&(ci, pi, a, b, length)) = rigid.iter().find(|r| place[r.2].is_none() && place[r.3].is_none()) else {
-            // A side of a measured coupling that nothing else places: a
-            // coordinate without inertia, which the constraint determines.
-            let side = gears.iter().filter(|g| g.4).find_map(|(ci, pi, terms, _, _)| {
-                let Part::Coupling { terms: locals, .. } = &components[*ci].parts[*pi] else { return None };
-                terms.iter().zip(locals).find(|(t, _)| place[t.0].is_none()).map(|(t, l)| (*ci, *pi, t.0, t.2, l.0))
-            });
-            let Some((ci, pi, node, id, local)) = side else { break };
+        let unplaced = |r: &Rigid, place: &Places| place[r.2].is_none() && place[r.3].is_none();
+        if let Some(&r) = rigid.iter().find(|r| unplaced(r, &place) && massive(components, r)) {
+            own_centre(tree, components, &mut place, r);
+            continue;
+        }
+        // A side of a measured coupling that nothing else places: a
+        // coordinate without inertia, which the constraint determines.
+        let side = gears.iter().filter(|g| g.4).find_map(|(ci, pi, terms, _, _)| {
+            let Part::Coupling { terms: locals, .. } = &components[*ci].parts[*pi] else { return None };
+            terms.iter().zip(locals).find(|(t, _)| place[t.0].is_none()).map(|(t, l)| (*ci, *pi, t.0, t.2, l.0))
+        });
+        if let Some((ci, pi, node, id, local)) = side {
             let joint = JointModel::Prismatic { axis: Vec3::x() };
             let k = push_link(tree, components, (ci, pi), GROUND, Transform::IDENTITY, joint, SIDE_STATES[local]);
             place[node] = Some((FlangeRef::on(tree.links[k].q_offset, tree.links[k].v_offset), id));
             continue;
-        };
-        let Part::Inertia1D { states, .. } = components[ci].parts[pi] else { unreachable!("rigid parts are inertias") };
+        }
+        // A node without mass that the forces on it hold: the centre of a
+        // massless part (`Mass(m = 0)`), or where elements alone meet.
+        if let Some(&r) = rigid.iter().find(|r| unplaced(r, &place)) {
+            balance_links.push(own_centre(tree, components, &mut place, r));
+            continue;
+        }
+        let Some((ci, pi, node, id, states)) = element_end(components, conn, &place) else { break };
         let joint = JointModel::Prismatic { axis: Vec3::x() };
         let k = push_link(tree, components, (ci, pi), GROUND, Transform::IDENTITY, joint, states);
-        let centre = FlangeRef::on(tree.links[k].q_offset, tree.links[k].v_offset);
-        let id = Connectors::id(components, ci, 0);
-        place[a] = Some((centre.affine(1.0, -length / 2.0), id));
-        place[b] = Some((centre.affine(1.0, length / 2.0), id));
+        place[node] = Some((FlangeRef::on(tree.links[k].q_offset, tree.links[k].v_offset), id));
+        balance_links.push(k);
     }
 
     // Inertias turn with the coordinate of their place.
@@ -219,7 +230,63 @@ pub fn place(components: &mut [CompiledComponent], conn: &Connectors, tree: &mut
         .map(|((ci, _, terms, constant, measured), _)| (ci, terms, constant, measured))
         .collect();
     check_moving_mounts(components, conn, tree, &housings)?;
-    Ok(DriveTrain { places: place, pending, axis_forces, geared })
+    Ok(DriveTrain { places: place, pending, axis_forces, geared, balance_links })
+}
+
+/// A rigid 1-D part: `(component, part, node a, node b, length)`.
+type Rigid = (usize, usize, usize, usize, f64);
+
+/// Whether a rigid 1-D part has inertia.
+fn massive(components: &[CompiledComponent], r: &Rigid) -> bool {
+    matches!(components[r.0].parts[r.1], Part::Inertia1D { inertia, .. } if inertia > 0.0)
+}
+
+/// Gives the rigid part `r`, which nothing places, a coordinate of its own
+/// at its centre, and places its ends; returns the new link.
+fn own_centre(tree: &mut Tree, components: &mut [CompiledComponent], place: &mut Places, r: Rigid) -> usize {
+    let (ci, pi, a, b, length) = r;
+    let Part::Inertia1D { states, .. } = components[ci].parts[pi] else { unreachable!("rigid parts are inertias") };
+    let joint = JointModel::Prismatic { axis: Vec3::x() };
+    let k = push_link(tree, components, (ci, pi), GROUND, Transform::IDENTITY, joint, states);
+    let centre = FlangeRef::on(tree.links[k].q_offset, tree.links[k].v_offset);
+    let id = Connectors::id(components, ci, 0);
+    place[a] = Some((centre.affine(1.0, -length / 2.0), id));
+    place[b] = Some((centre.affine(1.0, length / 2.0), id));
+    k
+}
+
+/// The states of a node where elements alone meet, by the connector of the
+/// element that names it.
+fn node_states(name: &str) -> StateNames {
+    const NAMES: [(&str, StateNames); 4] = [
+        ("flange_a", StateNames { q: &[("flange_a.s", 1)], u: &[("flange_a.v", 1)] }),
+        ("flange_b", StateNames { q: &[("flange_b.s", 1)], u: &[("flange_b.v", 1)] }),
+        ("spline_a", StateNames { q: &[("spline_a.phi", 1)], u: &[("spline_a.w", 1)] }),
+        ("spline_b", StateNames { q: &[("spline_b.phi", 1)], u: &[("spline_b.w", 1)] }),
+    ];
+    NAMES.iter().find(|n| n.0 == name).map_or(StateNames { q: &[("node.s", 1)], u: &[("node.v", 1)] }, |n| n.1)
+}
+
+/// An end of a 1-D element at a node nothing places: `(component, part,
+/// node, connector, state names)`.
+fn element_end(
+    components: &[CompiledComponent],
+    conn: &Connectors,
+    place: &Places,
+) -> Option<(usize, usize, usize, usize, StateNames)> {
+    for (ci, c) in components.iter().enumerate() {
+        for (pi, part) in c.parts.iter().enumerate() {
+            let Part::Element1D { a, b, .. } = *part else { continue };
+            for local in [a, b] {
+                let id = Connectors::id(components, ci, local);
+                let node = conn.flange_node_of[id];
+                if place[node].is_none() {
+                    return Some((ci, pi, node, id, node_states(c.spec.connectors[local].name)));
+                }
+            }
+        }
+    }
+    None
 }
 
 /// Each rotor becomes a revolute link of its own on the body that carries

@@ -33,7 +33,7 @@ fn integrated(level: DriveLevel, position: &str) -> Option<StateNames> {
     const VELOCITY: &[(&str, usize)] = &[("v", 1)];
     let (q, u) = if position == "phi" { (ANGLE, SPEED) } else { (DISTANCE, VELOCITY) };
     match level {
-        DriveLevel::Position => None,
+        DriveLevel::Position | DriveLevel::Balance { .. } => None,
         DriveLevel::Speed => Some(StateNames { q, u: &[] }),
         DriveLevel::Acceleration | DriveLevel::PositionFilter { .. } | DriveLevel::SpeedFilter { .. } => {
             Some(StateNames { q, u })

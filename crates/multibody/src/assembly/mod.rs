@@ -14,6 +14,7 @@
 //! 6. `flows`: the tree along which cut forces are computed for outputs.
 
 mod axis;
+mod balance;
 mod checks;
 mod connections;
 mod drives;
@@ -130,10 +131,15 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     let zero_slot = signals.slots - 1;
     let force_elements =
         forces::elements(&components, &conn, &mut tree, &drive.places, &signals.of_connector, zero_slot)?;
-    let (drives, drive_starts, source_states) = drives::attach(&components, &conn, &mut tree, &drive.places, &signals)?;
+    let (mut drives, drive_starts, source_states) =
+        drives::attach(&components, &conn, &mut tree, &drive.places, &signals)?;
+    let (balances, balance_drives) =
+        balance::nodes(&components, &mut tree, &drive.balance_links, &axis_elements, &couplings, &frictions, &signals)?;
+    drives.extend(balance_drives);
     let geared: Vec<_> = drive.geared.iter().cloned().chain(source_states).collect();
     let mut states = states::layout(model, &components, &tree, &geared)?;
     drives::apply_starts(&drive_starts, &tree, &mut states);
+    balance::check_starts(&components, &tree, &drive.balance_links, &balances, &states)?;
     let free_coordinates = drives::free_coordinates(&tree, states.nv);
     let context = equations::Context {
         components: &components,
@@ -176,6 +182,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         free_coordinates,
         signals: signals.blocks,
         couplings,
+        balances,
         frictions,
         force_elements,
         massless: tree.massless,

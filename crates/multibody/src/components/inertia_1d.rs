@@ -22,7 +22,7 @@ pub static INERTIA: ComponentSpec = ComponentSpec {
         VarSpec::scalar("a", "rad/s2", "Absolute angular acceleration"),
     ],
     build: |p: &ParamSet| -> Result<Box<dyn Component>, Error> {
-        let inertia = p.non_negative("J", false)?;
+        let inertia = p.non_negative("J", true)?;
         Ok(Box::new(RigidBody1D { inertia, length: 0.0, weight: 0.0, states: ROTATION, variables: INERTIA.variables }))
     },
     shapes: crate::components::shapes::none,
@@ -48,7 +48,7 @@ pub static MASS: ComponentSpec = ComponentSpec {
         VarSpec::scalar("a", "m/s2", "Absolute acceleration"),
     ],
     build: |p: &ParamSet| -> Result<Box<dyn Component>, Error> {
-        let m = p.non_negative("m", false)?;
+        let m = p.non_negative("m", true)?;
         let weight = -m * p.real("g") * p.real("theta").sin();
         Ok(Box::new(RigidBody1D {
             inertia: m,

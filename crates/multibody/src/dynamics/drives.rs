@@ -69,6 +69,12 @@ impl System {
                                 y[v] = x[1] / scale;
                             }
                             DriveLevel::Speed => y[v] = x[0] / scale,
+                            DriveLevel::Balance { node } => {
+                                let (q_all, u_all) = y.split_at(nq);
+                                let (s, speed) = self.balance_motion(ws, &self.balances[node], q_all, u_all);
+                                y[q] = s;
+                                y[v] = speed;
+                            }
                             _ => {}
                         }
                     }
@@ -111,6 +117,8 @@ impl System {
                                 ((value(k) - x) * w_crit - FILTER_AF * v) * (w_crit / FILTER_BF)
                             }
                             DriveLevel::SpeedFilter { w_crit } => (value(k) - v) * w_crit,
+                            // Known after the dynamics (the node moves nothing with mass).
+                            DriveLevel::Balance { .. } => 0.0,
                         };
                         ws.imposed[vi] = a / scale;
                     }

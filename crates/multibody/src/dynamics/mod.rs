@@ -4,6 +4,7 @@
 //! and constraints of loops and couplings (`constraints`).
 
 mod aba;
+mod balance;
 pub(crate) mod chart;
 mod constraints;
 mod drives;
@@ -254,6 +255,9 @@ impl System {
             DynamicsError::EulerSingularity { link, .. } => DynamicsError::EulerSingularity { link, time: t },
             other => other,
         })?;
+        if !self.balances.is_empty() {
+            self.balance_accelerations(ws, q, u, ud);
+        }
         if self.equations.first_post < self.equations.blocks.len() {
             self.run_blocks_after_accelerations(ws)?;
         }

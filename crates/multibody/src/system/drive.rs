@@ -26,6 +26,10 @@ pub enum DriveLevel {
     /// The speed follows the signal through a first-order filter:
     /// `a = (ref - v) w_crit`.
     SpeedFilter { w_crit: f64 },
+    /// A 1-D node without mass (`System::balances[node]`): the balance of
+    /// the forces on it gives its speed (and without damping its position);
+    /// its acceleration follows after the dynamics.
+    Balance { node: usize },
 }
 
 /// The `s` coefficient of the filter of [`DriveLevel::PositionFilter`]

@@ -7,6 +7,7 @@
 //! Assembly writes it once; `dynamics` reads it with a
 //! [`Workspace`](crate::dynamics::Workspace).
 
+pub mod balance;
 pub mod chart;
 pub mod drive;
 pub(crate) mod equations;
@@ -55,6 +56,9 @@ pub struct System {
     /// Linear relations between joint coordinates (gears), kept by
     /// constraint forces in the rows after those of `constraints`.
     pub(crate) couplings: Vec<Coupling>,
+    /// The 1-D nodes without mass, held by the forces on them (each driven
+    /// by a drive of level [`DriveLevel::Balance`]).
+    pub(crate) balances: Vec<balance::Balance>,
     /// 1-D friction elements with modes; each has a constraint row after
     /// the couplings', used while it is locked.
     pub(crate) frictions: Vec<friction::Friction>,
