@@ -14,19 +14,13 @@ pub fn check(selection: &Selection) -> Result<(), Failure> {
         Failure::Model
     })?;
     // The start itself: equations that fail there (a singular system, no
-    // solution) would stop the run at once.
+    // solution) would stop the run at once. One evaluation, with no room
+    // kept for a run's samples.
     let start = lowered.options.start;
-    let reason = match multibody::Simulator::new(&mechanism, &lowered.options) {
-        Err(stopped) => Some(stopped.reason),
-        Ok(_) => {
-            let y = &mechanism.states().start;
-            let mut dy = vec![0.0; y.len()];
-            let mut ws = mechanism.workspace();
-            mechanism.rhs(&mut ws, start, y, &mut dy).err().map(|e| mechanism.describe(&e))
-        }
-    };
-    if let Some(reason) = reason {
-        let reason = lowered.with_places(package.sources(), &reason);
+    let y = &mechanism.states().start;
+    let mut dy = vec![0.0; y.len()];
+    if let Err(e) = mechanism.rhs(&mut mechanism.workspace(), start, y, &mut dy) {
+        let reason = lowered.with_places(package.sources(), &mechanism.describe(&e));
         say!("{}: the model cannot start at t = {}: {reason}", error_word(), number(start));
         return Err(Failure::Model);
     }
