@@ -156,15 +156,48 @@ fn sources_of_time_follow_their_formulas() {
     });
     check(&s, "decaying.y", 1e-12, |t| 1.5 * (-0.8 * t).exp() * (tau * t + 0.1).sin());
     check(&s, "pulse.y", 0.0, |t| if t > 0.5 && t <= 1.0 { 3.0 } else { -1.0 });
-    // High for the first half of each period, low for the second.
+    // High for the first half of each period, low for the second; a
+    // sample at a switch holds the value it switches from (the left limit).
     check(&s, "square.y", 0.0, |t| {
+        let x = 1.5 * t;
         if t <= 0.0 {
             0.5
-        } else if (1.5 * t).fract() < 0.5 {
+        } else if x - (x.ceil() - 1.0) <= 0.5 {
             2.5
         } else {
             -1.5
         }
+    });
+}
+
+/// A 1 kHz square-wave torque of 1 N.m on an inertia of 0.1 for 1 s: each
+/// switch is a time event, so the speed is the exact triangle wave in
+/// [0, 0.005] and the angle gains 2.5e-6 per period. Stepping across the
+/// switches used to end this run at w = -0.14 with no warning.
+#[test]
+fn a_fast_square_wave_switches_exactly_where_it_jumps() {
+    let s = run(
+        "  fixed = RotationalComponents.Fixed()
+  wave = BlockComponents.Square(amplitude = 1, frequency = 1000)
+  motor = RotationalComponents.Torque()
+  disc = RotationalComponents.Inertia(J = 0.1, phi(initial = 0), w(initial = 0))",
+        "  connect(wave.y, motor.tau)
+  connect(motor.support, fixed.spline)
+  connect(motor.spline, disc.spline_a)",
+        1.0,
+    );
+    // Within each period T: up at 10 rad/s2 for T/2, then down.
+    let period = 1e-3;
+    let speed = move |t: f64| {
+        let x = t / period - (t / period).floor();
+        10.0 * period * if x < 0.5 { x } else { 1.0 - x }
+    };
+    check(&s, "disc.w", 1e-11, speed);
+    check(&s, "disc.phi", 1e-11, |t| {
+        let whole = (t / period).floor();
+        let x = t / period - whole;
+        let within = if x < 0.5 { x * x / 2.0 } else { 0.25 - (1.0 - x) * (1.0 - x) / 2.0 };
+        10.0 * period * period * (whole * 0.25 + within)
     });
 }
 
