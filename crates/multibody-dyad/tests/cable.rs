@@ -8,6 +8,8 @@
 //! drifts with the integration error, which at abstol = reltol = 1e-10 is
 //! held to 1e-8 of m g l.
 
+mod common;
+
 use multibody::{SimulationOptions, Solution};
 use multibody_dyad::Package;
 
@@ -313,4 +315,29 @@ end
     package.add_source("bent.dyad", text.replace("cable.joints[1].Q_hat", "cable.joints[7].Q_hat")).unwrap();
     let message = package.lower_component("Bent").map(|_| ()).unwrap_err().render(package.sources(), false);
     assert!(message.contains("`joints[7]`") && message.contains("out of range"), "{message}");
+}
+
+/// `Cable(n = 0)` divides by zero inside the standard library's Cable: the
+/// message points there and, since the user did not write that file, at
+/// the cable the model declares too (it used to show the library alone).
+#[test]
+fn an_error_inside_the_library_cable_points_at_the_users_cable() {
+    let message = common::error_of(
+        "example component Hanging
+  world = World()
+  cable = MultibodyComponents.Cable(n = 0)
+relations
+  connect(world.frame_b, cable.frame_a)
+end
+analysis Run
+  extends TransientAnalysis(stop = 1)
+  model = Hanging()
+end",
+    );
+    println!("{message}");
+    for expected in
+        ["division by zero", "<stdlib>/MultibodyComponents.dyad", "model.dyad:3:3", "in `cable`, declared here"]
+    {
+        assert!(message.contains(expected), "`{expected}` missing from: {message}");
+    }
 }

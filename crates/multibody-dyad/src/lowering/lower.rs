@@ -404,6 +404,25 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         site: Span,
         within: &[(String, Span)],
     ) -> Result<(), Diagnostic> {
+        // An error inside a definition of another file (the standard
+        // library's) also points at the instance the model declared.
+        self.instantiate_here(def, prefix, modifiers, site, within).map_err(|d| {
+            if prefix.is_empty() || d.labels.iter().any(|l| l.span.file == site.file) {
+                d
+            } else {
+                d.secondary(site, format!("in `{prefix}`, declared here"))
+            }
+        })
+    }
+
+    fn instantiate_here(
+        &mut self,
+        def: &'a ComponentDef,
+        prefix: &str,
+        modifiers: Vec<Mod>,
+        site: Span,
+        within: &[(String, Span)],
+    ) -> Result<(), Diagnostic> {
         let name = def.name.name.as_str();
         self.enter(def, site)?;
         let effective = self.effective_of(def)?;
