@@ -404,25 +404,6 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         site: Span,
         within: &[(String, Span)],
     ) -> Result<(), Diagnostic> {
-        // An error inside a definition of another file (the standard
-        // library's) also points at the instance the model declared.
-        self.instantiate_here(def, prefix, modifiers, site, within).map_err(|d| {
-            if prefix.is_empty() || d.labels.iter().any(|l| l.span.file == site.file) {
-                d
-            } else {
-                d.secondary(site, format!("in `{prefix}`, declared here"))
-            }
-        })
-    }
-
-    fn instantiate_here(
-        &mut self,
-        def: &'a ComponentDef,
-        prefix: &str,
-        modifiers: Vec<Mod>,
-        site: Span,
-        within: &[(String, Span)],
-    ) -> Result<(), Diagnostic> {
         let name = def.name.name.as_str();
         self.enter(def, site)?;
         let effective = self.effective_of(def)?;
@@ -619,7 +600,8 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                     self.entities.insert(child.clone(), Entity::User);
                     let mut inner = vec![(child.clone(), decl.span)];
                     inner.extend(within.iter().cloned());
-                    self.instantiate(sub_def, &child, merged, decl.span, &inner)?;
+                    self.instantiate(sub_def, &child, merged, decl.span, &inner)
+                        .map_err(|d| within_instance(d, decl.span, &child))?;
                 }
                 Kind::Connector(ty) => {
                     if let Some(m) = merged.first() {
@@ -1450,4 +1432,14 @@ fn unknown_variable(spec: &ComponentSpec, name: &Ident) -> Diagnostic {
         d = d.help(s);
     }
     d.note(format!("its variables are: {}", names.join(", ")))
+}
+
+/// An error inside a definition of another file (the standard library's)
+/// also points at the instance `name` the model declared at `site`.
+fn within_instance(d: Diagnostic, site: Span, name: &str) -> Diagnostic {
+    if d.labels.iter().any(|l| l.span.file == site.file) {
+        d
+    } else {
+        d.secondary(site, format!("in `{name}`, declared here"))
+    }
 }
