@@ -25,12 +25,14 @@
 //! ```
 
 // The layers, from the bottom: math; error and model; system (the compiled
-// numeric model); dynamics; components; assembly; outputs; simulate. Each
+// numeric model); dynamics; components; assembly; outputs; simulate;
+// linear (linear models and steady states of a simulator). Each
 // imports only from its own layer and those below (`tests/layers.rs`).
 pub mod assembly;
 pub mod components;
 pub mod dynamics;
 mod error;
+pub mod linear;
 pub mod math;
 mod model;
 pub mod outputs;
@@ -40,6 +42,7 @@ pub mod system;
 pub use assembly::{LoopInfo, Mechanism};
 pub use dynamics::{DynamicsError, Workspace};
 pub use error::{closest, Error};
+pub use linear::{Derivatives, Linearization, LinearizeError, LinearizeOptions, Pole, SteadyState, SteadyStateOptions};
 pub use math::expr::{Cmp, Expr, Func, Func2, TimeExpr};
 pub use model::{
     ComponentInstance, Connection, Equation, Equations, Flow, Model, OrientationState, Value, Variable, When,

@@ -19,6 +19,7 @@ const LAYERS: &[(&str, usize)] = &[
     ("assembly", 5),
     ("outputs", 6),
     ("simulate", 7),
+    ("linear", 8),
 ];
 
 fn layer(module: &str) -> Option<usize> {

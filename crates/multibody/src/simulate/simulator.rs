@@ -630,6 +630,12 @@ impl<'m> Simulator<'m> {
         Ok(())
     }
 
+    /// What a linearization starts from: the mechanism, the workspace that
+    /// holds the inputs and modes, the time and the state reached.
+    pub(crate) fn point(&self) -> (&Mechanism, &Workspace, f64, &[f64]) {
+        (&self.mechanism, &self.ws, self.t, &self.y)
+    }
+
     /// The time reached.
     pub fn time(&self) -> f64 {
         self.t

@@ -161,6 +161,19 @@ impl System {
     /// Whether accelerations come from the mass matrix (constraints, or
     /// inertia shared between links) rather than the articulated-body
     /// recursion.
+    /// Whether loads other than inertia and gravity change with the state
+    /// (1-D elements, forces between frames, point gravity, signals that
+    /// read the motion): where they do not, they add nothing to a
+    /// linearization's state columns.
+    pub(crate) fn has_state_dependent_loads(&self) -> bool {
+        !(self.axis_elements.is_empty()
+            && self.force_elements.is_empty()
+            && self.point_masses.is_empty()
+            && self.lines.is_empty()
+            && self.massless.is_empty()
+            && self.signals.is_empty())
+    }
+
     pub(crate) fn uses_mass_matrix(&self) -> bool {
         self.constraint_rows > 0 || !self.line_masses.is_empty()
     }
