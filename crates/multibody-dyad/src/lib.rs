@@ -48,6 +48,7 @@ pub use semantics::{catalog, eval};
 pub use syntax::{ast, lexer, parser, source};
 
 pub use diagnostics::{Diagnostic, Severity};
+pub use lowering::analysis::Study;
 pub use reports::engine_errors::engine_diagnostic;
 pub use semantics::modifiers::Override;
 pub use source::{FileId, Sources, Span};
@@ -85,6 +86,8 @@ pub struct Lowered {
     /// The analysis's options, or the defaults.
     pub options: SimulationOptions,
     pub from_analysis: bool,
+    /// What the analysis asks for: a simulation, a linear model or a steady state.
+    pub study: Study,
     pub warnings: Vec<Diagnostic>,
     pub source_map: SourceMap,
 }

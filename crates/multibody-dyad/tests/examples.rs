@@ -229,6 +229,70 @@ fn controlled_pendulum() {
     assert_same("controlled_pendulum.dyad", m, options);
 }
 
+/// The damped pendulum of the linear and steady-state analyses: the three
+/// analyses lower to the hand-built model (the transient one simulates
+/// alike) with Dyad's parameters read.
+#[test]
+fn linear_analysis() {
+    let pendulum = |phi0: f64| {
+        let mut m = Model::new("DampedPendulum");
+        m.add("tau", "Input").set("start", 0.0);
+        m.add("world", "World");
+        m.add("rev", "Revolute")
+            .set("n", [0.0, 0.0, 1.0])
+            .set("axisflange", true)
+            .initial("phi", phi0)
+            .initial("w", 0.0);
+        m.add("body", "Body").set("m", 1.0).set("r_cm", [0.5, 0.0, 0.0]).set("I_33", 0.02);
+        m.add("damper", "RotationalComponents.Damper").set("d", 0.3);
+        m.add("motor", "RotationalComponents.Torque");
+        m.add("angle_sensor", "RotationalComponents.AngleSensor");
+        m.connect(["world.frame_b", "rev.frame_a"]);
+        m.connect(["rev.frame_b", "body.frame_a"]);
+        m.connect(["damper.spline_a", "motor.support", "rev.support"]);
+        m.connect(["damper.spline_b", "motor.spline", "angle_sensor.spline", "rev.axis"]);
+        m.connect(["tau.y", "motor.tau"]);
+        m.variable("angle");
+        m.equations.equations.push(multibody::Equation {
+            lhs: multibody::Expr::var("angle"),
+            rhs: multibody::Expr::var("angle_sensor.phi"),
+            origin: String::new(),
+        });
+        m.outputs = vec!["angle".into()];
+        m
+    };
+    let path = examples_dir().join("linear_analysis.dyad");
+    let mut package = Package::new();
+    package.add_source("linear_analysis.dyad", std::fs::read_to_string(path).unwrap()).unwrap();
+    let lower =
+        |name: &str| package.lower_analysis(name).unwrap_or_else(|d| panic!("{}", d.render(package.sources(), false)));
+    let linear = lower("DampedPendulumLinear");
+    assert_eq!(
+        linear.study,
+        multibody_dyad::Study::Linear {
+            inputs: vec!["tau".into()],
+            outputs: vec!["angle".into()],
+            duration: Some(5.0)
+        }
+    );
+    let rest = lower("DampedPendulumRest");
+    assert_eq!(rest.study, multibody_dyad::Study::SteadyState { abstol: 1e-10, reltol: 1e-10 });
+    let transient = lower("DampedPendulumSimulation");
+    assert_eq!(transient.study, multibody_dyad::Study::Transient);
+    let options = options(5.0, 0.01);
+    for (lowered, phi0) in [(&linear, -std::f64::consts::FRAC_PI_2), (&rest, 1.0), (&transient, 1.0)] {
+        assert!(lowered.warnings.is_empty(), "{:?}", lowered.warnings);
+        let from_file = lowered.assemble().unwrap().simulate(&options).unwrap();
+        let by_hand = pendulum(phi0).assemble().unwrap().simulate(&options).unwrap();
+        assert_eq!(from_file.names(), by_hand.names());
+        for name in by_hand.names() {
+            let (a, b) = (from_file.get(name).unwrap(), by_hand.get(name).unwrap());
+            assert!(a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits()), "{}: {name} differs", lowered.name);
+        }
+    }
+    assert_eq!(transient.options, options);
+}
+
 #[test]
 fn geared_servo() {
     let mut m = Model::new("GearedServo");
@@ -729,6 +793,7 @@ fn every_example_is_checked() {
         "four_bar.dyad",
         "geared_servo.dyad",
         "controlled_pendulum.dyad",
+        "linear_analysis.dyad",
         "stiff_spring.dyad",
         "prescribed_motion.dyad",
         "sensors.dyad",

@@ -1,4 +1,6 @@
-//! `analysis ... extends TransientAnalysis(...)`: the simulation options.
+//! `analysis ... extends TransientAnalysis(...)`: the simulation options;
+//! `LinearAnalysis(...)` and `SteadyStateAnalysis(...)`: what to linearize
+//! or solve for, with Dyad's parameter names.
 
 use crate::reports::diagnostics::{did_you_mean, Diagnostic};
 use crate::semantics::eval::Val;
@@ -19,6 +21,135 @@ const IGNORED: &[&str] = &[
     "log_file",
     "IfLifting",
 ];
+
+/// What an analysis asks for beyond simulating.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum Study {
+    /// Simulate (TransientAnalysis).
+    #[default]
+    Transient,
+    /// Linearize at the start (DyadControlSystems.LinearAnalysis): between
+    /// the inputs and outputs named, with the step response's `duration`.
+    Linear { inputs: Vec<String>, outputs: Vec<String>, duration: Option<f64> },
+    /// Find the steady state (SteadyStateAnalysis) to these tolerances.
+    SteadyState { abstol: f64, reltol: f64 },
+}
+
+const LINEAR: &[&str] = &["inputs", "outputs", "duration", "loop_openings"];
+const LINEAR_IGNORED: &[&str] = &["wl", "wh", "num_frequencies"];
+const STEADY: &[&str] = &["abstol", "reltol"];
+const STEADY_IGNORED: &[&str] = &["alg", "automatic_discontinuity_detection", "respecialize"];
+
+/// The options and study of an analysis, and warnings about what it ignores.
+pub fn analysis_options(
+    analysis: &AnalysisDef,
+    modifiers: Vec<Mod>,
+    warnings: &mut Vec<Diagnostic>,
+) -> Result<(SimulationOptions, Study), Diagnostic> {
+    let base = analysis.base.text();
+    let kind = base.rsplit('.').next().unwrap_or(&base);
+    match kind {
+        "LinearAnalysis" => {
+            let mut study = (Vec::new(), Vec::new(), None);
+            for m in parameters(kind, modifiers, LINEAR, LINEAR_IGNORED, warnings)? {
+                let (value, span) = m.value.clone().expect("checked");
+                match m.name.name.as_str() {
+                    "inputs" => study.0 = strings(&m.name.name, &value, span)?,
+                    "outputs" => study.1 = strings(&m.name.name, &value, span)?,
+                    "loop_openings" => {
+                        if !strings(&m.name.name, &value, span)?.is_empty() {
+                            return Err(Diagnostic::error("loop openings are not supported yet")
+                                .primary(span, "not supported yet")
+                                .help("linearize between a top-level RealInput and the outputs instead: make the signal you would open an input of the model"));
+                        }
+                    }
+                    _ => study.2 = Some(number(&m.name.name, &value, span)?),
+                }
+            }
+            Ok((SimulationOptions::default(), Study::Linear { inputs: study.0, outputs: study.1, duration: study.2 }))
+        }
+        "SteadyStateAnalysis" => {
+            let (mut abstol, mut reltol) = (1e-8, 1e-8);
+            for m in parameters(kind, modifiers, STEADY, STEADY_IGNORED, warnings)? {
+                let (value, span) = m.value.clone().expect("checked");
+                let x = number(&m.name.name, &value, span)?;
+                if !(x > 0.0 && x.is_finite()) {
+                    return Err(Diagnostic::error(format!("`{}` must be a positive number", m.name.name))
+                        .primary(span, "not positive"));
+                }
+                if m.name.name == "abstol" {
+                    abstol = x;
+                } else {
+                    reltol = x;
+                }
+            }
+            Ok((SimulationOptions::default(), Study::SteadyState { abstol, reltol }))
+        }
+        _ => Ok((transient_options(analysis, modifiers, warnings)?, Study::Transient)),
+    }
+}
+
+/// The modifiers of a `kind` analysis with values: unknown ones are errors,
+/// ignored ones warnings.
+fn parameters(
+    kind: &str,
+    modifiers: Vec<Mod>,
+    used: &[&str],
+    ignored: &[&str],
+    warnings: &mut Vec<Diagnostic>,
+) -> Result<Vec<Mod>, Diagnostic> {
+    let mut kept = Vec::new();
+    for m in modifiers {
+        let name = m.name.name.as_str();
+        if ignored.contains(&name) {
+            warnings.push(
+                Diagnostic::warning(format!("`{name}` has no effect here and is ignored")).primary(m.span, "ignored"),
+            );
+            continue;
+        }
+        if !used.contains(&name) {
+            let mut d = Diagnostic::error(format!("{kind} has no parameter `{name}`"))
+                .primary(m.name.span, "unknown parameter");
+            if let Some(s) = did_you_mean(name, used.iter().chain(ignored).copied()) {
+                d = d.help(s);
+            }
+            return Err(d.note(format!("its parameters are: {}", used.join(", "))));
+        }
+        if m.value.is_none() {
+            return Err(Diagnostic::error(format!("`{name}` needs a value"))
+                .primary(m.span, "no value")
+                .help(format!("write `{name} = ...`")));
+        }
+        kept.push(m);
+    }
+    Ok(kept)
+}
+
+fn number(name: &str, value: &Val, span: crate::syntax::source::Span) -> Result<f64, Diagnostic> {
+    match value {
+        Val::Number(x) => Ok(*x),
+        other => Err(Diagnostic::error(format!("`{name}` takes a number, but this is {}", other.describe()))
+            .primary(span, "not a number")),
+    }
+}
+
+fn strings(name: &str, value: &Val, span: crate::syntax::source::Span) -> Result<Vec<String>, Diagnostic> {
+    let wrong = |what: String| {
+        Diagnostic::error(format!("`{name}` takes a list of names such as [\"y\"], but this is {what}"))
+            .primary(span, "not a list of names")
+    };
+    match value {
+        Val::Array(items) => items
+            .iter()
+            .map(|v| match v {
+                Val::Str(s) => Ok(s.clone()),
+                other => Err(wrong(other.describe())),
+            })
+            .collect(),
+        Val::Str(s) => Ok(vec![s.clone()]),
+        other => Err(wrong(other.describe())),
+    }
+}
 
 /// The options of a transient analysis, and warnings about what it ignores.
 pub fn transient_options(

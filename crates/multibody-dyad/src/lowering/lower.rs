@@ -6,7 +6,7 @@
 //! and connections that reach connectors with equations become equations
 //! between their quantities (potentials equal, flows loading the mechanics).
 
-use crate::lowering::analysis::transient_options;
+use crate::lowering::analysis::{analysis_options, Study};
 use crate::lowering::connections::{ConnectionGraph, End};
 use crate::lowering::relations::{self, Entity, Flat, RelationsOut, WithEnv};
 use crate::reports::diagnostics::{did_you_mean, Diagnostic};
@@ -131,7 +131,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         }
     }
 
-    fn finish(mut self, name: &str, options: SimulationOptions, from_analysis: bool) -> Result<Lowered, Diagnostic> {
+    fn finish(mut self, name: &str, options: SimulationOptions, study: Option<Study>) -> Result<Lowered, Diagnostic> {
         self.model_outputs();
         self.connector_equations()?;
         let used: Vec<String> = self.used.iter().map(|(n, _, _)| n.clone()).collect();
@@ -141,7 +141,8 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             name: name.to_string(),
             model: self.model,
             options,
-            from_analysis,
+            from_analysis: study.is_some(),
+            study: study.unwrap_or_default(),
             warnings: self.warnings,
             source_map: self.map,
         })
@@ -352,7 +353,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         let mut modifiers = Vec::new();
         apply_overrides(&mut modifiers, overrides, def.header);
         lowerer.instantiate(def, "", modifiers, def.header, &[])?;
-        lowerer.finish(&def.name.name, SimulationOptions::default(), false)
+        lowerer.finish(&def.name.name, SimulationOptions::default(), None)
     }
 
     /// Lowers an analysis: its model and its options.
@@ -389,9 +390,9 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             }
         };
         let mut lowerer = Lowerer::new(index, def);
-        let options = transient_options(analysis, base_modifiers, &mut lowerer.warnings)?;
+        let (options, study) = analysis_options(analysis, base_modifiers, &mut lowerer.warnings)?;
         lowerer.instantiate(def, "", model_modifiers, model.span, &[])?;
-        lowerer.finish(&analysis.name.name, options, true)
+        lowerer.finish(&analysis.name.name, options, Some(study))
     }
 
     /// Instantiates user component `def` under `prefix`, with modifiers
