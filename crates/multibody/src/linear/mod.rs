@@ -119,6 +119,10 @@ impl Linearization {
     pub fn frequency_response(&self, i: usize, o: usize, w: &[f64]) -> Vec<(f64, f64)> {
         use nalgebra::Complex;
         let n = self.a.nrows();
+        if n == 0 {
+            // No dynamics: the feedthrough alone.
+            return w.iter().map(|_| (self.d[(o, i)], 0.0)).collect();
+        }
         w.iter()
             .map(|&w| {
                 let m = DMatrix::from_fn(n, n, |r, c| Complex::new(-self.a[(r, c)], if r == c { w } else { 0.0 }));

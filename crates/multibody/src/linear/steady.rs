@@ -1,8 +1,7 @@
 //! Steady states (trim): a state where every coordinate's rate is zero,
 //! with the inputs given, or with some inputs free and as many outputs
-//! fixed. Newton's method on the rates in the linear model's coordinates,
-//! with least-norm steps (coordinates nothing restores, such as a cart's
-//! position, stay where they are) and a backtracking line search.
+//! fixed, solved in the linear model's coordinates by pseudo-transient
+//! continuation (implicit Euler steps that grow into Newton's).
 
 use super::{Derivatives, Evaluator, LinearizeError, LinearizeOptions, Point};
 use crate::Simulator;
@@ -22,7 +21,7 @@ pub struct SteadyStateOptions {
 
 impl Default for SteadyStateOptions {
     fn default() -> Self {
-        Self { free_inputs: Vec::new(), fixed_outputs: Vec::new(), abstol: 1e-8, reltol: 1e-8, max_iterations: 50 }
+        Self { free_inputs: Vec::new(), fixed_outputs: Vec::new(), abstol: 1e-8, reltol: 1e-8, max_iterations: 200 }
     }
 }
 
@@ -77,8 +76,14 @@ fn solve(mut point: Point<'_>, options: &SteadyStateOptions) -> Result<SteadySta
         r.iter().zip(&scales).all(|(r, s)| r.abs() <= options.abstol + options.reltol * s)
     };
     let mut iterations = 0;
-    // Once within the tolerance, one more step (Newton's last one takes
-    // the error to rounding) when it helps.
+    // Pseudo-transient continuation: implicit Euler steps of the model's
+    // own motion, `(I/dt - J) dx = f`, with `dt` growing as the rates fall
+    // (by their ratio from step to step), so that the steps follow the
+    // motion to where it comes to rest (a stable state, as Dyad's
+    // `t -> infinity` asks, not the nearest unstable one) and end as
+    // Newton's. Once within the tolerance, one plain Newton step more
+    // takes the error to rounding when it helps.
+    let mut dt = 0.1;
     let mut polished = false;
     loop {
         let (ws, state) = (point.ws.clone(), point.state.clone());
@@ -102,51 +107,61 @@ fn solve(mut point: Point<'_>, options: &SteadyStateOptions) -> Result<SteadySta
         iterations += 1;
         let jac = if lin.derivatives == Derivatives::Exact { super::exact(&mut ev)? } else { ev.differences()? };
         debug_assert_eq!(jac.shape(), (n + p, n + m));
-        // Least-norm Newton step through the pseudo-inverse.
-        let svd = jac.svd(true, true);
-        let largest = svd.singular_values.max();
-        let step = svd
-            .solve(&(-&residual), 1e-10 * largest.max(f64::MIN_POSITIVE))
-            .map_err(|e| LinearizeError::NoSteadyState(e.to_string()))?;
+        let step = if settled {
+            polished = true;
+            newton_step(&jac, &residual)?
+        } else {
+            let mut w = -jac;
+            for i in 0..n {
+                w[(i, i)] += 1.0 / dt;
+            }
+            match w.clone().lu().solve(&residual) {
+                Some(step) if step.iter().all(|x| x.is_finite()) => step,
+                _ => newton_step(&w, &(-&residual))?,
+            }
+        };
+        let (dx, du): (Vec<f64>, Vec<f64>) =
+            (step.rows(0, n).iter().copied().collect(), step.rows(n, m).iter().copied().collect());
+        let tried = residual_at(&mut ev, &dx, &du, &targets).ok().filter(|r| r.iter().all(|x| x.is_finite()));
         let norm = residual.norm();
-        let mut lambda = 1.0;
-        let moved = loop {
-            let dx: Vec<f64> = step.rows(0, n).iter().map(|s| s * lambda).collect();
-            let du: Vec<f64> = step.rows(n, m).iter().map(|s| s * lambda).collect();
-            let tried = residual_at(&mut ev, &dx, &du, &targets);
-            if let Ok(r) = tried {
-                if r.norm() < (1.0 - 1e-4 * lambda) * norm {
-                    break Some((dx, du));
+        match tried {
+            Some(r) if !settled || r.norm() < norm => {
+                dt = (dt * (norm / r.norm().max(f64::MIN_POSITIVE)).clamp(0.2, 10.0)).min(1e12);
+                let mut y = point.state.clone();
+                ev.tangent
+                    .retract(&point.mechanism.system, &mut point.ws, &point.state, &dx, &mut y)
+                    .map_err(|e| LinearizeError::Dynamics(point.mechanism.describe(&e)))?;
+                point.state = y;
+                for (j, &k) in ev.ports.inputs.iter().enumerate() {
+                    point.ws.inputs[k] = ev.inputs0[k] + du[j];
                 }
             }
-            lambda *= 0.5;
-            if lambda < 1e-6 {
-                break None;
+            // The polishing step did not help: the point is as good as it gets.
+            Some(_) if settled => {}
+            // A step the model cannot take (a singular place): shorter ones.
+            _ => {
+                dt *= 0.25;
+                if dt < 1e-12 {
+                    return Err(unsettled(
+                        &ev,
+                        &residual,
+                        iterations,
+                        "no steady state was found: the steps towards it fail",
+                    ));
+                }
             }
-        };
-        if settled {
-            polished = true;
-        }
-        let Some((dx, du)) = moved else {
-            if settled {
-                continue;
-            }
-            return Err(unsettled(
-                &ev,
-                &residual,
-                iterations,
-                "no steady state was found near the start: Newton's steps no longer reduce the rates",
-            ));
-        };
-        let mut y = point.state.clone();
-        ev.tangent
-            .retract(&point.mechanism.system, &mut point.ws, &point.state, &dx, &mut y)
-            .map_err(|e| LinearizeError::Dynamics(point.mechanism.describe(&e)))?;
-        point.state = y;
-        for (j, &k) in ev.ports.inputs.iter().enumerate() {
-            point.ws.inputs[k] = ev.inputs0[k] + du[j];
         }
     }
+}
+
+/// The least-norm solution of `jac step = -residual` (Newton's step where
+/// some coordinates, such as a cart's position, are not restored by
+/// anything and stay where they are).
+fn newton_step(jac: &nalgebra::DMatrix<f64>, residual: &DVector<f64>) -> Result<DVector<f64>, LinearizeError> {
+    let svd = jac.clone().svd(true, true);
+    let largest = svd.singular_values.max();
+    svd.solve(&(-residual), 1e-10 * largest.max(f64::MIN_POSITIVE))
+        .map_err(|e| LinearizeError::NoSteadyState(e.to_string()))
 }
 
 /// The rates and the outputs' errors at a displacement.
