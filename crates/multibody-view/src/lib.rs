@@ -25,6 +25,7 @@
 mod base64;
 mod html;
 mod json;
+mod linear;
 mod plot;
 mod scene;
 mod signals;
@@ -32,6 +33,10 @@ mod signals;
 use std::path::{Path, PathBuf};
 
 pub use html::{animation_html, write_animation, write_animation_to, Animation, AnimationOptions, AnimationSummary};
+pub use linear::{
+    bode_png, bode_response, bode_svg, damping_report, default_frequency_range, linearization_json, write_bode,
+    BodeCurve, BodeOptions, BodeResponse, BodeSummary,
+};
 pub use plot::{plot_png, plot_svg, write_plot, PlotFormat, PlotOptions, PlotSummary};
 pub use signals::{choose_signals, default_signals};
 

@@ -15,7 +15,7 @@ use std::sync::OnceLock;
 static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 
 /// Lines of one panel take these colours in turn.
-const PALETTE: [RGBColor; 8] = [
+pub(crate) const PALETTE: [RGBColor; 8] = [
     RGBColor(31, 95, 191),
     RGBColor(230, 120, 20),
     RGBColor(40, 150, 60),
@@ -166,11 +166,11 @@ impl Layout {
     }
 }
 
-fn plot_error<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> ViewError {
+pub(crate) fn plot_error<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> ViewError {
     ViewError::Plot(e.to_string())
 }
 
-fn register_font() -> Result<(), ViewError> {
+pub(crate) fn register_font() -> Result<(), ViewError> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
     let ok = *REGISTERED.get_or_init(|| {
         [FontStyle::Normal, FontStyle::Bold]
