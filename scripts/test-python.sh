@@ -14,7 +14,7 @@ if [ ! -x "$VENV/bin/python" ]; then
     "$PYTHON" -m venv "$VENV"
 fi
 "$VENV/bin/python" -m pip install -q --upgrade pip
-"$VENV/bin/python" -m pip install -q "maturin>=1.5,<2" numpy scipy pytest pandas matplotlib pyarrow "dask[distributed]"
+"$VENV/bin/python" -m pip install -q "maturin>=1.5,<2" numpy scipy pytest pandas matplotlib pyarrow "dask[distributed]" control
 "$VENV/bin/python" -m pip install -q ./crates/multibody-py
 cargo build --release -q -p multibody-cli
 "$VENV/bin/python" -m pytest -q crates/multibody-py/tests

@@ -6,6 +6,7 @@ mod catalog;
 mod check;
 mod exit;
 mod inputs;
+mod linearize;
 mod load;
 mod output;
 mod progress;
@@ -32,6 +33,7 @@ Examples:
   multibody run examples/double_pendulum.dyad --animate double_pendulum.html --plot double_pendulum.png
   multibody run examples/ --analysis PendulumSimulation --signals 'rev.*' --out pendulum.csv
   multibody sweep examples/pendulum.dyad --param body.m=0.5:0.5:2 --param damper.d=0,0.1 --out sweep.csv
+  multibody linearize examples/controlled_pendulum.dyad --at steady --bode bode.png
   multibody check examples/free_body.dyad
   multibody describe Body";
 
@@ -57,6 +59,8 @@ enum Command {
     List,
     /// Run a model over a grid of parameter values, on every core, into one table
     Sweep(SweepArgs),
+    /// The linear model around an operating point: A, B, C, D with names, poles, a Bode plot
+    Linearize(LinearizeArgs),
 }
 
 /// Which model files, and which analysis or component in them.
@@ -162,6 +166,41 @@ pub struct SweepArgs {
     pub jobs: Option<usize>,
 }
 
+#[derive(Args, Clone)]
+pub struct LinearizeArgs {
+    #[command(flatten)]
+    pub selection: Selection,
+    #[command(flatten)]
+    pub options: OptionArgs,
+    /// Set a parameter of the model, by its path: --param body.m=1.5
+    #[arg(long = "param", value_name = "NAME=VALUE", allow_hyphen_values = true)]
+    pub params: Vec<String>,
+    /// Set a start value, by its path: --initial rev.phi=0.3
+    #[arg(long = "initial", value_name = "NAME=VALUE", allow_hyphen_values = true)]
+    pub initials: Vec<String>,
+    /// The inputs of B and D, comma-separated (default: the analysis's, else all the model's inputs)
+    #[arg(long, value_name = "NAMES", value_delimiter = ',')]
+    pub inputs: Option<Vec<String>>,
+    /// The outputs of C and D: any variables of the results, comma-separated (default: the
+    /// analysis's, else the model's outputs)
+    #[arg(long, value_name = "NAMES", value_delimiter = ',')]
+    pub outputs: Option<Vec<String>>,
+    /// Where: `start`, `steady` (a steady state found from the start by Newton's method) or `t=T`
+    /// (after simulating to T)
+    #[arg(long, value_name = "WHERE", default_value = "start")]
+    pub at: String,
+    /// How: `auto` (exact derivatives where the model allows, with central differences beside
+    /// them as a check), `exact` or `differences`
+    #[arg(long, value_name = "HOW", default_value = "auto")]
+    pub derivatives: String,
+    /// Output file: the linear model as JSON (default: NAME.json in the current folder)
+    #[arg(long, short, value_name = "FILE.json")]
+    pub out: Option<PathBuf>,
+    /// Also write a Bode plot of every input-output pair (.png or .svg)
+    #[arg(long, value_name = "FILE.png")]
+    pub bode: Option<PathBuf>,
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -170,6 +209,7 @@ fn main() -> ExitCode {
         Command::Describe { kind } => catalog::describe(&kind),
         Command::List => catalog::list(),
         Command::Sweep(args) => sweep::sweep(&args),
+        Command::Linearize(args) => linearize::linearize(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -278,7 +278,7 @@ impl SampleSink for StreamingCsv {
 /// folder, a device such as `/dev/null`, a FIFO), which a result renamed
 /// into place would replace. Only `.dyad` files in an input folder count
 /// as inputs: a rerun in a model folder may replace its own earlier results.
-fn outputs_are_safe(inputs: &[PathBuf], outputs: &[(&str, Option<&Path>)]) -> Result<(), Failure> {
+pub fn outputs_are_safe(inputs: &[PathBuf], outputs: &[(&str, Option<&Path>)]) -> Result<(), Failure> {
     let mut read = Vec::new();
     for input in inputs {
         match std::fs::read_dir(input) {

@@ -20,6 +20,21 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     let target = choose(&package, &args.selection)?;
     let overrides = overrides(&args.params, &args.initials)?;
     let mut lowered = lower(&package, &target, &overrides)?;
+    if lowered.study != multibody_dyad::Study::Transient {
+        // A LinearAnalysis or SteadyStateAnalysis: its result is a linear model.
+        return crate::linearize::linearize(&crate::LinearizeArgs {
+            selection: args.selection.clone(),
+            options: args.options.clone(),
+            params: args.params.clone(),
+            initials: args.initials.clone(),
+            inputs: None,
+            outputs: None,
+            at: "start".into(),
+            derivatives: "auto".into(),
+            out: args.out.clone(),
+            bode: args.plot.clone(),
+        });
+    }
     let options = command_line_options(&args.options, &lowered.options)?;
     crate::inputs::drive(&mut lowered.model, &args.inputs, &options)?;
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("{}.csv", lowered.name)));

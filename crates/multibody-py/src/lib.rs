@@ -25,6 +25,12 @@ create_exception!(
 );
 create_exception!(
     _multibody,
+    LinearizationError,
+    MultibodyError,
+    "No linear model or steady state at the operating point: a singular configuration, a model the derivatives do not cover, or no steady state (the message names the rates that did not settle)."
+);
+create_exception!(
+    _multibody,
     SimulationError,
     MultibodyError,
     "The simulation stopped part way: `args` holds the message, the time it stopped, and the samples computed until then."
@@ -400,6 +406,79 @@ impl Simulator {
     fn event_count(&self) -> usize {
         self.sim.event_count()
     }
+
+    /// The linear model at the time and state reached: state, input and
+    /// output names, A, B, C, D (lists of rows), whether exact, the
+    /// accuracy check, the notes, and the rates there.
+    #[pyo3(signature = (inputs = None, outputs = None, derivatives = "auto"))]
+    fn linearize(
+        &self,
+        py: Python<'_>,
+        inputs: Option<Vec<String>>,
+        outputs: Option<Vec<String>>,
+        derivatives: &str,
+    ) -> PyResult<LinearTuple> {
+        let derivatives = match derivatives {
+            "auto" => multibody::Derivatives::Auto,
+            "exact" => multibody::Derivatives::Exact,
+            "differences" => multibody::Derivatives::Differences,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "derivatives={other:?}: use \"auto\", \"exact\" or \"differences\""
+                )))
+            }
+        };
+        let options = multibody::LinearizeOptions { inputs, outputs, derivatives };
+        let sim = &self.sim;
+        let lin = py.detach(|| sim.linearize(&options)).map_err(linearize_error)?;
+        let rows = |m: &nalgebra::DMatrix<f64>| -> Vec<Vec<f64>> {
+            (0..m.nrows()).map(|r| (0..m.ncols()).map(|c| m[(r, c)]).collect()).collect()
+        };
+        Ok((
+            (lin.state_names.clone(), lin.input_names.clone(), lin.output_names.clone()),
+            (rows(&lin.a), rows(&lin.b), rows(&lin.c), rows(&lin.d)),
+            (lin.exact, lin.accuracy, lin.notes.clone(), lin.rates.clone(), lin.time),
+        ))
+    }
+
+    /// Moves to a steady state near the state reached (Newton's method),
+    /// setting the free inputs there: the largest rate left, the Newton
+    /// steps taken, and the free inputs' values.
+    #[pyo3(signature = (free_inputs, fixed_outputs, abstol = 1e-8, reltol = 1e-8))]
+    fn steady_state(
+        &mut self,
+        py: Python<'_>,
+        free_inputs: Vec<String>,
+        fixed_outputs: Vec<(String, f64)>,
+        abstol: f64,
+        reltol: f64,
+    ) -> PyResult<SteadyTuple> {
+        let options =
+            multibody::SteadyStateOptions { free_inputs, fixed_outputs, abstol, reltol, ..Default::default() };
+        let sim = &mut self.sim;
+        let found = py.detach(|| sim.steady_state(&options)).map_err(linearize_error)?;
+        Ok((found.residual, found.iterations, found.inputs))
+    }
+}
+
+/// A linear model as the Python layer takes it apart.
+type LinearTuple = (
+    (Vec<String>, Vec<String>, Vec<String>),
+    (Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<Vec<f64>>),
+    (bool, Option<f64>, Vec<String>, Vec<f64>, f64),
+);
+
+/// The largest rate left, the Newton steps, and the free inputs' values.
+type SteadyTuple = (f64, usize, Vec<(String, f64)>);
+
+/// Bad names are `ValueError`s; the rest `LinearizationError`s.
+fn linearize_error(e: multibody::LinearizeError) -> PyErr {
+    match e {
+        multibody::LinearizeError::UnknownInput { .. } | multibody::LinearizeError::UnknownOutput { .. } => {
+            PyValueError::new_err(e.to_string())
+        }
+        other => LinearizationError::new_err(other.to_string()),
+    }
 }
 
 #[pymodule]
@@ -410,5 +489,6 @@ fn _multibody(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("MultibodyError", m.py().get_type::<MultibodyError>())?;
     m.add("ModelError", m.py().get_type::<ModelError>())?;
     m.add("SimulationError", m.py().get_type::<SimulationError>())?;
+    m.add("LinearizationError", m.py().get_type::<LinearizationError>())?;
     Ok(())
 }

@@ -8,7 +8,11 @@ DataFrame. ``Model.sweep`` runs many sets of values on every core (``grid`` make
 every combination of values of several parameters). ``Simulator`` (or
 ``Model.simulator``) steps a model on request while Python sets its inputs
 (a model's top-level ``RealInput``s) and reads its outputs and state: a
-controller in the loop.
+controller in the loop. ``Model.linearize`` (or ``Simulator.linearize``)
+gives the linear model around an operating point (the start, a steady
+state, or a time along a simulation) as a ``LinearModel``: numpy ``A``,
+``B``, ``C``, ``D`` with the names of their coordinates, inputs and
+outputs, ready for python-control (``LinearModel.to_control()``).
 
 Parameters and start values are named by their path in the model, as in
 the model file: ``length`` (a parameter of the model itself),
@@ -18,7 +22,9 @@ the model file: ``length`` (a parameter of the model itself),
 Errors are exceptions: ``ModelError`` for mistakes in the model files
 (with ``file``, ``line`` and ``column``), ``SimulationError`` for a
 simulation that stopped part way (with ``time`` and the ``partial``
-result), ``ValueError`` for options that cannot be used. All derive from
+result), ``LinearizationError`` for an operating point without a linear
+model or a steady state that was not found, ``ValueError`` for options and
+names that cannot be used. All derive from
 ``MultibodyError`` except ``ValueError``.
 """
 
@@ -31,7 +37,7 @@ from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
 import numpy as np
 
 from . import _multibody
-from ._multibody import ModelError, MultibodyError, SimulationError
+from ._multibody import LinearizationError, ModelError, MultibodyError, SimulationError
 
 __all__ = [
     "load",
@@ -40,7 +46,9 @@ __all__ = [
     "Model",
     "Result",
     "Simulator",
+    "LinearModel",
     "MultibodyError",
+    "LinearizationError",
     "ModelError",
     "SimulationError",
 ]
@@ -213,6 +221,39 @@ class Model:
             self, params, initial, stop=stop, saveat=saveat, abstol=abstol, reltol=reltol, alg=alg
         )
 
+    def linearize(
+        self,
+        params: Optional[Mapping[str, float]] = None,
+        initial: Optional[Mapping[str, float]] = None,
+        *,
+        inputs: Optional[Sequence[str]] = None,
+        outputs: Optional[Sequence[str]] = None,
+        at: Union[str, float] = "start",
+        derivatives: str = "auto",
+        free_inputs: Sequence[str] = (),
+        fixed_outputs: Optional[Mapping[str, float]] = None,
+        stop: Optional[float] = None,
+        abstol: Optional[float] = None,
+        reltol: Optional[float] = None,
+        alg: Optional[str] = None,
+    ) -> "LinearModel":
+        """The linear model of this model with these values, around an
+        operating point: ``at="start"``, ``at="steady"`` (a steady state
+        found from the start; ``free_inputs`` may move, holding as many
+        ``fixed_outputs`` at their values), or ``at=t`` (a number: after
+        simulating to ``t``). ``inputs`` and ``outputs`` name the columns
+        of B and the rows of C (default: all the model's inputs, and its
+        outputs; outputs may be any variable). ``derivatives`` is
+        ``"auto"``, ``"exact"`` or ``"differences"``."""
+        sim = self.simulator(params, initial, stop=stop, abstol=abstol, reltol=reltol, alg=alg)
+        if at == "steady":
+            sim.steady_state(free_inputs, fixed_outputs)
+        elif isinstance(at, (int, float)) and not isinstance(at, bool):
+            sim.step_until(float(at))
+        elif at != "start":
+            raise ValueError(f"at={at!r}: use \"start\", \"steady\" or a time")
+        return sim.linearize(inputs=inputs, outputs=outputs, derivatives=derivatives)
+
     def _signal_names(self, signals: Union[None, str, Sequence[str]]) -> List[str]:
         return _pick(signals, self._every_signal())
 
@@ -349,6 +390,41 @@ class Simulator:
         """How many events were handled so far."""
         return self._native.event_count()
 
+    def linearize(
+        self,
+        *,
+        inputs: Optional[Sequence[str]] = None,
+        outputs: Optional[Sequence[str]] = None,
+        derivatives: str = "auto",
+    ) -> "LinearModel":
+        """The linear model at the time and state reached, with the inputs
+        as set (see ``Model.linearize``)."""
+        names, matrices, rest = self._native.linearize(
+            None if inputs is None else list(inputs),
+            None if outputs is None else list(outputs),
+            derivatives,
+        )
+        return LinearModel(names, matrices, rest)
+
+    def steady_state(
+        self,
+        free_inputs: Sequence[str] = (),
+        fixed_outputs: Optional[Mapping[str, float]] = None,
+        *,
+        abstol: float = 1e-8,
+        reltol: float = 1e-8,
+    ) -> Dict[str, Any]:
+        """Moves to a steady state near the state reached, by Newton's
+        method on the rates (Dyad's SteadyStateAnalysis tolerances), with
+        ``free_inputs`` free to move and as many ``fixed_outputs`` held.
+        Returns the largest rate left, the Newton steps taken and the free
+        inputs' values; raises ``LinearizationError`` naming the rates that
+        did not settle when there is none near."""
+        residual, iterations, values = self._native.steady_state(
+            list(free_inputs), _pairs(fixed_outputs), abstol, reltol
+        )
+        return {"residual": residual, "iterations": iterations, "inputs": dict(values)}
+
     def _every_signal(self) -> List[str]:
         if self._all is None:
             self._all = self._native.signals()
@@ -356,6 +432,50 @@ class Simulator:
 
     def __repr__(self) -> str:
         return f"<multibody.Simulator {self.model.name!r} at t = {self.time}>"
+
+
+class LinearModel:
+    """``dx' = A dx + B du``, ``dy = C dx + D du`` around an operating
+    point: ``A``, ``B``, ``C``, ``D`` are numpy arrays; ``states``,
+    ``inputs`` and ``outputs`` name their coordinates (a quaternion stands
+    as ``body.rotation[1..3]``; in a loop only the independent joints).
+    ``exact`` says whether A and B came from analytic derivatives;
+    ``accuracy`` is their largest difference from central differences
+    (relative to the largest entry), when both were taken; ``rates`` are
+    the coordinates' rates at the point (zero at an equilibrium)."""
+
+    def __init__(self, names, matrices, rest):
+        self.states, self.inputs, self.outputs = (list(n) for n in names)
+        shapes = [
+            (len(self.states), len(self.states)),
+            (len(self.states), len(self.inputs)),
+            (len(self.outputs), len(self.states)),
+            (len(self.outputs), len(self.inputs)),
+        ]
+        self.A, self.B, self.C, self.D = (
+            np.array(m, dtype=float).reshape(shape) for m, shape in zip(matrices, shapes)
+        )
+        self.exact, self.accuracy, self.notes, rates, self.time = rest
+        self.rates = np.array(rates, dtype=float)
+
+    def poles(self) -> np.ndarray:
+        """The eigenvalues of ``A``."""
+        return np.linalg.eigvals(self.A) if self.A.size else np.zeros(0, dtype=complex)
+
+    def to_control(self):
+        """The model as a ``control.StateSpace`` with its names (needs python-control)."""
+        import control
+
+        return control.ss(
+            self.A, self.B, self.C, self.D, states=self.states, inputs=self.inputs, outputs=self.outputs
+        )
+
+    def __repr__(self) -> str:
+        how = "exact" if self.exact else "differences"
+        return (
+            f"<multibody.LinearModel: {len(self.states)} states, {len(self.inputs)} inputs, "
+            f"{len(self.outputs)} outputs, at t = {self.time} ({how})>"
+        )
 
 
 def load(path: Union[str, "os.PathLike[str]"], *, analysis: Optional[str] = None, model: Optional[str] = None) -> Model:

@@ -213,7 +213,7 @@ fn unsettled(ev: &Evaluator<'_>, residual: &DVector<f64>, iterations: usize, wha
         })
         .collect();
     LinearizeError::NoSteadyState(format!(
-        "{what} (after {iterations} Newton steps the largest rate left is {:.3e}); not settled: {}",
+        "{what} (after {iterations} steps the largest rate left is {:.3e}); not settled: {}",
         residual.amax(),
         named.join(", ")
     ))
