@@ -351,3 +351,51 @@ fn bad_requests_name_their_cause() {
     let e = sim.linearize(&with(&[], &[], Derivatives::Exact)).unwrap_err().to_string();
     assert!(e.contains("exact derivatives do not apply"), "{e}");
 }
+
+/// A parallelogram four-bar (crank and rocker 1 m, coupler and ground
+/// 2 m) with its crank turned to lie along the ground: every bar on one
+/// line, where the loop's constraints lose rank and the crank's angle no
+/// longer fixes the others. (Assembly cannot start there: the state is set
+/// after it.)
+#[test]
+fn a_loop_at_its_change_point_is_refused_with_the_reason() {
+    use std::f64::consts::FRAC_PI_2;
+    let mut model = Model::new("parallelogram");
+    model.add("world", "World").set("g", 0.0);
+    model.add("ground", "FixedTranslation").set("r", [2.0, 0.0, 0.0]);
+    model.add("j1", "Revolute").initial("phi", 1.0).initial("w", 0.0);
+    for j in ["j2", "j3", "j4"] {
+        model.add(j, "Revolute");
+    }
+    for (name, r) in [("crank", [0.0, 1.0, 0.0]), ("coupler", [2.0, 0.0, 0.0]), ("rocker", [0.0, 1.0, 0.0])] {
+        model.add(name, "BodyShape").set("m", 1.0).set("r", r);
+    }
+    for (a, b) in [
+        ("world.frame_b", "j1.frame_a"),
+        ("world.frame_b", "ground.frame_a"),
+        ("j1.frame_b", "crank.frame_a"),
+        ("crank.frame_b", "j2.frame_a"),
+        ("j2.frame_b", "coupler.frame_a"),
+        ("coupler.frame_b", "j3.frame_a"),
+        ("ground.frame_b", "j4.frame_a"),
+        ("j4.frame_b", "rocker.frame_a"),
+        ("rocker.frame_b", "j3.frame_b"),
+    ] {
+        model.connect([a, b]);
+    }
+    let mechanism = model.assemble().unwrap();
+    let mut sim = Simulator::new(&mechanism, &options()).unwrap();
+    assert!(sim.linearize(&LinearizeOptions::default()).is_ok(), "a regular point linearizes");
+    // Crank along -x, coupler along +x, rocker along -x: all on the x axis.
+    let place = |name: &str| match name {
+        "j1.phi" | "j3.phi" | "j4.phi" => FRAC_PI_2,
+        "j2.phi" => -FRAC_PI_2,
+        _ => 0.0,
+    };
+    let y: Vec<f64> = sim.state_names().iter().map(|n| place(n)).collect();
+    sim.set_state(&y).unwrap();
+    let e = sim.linearize(&LinearizeOptions::default()).unwrap_err();
+    println!("{e}");
+    assert!(matches!(e, LinearizeError::SingularLoop { .. }), "{e}");
+    assert!(e.to_string().contains("singular configuration of a loop"), "{e}");
+}
