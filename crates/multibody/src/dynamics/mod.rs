@@ -7,11 +7,14 @@ mod aba;
 mod balance;
 pub(crate) mod chart;
 mod constraints;
+mod derivatives;
 mod drives;
 mod equations;
 pub(crate) mod forces;
 mod friction;
 mod signals;
+
+pub use derivatives::DynamicsDerivatives;
 
 use crate::math::{ArticulatedInertia, Force, Mat3, Motion, Transform, Vec3};
 use crate::system::System;
