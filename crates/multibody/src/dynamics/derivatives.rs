@@ -226,8 +226,10 @@ impl DynamicsDerivatives {
 /// why the joint is not supported.
 fn parent_fixed_columns(joint: &JointModel, inverted: bool) -> Result<u8, &'static str> {
     let bits = match joint {
+        // Their columns are fixed in both frames (an axis through both
+        // origins, or translations), whichever way the tree traverses them.
         JointModel::Revolute { .. } | JointModel::Prismatic { .. } => return Ok(0),
-        JointModel::Translation | JointModel::Cylindrical { .. } => 0,
+        JointModel::Translation | JointModel::Cylindrical { .. } => return Ok(0),
         JointModel::Spherical(RotationCoordinates::Quaternion { .. }) => 0,
         JointModel::Planar { .. } => 0b011,
         JointModel::Free(RotationCoordinates::Quaternion { .. }) => 0b000111,
@@ -244,9 +246,10 @@ fn parent_fixed_columns(joint: &JointModel, inverted: bool) -> Result<u8, &'stat
         }
     };
     if inverted {
-        // Traversed from frame_b to frame_a, the parent- and child-fixed
-        // columns trade places and come in the other order.
-        return Err("a joint with several coordinates that the tree traverses from its frame_b to its frame_a");
+        // Traversed from frame_b to frame_a, the columns fixed in the child
+        // become fixed in the parent and come first.
+        return Err("a joint with rotations among several coordinates that the tree traverses from its frame_b to \
+                    its frame_a (mount it the other way round)");
     }
     Ok(bits)
 }
@@ -296,14 +299,14 @@ impl System {
             return Some("the model has frames without mass placed by the forces on them (massless groups)".into());
         }
         for link in &self.links[1..] {
+            // The component that carries the joint's states, for the message.
+            let name = state(link.v_offset);
+            let owner = name.rsplit_once('.').map_or(name.as_str(), |(c, _)| c);
             if let Err(why) = parent_fixed_columns(&link.joint, link.inverted) {
-                return Some(format!("the joint whose velocity is `{}` is {why}", state(link.v_offset)));
+                return Some(format!("the joint of `{owner}` (state `{name}`) is {why}"));
             }
             if link.chart.is_some() {
-                return Some(format!(
-                    "the joint whose velocity is `{}` uses an Euler-angle chart",
-                    state(link.v_offset)
-                ));
+                return Some(format!("the joint of `{owner}` (state `{name}`) uses an Euler-angle chart"));
             }
         }
         None
