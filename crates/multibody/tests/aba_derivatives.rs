@@ -58,8 +58,8 @@ fn derivatives_at(mechanism: &Mechanism, y: &[f64], tau: Option<&[f64]>) -> (Dyn
     let mut d = system.derivatives_work();
     system.aba_derivatives(&mut ws, &mut d, q, u, &ud).unwrap();
     if let Some(tau) = tau {
-        for i in 0..nv {
-            ud[i] += (0..nv).map(|j| d.minv()[i * nv + j] * tau[j]).sum::<f64>();
+        for (i, x) in ud.iter_mut().enumerate() {
+            *x += (0..nv).map(|j| d.minv()[i * nv + j] * tau[j]).sum::<f64>();
         }
         system.aba_derivatives(&mut ws, &mut d, q, u, &ud).unwrap();
     }

@@ -37,6 +37,7 @@
 //!   `D_j = S_j x* F_j + Y_j dA_j + Bc_j dV_j`, and
 //!   `dtau_i/du_j = S_i . Dv_j` with `Dv_j = Y_j dAv_j + Bc_j S_j`;
 //! - zero between different branches.
+//!
 //! `B_k` has a simple form (see [`link_terms`]): its right half is zero,
 //! so it is kept as one 3x3 block and the linear momentum, and `Bc' S` has
 //! only an angular part (so `G` and `H` have 9 entries, not 12).
@@ -84,6 +85,9 @@ pub struct DynamicsDerivatives {
     xv: Vec<f64>,
     /// The articulated-body pass's forces per unit torque (6 x nv).
     unit_forces: Vec<f64>,
+    /// The columns `S` as six rows (6 x nv), and a scratch row (nv).
+    s_rows: Vec<f64>,
+    scratch: Vec<f64>,
     /// Running sums: `Psi` (9 x nv per slot) and `Phi` or the accelerations
     /// per unit torque (6 x nv per slot).
     psi: Vec<f64>,
@@ -328,6 +332,8 @@ impl System {
             xq: vec![0.0; nv * nv],
             xv: vec![0.0; nv * nv],
             unit_forces: vec![0.0; 6 * nv],
+            s_rows: vec![0.0; 6 * nv],
+            scratch: vec![0.0; nv],
             psi: vec![0.0; 9 * nv * slots],
             phi: vec![0.0; 6 * nv * slots],
             links: vec![LinkTerms::default(); self.links.len()],
@@ -462,6 +468,9 @@ impl System {
             let (mut vb, mut ab) = (pv, pa);
             for (c, col) in columns.iter_mut().enumerate() {
                 col.s = to_link.inv_apply_motion(&jm.s[c]);
+                for (r, x) in motion6(&col.s).into_iter().enumerate() {
+                    d.s_rows[r * d.nv + c0 + c] = x;
+                }
                 if fixed >> c & 1 == 1 {
                     // A column fixed in the parent changes at the parent's rate.
                     vb += col.s * u[v0 + c];
@@ -499,7 +508,7 @@ impl System {
     /// pass corrects them).
     fn backward_terms(&self, d: &mut DynamicsDerivatives) -> Result<(), DynamicsError> {
         let n = d.nv;
-        let DynamicsDerivatives { links, columns, dinv, mass, tau, minv_t, unit_forces, tree, .. } = d;
+        let DynamicsDerivatives { links, columns, dinv, mass, tau, minv_t, unit_forces, s_rows, scratch, tree, .. } = d;
         unit_forces.fill(0.0);
         for &k in tree.order.iter().rev() {
             let link = &self.links[k];
@@ -555,20 +564,22 @@ impl System {
                     ia.sub_product(&w, &columns[c0 + c].u_force);
                 }
             }
-            // M against the ancestors (the composite-rigid-body algorithm).
-            let mut i = link.parent;
-            while i != GROUND {
-                let anc = &self.links[i];
-                let a0 = tree.start[i];
-                for c in 0..nvj {
-                    let ys = columns[c0 + c].ys;
+            // M against the ancestors (the composite-rigid-body algorithm):
+            // `S_r . Y S_c` for every column before the link (in one pass
+            // over the rows of S), kept for the ancestors.
+            for c in 0..nvj {
+                let row = &mut scratch[..c0];
+                combine(row, 1.0, &force6(&columns[c0 + c].ys), s_rows, n, 0, false);
+                let mut i = link.parent;
+                while i != GROUND {
+                    let anc = &self.links[i];
                     for r in 0..anc.joint.nv() {
-                        let m = columns[a0 + r].s.dot(&ys);
+                        let m = row[tree.start[i] + r];
                         mass[(v0 + c) * n + anc.v_offset + r] = m;
                         mass[(anc.v_offset + r) * n + v0 + c] = m;
                     }
+                    i = anc.parent;
                 }
-                i = anc.parent;
             }
             // M^-1 by the articulated-body algorithm with unit torques: the
             // joint's own block is D^-1; a torque in the subtree reaches the
