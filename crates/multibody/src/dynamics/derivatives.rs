@@ -741,7 +741,11 @@ impl System {
     /// uniform gravity (1-D elements on the axes, forces between frames,
     /// point gravity, constant axis forces, ...), as the articulated-body
     /// pass sees them after `motion_and_loads(ws, t, q, u)`: `Q` with
-    /// `M ud + b(q, u) = Q`. Writes `out` (nv). Allocates nothing.
+    /// `M ud + b(q, u) = Q`, the `tau` that [`System::aba_derivatives`]
+    /// holds fixed. Writes `out` (nv). Allocates nothing. Meant for the
+    /// systems the derivatives support (a tree whose accelerations the
+    /// articulated-body pass gives); its own derivatives are the caller's
+    /// (by differences: `d ud/dq = ddq_dq + M^-1 dQ/dq`, likewise for `u`).
     pub fn generalized_forces(
         &self,
         ws: &mut Workspace,
