@@ -7,7 +7,9 @@
 #      stiff_spring/METHOD, the stiff example with the implicit and the explicit method);
 #   2. the peers (Pinocchio C++ and MuJoCo C on the same chain) with
 #      shared/bench/peers/run.sh --native, in the same run and on the same
-#      machine, so that the ratios hold even when absolute times drift;
+#      machine, so that the ratios hold even when absolute times drift; and
+#      Pinocchio's computeABADerivatives (scripts/peers/pin_derivatives.cpp)
+#      against our aba_derivatives/N;
 #   3. the work-precision comparison (our adaptive integrator against
 #      MuJoCo's RK4 on the Pendulum and DoublePendulum references):
 #      crates/multibody-cli/examples/work_precision.rs, then
@@ -100,6 +102,13 @@ say "running $PEERS/run.sh --native (a few minutes; log in target/bench/peers.lo
 bash "$PEERS/run.sh" --native >"$OUT/peers.csv" 2>"$OUT/peers.log" ||
   { tail -n 20 "$OUT/peers.log" >&2; die "the peers' run.sh failed (log: $OUT/peers.log)"; }
 [ -x "$PY" ] || die "the peers' Python ($PY) is missing after run.sh"
+PIN_DERIVATIVES=$PEERS_CACHE/bin/pin_derivatives
+if [ ! -x "$PIN_DERIVATIVES" ] || [ "$ROOT/scripts/peers/pin_derivatives.cpp" -nt "$PIN_DERIVATIVES" ]; then
+  say "building scripts/peers/pin_derivatives.cpp (about a minute)"
+  VENV=$PEERS_CACHE/venv OUT=$PEERS_CACHE/bin bash "$ROOT/scripts/peers/build_pin_derivatives.sh" >&2
+fi
+say "running Pinocchio's computeABADerivatives"
+"$PIN_DERIVATIVES" 2>>"$OUT/peers.log" | tail -n +2 >>"$OUT/peers.csv"
 
 # 3. Work-precision.
 say "running the work-precision example"
@@ -113,6 +122,34 @@ WP_STATUS=0
 REPORT_STATUS=0
 "$PY" "$ROOT/scripts/bench_report.py" "$ROOT/target/criterion" "$OUT/peers.csv" --since "$OUT/started" \
   >"$OUT/table.md" || REPORT_STATUS=$?
+# The derivatives of forward dynamics against Pinocchio's, and against our rhs.
+"$PY" - "$ROOT/target/criterion" "$OUT/peers.csv" "$OUT/started" >>"$OUT/table.md" <<'PYEOF' || REPORT_STATUS=$?
+import csv, json, os, sys
+crit, peers, since = sys.argv[1], sys.argv[2], os.path.getmtime(sys.argv[3])
+def ours(name):
+    path = os.path.join(crit, *name.split("/"), "new", "estimates.json")
+    if not os.path.exists(path) or os.path.getmtime(path) < since:
+        return None
+    return json.load(open(path))["median"]["point_estimate"]
+pin = {int(r["N"]): float(r["median_ns"]) for r in csv.DictReader(open(peers))
+       if r["tool"] == "pinocchio-c++" and r["what"] == "aba_derivatives"}
+us = lambda ns: "–" if ns is None else f"{ns / 1e3:.3g} µs"
+ratio = lambda a, b: "–" if a is None or b is None else f"{a / b:.2f}"
+print("### Derivatives of forward dynamics (ddq_dq, ddq_dv, M^-1) on the peers' chain\n")
+print("Ours: `aba_derivatives/N` = `System::aba_derivatives`; Pinocchio C++ `computeABADerivatives` "
+      "(scripts/peers/pin_derivatives.cpp, the peers' generic build flags). Same state, same run.\n")
+print("| N | ours | Pinocchio C++ | ours / Pinocchio | ours / our RHS |")
+print("|---|---|---|---|---|")
+missing = False
+for n in (7, 30, 100):
+    a, p, r = ours(f"aba_derivatives/{n}"), pin.get(n), ours(f"rhs/{n}")
+    missing |= a is None or p is None
+    print(f"| {n} | {us(a)} | {us(p)} | {ratio(a, p)} | {ratio(a, r)} |")
+print()
+if missing:
+    print("**Missing from this run: aba_derivatives (ours or Pinocchio's)**\n")
+sys.exit(1 if missing else 0)
+PYEOF
 {
   echo "## Benchmark report"
   echo

@@ -31,6 +31,25 @@ fn dynamics(c: &mut Criterion) {
         });
     }
     rhs.finish();
+    // The analytic derivatives of the forward dynamics (ddq_dq, ddq_dv,
+    // Minv) at the accelerations of the test state, as Pinocchio's
+    // computeABADerivatives (scripts/peers/pin_derivatives.cpp times it).
+    let mut derivatives = c.benchmark_group("aba_derivatives");
+    for n in [7usize, 30, 100] {
+        let mechanism = chain::benchmark_chain(n).assemble().unwrap();
+        let system = mechanism.system();
+        let y = mechanism.states().start.clone();
+        let mut ws = mechanism.workspace();
+        let mut dy = vec![0.0; 2 * n];
+        mechanism.rhs(&mut ws, 0.0, &y, &mut dy).unwrap();
+        let (q, u) = y.split_at(n);
+        let ud = dy[n..].to_vec();
+        let mut d = system.derivatives_work();
+        derivatives.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+            b.iter(|| system.aba_derivatives(&mut ws, &mut d, black_box(q), black_box(u), black_box(&ud)).unwrap())
+        });
+    }
+    derivatives.finish();
     // A motor inertia behind a gear on every joint: the same tree with an
     // armature on each joint, so the cost should hardly change.
     let mut drive = c.benchmark_group("drive_train");
