@@ -50,6 +50,18 @@ fn dynamics(c: &mut Criterion) {
         });
     }
     derivatives.finish();
+    // The whole linear model (A with names, exact derivatives, no outputs)
+    // at the chain's test state: the target is at most 30 rhs/30.
+    let mut linearize = c.benchmark_group("linearize");
+    for n in [7usize, 30] {
+        let mechanism = chain::benchmark_chain(n).assemble().unwrap();
+        let sim = multibody::Simulator::new(&mechanism, &multibody::SimulationOptions::default()).unwrap();
+        let options = multibody::LinearizeOptions { derivatives: multibody::Derivatives::Exact, ..Default::default() };
+        linearize.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+            b.iter(|| black_box(sim.linearize(&options).unwrap()))
+        });
+    }
+    linearize.finish();
     // A motor inertia behind a gear on every joint: the same tree with an
     // armature on each joint, so the cost should hardly change.
     let mut drive = c.benchmark_group("drive_train");

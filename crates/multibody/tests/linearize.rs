@@ -74,6 +74,11 @@ fn damped_pendulum_hanging_and_inverted() {
             assert_eq!(lin.state_names, ["rev.phi", "rev.w"]);
             assert_eq!(lin.input_names, ["tau"]);
             let how = if lin.exact { "exact" } else { "differences" };
+            if derivatives == Derivatives::Auto {
+                let accuracy = lin.accuracy.expect("exact, with differences as the check");
+                println!("pendulum {label}: exact vs differences {accuracy:.2e} (tolerance 1e-9)");
+                assert!(lin.exact && accuracy < 1e-9);
+            }
             check(&format!("pendulum {label}, A ({how})"), &lin.a, &a, tol);
             check(&format!("pendulum {label}, B ({how})"), &lin.b, &b, tol);
             check(&format!("pendulum {label}, C ({how})"), &lin.c, &c, tol);
@@ -291,6 +296,10 @@ fn a_free_body_linearizes_in_three_rotation_coordinates() {
         .set("orientation_state", multibody::OrientationState::Quaternion)
         .initial("w_a", [0.0, 0.0, 2.0]);
     let lin = linearize(&model, Derivatives::Auto, (&[], &[]));
+    // Exact derivatives along the same rotation increments as the differences beside them.
+    let accuracy = lin.accuracy.expect("exact, with differences as the check");
+    println!("free body: exact vs differences {accuracy:.2e} of the largest entry (tolerance 1e-9)");
+    assert!(lin.exact && accuracy < 1e-9, "{:?}", lin.notes);
     assert_eq!(lin.a.nrows(), 12, "{:?}", lin.state_names);
     assert!(lin.state_names.contains(&"body.rotation[3]".to_string()), "{:?}", lin.state_names);
     // Spinning about the axis of largest inertia: Euler's equations give a
@@ -398,4 +407,85 @@ fn a_loop_at_its_change_point_is_refused_with_the_reason() {
     println!("{e}");
     assert!(matches!(e, LinearizeError::SingularLoop { .. }), "{e}");
     assert!(e.to_string().contains("singular configuration of a loop"), "{e}");
+}
+
+/// The benchmark chain of `n` links with a stiff spring-damper on every
+/// joint: a stiff tree, for the implicit method.
+fn stiff_chain(n: usize) -> Model {
+    let mut model = Model::new("stiff_chain");
+    model.add("world", "World");
+    let mut previous = "world.frame_b".to_string();
+    for k in 0..n {
+        let axis = if k % 2 == 0 { [0.0, 0.0, 1.0] } else { [0.0, 1.0, 0.0] };
+        model
+            .add(format!("j{k}"), "Revolute")
+            .set("n", axis)
+            .set("axisflange", true)
+            .initial("phi", 0.1 * (k + 1) as f64);
+        model.add(format!("b{k}"), "Body").set("m", 1.0).set("r_cm", [0.5, 0.0, 0.0]);
+        model.add(format!("s{k}"), "RotationalComponents.SpringDamper").set("c", 1e4).set("d", 5.0);
+        model.connect([previous.clone(), format!("j{k}.frame_a")]);
+        model.connect([format!("j{k}.frame_b"), format!("b{k}.frame_a")]);
+        model.connect([format!("s{k}.spline_a"), format!("j{k}.support")]);
+        model.connect([format!("s{k}.spline_b"), format!("j{k}.axis")]);
+        model.add(format!("l{k}"), "FixedTranslation").set("r", [1.0, 0.0, 0.0]);
+        model.connect([format!("j{k}.frame_b"), format!("l{k}.frame_a")]);
+        previous = format!("l{k}.frame_b");
+    }
+    model
+}
+
+/// Rodas4 takes the tree's analytic Jacobian (rigid-body part exact, the
+/// springs' and dampers' part by differences) instead of differences of
+/// the whole right-hand side: the Jacobian agrees with central differences
+/// of the right-hand side, and the run with the explicit method's.
+#[test]
+fn rodas_uses_the_analytic_jacobian_of_a_tree() {
+    let n = 6;
+    let mechanism = stiff_chain(n).assemble().unwrap();
+    let system = mechanism.system();
+    let mut work = system.state_jacobian_work().expect("a tree of revolutes has it");
+    let mut ws = mechanism.workspace();
+    let mut y = mechanism.states().start.clone();
+    for (k, x) in y.iter_mut().enumerate().skip(n) {
+        *x = 0.3 * (k as f64 - 7.5);
+    }
+    let dim = y.len();
+    let mut jac = vec![0.0; dim * dim];
+    system.state_jacobian(&mut ws, &mut work, 0.0, &y, &mut jac).unwrap();
+    let (mut plus, mut minus) = (vec![0.0; dim], vec![0.0; dim]);
+    let mut worst: f64 = 0.0;
+    let largest = jac.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    for j in 0..dim {
+        let h = 1e-5;
+        let mut yp = y.clone();
+        yp[j] += h;
+        mechanism.rhs(&mut ws, 0.0, &yp, &mut plus).unwrap();
+        yp[j] -= 2.0 * h;
+        mechanism.rhs(&mut ws, 0.0, &yp, &mut minus).unwrap();
+        for i in 0..dim {
+            worst = worst.max(((plus[i] - minus[i]) / (2.0 * h) - jac[i * dim + j]).abs() / largest);
+        }
+    }
+    println!("stiff chain: analytic Jacobian vs central differences {worst:.2e} of the largest entry (tolerance 1e-7)");
+    assert!(worst < 1e-7);
+    let options = |method| SimulationOptions {
+        stop: 0.5,
+        saveat: 0.05,
+        abstol: 1e-9,
+        reltol: 1e-9,
+        method,
+        ..Default::default()
+    };
+    let implicit = mechanism.simulate(&options(multibody::Method::Rodas4)).unwrap();
+    let explicit = mechanism.simulate(&options(multibody::Method::DormandPrince45)).unwrap();
+    let mut far: f64 = 0.0;
+    for k in 0..n {
+        let name = format!("j{k}.phi");
+        far = far.max((implicit.last(&name).unwrap() - explicit.last(&name).unwrap()).abs());
+    }
+    println!(
+        "stiff chain: Rodas4 with the analytic Jacobian vs Dormand-Prince at 1e-9: {far:.2e} rad (tolerance 1e-6)"
+    );
+    assert!(far < 1e-6);
 }

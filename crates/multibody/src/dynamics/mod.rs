@@ -12,9 +12,11 @@ mod drives;
 mod equations;
 pub(crate) mod forces;
 mod friction;
+mod jacobian;
 mod signals;
 
 pub use derivatives::DynamicsDerivatives;
+pub use jacobian::StateJacobian;
 
 use crate::math::{ArticulatedInertia, Force, Mat3, Motion, Transform, Vec3};
 use crate::system::System;

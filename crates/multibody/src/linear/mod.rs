@@ -423,39 +423,42 @@ pub(crate) fn linearize(point: Point<'_>, options: &LinearizeOptions) -> Result<
     })
 }
 
-/// `[A B; C D]` with the rigid-body part exact: for a tree of
-/// one-coordinate joints the coordinates are `[q, u]`, `dq/dt = u`, and
-/// `du/dt = M^-1 (Q - b)` with `Q` the loads; so
-/// `d(du/dt)/dx = (dud/dx at fixed Q) + M^-1 dQ/dx` and `d(du/dt)/du_in = M^-1 dQ/du_in`.
-/// The loads' derivatives and C, D are taken by differences.
+/// `[A B; C D]` with the rigid-body part exact. For a tree every velocity
+/// coordinate is a coordinate of the linear model, and
+/// `du/dt = M^-1 (Q - b)` with `Q` the loads, so
+/// `d(du/dt)/dx = (dud/dx at fixed Q) + M^-1 dQ/dx` and
+/// `d(du/dt)/du_in = M^-1 dQ/du_in`; the positions' rows are kinematics
+/// (see [`Tangent::kinematic_rows`]). The loads' derivatives, and C and D,
+/// are taken by differences.
 fn exact(ev: &mut Evaluator<'_>) -> Result<DMatrix<f64>, LinearizeError> {
     let (n, m, p) = ev.sizes();
     let mechanism = ev.point.mechanism;
     let system = &mechanism.system;
-    let nv = system.states.nv;
-    debug_assert_eq!(n, 2 * nv);
+    let (nq, nv) = (system.states.nq, system.states.nv);
+    debug_assert_eq!(n, 2 * nv, "a tree without drives or equation states");
     let fail = |e: crate::DynamicsError| LinearizeError::Dynamics(mechanism.describe(&e));
     let (t, y) = (ev.point.time, ev.point.state.clone());
-    let (q, u) = y.split_at(system.states.nq);
+    let (q, u) = y.split_at(nq);
     let mut dy = vec![0.0; y.len()];
     mechanism.rhs(&mut ev.point.ws, t, &y, &mut dy).map_err(fail)?;
     let mut work = system.derivatives_work();
-    system.aba_derivatives(&mut ev.point.ws, &mut work, q, u, &dy[nv..]).map_err(fail)?;
+    system.aba_derivatives(&mut ev.point.ws, &mut work, q, &u[..nv], &dy[nq..nq + nv]).map_err(fail)?;
     let mut jac = DMatrix::zeros(n + p, n + m);
+    ev.tangent.kinematic_rows(&y, |r, c, x| jac[(r, c)] = x);
     for i in 0..nv {
-        jac[(i, nv + i)] = 1.0;
         for j in 0..nv {
             jac[(nv + i, j)] = work.ddq_dq()[i * nv + j];
             jac[(nv + i, nv + j)] = work.ddq_dv()[i * nv + j];
         }
     }
-    // The loads' part, and C and D, by differences of the loads alone.
-    let minv = DMatrix::from_row_slice(nv, nv, work.minv());
-    let loads = load_jacobian(ev)?;
-    let rest = &minv * loads;
-    for i in 0..nv {
-        for j in 0..n + m {
-            jac[(nv + i, j)] += rest[(i, j)];
+    // The loads' part, and C and D, by differences.
+    if system.has_state_dependent_loads() || m > 0 {
+        let minv = DMatrix::from_row_slice(nv, nv, work.minv());
+        let rest = minv * load_jacobian(ev)?;
+        for i in 0..nv {
+            for j in 0..n + m {
+                jac[(nv + i, j)] += rest[(i, j)];
+            }
         }
     }
     if p > 0 {
@@ -469,7 +472,7 @@ fn exact(ev: &mut Evaluator<'_>) -> Result<DMatrix<f64>, LinearizeError> {
     Ok(jac)
 }
 
-/// `dQ/d[q, u, inputs]` of the generalised loads, Richardson-extrapolated
+/// `dQ/d[dx, inputs]` of the generalised loads, Richardson-extrapolated
 /// central differences (exact to rounding for affine loads).
 fn load_jacobian(ev: &mut Evaluator<'_>) -> Result<DMatrix<f64>, LinearizeError> {
     let (n, m, _) = ev.sizes();
@@ -477,28 +480,26 @@ fn load_jacobian(ev: &mut Evaluator<'_>) -> Result<DMatrix<f64>, LinearizeError>
     let system = &mechanism.system;
     let (nq, nv) = (system.states.nq, system.states.nv);
     let mut jac = DMatrix::zeros(nv, n + m);
-    if !system.has_state_dependent_loads() && m == 0 {
-        return Ok(jac);
-    }
+    let state_dependent = system.has_state_dependent_loads();
     let fail = |e: crate::DynamicsError| LinearizeError::Dynamics(mechanism.describe(&e));
     let scales = ev.coordinate_scales();
     let mut y = ev.point.state.clone();
+    let mut dx = vec![0.0; n];
     let (mut plus, mut minus) = (vec![0.0; nv], vec![0.0; nv]);
-    let columns: Vec<usize> =
-        if system.has_state_dependent_loads() { (0..n + m).collect() } else { (n..n + m).collect() };
-    for col in columns {
+    let first = if state_dependent { 0 } else { n };
+    for col in first..n + m {
         let scale = if col < n { scales[col] } else { ev.inputs0[ev.ports.inputs[col - n]].abs().max(1.0) };
         let h = 1e-3 * scale;
         let mut estimate = [vec![0.0; nv], vec![0.0; nv]];
         for (e, step) in estimate.iter_mut().zip([h, 0.5 * h]) {
             for (sign, out) in [(1.0, &mut plus), (-1.0, &mut minus)] {
-                y.copy_from_slice(&ev.point.state);
                 let ws = &mut ev.point.ws;
-                if col < nv {
-                    y[col] += sign * step;
-                } else if col < n {
-                    y[nq + col - nv] += sign * step;
+                if col < n {
+                    dx[col] = sign * step;
+                    ev.tangent.retract(system, ws, &ev.point.state, &dx, &mut y).map_err(fail)?;
+                    dx[col] = 0.0;
                 } else {
+                    y.copy_from_slice(&ev.point.state);
                     let k = ev.ports.inputs[col - n];
                     ws.inputs[k] = ev.inputs0[k] + sign * step;
                 }

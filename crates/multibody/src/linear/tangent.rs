@@ -209,6 +209,29 @@ impl Tangent {
         rates[2 * n..2 * n + self.nx].copy_from_slice(&dy[nq + nv..nq + nv + self.nx]);
     }
 
+    /// The rows of the positions' rates in the linear model at the
+    /// operating point `y` (`dx = 0`), as `(row, column, value)`: an
+    /// additive coordinate's rate is its velocity coordinate; a rotation's,
+    /// `Jr(theta)^-1 w`, has `d/dtheta = -[w]x / 2` and `d/dw = I` at zero.
+    pub(crate) fn kinematic_rows(&self, y: &[f64], mut set: impl FnMut(usize, usize, f64)) {
+        let n = self.kept.len();
+        for (i, &k) in self.kept.iter().enumerate() {
+            set(i, n + i, 1.0);
+            if let Position::Rotation { v, axis, .. } = self.position[k] {
+                let w = Vec3::new(y[self.nq + v], y[self.nq + v + 1], y[self.nq + v + 2]);
+                let half = skew(&w) * -0.5;
+                // The block's other axes, by their places among the kept coordinates.
+                for (j, &other) in self.kept.iter().enumerate() {
+                    if let Position::Rotation { v: ov, axis: oa, .. } = self.position[other] {
+                        if ov == v {
+                            set(i, j, half[(axis, oa)]);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
     /// Solves the dependent coordinates of loops with the others held:
     /// positions by Newton steps (to rounding), then velocities.
     fn complete(&self, system: &System, ws: &mut Workspace, y: &mut [f64]) -> Result<(), crate::DynamicsError> {

@@ -7,6 +7,13 @@ pub trait OdeSystem {
     fn dim(&self) -> usize;
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Self::Error>;
 
+    /// `df/dy` at `(t, y)` into `jac` (row-major, `dim` x `dim`) where the
+    /// system has it without differences of the whole right-hand side;
+    /// `false` leaves them to the integrator.
+    fn jacobian(&mut self, _t: f64, _y: &[f64], _jac: &mut [f64]) -> Result<bool, Self::Error> {
+        Ok(false)
+    }
+
     /// Called after every accepted step (after the observer saw it), with
     /// the step's dense output: may move the end state `y` (onto
     /// constraints) and returns whether it did, or stops the integration.

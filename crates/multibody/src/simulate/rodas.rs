@@ -373,11 +373,12 @@ impl Rodas4 {
         self.stats
     }
 
-    /// `∂f/∂y` and `∂f/∂t` at `(t, self.y)` by forward differences from
-    /// `self.f = f(t, y)`.
+    /// `∂f/∂y` (the system's own where it has one) and `∂f/∂t` at
+    /// `(t, self.y)`, by forward differences from `self.f = f(t, y)`.
     fn jacobian<S: OdeSystem>(&mut self, sys: &mut S, t: f64, stats: &mut Stats) -> Result<(), S::Error> {
         let n = self.y.len();
-        for j in 0..n {
+        let given = sys.jacobian(t, &self.y, &mut self.jac)?;
+        for j in (0..n).filter(|_| !given) {
             let yj = self.y[j];
             self.y[j] = yj + (f64::EPSILON * yj.abs().max(1e-5)).sqrt();
             // The increment as represented, so the quotient is exact for a linear f.

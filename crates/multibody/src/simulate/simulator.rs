@@ -25,7 +25,7 @@ use super::integrator::{DenseStep, Failure, Observer, OdeSystem, Reached, Stats,
 use super::{dopri5, rk4, rodas, Method, Rows, RunReport, SampleSink, SimulationOptions, Solution, Stopped};
 use crate::assembly::Mechanism;
 use crate::dynamics::chart::{self, EulerChart};
-use crate::dynamics::{DynamicsError, Workspace};
+use crate::dynamics::{DynamicsError, StateJacobian, Workspace};
 use crate::math::rotation::{axes_rotations, axes_rotations_rate_matrix};
 use crate::math::{Mat3, Transform, Vec3};
 use crate::outputs::OutputScratch;
@@ -204,6 +204,9 @@ impl Indicators {
 struct Dynamics<'a> {
     mechanism: &'a Mechanism,
     ws: &'a mut Workspace,
+    /// The analytic Jacobian's work, for the implicit method where the
+    /// model allows it.
+    jacobian: Option<&'a mut StateJacobian>,
     /// The Euler-angle joints' distance from their singular configuration.
     charts: &'a [ChartWatch],
     indicators: &'a mut Indicators,
@@ -260,6 +263,12 @@ impl OdeSystem for Dynamics<'_> {
     }
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), StepError> {
         Ok(self.mechanism.rhs(self.ws, t, y, dy)?)
+    }
+
+    fn jacobian(&mut self, t: f64, y: &[f64], jac: &mut [f64]) -> Result<bool, StepError> {
+        let Some(work) = self.jacobian.as_deref_mut() else { return Ok(false) };
+        self.mechanism.system.state_jacobian(self.ws, work, t, y, jac)?;
+        Ok(true)
     }
 
     fn accept(&mut self, step: &dyn DenseStep, y: &mut [f64]) -> Result<bool, StepError> {
@@ -506,6 +515,9 @@ pub struct Simulator<'m> {
     last_event: Option<(f64, Option<usize>)>,
     /// Work done by integrators that were replaced (on reset).
     stats: Stats,
+    /// The analytic Jacobian's work, made for the implicit method where
+    /// the model allows it.
+    jacobian: Option<StateJacobian>,
 }
 
 impl<'m> Simulator<'m> {
@@ -593,6 +605,7 @@ impl<'m> Simulator<'m> {
             events: 0,
             last_event: None,
             stats: Stats::default(),
+            jacobian: if options.method == Method::Rodas4 { mechanism.system.state_jacobian_work() } else { None },
             options: options.clone(),
             mechanism,
         };
@@ -1147,12 +1160,12 @@ impl<'m> Simulator<'m> {
         sink: &mut dyn SampleSink,
         progress: Option<&mut Progress<'q>>,
     ) -> Result<Reached, Stopped> {
-        let Simulator { mechanism, stepper, ws, indicators, charts, recorder, .. } = self;
+        let Simulator { mechanism, stepper, ws, indicators, charts, recorder, jacobian, .. } = self;
         let mechanism: &Mechanism = mechanism;
         let time_event = mechanism.next_time_event(self.t) == tf;
         // Up to a time event the sources show their values before it.
         ws.left_limit_at = if time_event { tf } else { f64::NAN };
-        let mut system = Dynamics { mechanism, ws, charts, indicators };
+        let mut system = Dynamics { mechanism, ws, jacobian: jacobian.as_mut(), charts, indicators };
         let horizon = (self.options.stop - self.options.start).max(tf - self.t);
         if !self.started {
             let started = if self.input_changed {
