@@ -325,6 +325,18 @@ fn steady_state_of_a_pendulum_under_a_torque_and_none_on_a_free_joint() {
         found.iterations, found.residual
     );
     assert!((phi - expected).abs() < 1e-9);
+    // The torque that holds it at an angle: tau free, the angle fixed.
+    let mut sim = Simulator::new(&mechanism, &options()).unwrap();
+    let trim = SteadyStateOptions {
+        free_inputs: vec!["tau".into()],
+        fixed_outputs: vec![("rev.phi".into(), -0.4)],
+        ..Default::default()
+    };
+    let found = sim.steady_state(&trim).unwrap();
+    let expected = m * G * r * (-0.4f64).cos();
+    println!("trim: tau = {} vs {expected} after {} steps", found.inputs[0].1, found.iterations);
+    assert!((found.inputs[0].1 - expected).abs() < 1e-9 * expected);
+    assert_eq!(sim.input("tau").unwrap(), found.inputs[0].1);
     // A free inertia under a torque accelerates for ever.
     let mut model = Model::new("free");
     model.add("tau", "Input");
