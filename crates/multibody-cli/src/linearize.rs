@@ -3,7 +3,7 @@
 //! a steady state or at a time along a simulation; its poles; a Bode plot.
 
 use crate::exit::{error_word, Failure};
-use crate::load::{blame_an_override, choose, file_of, lower, overrides, print_diagnostics, read_package, Target};
+use crate::load::{assemble, choose, file_of, lower, overrides, read_package, Target};
 use crate::output::{outputs_are_safe, write_atomically};
 use crate::run::{command_line_options, number};
 use crate::LinearizeArgs;
@@ -46,7 +46,7 @@ fn derivatives(text: &str) -> Result<Derivatives, Failure> {
 pub fn linearize(args: &LinearizeArgs) -> Result<(), Failure> {
     let package = read_package(&args.selection.files)?;
     let target = choose(&package, &args.selection)?;
-    let overrides = overrides(&args.params, &args.initials)?;
+    let overrides = overrides(&args.values.params, &args.values.initials)?;
     let lowered = lower(&package, &target, &overrides)?;
     let options = command_line_options(&args.options, &lowered.options)?;
     let mut where_ = at(&args.at)?;
@@ -68,13 +68,7 @@ pub fn linearize(args: &LinearizeArgs) -> Result<(), Failure> {
     }
     let json = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("{}.json", lowered.name)));
     check_files(&args.selection.files, &json, args.bode.as_deref())?;
-    let mechanism = lowered.assemble().map_err(|d| {
-        if let Some(failure) = blame_an_override(&package, &target, &overrides) {
-            return failure;
-        }
-        print_diagnostics(&package, &[d]);
-        Failure::Model
-    })?;
+    let mechanism = assemble(&package, &target, &overrides, &lowered)?;
     for w in mechanism.warnings() {
         say!("warning: {w}");
     }

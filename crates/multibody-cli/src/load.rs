@@ -211,6 +211,23 @@ pub fn lower(package: &Package, target: &Target, overrides: &[Override]) -> Resu
     }
 }
 
+/// Assembles the lowered model; a failure is blamed on a command-line
+/// value where one caused it, else shown at its place in the files.
+pub fn assemble(
+    package: &Package,
+    target: &Target,
+    overrides: &[Override],
+    lowered: &multibody_dyad::Lowered,
+) -> Result<multibody::Mechanism, Failure> {
+    lowered.assemble().map_err(|d| {
+        if let Some(failure) = blame_an_override(package, target, overrides) {
+            return failure;
+        }
+        print_diagnostics(package, &[d]);
+        Failure::Model
+    })
+}
+
 /// When the model lowers without the command line's values and not with
 /// one of them, that value is the mistake: it is reported as the option
 /// the user typed (`--param rev.phi=1`), not at a line of the files that

@@ -110,18 +110,25 @@ impl OptionArgs {
     }
 }
 
-#[derive(Args)]
-pub struct RunArgs {
-    #[command(flatten)]
-    pub selection: Selection,
-    #[command(flatten)]
-    pub options: OptionArgs,
+/// Parameters and start values the command line sets over the files'.
+#[derive(Args, Clone)]
+pub struct ValueArgs {
     /// Set a parameter of the model, by its path: --param length=2 --param body.m=1.5
     #[arg(long = "param", value_name = "NAME=VALUE", allow_hyphen_values = true)]
     pub params: Vec<String>,
     /// Set a start value, by its path: --initial rev.phi=0.3
     #[arg(long = "initial", value_name = "NAME=VALUE", allow_hyphen_values = true)]
     pub initials: Vec<String>,
+}
+
+#[derive(Args)]
+pub struct RunArgs {
+    #[command(flatten)]
+    pub selection: Selection,
+    #[command(flatten)]
+    pub options: OptionArgs,
+    #[command(flatten)]
+    pub values: ValueArgs,
     /// Drive an input of the model (a top-level RealInput) from a CSV table of time and value, linearly
     /// interpolated; the table must cover the run: --input tau=torque.csv
     #[arg(long = "input", value_name = "NAME=FILE.csv")]
@@ -172,12 +179,8 @@ pub struct LinearizeArgs {
     pub selection: Selection,
     #[command(flatten)]
     pub options: OptionArgs,
-    /// Set a parameter of the model, by its path: --param body.m=1.5
-    #[arg(long = "param", value_name = "NAME=VALUE", allow_hyphen_values = true)]
-    pub params: Vec<String>,
-    /// Set a start value, by its path: --initial rev.phi=0.3
-    #[arg(long = "initial", value_name = "NAME=VALUE", allow_hyphen_values = true)]
-    pub initials: Vec<String>,
+    #[command(flatten)]
+    pub values: ValueArgs,
     /// The inputs of B and D, comma-separated (default: the analysis's, else all the model's inputs)
     #[arg(long, value_name = "NAMES", value_delimiter = ',')]
     pub inputs: Option<Vec<String>>,

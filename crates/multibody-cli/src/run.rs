@@ -1,7 +1,7 @@
 //! `multibody run`: simulate and write a CSV.
 
 use crate::exit::{error_word, Failure};
-use crate::load::{blame_an_override, choose, file_of, lower, overrides, print_diagnostics, read_package, Target};
+use crate::load::{assemble, choose, file_of, lower, overrides, read_package, Target};
 use crate::output::{self, Budget, ResultFiles, StreamingCsv};
 use crate::progress::Progress;
 use crate::{OptionArgs, RunArgs};
@@ -18,15 +18,14 @@ const SUMMARY_STATES: usize = 6;
 pub fn run(args: &RunArgs) -> Result<(), Failure> {
     let package = read_package(&args.selection.files)?;
     let target = choose(&package, &args.selection)?;
-    let overrides = overrides(&args.params, &args.initials)?;
+    let overrides = overrides(&args.values.params, &args.values.initials)?;
     let mut lowered = lower(&package, &target, &overrides)?;
     if lowered.study != multibody_dyad::Study::Transient {
         // A LinearAnalysis or SteadyStateAnalysis: its result is a linear model.
         return crate::linearize::linearize(&crate::LinearizeArgs {
             selection: args.selection.clone(),
             options: args.options.clone(),
-            params: args.params.clone(),
-            initials: args.initials.clone(),
+            values: args.values.clone(),
             inputs: None,
             outputs: None,
             at: "start".into(),
@@ -39,13 +38,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     crate::inputs::drive(&mut lowered.model, &args.inputs, &options)?;
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("{}.csv", lowered.name)));
     let files = ResultFiles::new(&args.selection.files, &out, args.animate.as_deref(), args.plot.as_deref())?;
-    let mechanism = lowered.assemble().map_err(|d| {
-        if let Some(failure) = blame_an_override(&package, &target, &overrides) {
-            return failure;
-        }
-        print_diagnostics(&package, &[d]);
-        Failure::Model
-    })?;
+    let mechanism = assemble(&package, &target, &overrides, &lowered)?;
     for w in mechanism.warnings() {
         say!("warning: {w}");
     }

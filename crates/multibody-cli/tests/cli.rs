@@ -3,24 +3,7 @@
 
 mod common;
 
-use common::{crate_path, multibody, scratch, Table};
-use std::process::Output;
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn code(o: &Output) -> i32 {
-    o.status.code().expect("exited normally")
-}
-
-fn example(name: &str) -> String {
-    crate_path(&format!("../../examples/{name}"))
-}
+use common::{code, crate_path, example, multibody, scratch, stderr, stdout, Table};
 
 #[test]
 fn run_writes_a_csv_named_after_the_analysis_and_summarises() {

@@ -4,21 +4,9 @@
 
 mod common;
 
-use common::{crate_path, scratch};
+use common::{code, crate_path, example, scratch, stderr};
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
-
-fn example(name: &str) -> String {
-    crate_path(&format!("../../examples/{name}"))
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn code(o: &Output) -> i32 {
-    o.status.code().expect("exited normally")
-}
 
 /// `multibody` with `args` in `dir`, its stdout and stderr as given.
 fn multibody_with(dir: &Path, args: &[&str], stdout: Stdio, stderr: Stdio) -> Output {

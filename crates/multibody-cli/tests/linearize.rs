@@ -4,24 +4,7 @@
 
 mod common;
 
-use common::{crate_path, multibody, scratch};
-use std::process::Output;
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn code(o: &Output) -> i32 {
-    o.status.code().expect("exited normally")
-}
-
-fn example(name: &str) -> String {
-    crate_path(&format!("../../examples/{name}"))
-}
+use common::{code, example, multibody, scratch, stderr, stdout};
 
 // The pendulum: J phi'' = -m g r cos(phi) - d phi' + tau, hanging at -pi/2.
 const M: f64 = 1.0;

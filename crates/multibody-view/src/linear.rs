@@ -4,7 +4,7 @@
 //! like the signal plots).
 
 use crate::json::Json;
-use crate::plot::{plot_error, register_font, PlotFormat, PALETTE};
+use crate::plot::{encode_png, plot_error, register_font, write_image, PALETTE};
 use crate::ViewError;
 use multibody::{Linearization, Pole};
 use plotters::coord::Shift;
@@ -384,20 +384,7 @@ pub fn write_bode(
     lin: &Linearization,
     options: &BodeOptions,
 ) -> Result<BodeSummary, ViewError> {
-    let path = path.as_ref();
-    let format = PlotFormat::from_path(path).ok_or_else(|| ViewError::Format { path: path.to_path_buf() })?;
-    let (bytes, summary) = match format {
-        PlotFormat::Png => bode_png(title, lin, options)?,
-        PlotFormat::Svg => {
-            let (text, summary) = bode_svg(title, lin, options)?;
-            (text.into_bytes(), summary)
-        }
-    };
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| ViewError::io(dir, e))?;
-    }
-    std::fs::write(path, bytes).map_err(|e| ViewError::io(path, e))?;
-    Ok(summary)
+    write_image(path.as_ref(), || bode_png(title, lin, options), || bode_svg(title, lin, options))
 }
 
 /// The Bode plot as PNG bytes.
@@ -410,15 +397,7 @@ pub fn bode_png(title: &str, lin: &Linearization, options: &BodeOptions) -> Resu
         draw(&root, title, &response)?;
         root.present().map_err(plot_error)?;
     }
-    let mut png_bytes = Vec::new();
-    {
-        let mut encoder = png::Encoder::new(&mut png_bytes, w, h);
-        encoder.set_color(png::ColorType::Rgb);
-        encoder.set_depth(png::BitDepth::Eight);
-        let mut writer = encoder.write_header().map_err(|e| ViewError::Plot(e.to_string()))?;
-        writer.write_image_data(&rgb).map_err(|e| ViewError::Plot(e.to_string()))?;
-    }
-    Ok((png_bytes, summary))
+    Ok((encode_png(&rgb, w, h)?, summary))
 }
 
 /// The Bode plot as SVG text.

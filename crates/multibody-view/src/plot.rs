@@ -82,12 +82,21 @@ pub fn write_plot(
     solution: &Solution,
     options: &PlotOptions,
 ) -> Result<PlotSummary, ViewError> {
-    let path = path.as_ref();
+    write_image(path.as_ref(), || plot_png(title, solution, options), || plot_svg(title, solution, options))
+}
+
+/// Writes an image to `path`, drawn as PNG or SVG by its extension,
+/// creating its folder if needed.
+pub(crate) fn write_image<S>(
+    path: &Path,
+    png: impl FnOnce() -> Result<(Vec<u8>, S), ViewError>,
+    svg: impl FnOnce() -> Result<(String, S), ViewError>,
+) -> Result<S, ViewError> {
     let format = PlotFormat::from_path(path).ok_or_else(|| ViewError::Format { path: path.to_path_buf() })?;
     let (bytes, summary) = match format {
-        PlotFormat::Png => plot_png(title, solution, options)?,
+        PlotFormat::Png => png()?,
         PlotFormat::Svg => {
-            let (text, summary) = plot_svg(title, solution, options)?;
+            let (text, summary) = svg()?;
             (text.into_bytes(), summary)
         }
     };
@@ -108,15 +117,19 @@ pub fn plot_png(title: &str, solution: &Solution, options: &PlotOptions) -> Resu
         draw(&root, title, solution, &layout)?;
         root.present().map_err(plot_error)?;
     }
+    Ok((encode_png(&rgb, w, h)?, layout.summary))
+}
+
+/// RGB pixels as PNG bytes.
+pub(crate) fn encode_png(rgb: &[u8], w: u32, h: u32) -> Result<Vec<u8>, ViewError> {
     let mut png_bytes = Vec::new();
-    {
-        let mut encoder = png::Encoder::new(&mut png_bytes, w, h);
-        encoder.set_color(png::ColorType::Rgb);
-        encoder.set_depth(png::BitDepth::Eight);
-        let mut writer = encoder.write_header().map_err(|e| ViewError::Plot(e.to_string()))?;
-        writer.write_image_data(&rgb).map_err(|e| ViewError::Plot(e.to_string()))?;
-    }
-    Ok((png_bytes, layout.summary))
+    let mut encoder = png::Encoder::new(&mut png_bytes, w, h);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().map_err(|e| ViewError::Plot(e.to_string()))?;
+    writer.write_image_data(rgb).map_err(|e| ViewError::Plot(e.to_string()))?;
+    drop(writer);
+    Ok(png_bytes)
 }
 
 /// The plot as SVG text.

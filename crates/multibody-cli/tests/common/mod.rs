@@ -27,6 +27,24 @@ pub fn scratch(name: &str) -> PathBuf {
     dir
 }
 
+/// What a run printed on stderr and stdout, and its exit code.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+pub fn code(o: &Output) -> i32 {
+    o.status.code().expect("exited normally")
+}
+
+/// The path of an example model, `examples/NAME`.
+pub fn example(name: &str) -> String {
+    crate_path(&format!("../../examples/{name}"))
+}
+
 /// A file of this crate's tests, or of the repository's examples, by path from the crate.
 pub fn crate_path(relative: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(relative).display().to_string()

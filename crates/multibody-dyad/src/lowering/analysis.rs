@@ -168,27 +168,9 @@ pub fn transient_options(
     // Where each option was given, for pointing at a bad value.
     let mut given: Vec<(String, crate::syntax::source::Span)> = Vec::new();
     let mut alg: Option<(Val, crate::syntax::source::Span)> = None;
-    for m in modifiers {
+    for m in parameters("TransientAnalysis", modifiers, USED, IGNORED, warnings)? {
         let name = m.name.name.as_str();
-        if IGNORED.contains(&name) {
-            warnings.push(
-                Diagnostic::warning(format!("`{name}` has no effect here and is ignored")).primary(m.span, "ignored"),
-            );
-            continue;
-        }
-        if !USED.contains(&name) {
-            let mut d = Diagnostic::error(format!("TransientAnalysis has no parameter `{name}`"))
-                .primary(m.name.span, "unknown parameter");
-            if let Some(s) = did_you_mean(name, USED.iter().chain(IGNORED).copied()) {
-                d = d.help(s);
-            }
-            return Err(d.note(format!("its parameters are: {}", USED.join(", "))));
-        }
-        let Some((value, span)) = m.value.clone() else {
-            return Err(Diagnostic::error(format!("`{name}` needs a value"))
-                .primary(m.span, "no value")
-                .help(format!("write `{name} = ...`")));
-        };
+        let (value, span) = m.value.clone().expect("checked");
         if name == "alg" {
             alg = Some((value, span));
             continue;
