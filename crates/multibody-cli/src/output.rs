@@ -8,14 +8,14 @@
 use crate::exit::Failure;
 use crate::table::{Format, TableWriter};
 use multibody::{Mechanism, SampleSink, SimulationOptions, Solution};
+pub use multibody_dyad::study::bytes;
+use multibody_dyad::study::count;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use tempfile::NamedTempFile;
 
 /// Bytes a CSV row takes per value, about (`-0.12345678901234567,`).
 const CSV_BYTES_PER_VALUE: f64 = 20.0;
-/// The memory budget when the machine does not say what it has.
-const DEFAULT_MEMORY: f64 = 4e9;
 
 /// The paths of a run's results, checked: none writes over a model file
 /// read, no two are the same, and the views' formats are known.
@@ -64,20 +64,24 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> std::
     Ok(())
 }
 
-/// Writes a table (CSV or Parquet, by the extension of `path`) whole or not
-/// at all, with `keys` columns before `time` and then `names`.
-pub fn write_table_atomically(
+/// Writes a table (CSV or Parquet, by the extension of `path`) as `fill`
+/// streams its rows, with `keys` columns before `time` and then `names`,
+/// under a temporary name: renamed to `path` when `fill` says it is
+/// complete, to [`partial_path`] of it when the work stopped part way.
+/// Returns the name.
+pub fn write_table_streaming(
     path: &Path,
     keys: &[&str],
     names: &[&str],
-    fill: impl FnOnce(&mut TableWriter) -> std::io::Result<()>,
-) -> Result<(), Failure> {
+    fill: impl FnOnce(&mut TableWriter) -> std::io::Result<bool>,
+) -> Result<PathBuf, Failure> {
     let io = |e: std::io::Error| Failure::Io(format!("cannot write {}: {e}", path.display()));
     let file = temporary_beside(path).map_err(io)?;
     let mut table = TableWriter::new(Format::of(path), file, keys, names).map_err(io)?;
-    fill(&mut table).map_err(io)?;
-    table.finish().map_err(io)?.persist(path).map_err(|e| io(e.error))?;
-    Ok(())
+    let complete = fill(&mut table).map_err(io)?;
+    let name = if complete { path.to_path_buf() } else { partial_path(path) };
+    table.finish().map_err(io)?.persist(&name).map_err(|e| io(e.error))?;
+    Ok(name)
 }
 
 /// A temporary file in the folder of `path` (created if missing), readable
@@ -111,12 +115,7 @@ pub struct Budget {
 impl Budget {
     /// Half the memory this machine has available now.
     pub fn of_this_machine() -> Self {
-        let available = std::fs::read_to_string("/proc/meminfo").ok().and_then(|info| {
-            let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
-            let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-            Some(kib * 1024.0)
-        });
-        Self { memory: available.map_or(DEFAULT_MEMORY, |bytes| 0.5 * bytes) }
+        Self { memory: multibody_dyad::study::memory_budget() }
     }
 
     /// Refuses, before it starts, a run whose output grid cannot fit: the
@@ -131,10 +130,7 @@ impl Budget {
         views: bool,
         csv: &Path,
     ) -> Result<(), Failure> {
-        if options.saveat <= 0.0 {
-            return Ok(());
-        }
-        let samples = ((options.stop - options.start) / options.saveat).ceil() + 1.0;
+        let Some(samples) = multibody_dyad::study::grid_samples(options) else { return Ok(()) };
         let advice = "raise --saveat, shorten --stop, or write fewer --signals";
         if views {
             let memory = samples * (all_signals + 1) as f64 * 8.0;
@@ -381,23 +377,4 @@ fn comparable(path: &Path) -> PathBuf {
     };
     let folder = folder.canonicalize().unwrap_or(folder);
     path.file_name().map_or(folder.clone(), |name| folder.join(name))
-}
-
-/// "12 GB", "340 MB", "2.1 kB".
-pub fn bytes(x: f64) -> String {
-    match x {
-        x if x >= 1e12 => format!("{:.1} TB", x / 1e12),
-        x if x >= 1e9 => format!("{:.1} GB", x / 1e9),
-        x if x >= 1e6 => format!("{:.1} MB", x / 1e6),
-        x => format!("{:.1} kB", x / 1e3),
-    }
-}
-
-/// A sample count for people: "10001", "1e9".
-fn count(n: f64) -> String {
-    if n < 1e7 {
-        format!("{n:.0}")
-    } else {
-        format!("{n:.1e}")
-    }
 }

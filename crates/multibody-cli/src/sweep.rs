@@ -7,7 +7,7 @@
 
 use crate::exit::{error_word, Failure};
 use crate::load::{assignment, choose, file_of, lower, read_package};
-use crate::output::write_table_atomically;
+use crate::output::write_table_streaming;
 use crate::run::{chosen_signals, command_line_options, number, plural};
 use crate::SweepArgs;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -73,43 +73,56 @@ pub fn sweep(args: &SweepArgs) -> Result<(), Failure> {
     // ones are kept.
     let interrupted = crate::run::on_interrupt();
     let started = Instant::now();
-    let runs: Vec<Option<Result<Samples, String>>> = pool.install(|| {
-        sets.par_iter()
-            .map(|set| {
-                if interrupted.load(Ordering::Relaxed) {
-                    return None;
-                }
-                let run = simulate(&package, &target, set, &args.options, &signals, &interrupted)?;
-                bar.inc(1);
-                Some(run)
-            })
-            .collect()
-    });
-    bar.finish_and_clear();
-    let elapsed = started.elapsed();
-    let stopped = interrupted.load(Ordering::Relaxed);
-
-    let finished = runs.iter().filter(|r| r.is_some()).count();
-    let failed = runs.iter().filter(|r| matches!(r, Some(Err(_)))).count();
-    for (k, (set, run)) in sets.iter().zip(&runs).enumerate() {
-        if let Some(Err(reason)) = run {
-            say!("{}: run {} ({}): {reason}", error_word(), k + 1, describe(set));
-        }
-    }
-    let out = if stopped { crate::output::partial_path(&out) } else { out };
     let keys: Vec<&str> = std::iter::once("run").chain(axes.iter().map(|a| a.name.as_str())).collect();
     let signal_names: Vec<&str> = signals.iter().map(String::as_str).collect();
-    write_table_atomically(&out, &keys, &signal_names, |table| {
-        for (k, (set, run)) in sets.iter().zip(&runs).enumerate() {
-            let Some(Ok(run)) = run else { continue };
-            let key_values: Vec<f64> = std::iter::once((k + 1) as f64).chain(set.iter().map(number_of)).collect();
-            for (t, row) in run.time.iter().zip(run.values.chunks_exact(signals.len().max(1))) {
-                table.row(&key_values, *t, row)?;
+    // The runs go a few per thread at a time, and each batch into the table
+    // in order before the next starts: memory holds a batch, not the sweep.
+    let (mut finished, mut failed, mut samples) = (0, 0, 0);
+    let out = write_table_streaming(&out, &keys, &signal_names, |table| {
+        for (batch, chunk) in sets.chunks(4 * jobs).enumerate() {
+            let runs: Vec<Option<Result<Samples, String>>> = pool.install(|| {
+                chunk
+                    .par_iter()
+                    .map(|set| {
+                        if interrupted.load(Ordering::Relaxed) {
+                            return None;
+                        }
+                        let run = simulate(&package, &target, set, &args.options, &signals, &interrupted)?;
+                        bar.inc(1);
+                        Some(run)
+                    })
+                    .collect()
+            });
+            for (j, (set, run)) in chunk.iter().zip(&runs).enumerate() {
+                let k = batch * 4 * jobs + j;
+                match run {
+                    Some(Ok(run)) => {
+                        finished += 1;
+                        samples += run.time.len();
+                        let key_values: Vec<f64> =
+                            std::iter::once((k + 1) as f64).chain(set.iter().map(number_of)).collect();
+                        for (t, row) in run.time.iter().zip(run.values.chunks_exact(signals.len().max(1))) {
+                            table.row(&key_values, *t, row)?;
+                        }
+                    }
+                    Some(Err(reason)) => {
+                        finished += 1;
+                        failed += 1;
+                        bar.suspend(|| say!("{}: run {} ({}): {reason}", error_word(), k + 1, describe(set)));
+                    }
+                    None => {}
+                }
+            }
+            if interrupted.load(Ordering::Relaxed) {
+                break;
             }
         }
-        Ok(())
+        // Complete unless a signal left runs unfinished.
+        Ok(finished == sets.len())
     })?;
-    let samples: usize = runs.iter().flatten().flatten().map(|r| r.time.len()).sum();
+    bar.finish_and_clear();
+    let elapsed = started.elapsed();
+    let stopped = finished < sets.len();
     if stopped {
         say!(
             "{}: interrupted (Ctrl-C, SIGTERM or SIGHUP): {} of {} finished (the others were stopped or not \
@@ -223,7 +236,8 @@ fn simulate(
     interrupted: &AtomicBool,
 ) -> Option<Result<Samples, String>> {
     let options = |analysis: &SimulationOptions| command_line_options(given, analysis).map_err(|f| f.message());
-    match package.run_until(target, set, options, signals, Some(interrupted)) {
+    let stop = || interrupted.load(Ordering::Relaxed);
+    match package.run_until(target, set, options, signals, Some(&stop)) {
         Ok(samples) => Some(Ok(samples)),
         Err(RunError::Stopped { .. }) if interrupted.load(Ordering::Relaxed) => None,
         Err(RunError::Model(d)) => Some(Err(d.message)),

@@ -4,7 +4,6 @@
 
 use crate::{Diagnostic, Lowered, Override, Package};
 use multibody::{SampleSink, SimulationOptions};
-use std::sync::atomic::{AtomicBool, Ordering};
 
 /// What of the package to simulate.
 #[derive(Clone, Debug, PartialEq)]
@@ -36,7 +35,7 @@ impl Package {
     }
 
     /// As [`run`](Self::run), and the simulation ends after its current
-    /// step once `stop` is raised (Ctrl-C during a sweep), as
+    /// step once `stop` says so (Ctrl-C during a sweep, or in Python), as
     /// [`RunError::Stopped`] with what it computed.
     pub fn run_until(
         &self,
@@ -44,7 +43,7 @@ impl Package {
         overrides: &[Override],
         options: impl FnOnce(&SimulationOptions) -> Result<SimulationOptions, String>,
         signals: &[String],
-        stop: Option<&AtomicBool>,
+        stop: Option<&dyn Fn() -> bool>,
     ) -> Result<Samples, RunError> {
         let lowered = self.lower_target(target, overrides).map_err(RunError::Model)?;
         let options = options(&lowered.options).map_err(RunError::Options)?;
@@ -58,9 +57,12 @@ impl Package {
                 None => return Err(RunError::Options(format!("the model has no signal `{name}`"))),
             }
         }
+        // The samples stay in memory (and are copied once where they go):
+        // a run that cannot fit is refused before it starts.
+        check_memory(&options, 1, names.len() + 1, 2.0, memory_budget()).map_err(RunError::Options)?;
         let mut samples = Samples { names, time: Vec::new(), values: Vec::new(), picks, warnings: Vec::new() };
         let mut on_step = |_t: f64| match stop {
-            Some(flag) if flag.load(Ordering::Relaxed) => Err("interrupted".to_string()),
+            Some(stop) if stop() => Err("interrupted".to_string()),
             _ => Ok(()),
         };
         let progress: Option<&mut dyn FnMut(f64) -> Result<(), String>> =
@@ -191,6 +193,71 @@ impl OptionOverrides {
 pub fn threads_for(runs: usize, asked: Option<usize>) -> usize {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     asked.unwrap_or(cores).min(cores).min(runs).max(1)
+}
+
+/// Where the machine does not say how much memory it has.
+const DEFAULT_MEMORY: f64 = 4e9;
+
+/// The memory one command or Python call may fill with samples: half of
+/// what this machine has available now.
+pub fn memory_budget() -> f64 {
+    let available = std::fs::read_to_string("/proc/meminfo").ok().and_then(|info| {
+        let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+        let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+        Some(kib * 1024.0)
+    });
+    available.map_or(DEFAULT_MEMORY, |bytes| 0.5 * bytes)
+}
+
+/// The samples of `options`' output grid, when it is known (`saveat > 0`).
+pub fn grid_samples(options: &SimulationOptions) -> Option<f64> {
+    (options.saveat > 0.0).then(|| ((options.stop - options.start) / options.saveat).ceil() + 1.0)
+}
+
+/// Refuses, before any work, `runs` runs whose samples (`columns` values
+/// each, time included) would be held `copies` times over more than
+/// `budget` bytes; the message names the estimate and the budget. (With
+/// `saveat = 0` the count is not known in advance and nothing is refused.)
+pub fn check_memory(
+    options: &SimulationOptions,
+    runs: usize,
+    columns: usize,
+    copies: f64,
+    budget: f64,
+) -> Result<(), String> {
+    let Some(samples) = grid_samples(options) else { return Ok(()) };
+    let memory = runs as f64 * samples * columns as f64 * 8.0 * copies;
+    if memory <= budget {
+        return Ok(());
+    }
+    let runs = if runs == 1 { String::new() } else { format!("{runs} runs × ") };
+    Err(format!(
+        "{runs}{} samples × {} values would take {} in memory, more than the {} allowed (half the memory \
+         available); choose fewer signals, a longer saveat or an earlier stop",
+        count(samples),
+        columns,
+        bytes(memory),
+        bytes(budget)
+    ))
+}
+
+/// Bytes for people: "117.0 MB".
+pub fn bytes(x: f64) -> String {
+    match x {
+        x if x >= 1e12 => format!("{:.1} TB", x / 1e12),
+        x if x >= 1e9 => format!("{:.1} GB", x / 1e9),
+        x if x >= 1e6 => format!("{:.1} MB", x / 1e6),
+        x => format!("{:.1} kB", x / 1e3),
+    }
+}
+
+/// A sample count for people: "10001", "1.0e9".
+pub fn count(n: f64) -> String {
+    if n < 1e7 {
+        format!("{n:.0}")
+    } else {
+        format!("{n:.1e}")
+    }
 }
 
 #[cfg(test)]

@@ -123,9 +123,48 @@ fn to_python<'py>(py: Python<'py>, samples: &Samples) -> PyResult<Columns<'py>> 
     Ok((samples.names.clone(), bytes(&samples.time)?, bytes(&samples.values)?, samples.warnings.clone()))
 }
 
+/// How often a run with the GIL released looks for Ctrl-C.
+const SIGNAL_CHECKS: std::time::Duration = std::time::Duration::from_millis(20);
+
 impl Model {
     fn run(&self, overrides: &[Override], given: &OptionOverrides, signals: &[String]) -> Result<Samples, RunError> {
         self.package.run(&self.target, overrides, |analysis| given.over(analysis).map_err(|e| e.describe()), signals)
+    }
+
+    /// [`Model::run`] on the interpreter's thread with the GIL released,
+    /// looking for Ctrl-C every [`SIGNAL_CHECKS`] (Python runs its signal
+    /// handlers only when it has the GIL): an interrupted run ends after
+    /// its current step with the exception the handler raised.
+    fn run_interruptibly(
+        &self,
+        py: Python<'_>,
+        overrides: &[Override],
+        given: &OptionOverrides,
+        signals: &[String],
+    ) -> (Result<Samples, RunError>, Option<PyErr>) {
+        py.detach(|| {
+            let raised = std::cell::RefCell::new(None);
+            let last = std::cell::Cell::new(std::time::Instant::now());
+            let stop = || {
+                if raised.borrow().is_some() {
+                    return true;
+                }
+                if last.get().elapsed() < SIGNAL_CHECKS {
+                    return false;
+                }
+                last.set(std::time::Instant::now());
+                match Python::attach(|py| py.check_signals()) {
+                    Ok(()) => false,
+                    Err(e) => {
+                        *raised.borrow_mut() = Some(e);
+                        true
+                    }
+                }
+            };
+            let options = |analysis: &SimulationOptions| given.over(analysis).map_err(|e| e.describe());
+            let result = self.package.run_until(&self.target, overrides, options, signals, Some(&stop));
+            (result, raised.into_inner())
+        })
     }
 
     fn error(&self, py: Python<'_>, e: RunError) -> PyErr {
@@ -181,10 +220,17 @@ impl Model {
     ) -> PyResult<Columns<'py>> {
         let given = OptionOverrides { stop, saveat, abstol, reltol, alg };
         let overrides = overrides(params, initial);
-        let result = py.detach(|| self.run(&overrides, &given, &signals));
-        match result {
-            Ok(samples) => to_python(py, &samples),
-            Err(e) => Err(self.error(py, e)),
+        match self.run_interruptibly(py, &overrides, &given, &signals) {
+            (Ok(samples), _) => to_python(py, &samples),
+            // Ctrl-C: the handler's exception, with the time reached and
+            // what was computed until then as its arguments.
+            (Err(RunError::Stopped { time, partial, .. }), Some(raised)) => {
+                let partial = to_python(py, &partial)?;
+                let message = format!("interrupted at t = {time}");
+                raised.value(py).setattr("args", (message, time, partial))?;
+                Err(raised)
+            }
+            (Err(e), _) => Err(self.error(py, e)),
         }
     }
 
@@ -245,6 +291,23 @@ impl Model {
     ) -> PyResult<Vec<Bound<'py, PyAny>>> {
         let given = OptionOverrides { stop, saveat, abstol, reltol, alg };
         let sets: Vec<Vec<Override>> = sets.into_iter().map(|(p, i)| overrides(p, i)).collect();
+        // Every run's samples are held until all are handed to Python: refused
+        // before any starts when they cannot fit.
+        let options = given.over(&self.options).map_err(|e| PyValueError::new_err(e.describe()))?;
+        let columns = if signals.is_empty() {
+            let lowered = self.package.lower_target(&self.target, &[]).map_err(|d| model_error(&self.package, &d))?;
+            lowered.assemble().map_err(|d| model_error(&self.package, &d))?.states().names.len()
+        } else {
+            signals.len()
+        };
+        multibody_dyad::study::check_memory(
+            &options,
+            sets.len(),
+            columns + 1,
+            2.0,
+            multibody_dyad::study::memory_budget(),
+        )
+        .map_err(PyValueError::new_err)?;
         // Never more threads than sets or cores (threads=100000 started a thread each).
         let threads = multibody_dyad::study::threads_for(sets.len(), threads);
         let pool = rayon::ThreadPoolBuilder::new()

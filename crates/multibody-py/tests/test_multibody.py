@@ -248,3 +248,46 @@ def test_a_dask_cluster_of_two_workers_shares_a_sweep():
     for length, result in zip(lengths, results):
         alone = model.simulate(params={"link1.length": length})
         assert np.array_equal(result.values, alone.values), length
+
+
+def test_ctrl_c_stops_a_simulation_with_its_partial_result():
+    """Ctrl-C during simulate() (the GIL released) ends the run after its
+    current step with KeyboardInterrupt, the samples computed attached,
+    instead of being ignored until the run ends."""
+    import os
+    import signal
+    import threading
+    import time
+
+    model = multibody.load(ROOT / "examples" / "double_pendulum.dyad")
+    # Long enough to take many seconds: 10^5 s of a chaotic pendulum.
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    started = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt) as info:
+            model.simulate(stop=1e5, saveat=0.1)
+    finally:
+        timer.cancel()
+    elapsed = time.monotonic() - started
+    assert elapsed < 3.0, f"stopped {elapsed:.2f} s after the start, the signal came at 0.3 s"
+    e = info.value
+    assert 0 < e.time < 1e5
+    assert len(e.partial.time) > 1 and e.partial.time[-1] <= e.time
+    assert "interrupted at t = " in str(e)
+
+
+def test_runs_that_cannot_fit_in_memory_are_refused_before_they_start():
+    """simulate(stop=1e4, saveat=1e-5, signals="all") would hold 1e9 samples
+    of every signal: refused at once with the estimate and the budget,
+    instead of filling the memory until the interpreter dies."""
+    import time
+
+    model = multibody.load(EXAMPLES / "pendulum.dyad")
+    started = time.monotonic()
+    with pytest.raises(ValueError, match=r"1\.0e9 samples × \d+ values would take [\d.]+ TB in memory, more than the [\d.]+ [GMT]B allowed"):
+        model.simulate(stop=1e4, saveat=1e-5, signals="all")
+    # A sweep counts all its runs: 100 runs of 1e6 samples of every signal.
+    with pytest.raises(ValueError, match=r"100 runs × 1000001 samples"):
+        model.sweep([{"body.m": 1 + k} for k in range(100)], stop=10, saveat=1e-5, signals="all")
+    assert time.monotonic() - started < 5.0

@@ -159,7 +159,9 @@ class Model:
         for every signal; by default the states. The options default to the
         analysis's; ``alg`` is ``"auto"``, ``"Rodas4"`` (stiff models) or
         ``"RK4"``. Raises ``SimulationError`` (with the partial result) if
-        the simulation stops part way.
+        the simulation stops part way. Ctrl-C stops it after its current
+        step with ``KeyboardInterrupt``, whose ``partial`` holds what was
+        computed (and ``time`` where it stopped).
         """
         names = self._signal_names(signals)
         columns = _call(
@@ -537,7 +539,7 @@ def _pairs(values: Optional[Mapping[str, float]]) -> List[tuple]:
 def _call(function, *args, **kwargs):
     try:
         return function(*args, **kwargs)
-    except MultibodyError as e:
+    except (MultibodyError, KeyboardInterrupt) as e:
         raise _wrap_error(e) from None
 
 
@@ -546,11 +548,12 @@ def _wrap_error(e: BaseException) -> BaseException:
     if isinstance(e, ModelError) and len(e.args) == 4:
         message, file, line, column = e.args
         e.message, e.file, e.line, e.column = message, file, line, column
-    elif isinstance(e, SimulationError) and len(e.args) == 3:
+    elif isinstance(e, (SimulationError, KeyboardInterrupt)) and len(e.args) == 3:
         message, time, partial = e.args
         e.message, e.time = message, time
         e.partial = Result(*partial) if partial is not None else None
-        e.args = (message, time)
+        # A KeyboardInterrupt prints its arguments: the message alone.
+        e.args = (message, time) if isinstance(e, SimulationError) else (message,)
     return e
 
 

@@ -311,8 +311,17 @@ impl Mechanism {
         self.system.next_time_event(t)
     }
 
-    /// Why the step size collapsed, as far as the run can tell.
-    pub(crate) fn step_too_small(&self, h: f64) -> String {
+    /// Why the step size collapsed, as far as the run can tell: tolerances
+    /// finer than rounding where they are, else the motion.
+    pub(crate) fn step_too_small(&self, h: f64, options: &SimulationOptions) -> String {
+        if options.abstol < 1e-14 || options.reltol < 1e-13 {
+            return format!(
+                "the step size fell to {h:e}, too small to make progress: the tolerances (abstol = {:e}, reltol = \
+                 {:e}) ask for more than double precision resolves, so no step meets them; use abstol 1e-12 and \
+                 reltol 1e-12 or looser",
+                options.abstol, options.reltol
+            );
+        }
         format!(
             "the step size fell to {h:e}, too small to make progress: the motion changes faster than the \
              integrator can follow here (a singular configuration, a force that grows without bound, or a \

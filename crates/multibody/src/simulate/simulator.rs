@@ -1221,7 +1221,7 @@ impl<'m> Simulator<'m> {
             Failure::StepTooSmall { h } => match self.last_event {
                 // Steps that collapse right after an event: the events pile up.
                 Some((te, k)) if t - te <= 1e-6 * t.abs().max(1.0) => self.piling_up(k, t - te),
-                _ => self.mechanism.step_too_small(h),
+                _ => self.mechanism.step_too_small(h, &self.options),
             },
             Failure::NotFinite => self.mechanism.describe(&DynamicsError::NotFinite),
         };
