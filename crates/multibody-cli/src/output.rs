@@ -145,6 +145,18 @@ impl Budget {
                 )));
             }
         }
+        let format = Format::of(csv);
+        let table = TableWriter::memory(format, samples, written_signals + 1);
+        if table > self.memory {
+            return Err(Failure::Usage(format!(
+                "writing Parquet of {} columns would hold about {} in memory ({} samples), more than the {} this \
+                 run may use (half the memory available); write CSV instead (it streams), or {advice}",
+                written_signals + 1,
+                bytes(table),
+                count(samples),
+                bytes(self.memory)
+            )));
+        }
         let disk = samples * (written_signals + 1) as f64 * CSV_BYTES_PER_VALUE;
         let folder = csv.parent().filter(|f| !f.as_os_str().is_empty()).unwrap_or(Path::new("."));
         let folder = folder.ancestors().find(|f| f.exists()).unwrap_or(Path::new("."));

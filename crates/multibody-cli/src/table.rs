@@ -52,6 +52,18 @@ impl TableWriter {
         }
     }
 
+    /// About the memory writing `samples` rows of `columns` columns in
+    /// `format` holds (a CSV streams: a buffer).
+    pub fn memory(format: Format, samples: f64, columns: usize) -> f64 {
+        match format {
+            Format::Csv => 0.0,
+            #[cfg(feature = "parquet")]
+            Format::Parquet => parquet_table::memory(samples, columns),
+            #[cfg(not(feature = "parquet"))]
+            Format::Parquet => 0.0,
+        }
+    }
+
     /// Ends the table (Parquet: its footer) and gives the file.
     pub fn finish(self) -> io::Result<NamedTempFile> {
         match self {
@@ -73,16 +85,35 @@ mod parquet_table {
     use std::sync::Arc;
     use tempfile::NamedTempFile;
 
-    /// Rows buffered before they go out as one record batch.
+    /// The most rows buffered before they go out as one record batch.
     const BATCH: usize = 8192;
-    /// Rows of a row group, which the writer holds until it is full: small
-    /// enough that a long run's memory stays bounded.
-    const ROW_GROUP: usize = 2 * BATCH;
+    /// Bytes a batch may hold: a wide table (every signal of a long chain,
+    /// 10^5 columns) gets batches of a few rows, not 8192 rows of gigabytes.
+    const BATCH_BYTES: usize = 16 << 20;
+
+    /// Rows per record batch for `columns` columns; a row group holds two
+    /// batches (the writer keeps it until it is full).
+    pub fn batch_rows(columns: usize) -> usize {
+        (BATCH_BYTES / (8 * columns.max(1))).clamp(1, BATCH)
+    }
+
+    /// About what writing `samples` rows of `columns` columns holds in
+    /// memory: the batch, the row group being encoded, the footer's
+    /// description of every column chunk of every row group (which the
+    /// writer keeps to the end: about 200 bytes each), and the writer's
+    /// own state per column (measured: about 6.5 kB, so a table of 10^5
+    /// columns costs 650 MB before its first row).
+    pub fn memory(samples: f64, columns: usize) -> f64 {
+        let rows = batch_rows(columns);
+        let groups = (samples / (2 * rows) as f64).ceil().max(1.0);
+        (3 * rows * columns * 8) as f64 + groups * columns as f64 * 200.0 + columns as f64 * 6.5e3
+    }
 
     pub struct ParquetTable {
         writer: ArrowWriter<NamedTempFile>,
         schema: Arc<Schema>,
         columns: Vec<Vec<f64>>,
+        batch: usize,
     }
 
     impl ParquetTable {
@@ -94,15 +125,16 @@ mod parquet_table {
                 .map(|name| Field::new(name.to_string(), DataType::Float64, false))
                 .collect();
             let schema = Arc::new(Schema::new(fields));
+            let batch = batch_rows(schema.fields().len());
             let properties = WriterProperties::builder()
                 .set_compression(Compression::SNAPPY)
-                .set_max_row_group_row_count(Some(ROW_GROUP))
+                .set_max_row_group_row_count(Some(2 * batch))
                 // Samples of a simulation seldom repeat: dictionaries would only cost memory.
                 .set_dictionary_enabled(false)
                 .build();
             let writer = ArrowWriter::try_new(file, schema.clone(), Some(properties)).map_err(io::Error::other)?;
-            let columns = vec![Vec::with_capacity(BATCH); schema.fields().len()];
-            Ok(Self { writer, schema, columns })
+            let columns = vec![Vec::with_capacity(batch); schema.fields().len()];
+            Ok(Self { writer, schema, columns, batch })
         }
 
         pub fn row(&mut self, keys: &[f64], t: f64, values: &[f64]) -> io::Result<()> {
@@ -110,7 +142,7 @@ mod parquet_table {
             for (column, &x) in self.columns.iter_mut().zip(row) {
                 column.push(x);
             }
-            if self.columns[0].len() >= BATCH {
+            if self.columns[0].len() >= self.batch {
                 self.flush_batch()?;
             }
             Ok(())
@@ -123,7 +155,7 @@ mod parquet_table {
             let arrays: Vec<ArrayRef> = self
                 .columns
                 .iter_mut()
-                .map(|c| Arc::new(Float64Array::from(std::mem::replace(c, Vec::with_capacity(BATCH)))) as ArrayRef)
+                .map(|c| Arc::new(Float64Array::from(std::mem::replace(c, Vec::with_capacity(self.batch)))) as ArrayRef)
                 .collect();
             let batch = RecordBatch::try_new(self.schema.clone(), arrays).map_err(io::Error::other)?;
             self.writer.write(&batch).map_err(io::Error::other)
