@@ -21,6 +21,7 @@ mod tangent;
 pub use steady::{SteadyState, SteadyStateOptions};
 
 use crate::outputs::OutputScratch;
+use crate::simulate::did_you_mean;
 use crate::{Mechanism, Simulator, Workspace};
 use nalgebra::DMatrix;
 use tangent::{Tangent, TangentError};
@@ -232,10 +233,6 @@ fn ports(mechanism: &Mechanism, options: &LinearizeOptions) -> Result<Ports, Lin
         outputs.push(k);
     }
     Ok(Ports { inputs, input_names, outputs, output_names, wanted })
-}
-
-fn did_you_mean<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> String {
-    crate::error::closest(name, candidates).first().map_or(String::new(), |c| format!("; did you mean `{c}`?"))
 }
 
 /// Evaluates the rates of the coordinates and the outputs at a

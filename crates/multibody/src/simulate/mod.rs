@@ -21,6 +21,7 @@ mod simulator;
 mod solution;
 
 pub use integrator::{Stats, StiffStretch};
+pub(crate) use simulator::did_you_mean;
 pub use simulator::{Shared, Simulator};
 pub use solution::{glob, CsvWriter, Rows, Solution};
 

@@ -1349,6 +1349,6 @@ fn failure_time(stop: &Stop<StepError>) -> f64 {
 }
 
 /// `; did you mean `x`?` for the candidate nearest `name`, if one is near.
-fn did_you_mean<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> String {
+pub(crate) fn did_you_mean<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> String {
     crate::error::closest(name, candidates).first().map_or(String::new(), |c| format!("; did you mean `{c}`?"))
 }
