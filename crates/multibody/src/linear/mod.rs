@@ -305,42 +305,30 @@ impl<'a> Evaluator<'a> {
         Ok(())
     }
 
-    /// `[A B; C D]` by central differences, Richardson-extrapolated:
-    /// `(4 D(h/2) - D(h)) / 3` has error `O(h^4)`, so steps of 1e-3 of each
-    /// variable's scale leave rounding (~1e-13 relative) as the error.
+    /// `[A B; C D]` by central differences (see [`richardson`]).
     fn differences(&mut self) -> Result<DMatrix<f64>, LinearizeError> {
         let (n, m, p) = self.sizes();
-        let mut jac = DMatrix::zeros(n + p, n + m);
-        let mut dx = vec![0.0; n];
-        let mut du = vec![0.0; m];
-        let mut plus = vec![0.0; n + p];
-        let mut minus = vec![0.0; n + p];
-        let scale_x = self.coordinate_scales();
-        for col in 0..n + m {
-            let scale = if col < n { scale_x[col] } else { self.inputs0[self.ports.inputs[col - n]].abs().max(1.0) };
-            let h = 1e-3 * scale;
-            let mut estimate = [DVec::zeros(n + p), DVec::zeros(n + p)];
-            for (e, step) in estimate.iter_mut().zip([h, 0.5 * h]) {
-                for (sign, out) in [(1.0, &mut plus), (-1.0, &mut minus)] {
-                    if col < n {
-                        dx[col] = sign * step;
-                    } else {
-                        du[col - n] = sign * step;
-                    }
-                    let (r, o) = out.split_at_mut(n);
-                    self.eval(&dx, &du, r, o)?;
-                }
-                dx.fill(0.0);
-                du.fill(0.0);
-                for i in 0..n + p {
-                    e[i] = (plus[i] - minus[i]) / (2.0 * step);
-                }
+        let (mut dx, mut du) = (vec![0.0; n], vec![0.0; m]);
+        let columns: Vec<usize> = (0..n + m).collect();
+        richardson(self, n + p, n + m, &columns, |ev, col, step, out| {
+            if col < n {
+                dx[col] = step;
+            } else {
+                du[col - n] = step;
             }
-            for i in 0..n + p {
-                jac[(i, col)] = (4.0 * estimate[1][i] - estimate[0][i]) / 3.0;
-            }
-        }
-        Ok(jac)
+            let (r, o) = out.split_at_mut(n);
+            let evaluated = ev.eval(&dx, &du, r, o);
+            dx.fill(0.0);
+            du.fill(0.0);
+            evaluated
+        })
+    }
+
+    /// The step of column `col` (a coordinate, then an input): 1e-3 of its
+    /// scale (see [`Evaluator::coordinate_scales`]).
+    fn step(&self, scales: &[f64], col: usize) -> f64 {
+        let n = scales.len();
+        1e-3 * if col < n { scales[col] } else { self.inputs0[self.ports.inputs[col - n]].abs().max(1.0) }
     }
 
     /// The scale of each coordinate's steps: its size at the operating
@@ -359,8 +347,6 @@ impl<'a> Evaluator<'a> {
         scales
     }
 }
-
-type DVec = nalgebra::DVector<f64>;
 
 /// Linearizes around `point`.
 pub(crate) fn linearize(point: Point<'_>, options: &LinearizeOptions) -> Result<Linearization, LinearizeError> {
@@ -469,48 +455,64 @@ fn exact(ev: &mut Evaluator<'_>) -> Result<DMatrix<f64>, LinearizeError> {
     Ok(jac)
 }
 
-/// `dQ/d[dx, inputs]` of the generalised loads, Richardson-extrapolated
-/// central differences (exact to rounding for affine loads).
+/// Central differences of `f` (`rows` values of a displacement of column
+/// `col` by `step`) in the `columns` given, Richardson-extrapolated:
+/// `(4 D(h/2) - D(h)) / 3` has error `O(h^4)`, so steps of 1e-3 of each
+/// variable's scale leave rounding (~1e-13 relative) as the error.
+fn richardson(
+    ev: &mut Evaluator<'_>,
+    rows: usize,
+    cols: usize,
+    columns: &[usize],
+    mut f: impl FnMut(&mut Evaluator<'_>, usize, f64, &mut [f64]) -> Result<(), LinearizeError>,
+) -> Result<DMatrix<f64>, LinearizeError> {
+    let mut jac = DMatrix::zeros(rows, cols);
+    let (mut plus, mut minus) = (vec![0.0; rows], vec![0.0; rows]);
+    let scales = ev.coordinate_scales();
+    for &col in columns {
+        let h = ev.step(&scales, col);
+        let mut estimate = [vec![0.0; rows], vec![0.0; rows]];
+        for (e, step) in estimate.iter_mut().zip([h, 0.5 * h]) {
+            f(ev, col, step, &mut plus)?;
+            f(ev, col, -step, &mut minus)?;
+            for i in 0..rows {
+                e[i] = (plus[i] - minus[i]) / (2.0 * step);
+            }
+        }
+        for i in 0..rows {
+            jac[(i, col)] = (4.0 * estimate[1][i] - estimate[0][i]) / 3.0;
+        }
+    }
+    Ok(jac)
+}
+
+/// `dQ/d[dx, inputs]` of the generalised loads (exact to rounding for
+/// affine loads); the state's columns only where the loads depend on it.
 fn load_jacobian(ev: &mut Evaluator<'_>) -> Result<DMatrix<f64>, LinearizeError> {
     let (n, m, _) = ev.sizes();
     let mechanism = ev.point.mechanism;
     let system = &mechanism.system;
     let (nq, nv) = (system.states.nq, system.states.nv);
-    let mut jac = DMatrix::zeros(nv, n + m);
-    let state_dependent = system.has_state_dependent_loads();
     let fail = |e: crate::DynamicsError| LinearizeError::Dynamics(mechanism.describe(&e));
-    let scales = ev.coordinate_scales();
+    let first = if system.has_state_dependent_loads() { 0 } else { n };
+    let columns: Vec<usize> = (first..n + m).collect();
     let mut y = ev.point.state.clone();
     let mut dx = vec![0.0; n];
-    let (mut plus, mut minus) = (vec![0.0; nv], vec![0.0; nv]);
-    let first = if state_dependent { 0 } else { n };
-    for col in first..n + m {
-        let scale = if col < n { scales[col] } else { ev.inputs0[ev.ports.inputs[col - n]].abs().max(1.0) };
-        let h = 1e-3 * scale;
-        let mut estimate = [vec![0.0; nv], vec![0.0; nv]];
-        for (e, step) in estimate.iter_mut().zip([h, 0.5 * h]) {
-            for (sign, out) in [(1.0, &mut plus), (-1.0, &mut minus)] {
-                let ws = &mut ev.point.ws;
-                if col < n {
-                    dx[col] = sign * step;
-                    ev.tangent.retract(system, ws, &ev.point.state, &dx, &mut y).map_err(fail)?;
-                    dx[col] = 0.0;
-                } else {
-                    y.copy_from_slice(&ev.point.state);
-                    let k = ev.ports.inputs[col - n];
-                    ws.inputs[k] = ev.inputs0[k] + sign * step;
-                }
-                let (q, u) = y.split_at(nq);
-                system.generalized_forces(ws, ev.point.time, q, &u[..nv], out).map_err(fail)?;
-                ws.inputs.copy_from_slice(&ev.inputs0);
-            }
-            for i in 0..nv {
-                e[i] = (plus[i] - minus[i]) / (2.0 * step);
-            }
+    richardson(ev, nv, n + m, &columns, |ev, col, step, out| {
+        let ws = &mut ev.point.ws;
+        if col < n {
+            dx[col] = step;
+            let moved = ev.tangent.retract(system, ws, &ev.point.state, &dx, &mut y);
+            dx[col] = 0.0;
+            moved.map_err(fail)?;
+        } else {
+            y.copy_from_slice(&ev.point.state);
+            let k = ev.ports.inputs[col - n];
+            ws.inputs[k] = ev.inputs0[k] + step;
         }
-        for i in 0..nv {
-            jac[(i, col)] = (4.0 * estimate[1][i] - estimate[0][i]) / 3.0;
-        }
-    }
-    Ok(jac)
+        let (q, u) = y.split_at(nq);
+        let evaluated = system.generalized_forces(ws, ev.point.time, q, &u[..nv], out);
+        ws.inputs.copy_from_slice(&ev.inputs0);
+        evaluated.map_err(fail)
+    })
 }
