@@ -2,7 +2,7 @@
 
 use crate::exit::{color, Failure};
 use crate::Selection;
-use multibody_dyad::{diagnostics::did_you_mean, DefinitionKind, Diagnostic, Lowered, Override, Package};
+use multibody_dyad::{Diagnostic, Lowered, Override, Package};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -139,57 +139,7 @@ fn collect_dyad_files(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), Failure>
 
 /// The analysis or component the selection names, or the only candidate.
 pub fn choose(package: &Package, selection: &Selection) -> Result<Target, Failure> {
-    let definitions = package.definitions();
-    let analyses: Vec<&str> =
-        definitions.iter().filter(|d| d.kind == DefinitionKind::Analysis).map(|d| d.name.as_str()).collect();
-    let components: Vec<&str> = definitions
-        .iter()
-        .filter(|d| matches!(d.kind, DefinitionKind::Component(_)))
-        .map(|d| d.name.as_str())
-        .collect();
-    let missing = |what: &str, name: &str, names: &[&str]| {
-        let mut message = format!("there is no {what} `{name}` in the files");
-        if let Some(s) = did_you_mean(name, names.iter().copied()) {
-            message.push_str(&format!("; {s}"));
-        } else if !names.is_empty() {
-            message.push_str(&format!(" (they define: {})", names.join(", ")));
-        }
-        Failure::Usage(message)
-    };
-    if let Some(name) = &selection.analysis {
-        return if analyses.contains(&name.as_str()) {
-            Ok(Target::Analysis(name.clone()))
-        } else {
-            Err(missing("analysis", name, &analyses))
-        };
-    }
-    if let Some(name) = &selection.model {
-        return if components.contains(&name.as_str()) {
-            Ok(Target::Component(name.clone()))
-        } else {
-            Err(missing("component", name, &components))
-        };
-    }
-    match analyses.as_slice() {
-        [one] => return Ok(Target::Analysis(one.to_string())),
-        [] => {}
-        many => {
-            return Err(Failure::Usage(format!(
-                "the files have {} analyses ({}); choose one with --analysis NAME",
-                many.len(),
-                many.join(", ")
-            )))
-        }
-    }
-    let top: Vec<String> = package.top_components().into_iter().map(|d| d.name).collect();
-    match top.as_slice() {
-        [one] => Ok(Target::Component(one.clone())),
-        [] => Err(Failure::Usage("the files define no analysis and no component to simulate".into())),
-        many => Err(Failure::Usage(format!(
-            "the files have no analysis; choose a component with --model NAME ({})",
-            many.join(", ")
-        ))),
-    }
+    package.choose_target(selection.analysis.as_deref(), selection.model.as_deref()).map_err(Failure::Usage)
 }
 
 /// Lowers the target with `overrides`, printing the warnings; errors are
@@ -228,57 +178,20 @@ pub fn assemble(
     })
 }
 
-/// When the model lowers without the command line's values and not with
-/// one of them, that value is the mistake: it is reported as the option
-/// the user typed (`--param rev.phi=1`), not at a line of the files that
-/// the user did not write it in.
+/// The failure of the one command-line value that spoils the model, if one does.
 pub fn blame_an_override(package: &Package, target: &Target, overrides: &[Override]) -> Option<Failure> {
-    let assembled = |overrides: &[Override]| package.lower_target(target, overrides)?.assemble().map(|_| ());
-    if overrides.is_empty() || assembled(&[]).is_err() {
-        return None;
-    }
-    overrides.iter().find_map(|o| {
-        let d = assembled(std::slice::from_ref(o)).err()?;
-        let option = if o.initial { "--initial" } else { "--param" };
-        let value = match &o.value {
-            multibody_dyad::eval::Val::Number(x) => crate::run::number(*x),
-            other => other.describe(),
-        };
-        // One line: the message, then what to do and the facts, each after `; `.
-        let mut message = format!("`{option} {}={value}`: {}", o.path, d.message.trim_end_matches('.'));
-        for more in d.help.iter().chain(&d.notes) {
-            let more = more.trim_end_matches('.');
-            let mut chars = more.chars();
-            let lower = chars.next().map(|c| c.to_lowercase().chain(chars).collect::<String>()).unwrap_or_default();
-            message.push_str(if message.ends_with('?') { " " } else { "; " });
-            message.push_str(&lower);
-        }
-        Some(Failure::Usage(message))
-    })
+    package.blame_override(target, overrides).map(Failure::Usage)
 }
 
 /// `--param NAME=VALUE` and `--initial NAME=VALUE` as overrides, each value
 /// a single number (for `run`).
 pub fn overrides(params: &[String], initials: &[String]) -> Result<Vec<Override>, Failure> {
-    let mut out = Vec::new();
-    for (option, given, initial) in [("--param", params, false), ("--initial", initials, true)] {
-        for text in given {
-            let (path, value) = assignment(option, text)?;
-            let value: f64 = value.trim().parse().map_err(|_| {
-                Failure::Usage(format!("`{option} {text}`: `{value}` is not a number (write {option} {path}=2.5)"))
-            })?;
-            out.push(if initial { Override::initial(path, value) } else { Override::parameter(path, value) });
-        }
-    }
-    Ok(out)
+    multibody_dyad::study::parse_overrides(params, initials).map_err(Failure::Usage)
 }
 
 /// `body.m=2` as (`body.m`, `2`).
 pub fn assignment<'t>(option: &str, text: &'t str) -> Result<(&'t str, &'t str), Failure> {
-    match text.split_once('=') {
-        Some((path, value)) if !path.trim().is_empty() => Ok((path.trim(), value)),
-        _ => Err(Failure::Usage(format!("`{option} {text}`: write NAME=VALUE, e.g. {option} body.m=2"))),
-    }
+    multibody_dyad::study::split_assignment(option, text).map_err(Failure::Usage)
 }
 
 pub fn print_diagnostics(package: &Package, diagnostics: &[Diagnostic]) {

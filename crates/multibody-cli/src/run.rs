@@ -134,14 +134,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
 /// The analysis's options with the command line's on top, checked before
 /// any work: a bad value names the option that gave it.
 pub fn command_line_options(args: &OptionArgs, analysis: &SimulationOptions) -> Result<SimulationOptions, Failure> {
-    args.overrides().over(analysis).map_err(|e| {
-        let from = match e.given {
-            Some((name, value)) => format!("--{name} {value}: "),
-            // Only a combination reaches here: the analysis was checked on its own.
-            None => String::new(),
-        };
-        Failure::Usage(format!("{from}{}", e.message))
-    })
+    args.overrides().over(analysis).map_err(|e| Failure::Usage(e.as_command_option()))
 }
 
 /// The warnings of valid options that spoil the result (a loose `reltol`,
@@ -306,33 +299,7 @@ pub fn plural(n: usize, word: &str) -> String {
     }
 }
 
-/// A number for people: up to 6 significant digits.
-pub fn number(x: f64) -> String {
-    if x == 0.0 || x.abs() >= 1e-4 && x.abs() < 1e6 {
-        let s = format!("{x:.6}");
-        let s = s.trim_end_matches('0').trim_end_matches('.');
-        // Keep 6 significant digits for numbers below 1.
-        if x.abs() < 1.0 && x != 0.0 {
-            let digits = (-x.abs().log10().floor()) as usize + 5;
-            let s = format!("{x:.digits$}");
-            return s.trim_end_matches('0').trim_end_matches('.').to_string();
-        }
-        if s == "-0" {
-            "0".into()
-        } else {
-            s.to_string()
-        }
-    } else {
-        // Scientific, without trailing zeros in the mantissa: 1e-6, 3.98600e14 -> 3.986e14.
-        let s = format!("{x:.5e}");
-        match s.split_once('e') {
-            Some((mantissa, exponent)) if mantissa.contains('.') => {
-                format!("{}e{exponent}", mantissa.trim_end_matches('0').trim_end_matches('.'))
-            }
-            _ => s,
-        }
-    }
-}
+pub use multibody_dyad::study::number;
 
 #[cfg(test)]
 mod tests {

@@ -2,7 +2,8 @@
 //! other options, and only the signals wanted. What the command's `sweep`
 //! and the Python package share.
 
-use crate::{Diagnostic, Lowered, Override, Package};
+use crate::diagnostics::did_you_mean;
+use crate::{DefinitionKind, Diagnostic, Lowered, Override, Package};
 use multibody::{SampleSink, SimulationOptions};
 
 /// What of the package to simulate.
@@ -13,6 +14,92 @@ pub enum Target {
 }
 
 impl Package {
+    /// What to run: the analysis or component named, else the one analysis
+    /// of the files, else their one top component. The message of a
+    /// failure says what the files offer (`--analysis NAME`, `--model
+    /// NAME`, as the command's options are called).
+    pub fn choose_target(&self, analysis: Option<&str>, model: Option<&str>) -> Result<Target, String> {
+        let definitions = self.definitions();
+        let analyses: Vec<&str> =
+            definitions.iter().filter(|d| d.kind == DefinitionKind::Analysis).map(|d| d.name.as_str()).collect();
+        let components: Vec<&str> = definitions
+            .iter()
+            .filter(|d| matches!(d.kind, DefinitionKind::Component(_)))
+            .map(|d| d.name.as_str())
+            .collect();
+        let missing = |what: &str, name: &str, names: &[&str]| {
+            let mut message = format!("there is no {what} `{name}` in the files");
+            if let Some(s) = did_you_mean(name, names.iter().copied()) {
+                message.push_str(&format!("; {s}"));
+            } else if !names.is_empty() {
+                message.push_str(&format!(" (they define: {})", names.join(", ")));
+            }
+            message
+        };
+        if let Some(name) = analysis {
+            return if analyses.contains(&name) {
+                Ok(Target::Analysis(name.to_string()))
+            } else {
+                Err(missing("analysis", name, &analyses))
+            };
+        }
+        if let Some(name) = model {
+            return if components.contains(&name) {
+                Ok(Target::Component(name.to_string()))
+            } else {
+                Err(missing("component", name, &components))
+            };
+        }
+        match analyses.as_slice() {
+            [one] => return Ok(Target::Analysis(one.to_string())),
+            [] => {}
+            many => {
+                return Err(format!(
+                    "the files have {} analyses ({}); choose one with --analysis NAME",
+                    many.len(),
+                    many.join(", ")
+                ))
+            }
+        }
+        let top: Vec<String> = self.top_components().into_iter().map(|d| d.name).collect();
+        match top.as_slice() {
+            [one] => Ok(Target::Component(one.clone())),
+            [] => Err("the files define no analysis and no component to simulate".into()),
+            many => {
+                Err(format!("the files have no analysis; choose a component with --model NAME ({})", many.join(", ")))
+            }
+        }
+    }
+
+    /// When the target assembles without `overrides` and not with one of
+    /// them, that value is the mistake: its message names it as the user
+    /// gave it (`--param rev.phi=1: ...`), not a line of the files the
+    /// user did not write it in. `None` when no single value is to blame.
+    pub fn blame_override(&self, target: &Target, overrides: &[Override]) -> Option<String> {
+        let assembled = |overrides: &[Override]| self.lower_target(target, overrides)?.assemble().map(|_| ());
+        if overrides.is_empty() || assembled(&[]).is_err() {
+            return None;
+        }
+        overrides.iter().find_map(|o| {
+            let d = assembled(std::slice::from_ref(o)).err()?;
+            let option = if o.initial { "--initial" } else { "--param" };
+            let value = match &o.value {
+                crate::eval::Val::Number(x) => number(*x),
+                other => other.describe(),
+            };
+            // One line: the message, then what to do and the facts, each after `; `.
+            let mut message = format!("`{option} {}={value}`: {}", o.path, d.message.trim_end_matches('.'));
+            for more in d.help.iter().chain(&d.notes) {
+                let more = more.trim_end_matches('.');
+                let mut chars = more.chars();
+                let lower = chars.next().map(|c| c.to_lowercase().chain(chars).collect::<String>()).unwrap_or_default();
+                message.push_str(if message.ends_with('?') { " " } else { "; " });
+                message.push_str(&lower);
+            }
+            Some(message)
+        })
+    }
+
     /// Lowers the target with `overrides`.
     pub fn lower_target(&self, target: &Target, overrides: &[Override]) -> Result<Lowered, Diagnostic> {
         match target {
@@ -80,6 +167,59 @@ impl Package {
     }
 }
 
+/// `--param NAME=VALUE` and `--initial NAME=VALUE` texts as overrides, each
+/// value a single number; a bad one is refused with an example of a good one.
+pub fn parse_overrides(params: &[String], initials: &[String]) -> Result<Vec<Override>, String> {
+    let mut out = Vec::new();
+    for (option, given, initial) in [("--param", params, false), ("--initial", initials, true)] {
+        for text in given {
+            let (path, value) = split_assignment(option, text)?;
+            let value: f64 = value
+                .trim()
+                .parse()
+                .map_err(|_| format!("`{option} {text}`: `{value}` is not a number (write {option} {path}=2.5)"))?;
+            out.push(if initial { Override::initial(path, value) } else { Override::parameter(path, value) });
+        }
+    }
+    Ok(out)
+}
+
+/// `body.m=2` as (`body.m`, `2`), for the option `option`.
+pub fn split_assignment<'t>(option: &str, text: &'t str) -> Result<(&'t str, &'t str), String> {
+    match text.split_once('=') {
+        Some((path, value)) if !path.trim().is_empty() => Ok((path.trim(), value)),
+        _ => Err(format!("`{option} {text}`: write NAME=VALUE, e.g. {option} body.m=2")),
+    }
+}
+
+/// A number for people: up to 6 significant digits.
+pub fn number(x: f64) -> String {
+    if x == 0.0 || x.abs() >= 1e-4 && x.abs() < 1e6 {
+        let s = format!("{x:.6}");
+        let s = s.trim_end_matches('0').trim_end_matches('.');
+        // Keep 6 significant digits for numbers below 1.
+        if x.abs() < 1.0 && x != 0.0 {
+            let digits = (-x.abs().log10().floor()) as usize + 5;
+            let s = format!("{x:.digits$}");
+            return s.trim_end_matches('0').trim_end_matches('.').to_string();
+        }
+        if s == "-0" {
+            "0".into()
+        } else {
+            s.to_string()
+        }
+    } else {
+        // Scientific, without trailing zeros in the mantissa: 1e-6, 3.98600e14 -> 3.986e14.
+        let s = format!("{x:.5e}");
+        match s.split_once('e') {
+            Some((mantissa, exponent)) if mantissa.contains('.') => {
+                format!("{}e{exponent}", mantissa.trim_end_matches('0').trim_end_matches('.'))
+            }
+            _ => s,
+        }
+    }
+}
+
 /// The samples of one run: a row of values per time, one per signal.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Samples {
@@ -142,6 +282,15 @@ impl BadOption {
     pub fn describe(&self) -> String {
         match &self.given {
             Some((name, value)) => format!("{name}={value}: {}", self.message),
+            None => self.message.clone(),
+        }
+    }
+
+    /// `--stop -1: ...`, as the command's option that gave the value.
+    pub fn as_command_option(&self) -> String {
+        match &self.given {
+            Some((name, value)) => format!("--{name} {value}: {}", self.message),
+            // Only a combination reaches here: the analysis was checked on its own.
             None => self.message.clone(),
         }
     }
