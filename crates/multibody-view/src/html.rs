@@ -86,6 +86,21 @@ pub fn animation_html(
     solution: &Solution,
     options: &AnimationOptions,
 ) -> Result<Animation, ViewError> {
+    let (scene, mut summary) = animation_scene(title, shapes, solution, options)?;
+    let html = page(title, &scene, "");
+    summary.bytes = html.len();
+    Ok(Animation { html, summary })
+}
+
+/// What the page draws, as the JSON it reads (`#mb-scene`): a live page
+/// swaps a new one in after each run (`window.__multibody.setScene`). The
+/// summary's `bytes` counts the JSON.
+pub fn animation_scene(
+    title: &str,
+    shapes: &[Shape],
+    solution: &Solution,
+    options: &AnimationOptions,
+) -> Result<(String, AnimationSummary), ViewError> {
     let scene = sample(shapes, solution, options.fps, options.max_frames)?;
     let mut signals = choose_signals(solution, &options.signals)?;
     let mut left_out = scene.skipped.clone();
@@ -101,17 +116,31 @@ pub fn animation_html(
         signals.truncate(options.max_signals);
     }
     let json = scene_json(title, &scene, solution, &signals, options);
-    let html =
-        fill(TEMPLATE, &[("TITLE", &escape_html(title)), ("STYLE", STYLE), ("SCENE", &json), ("SCRIPT", SCRIPT)]);
     let summary = AnimationSummary {
-        bytes: html.len(),
+        bytes: json.len(),
         frames: scene.times.len(),
         poses: scene.pose_names.len(),
         shapes: scene.shapes.len(),
         signals,
         left_out,
     };
-    Ok(Animation { html, summary })
+    Ok((json, summary))
+}
+
+/// The page around a scene; `extra` goes at the end of the body (the live
+/// page's panel and module).
+pub(crate) fn page(title: &str, scene_json: &str, extra: &str) -> String {
+    fill(
+        TEMPLATE,
+        &[
+            ("TITLE", &escape_html(title)),
+            ("STYLE", STYLE),
+            // The JSON writer escapes `<`, so no `</script>` ends the element early.
+            ("SCENE", scene_json),
+            ("SCRIPT", SCRIPT),
+            ("EXTRA", extra),
+        ],
+    )
 }
 
 /// Writes the animation page to `out`.
@@ -234,7 +263,7 @@ fn scene_json(
 
 /// Replaces each `{{NAME}}` in `template` once, in one pass (so text put in
 /// is never scanned for markers).
-fn fill(template: &str, values: &[(&str, &str)]) -> String {
+pub(crate) fn fill(template: &str, values: &[(&str, &str)]) -> String {
     let extra: usize = values.iter().map(|(_, v)| v.len()).sum();
     let mut out = String::with_capacity(template.len() + extra);
     let mut rest = template;
@@ -257,7 +286,7 @@ fn fill(template: &str, values: &[(&str, &str)]) -> String {
     out
 }
 
-fn escape_html(s: &str) -> String {
+pub(crate) fn escape_html(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
 

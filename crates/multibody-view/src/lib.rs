@@ -25,18 +25,24 @@
 mod base64;
 mod html;
 mod json;
+#[cfg(feature = "images")]
 mod linear;
+#[cfg(feature = "images")]
 mod plot;
 mod scene;
 mod signals;
 
 use std::path::{Path, PathBuf};
 
-pub use html::{animation_html, write_animation, write_animation_to, Animation, AnimationOptions, AnimationSummary};
+pub use html::{
+    animation_html, animation_scene, write_animation, write_animation_to, Animation, AnimationOptions, AnimationSummary,
+};
+#[cfg(feature = "images")]
 pub use linear::{
     bode_png, bode_response, bode_svg, damping_report, default_frequency_range, linearization_json, write_bode,
     BodeCurve, BodeOptions, BodeResponse, BodeSummary,
 };
+#[cfg(feature = "images")]
 pub use plot::{plot_png, plot_svg, write_plot, PlotFormat, PlotOptions, PlotSummary};
 pub use signals::{choose_signals, default_signals};
 
