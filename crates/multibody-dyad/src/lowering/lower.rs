@@ -1190,7 +1190,9 @@ fn sort_modifiers(
 /// `initial a.b = v` (and `guess`) with a constant value act as
 /// modifiers `a(b(initial = v))` of this level.
 /// Returns them by component (`a`); those of the component's own
-/// variables join `variable_mods`. The relations taken are `consumed`.
+/// variables join `variable_mods`, where the start values given from
+/// outside (an enclosing component, an override) win over them. The
+/// relations taken are `consumed`.
 fn start_modifiers(
     flats: &[Flat],
     decls: &Declarations,
@@ -1203,6 +1205,7 @@ fn start_modifiers(
     let Declarations { params, variables, .. } = decls;
     let decl_of = |n: &str| decls.component(n);
     let mut initial: ModsByName = HashMap::new();
+    let mut own_variables: ModsByName = HashMap::new();
     for (k, flat_relation) in flats.iter().enumerate() {
         let (lhs, rhs, span, env, attribute) = match flat_relation {
             Flat::Initial { lhs, rhs, span, env } => (*lhs, *rhs, *span, env, "initial"),
@@ -1236,11 +1239,15 @@ fn start_modifiers(
             let list = initial.remove(&key).unwrap_or_default();
             initial.insert(key, merge_same_level(list, vec![m])?);
         } else {
-            let list = variable_mods.remove(&first.name).unwrap_or_default();
+            let list = own_variables.remove(&first.name).unwrap_or_default();
             let inner = m.nested;
-            variable_mods.insert(first.name.clone(), merge_same_level(list, inner)?);
+            own_variables.insert(first.name.clone(), merge_same_level(list, inner)?);
         }
         consumed[k] = true;
+    }
+    for (name, own) in own_variables {
+        let outer = variable_mods.remove(&name).unwrap_or_default();
+        variable_mods.insert(name, merge_outer(outer, own)?);
     }
     Ok(initial)
 }
