@@ -49,6 +49,7 @@ pub use syntax::{ast, lexer, parser, source};
 
 pub use diagnostics::{Diagnostic, Severity};
 pub use lowering::analysis::Study;
+pub use lowering::tunables::{Tunable, TunableKind};
 pub use reports::engine_errors::engine_diagnostic;
 pub use semantics::modifiers::Override;
 pub use source::{FileId, Sources, Span};
@@ -90,6 +91,11 @@ pub struct Lowered {
     pub study: Study,
     pub warnings: Vec<Diagnostic>,
     pub source_map: SourceMap,
+    /// The values a user most likely wants to change, in the model's order:
+    /// the numeric parameters of the components the model's files define
+    /// (for every instance: `link1.length`) and the start values those
+    /// files write (`link1.joint.phi`), as the model gets them.
+    pub tunables: Vec<Tunable>,
 }
 
 impl Lowered {

@@ -407,3 +407,37 @@ end
     assert!(message.contains("the rows of this matrix differ in length: 2 and 1"), "{message}");
     assert!(message.contains("rows.dyad:3:"), "{message}");
 }
+
+/// A start value given from outside a component (an enclosing
+/// component's modifier, an override) wins over the component's own
+/// `initial x = v`, as it does over `variable x::Real = initial v`; two
+/// given in the same component are still an error.
+#[test]
+fn start_values_from_outside_win_over_initial_relations() {
+    let text = r#"
+component Decay
+  variable z::Real
+relations
+  initial z = 3
+  der(z) = -z
+end
+
+example component Two
+  a = Decay()
+  b = Decay(z(initial = 5))
+end
+"#;
+    let start = |l: &Lowered, name: &str| {
+        let v = l.model.equations.variables.iter().find(|v| v.name == name).unwrap();
+        (v.start, v.fixed)
+    };
+    let lowered = component(text, "Two");
+    assert_eq!((start(&lowered, "a.z"), start(&lowered, "b.z")), ((Some(3.0), true), (Some(5.0), true)));
+    let p = package(&[("test.dyad", text)]);
+    let overridden = p
+        .lower_component_with("Two", &[multibody_dyad::Override::initial("a.z", 7.0)])
+        .unwrap_or_else(|d| panic!("{}", d.render(p.sources(), false)));
+    assert_eq!(start(&overridden, "a.z"), (Some(7.0), true));
+    let twice = error(&text.replace("  der(z) = -z", "  initial z = 4\n  der(z) = -z"), "Two");
+    assert!(twice.contains("the start value is given twice"), "{twice}");
+}

@@ -9,9 +9,10 @@
 use crate::lowering::analysis::{analysis_options, Study};
 use crate::lowering::connections::{ConnectionGraph, End};
 use crate::lowering::relations::{self, Entity, Flat, RelationsOut, WithEnv};
+use crate::lowering::tunables::{in_model_files, type_facts, Tunable, TunableKind};
 use crate::reports::diagnostics::{did_you_mean, Diagnostic};
 use crate::reports::source_map::{ComponentSite, MemberSite, Shadowing, SourceMap};
-use crate::semantics::eval::{eval, Val};
+use crate::semantics::eval::{eval, Scope, Val};
 use crate::semantics::extends::{effective, Effective};
 use crate::semantics::index::{Index, CONNECTOR_TYPES};
 use crate::semantics::modifiers::{apply_overrides, eval_modifiers, merge_outer, merge_same_level, Mod, Override};
@@ -101,6 +102,8 @@ pub struct Lowerer<'a, 'i> {
     /// Inputs of sub-components that an enclosing component's equations
     /// name: those equations decide them (`smoother.u = sin(time)`).
     set_from_outside: std::collections::HashSet<String>,
+    /// What a user may want to change, as met.
+    tunables: Vec<Tunable>,
 }
 
 fn flat(prefix: &str, name: &str) -> String {
@@ -128,6 +131,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             effective: HashMap::new(),
             outputs: Vec::new(),
             set_from_outside: Default::default(),
+            tunables: Vec::new(),
         }
     }
 
@@ -145,6 +149,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             study: study.unwrap_or_default(),
             warnings: self.warnings,
             source_map: self.map,
+            tunables: self.tunables,
         })
     }
 
@@ -417,6 +422,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         let mut scope = ParamScope::new(name, decls.params.clone(), decls.runtime.clone(), site, &self.index.aliases);
         let (forwarded, mut variable_mods) = sort_modifiers(def, &decls, modifiers, &mut scope)?;
         scope.resolve_all()?;
+        self.parameter_tunables(prefix, &decls.params, &mut scope)?;
 
         // The relations with their structure unrolled: `for` loops, and
         // `if` and `switch` on parameters.
@@ -437,6 +443,37 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         self.connections(&level, &flats, &subs, &absent, &mut scope)?;
         self.own_relations(prefix, &flats, &consumed, &decls, &mut scope)?;
         self.stack.pop();
+        Ok(())
+    }
+
+    /// Lists the numeric scalar parameters of the model's files among the
+    /// tunables, with the values `scope` has computed (final ones cannot
+    /// be changed and are left out).
+    fn parameter_tunables(
+        &mut self,
+        prefix: &str,
+        params: &[&ParameterDecl],
+        scope: &mut ParamScope,
+    ) -> Result<(), Diagnostic> {
+        for p in params {
+            if p.variability == Variability::Final || !in_model_files(p.span) {
+                continue;
+            }
+            let Some(&Val::Number(value)) = scope.value(&p.name.name) else { continue };
+            let Some(facts) = type_facts(&p.ty, &self.index.aliases, scope)? else { continue };
+            self.tunables.push(Tunable {
+                path: flat(prefix, &p.name.name),
+                kind: TunableKind::Parameter,
+                value,
+                unit: facts.unit,
+                doc: p.doc.clone(),
+                min: facts.min,
+                max: facts.max,
+                integer: facts.integer,
+                derived: scope.derived.contains(&p.name.name),
+                span: p.span,
+            });
+        }
         Ok(())
     }
 
@@ -775,10 +812,14 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             self.entities.insert(full.clone(), Entity::Variable(dims.clone()));
         }
         let names = relations::scalar_names(&full, &dims);
-        // Start values: the declaration's `= initial v`, then modifiers.
+        // Start values: the declaration's `= initial v`, then modifiers;
+        // with where each is written and whether it reads parameters.
         let mut start: Option<(Val, bool)> = None;
+        let mut written: Option<(Span, bool)> = None;
         if let Some(e) = &v.initial {
+            let reads = scope.reads();
             start = Some((eval(e, scope)?, true));
+            written = Some((e.span, scope.reads() != reads));
         }
         for m in &mods {
             let fixed = match m.name.name.as_str() {
@@ -788,8 +829,31 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             };
             match &m.value {
                 Some((Val::Missing, _)) => start = None,
-                Some((value, _)) => start = Some((value.clone(), fixed)),
+                Some((value, span)) => {
+                    start = Some((value.clone(), fixed));
+                    written = Some((*span, m.derived));
+                }
                 None => {}
+            }
+        }
+        if let (Some((Val::Number(x), true)), Some((span, derived)), Causality::Internal) =
+            (&start, written, v.causality)
+        {
+            if in_model_files(span) {
+                if let Some(facts) = type_facts(&v.ty, &self.index.aliases, scope)? {
+                    self.tunables.push(Tunable {
+                        path: full.clone(),
+                        kind: TunableKind::Start,
+                        value: *x,
+                        unit: facts.unit,
+                        doc: v.doc.clone(),
+                        min: facts.min,
+                        max: facts.max,
+                        integer: false,
+                        derived,
+                        span: v.span,
+                    });
+                }
             }
         }
         let values: Vec<Option<f64>> = match &start {
@@ -1039,6 +1103,23 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                             }
                             continue;
                         }
+                        if let (Val::Number(x), "initial", true) =
+                            (&value, attribute.name.name.as_str(), in_model_files(span))
+                        {
+                            let variable = spec.variables.iter().find(|v| v.name == m.name.name);
+                            self.tunables.push(Tunable {
+                                path: flat(name, &m.name.name),
+                                kind: TunableKind::Start,
+                                value: *x,
+                                unit: variable.map(|v| v.unit.to_string()).filter(|u| !u.is_empty()),
+                                doc: variable.map(|v| v.doc.to_string()).filter(|d| !d.is_empty()),
+                                min: None,
+                                max: None,
+                                integer: false,
+                                derived: attribute.derived,
+                                span: decl.span,
+                            });
+                        }
                         list.push((m.name.name.clone(), engine_value(&value, span, &m.name.name)?));
                     }
                 }
@@ -1121,6 +1202,9 @@ fn sort_modifiers(
             match (&m.value, m.has_nested) {
                 (Some(v), false) => {
                     scope.overrides.insert(key.to_string(), v.clone());
+                    if m.derived {
+                        scope.derived.insert(key.to_string());
+                    }
                 }
                 _ => {
                     return Err(Diagnostic::error(format!("`{key}` is a parameter; give it a value"))
@@ -1190,7 +1274,9 @@ fn sort_modifiers(
 /// `initial a.b = v` (and `guess`) with a constant value act as
 /// modifiers `a(b(initial = v))` of this level.
 /// Returns them by component (`a`); those of the component's own
-/// variables join `variable_mods`. The relations taken are `consumed`.
+/// variables join `variable_mods`, where the start values given from
+/// outside (an enclosing component, an override) win over them. The
+/// relations taken are `consumed`.
 fn start_modifiers(
     flats: &[Flat],
     decls: &Declarations,
@@ -1203,6 +1289,7 @@ fn start_modifiers(
     let Declarations { params, variables, .. } = decls;
     let decl_of = |n: &str| decls.component(n);
     let mut initial: ModsByName = HashMap::new();
+    let mut own_variables: ModsByName = HashMap::new();
     for (k, flat_relation) in flats.iter().enumerate() {
         let (lhs, rhs, span, env, attribute) = match flat_relation {
             Flat::Initial { lhs, rhs, span, env } => (*lhs, *rhs, *span, env, "initial"),
@@ -1236,11 +1323,15 @@ fn start_modifiers(
             let list = initial.remove(&key).unwrap_or_default();
             initial.insert(key, merge_same_level(list, vec![m])?);
         } else {
-            let list = variable_mods.remove(&first.name).unwrap_or_default();
+            let list = own_variables.remove(&first.name).unwrap_or_default();
             let inner = m.nested;
-            variable_mods.insert(first.name.clone(), merge_same_level(list, inner)?);
+            own_variables.insert(first.name.clone(), merge_same_level(list, inner)?);
         }
         consumed[k] = true;
+    }
+    for (name, own) in own_variables {
+        let outer = variable_mods.remove(&name).unwrap_or_default();
+        variable_mods.insert(name, merge_outer(outer, own)?);
     }
     Ok(initial)
 }

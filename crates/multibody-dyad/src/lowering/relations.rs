@@ -43,6 +43,10 @@ impl Scope for WithEnv<'_, '_, '_> {
     fn is_component(&self, name: &str) -> bool {
         self.scope.is_component(name)
     }
+
+    fn reads(&self) -> usize {
+        self.scope.reads()
+    }
 }
 
 /// A relation after the structure is unrolled, with its loop variables.

@@ -99,6 +99,11 @@ pub trait Scope {
     fn parameter_names(&self) -> Vec<String>;
     /// Whether `name` is a sub-component or connector (not a value).
     fn is_component(&self, name: &str) -> bool;
+    /// How many times a parameter has been read so far: a value whose
+    /// evaluation changes the count is computed from parameters.
+    fn reads(&self) -> usize {
+        0
+    }
 }
 
 /// Functions of numbers: name, number of arguments, function.

@@ -15,6 +15,8 @@ pub struct Mod {
     pub is_final: bool,
     /// The value and the span of its expression.
     pub value: Option<(Val, Span)>,
+    /// Whether the value is computed from parameters (`d = d`, `k = 2 * m`).
+    pub derived: bool,
     pub nested: Vec<Mod>,
     /// Whether `name(...)` was written (possibly empty).
     pub has_nested: bool,
@@ -30,6 +32,7 @@ impl Mod {
             name: Ident { name: attribute.into(), span: path.last().map_or(span, |p| p.span) },
             is_final: false,
             value: Some((value, value_span)),
+            derived: false,
             nested: vec![],
             has_nested: false,
             span,
@@ -38,6 +41,7 @@ impl Mod {
             name: part.clone(),
             is_final: false,
             value: None,
+            derived: false,
             nested: vec![inner],
             has_nested: true,
             span,
@@ -55,10 +59,12 @@ pub fn eval_modifiers(modifiers: &[ast::Modifier], scope: &mut dyn Scope) -> Res
                 .secondary(first.name.span, "first time")
                 .help("keep one of them"));
         }
+        let reads = scope.reads();
         let value = match &m.value {
             Some(e) => Some((eval(e, scope)?, e.span)),
             None => None,
         };
+        let derived = scope.reads() != reads;
         let nested = match &m.nested {
             Some(n) => eval_modifiers(n, scope)?,
             None => Vec::new(),
@@ -67,6 +73,7 @@ pub fn eval_modifiers(modifiers: &[ast::Modifier], scope: &mut dyn Scope) -> Res
             name: m.name.clone(),
             is_final: m.is_final,
             value,
+            derived,
             nested,
             has_nested: m.nested.is_some(),
             span: m.span,
@@ -91,6 +98,7 @@ pub fn merge_same_level(mut own: Vec<Mod>, extra: Vec<Mod>) -> Result<Vec<Mod>, 
                 }
                 if o.value.is_none() {
                     o.value = m.value;
+                    o.derived = m.derived;
                 }
                 o.has_nested |= m.has_nested;
                 o.nested = merge_same_level(std::mem::take(&mut o.nested), m.nested)?;
@@ -115,6 +123,7 @@ pub fn merge_outer(outer: Vec<Mod>, mut own: Vec<Mod>) -> Result<Vec<Mod>, Diagn
                 }
                 if m.value.is_some() {
                     o.value = m.value;
+                    o.derived = m.derived;
                     o.span = m.span;
                     o.name.span = m.name.span;
                 }
@@ -169,6 +178,7 @@ fn set_at(modifiers: &mut Vec<Mod>, path: &[&str], value: &Val, span: Span) {
                 name: Ident { name: first.to_string(), span },
                 is_final: false,
                 value: None,
+                derived: false,
                 nested: Vec::new(),
                 has_nested: false,
                 span,
@@ -179,6 +189,7 @@ fn set_at(modifiers: &mut Vec<Mod>, path: &[&str], value: &Val, span: Span) {
     let m = &mut modifiers[index];
     if rest.is_empty() {
         m.value = Some((value.clone(), span));
+        m.derived = false;
     } else {
         m.has_nested = true;
         set_at(&mut m.nested, rest, value, span);

@@ -27,6 +27,12 @@ pub struct ParamScope<'a, 'i> {
     by_name: HashMap<&'a str, usize>,
     values: HashMap<String, Option<Val>>,
     depth: usize,
+    /// How many times a parameter has been read (see [`Scope::reads`]).
+    reads: usize,
+    /// The parameters whose value is computed from other parameters: a
+    /// default that reads them, or a modifier's value that reads those of
+    /// the enclosing component (named here by the modifier's sorting).
+    pub derived: HashSet<String>,
 }
 
 impl<'a, 'i> ParamScope<'a, 'i> {
@@ -51,7 +57,14 @@ impl<'a, 'i> ParamScope<'a, 'i> {
             aliases,
             values: HashMap::new(),
             depth: 0,
+            reads: 0,
+            derived: HashSet::new(),
         }
+    }
+
+    /// The value of the parameter `name` once computed.
+    pub fn value(&self, name: &str) -> Option<&Val> {
+        self.values.get(name).and_then(Option::as_ref)
     }
 
     /// Computes every parameter, so that errors in unused ones show too.
@@ -82,7 +95,14 @@ impl<'a, 'i> ParamScope<'a, 'i> {
         self.depth += 1;
         let (value, span) = match (self.overrides.get(name).cloned(), &decl.default) {
             (Some(given), _) => given,
-            (None, Some(default)) => (eval(default, self)?, default.span),
+            (None, Some(default)) => {
+                let reads = self.reads;
+                let value = eval(default, self)?;
+                if self.reads != reads {
+                    self.derived.insert(name.clone());
+                }
+                (value, default.span)
+            }
             (None, None) => {
                 return Err(Diagnostic::error(format!("`{}` needs a value for the parameter `{name}`", self.owner))
                     .primary(self.site, format!("`{name}` is not given"))
@@ -204,7 +224,12 @@ impl Scope for ParamScope<'_, '_> {
         let Some(decl) = self.by_name.get(name.name.as_str()).map(|&k| self.params[k]) else {
             return Ok(None);
         };
+        self.reads += 1;
         self.resolve(decl, Some(name.span)).map(Some)
+    }
+
+    fn reads(&self) -> usize {
+        self.reads
     }
 
     fn parameter_names(&self) -> Vec<String> {

@@ -36,6 +36,8 @@ impl BaseType {
 /// A declared type, aliases followed.
 pub struct ResolvedType<'a> {
     pub base: BaseType,
+    /// The name the aliases end at: `Real`, `Length`, `Integer`, ...
+    pub name: &'a str,
     pub dims: &'a [Dim],
     /// `min`, `max`, `units`, ... of the declaration and of its aliases.
     pub attributes: Vec<&'a Modifier>,
@@ -67,7 +69,7 @@ pub fn resolve<'a>(ty: &'a TypeRef, aliases: &HashMap<&str, &'a TypeAlias>) -> R
                     None => BaseType::Real,
                 },
             };
-            return Ok(ResolvedType { base, dims, attributes });
+            return Ok(ResolvedType { base, name: last, dims, attributes });
         };
         current = &alias.base;
         if dims.is_empty() {
@@ -78,6 +80,44 @@ pub fn resolve<'a>(ty: &'a TypeRef, aliases: &HashMap<&str, &'a TypeAlias>) -> R
     Err(Diagnostic::error(format!("the type `{}` is an alias of itself", ty.name.text()))
         .primary(ty.name.span, "aliases go round in a circle")
         .help("make one of the `type` definitions name a base type such as `Real`"))
+}
+
+/// The units of Dyad's standard types (`type Length = Real(units = "m")`
+/// in Dyad's `Dyad` library), with the lower bound those that state one
+/// give (`type Mass = Real(units = "kg", min = 0)`). The files use these
+/// names without defining them; other names are plain numbers.
+const STANDARD_TYPES: &[(&str, &str, Option<f64>)] = &[
+    ("Acceleration", "m/s2", None),
+    ("Angle", "rad", None),
+    ("AngularAcceleration", "rad/s2", None),
+    ("AngularFrequency", "rad/s", None),
+    ("AngularVelocity", "rad/s", None),
+    ("Breadth", "m", Some(0.0)),
+    ("Density", "kg/m3", Some(0.0)),
+    ("Diameter", "m", Some(0.0)),
+    ("Distance", "m", Some(0.0)),
+    ("Duration", "s", None),
+    ("Force", "N", None),
+    ("Frequency", "Hz", None),
+    ("Inertia", "kg.m2", None),
+    ("Length", "m", None),
+    ("Mass", "kg", Some(0.0)),
+    ("MomentOfForce", "N.m", None),
+    ("MomentOfInertia", "kg.m2", None),
+    ("Position", "m", None),
+    ("Radius", "m", Some(0.0)),
+    ("RotationalDampingConstant", "N.m.s/rad", None),
+    ("RotationalSpringConstant", "N.m/rad", None),
+    ("Time", "s", None),
+    ("Torque", "N.m", None),
+    ("TranslationalDampingConstant", "N.s/m", None),
+    ("Velocity", "m/s", None),
+];
+
+/// The unit of a standard type such as `Length`, and its lower bound if
+/// it states one (see [`STANDARD_TYPES`]).
+pub fn standard_unit(name: &str) -> Option<(&'static str, Option<f64>)> {
+    STANDARD_TYPES.iter().find(|(n, _, _)| *n == name).map(|(_, unit, min)| (*unit, *min))
 }
 
 /// Checks a value against a base type (no dimensions); enumeration values
