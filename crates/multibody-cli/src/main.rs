@@ -7,6 +7,7 @@ mod check;
 mod exit;
 mod inputs;
 mod linearize;
+mod live;
 mod load;
 mod output;
 mod progress;
@@ -34,6 +35,7 @@ Examples:
   multibody run examples/ --analysis PendulumSimulation --signals 'rev.*' --out pendulum.csv
   multibody sweep examples/pendulum.dyad --param body.m=0.5:0.5:2 --param damper.d=0,0.1 --out sweep.csv
   multibody linearize examples/controlled_pendulum.dyad --at steady --bode bode.png
+  multibody live examples/double_pendulum.dyad -o live.html
   multibody check examples/free_body.dyad
   multibody describe Body";
 
@@ -61,6 +63,9 @@ enum Command {
     Sweep(SweepArgs),
     /// The linear model around an operating point: A, B, C, D with names, poles, a Bode plot
     Linearize(LinearizeArgs),
+    /// Write a page that runs the model itself: change a parameter, a start value or the stop time in
+    /// its panel and the motion and plots follow (offline; the engine is embedded as WebAssembly)
+    Live(LiveArgs),
 }
 
 /// Which model files, and which analysis or component in them.
@@ -204,6 +209,27 @@ pub struct LinearizeArgs {
     pub bode: Option<PathBuf>,
 }
 
+#[derive(Args)]
+pub struct LiveArgs {
+    #[command(flatten)]
+    pub selection: Selection,
+    #[command(flatten)]
+    pub values: ValueArgs,
+    /// Stop time [s] the page starts with (default: the analysis's, or 1 s with --model)
+    #[arg(long, value_name = "T", allow_hyphen_values = true)]
+    pub stop: Option<f64>,
+    /// Signals plotted beside the view, as glob patterns (default: the joint coordinates)
+    #[arg(long, value_name = "PATTERN", num_args = 1..)]
+    pub signals: Vec<String>,
+    /// The page to write (.html)
+    #[arg(long, short, value_name = "FILE.html")]
+    pub out: PathBuf,
+    /// The engine compiled to WebAssembly (default: the one scripts/build-web.sh builds, or
+    /// $MULTIBODY_WASM)
+    #[arg(long, value_name = "FILE.wasm")]
+    pub wasm: Option<PathBuf>,
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -213,6 +239,7 @@ fn main() -> ExitCode {
         Command::List => catalog::list(),
         Command::Sweep(args) => sweep::sweep(&args),
         Command::Linearize(args) => linearize::linearize(&args),
+        Command::Live(args) => live::live(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -192,6 +192,16 @@ impl Package {
         })
     }
 
+    /// The files added to the package (not the standard library's), as
+    /// name and text: what another process needs to read the same package
+    /// (the live page's engine).
+    pub fn user_files(&self) -> Vec<(String, String)> {
+        let library = stdlib::sources().count();
+        (library..self.sources.len())
+            .map(|f| (self.sources.name(f).to_string(), self.sources.text(f).to_string()))
+            .collect()
+    }
+
     pub fn sources(&self) -> &Sources {
         &self.sources
     }

@@ -22,14 +22,21 @@
     return new Float32Array(bytes.buffer);
   }
 
-  var times = floats(scene.times);
-  var frameCount = times.length;
-  var poseCount = scene.poseCount;
-  var vectorCount = scene.vectorCount;
-  var poses = floats(scene.poses);
-  var vectorData = floats(scene.vectors);
-  var tStart = times[0];
-  var tEnd = times[frameCount - 1];
+  // The motion; a live page replaces it after each run (setScene).
+  var times, frameCount, poseCount, vectorCount, poses, vectorData, tStart, tEnd;
+  function readMotion() {
+    times = floats(scene.times);
+    frameCount = times.length;
+    poseCount = scene.poseCount;
+    vectorCount = scene.vectorCount;
+    poses = floats(scene.poses);
+    vectorData = floats(scene.vectors);
+    tStart = times[0];
+    tEnd = times[frameCount - 1];
+    posePosition = new Float64Array(poseCount * 3);
+    poseRotation = new Float64Array(poseCount * 9); // row-major, frame to world
+    vectorNow = new Float64Array(vectorCount * 3);
+  }
 
   // ------------------------------------------------------------ 3-vectors
   function sub(a, b) { return [a[0] - b[0], a[1] - b[1], a[2] - b[2]]; }
@@ -99,9 +106,8 @@
   }
 
   // ------------------------------------------------------------ poses at a time
-  var posePosition = new Float64Array(poseCount * 3);
-  var poseRotation = new Float64Array(poseCount * 9); // row-major, frame to world
-  var vectorNow = new Float64Array(vectorCount * 3);
+  var posePosition, poseRotation, vectorNow;
+  readMotion();
 
   function frameAt(t) {
     if (!(t > times[0])) return [0, 0, 0];
@@ -149,7 +155,7 @@
   function yAxisOf(j) { var o = j * 9; return [poseRotation[o + 1], poseRotation[o + 4], poseRotation[o + 7]]; }
 
   // ------------------------------------------------------------ shapes
-  var shapes = scene.shapes.map(function (s) {
+  function makeShape(s) {
     var item = {
       kind: s.kind, color: s.color, specular: s.specular, place: s.place,
       width: s.width > 0 ? s.width : 0.01,
@@ -164,8 +170,11 @@
       var e2 = perpendicular(s.widthDir, e1);
       item.local = { origin: s.origin, length: length, e1: e1, e2: e2, e3: cross(e1, e2) };
     }
+    if (item.kind === "helix" && meshes) item.mesh = helixMesh(item.windings);
     return item;
-  });
+  }
+  var meshes = null;
+  var shapes = scene.shapes.map(makeShape);
 
   // Where a shape is now: origin, orthonormal axes (e1 along its length)
   // and length, all in world coordinates.
@@ -415,7 +424,7 @@
     return helixMeshes[useg];
   }
 
-  var meshProgram = null, lineProgram = null, meshes = null, grid = null;
+  var meshProgram = null, lineProgram = null, grid = null;
   if (gl) {
     meshProgram = program(MESH_VS, MESH_FS,
       ["uViewProjection", "uModel", "uNormalMatrix", "uHelix", "uColor", "uSpecular", "uEye", "uLight"]);
@@ -436,9 +445,14 @@
   }
 
   // ------------------------------------------------------------ bounds, grid, camera
-  var bmin = scene.bbox.min, bmax = scene.bbox.max;
-  var center = [(bmin[0] + bmax[0]) / 2, (bmin[1] + bmax[1]) / 2, (bmin[2] + bmax[2]) / 2];
-  var radius = Math.max(norm(sub(bmax, bmin)) / 2, 1e-3);
+  var bmin, bmax, center, radius;
+  function readBounds() {
+    bmin = scene.bbox.min;
+    bmax = scene.bbox.max;
+    center = [(bmin[0] + bmax[0]) / 2, (bmin[1] + bmax[1]) / 2, (bmin[2] + bmax[2]) / 2];
+    radius = Math.max(norm(sub(bmax, bmin)) / 2, 1e-3);
+  }
+  readBounds();
 
   function niceStep(x) {
     var e = Math.pow(10, Math.floor(Math.log10(x)));
@@ -470,7 +484,11 @@
 
   var FOVY = 40 * Math.PI / 180;
   var camera = { target: center.slice(), distance: 1, yaw: 0.5, pitch: 0.35 };
+  // Whether the user moved the camera since it was last framed: a new
+  // motion (setScene) is framed again only if not.
+  var cameraMoved = false;
   function resetView() {
+    cameraMoved = false;
     camera.target = center.slice();
     camera.yaw = 0.5;
     camera.pitch = 0.35;
@@ -643,10 +661,11 @@
   }
 
   // ------------------------------------------------------------ plots
-  var plotTimes = floats(scene.signalTimes);
   var plotsBox = document.getElementById("mb-plots");
   var PLOT_COLOR = "#1f5fbf";
-  var plots = scene.signals.map(function (s) {
+  var MARGIN = { left: 58, right: 12, top: 20, bottom: 22 };
+  var plotTimes, plots, pt0, pt1;
+  function makePlot(s) {
     var c = document.createElement("canvas");
     c.title = s.name + (s.unit ? " [" + s.unit + "]" : "") + ": click or drag to seek";
     plotsBox.appendChild(c);
@@ -661,17 +680,22 @@
     var plot = { name: s.name, unit: s.unit, data: data, canvas: c, lo: lo - pad, hi: hi + pad, back: null, width: 0, height: 0 };
     attachSeek(plot);
     return plot;
-  });
-  if (!plots.length) {
-    var empty = document.createElement("div");
-    empty.className = "mb-empty";
-    empty.textContent = "No signals chosen to plot.";
-    plotsBox.appendChild(empty);
   }
-  var MARGIN = { left: 58, right: 12, top: 20, bottom: 22 };
-  var pt0 = plotTimes.length ? plotTimes[0] : tStart;
-  var pt1 = plotTimes.length ? plotTimes[plotTimes.length - 1] : tEnd;
-  if (!(pt1 > pt0)) pt1 = pt0 + 1;
+  function makePlots() {
+    plotsBox.textContent = "";
+    plotTimes = floats(scene.signalTimes);
+    plots = scene.signals.map(makePlot);
+    if (!plots.length) {
+      var empty = document.createElement("div");
+      empty.className = "mb-empty";
+      empty.textContent = "No signals chosen to plot.";
+      plotsBox.appendChild(empty);
+    }
+    pt0 = plotTimes.length ? plotTimes[0] : tStart;
+    pt1 = plotTimes.length ? plotTimes[plotTimes.length - 1] : tEnd;
+    if (!(pt1 > pt0)) pt1 = pt0 + 1;
+  }
+  makePlots();
 
   function ticks(lo, hi, count) {
     var step = niceStep((hi - lo) / count);
@@ -819,8 +843,11 @@
   var speedSelect = document.getElementById("mb-speed");
   var loopBox = document.getElementById("mb-loop");
 
-  slider.min = String(tStart);
-  slider.max = String(tEnd > tStart ? tEnd : tStart + 1);
+  function setSliderRange() {
+    slider.min = String(tStart);
+    slider.max = String(tEnd > tStart ? tEnd : tStart + 1);
+  }
+  setSliderRange();
   var speeds = [0.05, 0.1, 0.25, 0.5, 1, 2, 5, 10];
   if (speeds.indexOf(state.speed) < 0) { speeds.push(state.speed); speeds.sort(function (a, b) { return a - b; }); }
   speeds.forEach(function (s) {
@@ -888,6 +915,7 @@
       camera.yaw -= dx * 0.008;
       camera.pitch = Math.max(-1.55, Math.min(1.55, camera.pitch + dy * 0.008));
     }
+    cameraMoved = true;
     state.dirty = true;
   });
   function endDrag() { drag = null; canvas.classList.remove("mb-dragging"); }
@@ -897,6 +925,7 @@
     e.preventDefault();
     var delta = e.deltaY * (e.deltaMode === 1 ? 40 : e.deltaMode === 2 ? 400 : 1);
     camera.distance = Math.min(radius * 1e3, Math.max(radius * 1e-3, camera.distance * Math.exp(delta * 0.0015)));
+    cameraMoved = true;
     state.dirty = true;
   }, { passive: false });
   canvas.addEventListener("dblclick", resetView);
@@ -929,7 +958,30 @@
     window.requestAnimationFrame(tick);
   }
 
+  // A new motion of the same model (a live page's next run): the view,
+  // the time and the playing state stay; the plots and bounds follow.
+  function setScene(next) {
+    scene = next;
+    readMotion();
+    shapes = scene.shapes.map(makeShape);
+    readBounds();
+    if (gl) {
+      if (grid) gl.deleteVertexArray(grid.vao);
+      grid = makeGrid();
+    }
+    makePlots();
+    setSliderRange();
+    if (!cameraMoved) resetView();
+    state.t = Math.min(tEnd, Math.max(tStart, state.t));
+    if (state.playing && !(tEnd > tStart)) state.playing = false;
+    var info = window.__multibody.info;
+    info.frames = frameCount; info.poses = poseCount; info.shapes = shapes.length;
+    info.signals = plots.length; info.start = tStart; info.stop = tEnd;
+    render();
+  }
+
   window.__multibody = {
+    setScene: setScene,
     setTime: function (t) { setTime(t); render(); },
     time: function () { return state.t; },
     play: function () { setPlaying(true); },

@@ -27,6 +27,8 @@ mod html;
 mod json;
 #[cfg(feature = "images")]
 mod linear;
+#[cfg(feature = "live")]
+mod live;
 #[cfg(feature = "images")]
 mod plot;
 mod scene;
@@ -42,6 +44,8 @@ pub use linear::{
     bode_png, bode_response, bode_svg, damping_report, default_frequency_range, linearization_json, write_bode,
     BodeCurve, BodeOptions, BodeResponse, BodeSummary,
 };
+#[cfg(feature = "live")]
+pub use live::{live_html, LiveModel};
 #[cfg(feature = "images")]
 pub use plot::{plot_png, plot_svg, write_plot, PlotFormat, PlotOptions, PlotSummary};
 pub use signals::{choose_signals, default_signals};

@@ -1,0 +1,151 @@
+//! A model loaded once and run again with other values: what the live page
+//! does on every change, with the command's own checks and messages.
+
+use multibody::Mechanism;
+use multibody_dyad::study::{parse_overrides, OptionOverrides};
+use multibody_dyad::{Diagnostic, Override, Package, Target, TunableKind};
+use multibody_view::{animation_scene, AnimationOptions};
+use serde_json::{json, Map, Value};
+
+/// The model files, and what of them to run.
+pub struct Session {
+    package: Package,
+    target: Target,
+    /// The analysis's (or component's) name: the page's title.
+    name: String,
+    /// Signal patterns for the plots (empty: the view's guess).
+    signals: Vec<String>,
+}
+
+/// One run's values, each as the user typed it (`"0.7"`), so that a bad
+/// one gets the command's message for the same text.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Values {
+    /// `NAME=VALUE`, as `--param` takes them.
+    pub params: Vec<String>,
+    /// `NAME=VALUE`, as `--initial` takes them.
+    pub initials: Vec<String>,
+    /// The stop time, as `--stop` takes it; `None` keeps the analysis's.
+    pub stop: Option<String>,
+}
+
+/// A finished run: the scene to draw and every signal's final value.
+pub struct Run {
+    /// The scene JSON the viewer reads (see `multibody_view::animation_scene`).
+    pub scene: String,
+    /// Each recorded signal at the end of the run, at full precision.
+    pub finals: Map<String, Value>,
+    pub warnings: Vec<String>,
+    pub stop: f64,
+}
+
+impl Session {
+    /// Reads the files (name and text each) and chooses the analysis or
+    /// component, as `multibody run` does. The error is the command's
+    /// message, without colour.
+    pub fn load(
+        files: &[(String, String)],
+        analysis: Option<&str>,
+        model: Option<&str>,
+        signals: Vec<String>,
+    ) -> Result<Session, String> {
+        let mut package = Package::new();
+        let mut errors = Vec::new();
+        for (name, text) in files {
+            if let Err(d) = package.add_source(name.clone(), text.clone()) {
+                errors.push(d);
+            }
+        }
+        if !errors.is_empty() {
+            return Err(render(&package, &errors));
+        }
+        let target = package.choose_target(analysis, model)?;
+        let lowered = package.lower_target(&target, &[]).map_err(|d| render(&package, &[d]))?;
+        Ok(Session { name: lowered.name.clone(), package, target, signals })
+    }
+
+    /// The title of the page: the analysis's or the component's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// What the panel offers: the model's own parameters and start values
+    /// (with units and docs), and the run's options.
+    pub fn describe(&self) -> Result<Value, String> {
+        let lowered = self.package.lower_target(&self.target, &[]).map_err(|d| render(&self.package, &[d]))?;
+        let tunables: Vec<Value> = lowered
+            .tunables
+            .iter()
+            .map(|t| {
+                json!({
+                    "path": t.path,
+                    "kind": match t.kind { TunableKind::Parameter => "parameter", TunableKind::Start => "start" },
+                    "value": t.value,
+                    "unit": t.unit,
+                    "doc": t.doc,
+                    "min": t.min,
+                    "max": t.max,
+                    "integer": t.integer,
+                    "derived": t.derived,
+                })
+            })
+            .collect();
+        Ok(json!({
+            "name": self.name,
+            "tunables": tunables,
+            "stop": lowered.options.stop,
+            "start": lowered.options.start,
+            "saveat": lowered.options.saveat,
+        }))
+    }
+
+    /// Lowers, assembles and simulates with `values`; a failure is the
+    /// message `multibody run` prints for the same values.
+    pub fn run(&self, values: &Values) -> Result<Run, String> {
+        let overrides = parse_overrides(&values.params, &values.initials)?;
+        let stop = match &values.stop {
+            None => None,
+            Some(text) => Some(
+                text.trim()
+                    .parse::<f64>()
+                    .map_err(|_| format!("`--stop {text}`: `{text}` is not a number (write --stop 5)"))?,
+            ),
+        };
+        let lowered = self.package.lower_target(&self.target, &overrides).map_err(|d| self.blame(&overrides, d))?;
+        let options =
+            OptionOverrides { stop, ..Default::default() }.over(&lowered.options).map_err(|e| e.as_command_option())?;
+        let mechanism = lowered.assemble().map_err(|d| self.blame(&overrides, d))?;
+        let mut warnings: Vec<String> = mechanism.warnings().to_vec();
+        let solution = mechanism.simulate(&options).map_err(|stopped| {
+            let reason = lowered.with_places(self.package.sources(), &stopped.reason);
+            format!("the simulation stopped at t = {}: {reason}", multibody_dyad::study::number(stopped.time))
+        })?;
+        warnings.extend(solution.warnings().iter().cloned());
+        let scene = self.scene(&mechanism, &solution)?;
+        let mut finals = Map::new();
+        for name in solution.names() {
+            if let Some(x) = solution.last(name) {
+                finals.insert(name.clone(), json!(x));
+            }
+        }
+        Ok(Run { scene, finals, warnings, stop: options.stop })
+    }
+
+    fn scene(&self, mechanism: &Mechanism, solution: &multibody::Solution) -> Result<String, String> {
+        let options = AnimationOptions { signals: self.signals.clone(), ..Default::default() };
+        animation_scene(&self.name, &mechanism.shapes(), solution, &options)
+            .map(|(scene, _)| scene)
+            .map_err(|e| e.to_string())
+    }
+
+    /// The message for a model that fails with `overrides`: blamed on the
+    /// value that spoils it, else shown at its place in the files.
+    fn blame(&self, overrides: &[Override], d: Diagnostic) -> String {
+        self.package.blame_override(&self.target, overrides).unwrap_or_else(|| render(&self.package, &[d]))
+    }
+}
+
+/// Diagnostics as the command prints them, without colour.
+fn render(package: &Package, diagnostics: &[Diagnostic]) -> String {
+    diagnostics.iter().map(|d| d.render(package.sources(), false)).collect::<Vec<_>>().join("\n")
+}
