@@ -1,0 +1,202 @@
+//! `multibody live`: the page runs the model in headless Chromium with the
+//! engine compiled to WebAssembly, and must give what `multibody run`
+//! gives for the same values: the same final state (to 1e-12), the same
+//! picture, the same message for a bad value, and the last good run kept.
+//!
+//! The module is built by `scripts/build-web.sh` (run by
+//! `scripts/install-test-deps.sh`).
+
+#[path = "../../multibody-view/tests/common/browser.rs"]
+mod browser;
+mod common;
+#[allow(dead_code)]
+#[path = "../../multibody-view/tests/common/pixels.rs"]
+mod pixels;
+
+use common::{code, example, multibody, scratch, stderr, Table};
+use std::path::{Path, PathBuf};
+use std::time::SystemTime;
+
+/// The module `multibody live` embeds, checked to be built from the
+/// sources as they are (a stale one would test old code).
+fn module() -> PathBuf {
+    let exe = PathBuf::from(env!("CARGO_BIN_EXE_multibody"));
+    let module = exe.parent().unwrap().parent().unwrap().join("wasm32-unknown-unknown/web/multibody_web.wasm");
+    let built = std::fs::metadata(&module).and_then(|m| m.modified()).unwrap_or_else(|_| {
+        panic!("the live page tests need the WebAssembly module {}: run scripts/build-web.sh", module.display())
+    });
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let newest = [
+        "crates/multibody/src",
+        "crates/multibody-dyad/src",
+        "crates/multibody-dyad/stdlib",
+        "crates/multibody-view/src",
+        "crates/multibody-web/src",
+    ]
+    .iter()
+    .map(|d| newest_file(&root.join(d)))
+    .max()
+    .unwrap();
+    assert!(
+        built >= newest,
+        "the WebAssembly module {} is older than the engine's sources: run scripts/build-web.sh",
+        module.display()
+    );
+    module
+}
+
+fn newest_file(dir: &Path) -> SystemTime {
+    let mut newest = SystemTime::UNIX_EPOCH;
+    for entry in std::fs::read_dir(dir).unwrap().flatten() {
+        let path = entry.path();
+        let time = if path.is_dir() { newest_file(&path) } else { entry.metadata().unwrap().modified().unwrap() };
+        newest = newest.max(time);
+    }
+    newest
+}
+
+/// The page's console lines that start with `multibody-live: {what}`.
+fn logged<'a>(shot: &'a browser::Shot, what: &str) -> Vec<&'a str> {
+    let marker = format!("multibody-live: {what}");
+    shot.console()
+        .into_iter()
+        .filter_map(|l| l.find(&marker).map(|k| l[k + marker.len()..].split("\", source:").next().unwrap()))
+        .collect()
+}
+
+/// `name=value` pairs of a logged line, by name.
+fn pairs(line: &str) -> Vec<(String, f64)> {
+    line.split_whitespace()
+        .filter_map(|w| w.split_once('=').map(|(n, v)| (n.to_string(), v.parse().unwrap())))
+        .collect()
+}
+
+fn live_page(dir: &Path, extra: &[&str]) -> PathBuf {
+    let page = dir.join("live.html");
+    let mut args = vec!["live", &example("double_pendulum.dyad")[..], "-o", "live.html"]
+        .into_iter()
+        .map(String::from)
+        .collect::<Vec<_>>();
+    args.extend(extra.iter().map(|s| s.to_string()));
+    args.push("--wasm".into());
+    args.push(module().display().to_string());
+    let out = multibody(dir, &args.iter().map(String::as_str).collect::<Vec<_>>());
+    assert_eq!(code(&out), 0, "{}", stderr(&out));
+    page
+}
+
+#[test]
+fn a_changed_length_runs_in_the_page_as_the_command_runs_it() {
+    let dir = scratch("live_changed_length");
+    let page = live_page(&dir, &[]);
+    let bytes = std::fs::metadata(&page).unwrap().len();
+    eprintln!("live page: {bytes} bytes");
+    assert!(bytes < 3_000_000, "the live page has {bytes} bytes, more than 3 MB");
+
+    // The command's run with the same values, and its own page.
+    let out = multibody(
+        &dir,
+        &[
+            "run",
+            &example("double_pendulum.dyad"),
+            "--param",
+            "link2.length=0.7",
+            "--stop",
+            "5",
+            "--out",
+            "ref.csv",
+            "--animate",
+            "ref.html",
+        ],
+    );
+    assert_eq!(code(&out), 0, "{}", stderr(&out));
+    let reference = Table::load(&dir.join("ref.csv"));
+
+    let shot =
+        browser::screenshot(&page, "live=link2.length=0.7;stop=5&livebench=10&t=2&panel=0", (900, 600), "live_changed");
+    shot.assert_clean();
+    let finals = logged(&shot, "final ");
+    assert_eq!(finals.len(), 1, "the page did not report its run:\n{}", shot.log);
+    let finals = pairs(finals[0]);
+    assert_eq!(finals.len(), 4, "{finals:?}");
+    let mut worst: f64 = 0.0;
+    for (name, value) in &finals {
+        let expected = *reference.column(name).last().unwrap();
+        let error = (value - expected).abs();
+        eprintln!("{name}: page {value:e}, command {expected:e}, difference {error:.1e}");
+        worst = worst.max(error);
+    }
+    eprintln!("worst difference {worst:.1e} = {:.4} of 1e-12", worst / 1e-12);
+    assert!(worst <= 1e-12, "the page's final state differs from the command's by {worst:e}");
+
+    // Re-running after a change, measured in the page (run, scene and redraw).
+    let bench = logged(&shot, "bench ");
+    let bench = pairs(bench.first().unwrap_or_else(|| panic!("no bench line:\n{}", shot.log)));
+    let median = bench.iter().find(|(n, _)| n == "median_ms").unwrap().1;
+    eprintln!("re-simulating 5 s after a change: median {median} ms, max {} ms", bench[2].1);
+    assert!(median < 50.0, "re-simulating the double pendulum took {median} ms (median of 10)");
+
+    // The picture: the command's page with the same length at the same
+    // time, and not the unchanged motion.
+    let same = browser::screenshot(&dir.join("ref.html"), "t=2&panel=0", (900, 600), "live_ref");
+    same.assert_clean();
+    let before = browser::screenshot(&page, "t=2&panel=0", (900, 600), "live_before");
+    let to_same = shot.image.changed_fraction(&same.image);
+    let to_before = shot.image.changed_fraction(&before.image);
+    eprintln!("pixels changed: vs the command's page {to_same:.4}, vs the unchanged model {to_before:.4}");
+    assert!(to_same < 0.002, "the page's picture differs from the command's: {to_same}");
+    assert!(to_before > 0.01, "the change did not show: {to_before}");
+}
+
+#[test]
+fn a_bad_value_shows_the_commands_message_and_keeps_the_last_run() {
+    let dir = scratch("live_bad_value");
+    let page = live_page(&dir, &["--stop", "2"]);
+    for (value, case) in [("link2.width=-0.1", "negative"), ("link1.d=abc", "word")] {
+        let out = multibody(&dir, &["run", &example("double_pendulum.dyad"), "--param", value, "--out", "x.csv"]);
+        assert_eq!(code(&out), 2, "{}", stderr(&out));
+        let message = stderr(&out).trim().strip_prefix("error: ").unwrap().to_string();
+        let shot =
+            browser::screenshot(&page, &format!("live=link2.length=0.7;{value}&t=1.5&panel=0"), (900, 600), case);
+        let refused = logged(&shot, "refused ");
+        assert_eq!(refused.len(), 1, "{}", shot.log);
+        // Logged as JSON text: `"` and `\` escaped.
+        let shown = refused[0].trim_matches('"').replace("\\\"", "\"").replace("\\\\", "\\");
+        let shown = shown.trim_end_matches("\\\"").trim_end_matches('"');
+        assert_eq!(shown, message, "{case}");
+        // The view still shows the good run before it (link2 0.7 m long).
+        let kept = browser::screenshot(&page, "live=link2.length=0.7&t=1.5&panel=0", (900, 600), "kept");
+        let changed = shot.image.changed_fraction(&kept.image);
+        assert!(changed < 0.002, "{case}: the last good run was not kept ({changed})");
+    }
+}
+
+#[test]
+fn the_command_refuses_before_writing() {
+    let dir = scratch("live_refusals");
+    let model = example("double_pendulum.dyad");
+    let missing = multibody(&dir, &["live", &model, "-o", "p.html", "--wasm", "nowhere.wasm"]);
+    assert_eq!(code(&missing), 2);
+    assert!(stderr(&missing).contains("the WebAssembly module nowhere.wasm does not exist"), "{}", stderr(&missing));
+    std::fs::write(dir.join("fake.wasm"), "not a module").unwrap();
+    let fake = multibody(&dir, &["live", &model, "-o", "p.html", "--wasm", "fake.wasm"]);
+    assert!(
+        stderr(&fake).contains("is not a WebAssembly module; rebuild it with scripts/build-web.sh"),
+        "{}",
+        stderr(&fake)
+    );
+    let module = module().display().to_string();
+    let bad = multibody(&dir, &["live", &model, "--param", "link2.width=-0.1", "-o", "p.html", "--wasm", &module]);
+    assert_eq!(code(&bad), 2);
+    assert!(
+        stderr(&bad).contains("`--param link2.width=-0.1`: `link2.box.width` = -0.1 is not allowed"),
+        "{}",
+        stderr(&bad)
+    );
+    assert!(!dir.join("p.html").exists(), "a page was written for a model that does not run");
+    let copy = dir.join("model.dyad");
+    std::fs::copy(&model, &copy).unwrap();
+    let over = multibody(&dir, &["live", "model.dyad", "-o", "model.dyad", "--wasm", &module]);
+    assert_eq!(code(&over), 2);
+    assert_eq!(std::fs::read_to_string(&copy).unwrap(), std::fs::read_to_string(&model).unwrap());
+}
