@@ -2,7 +2,7 @@
 //! WebAssembly (`scripts/build-web.sh`): the live page loads a model once,
 //! then runs it again with each value the user changes, in the page.
 //!
-//! The module speaks JSON through its memory, with four exports and no
+//! The module speaks JSON through its memory, with five exports and no
 //! generated bindings:
 //!
 //! - `mb_alloc(len) -> ptr` and `mb_free(ptr, len)`: the page writes a
@@ -11,12 +11,18 @@
 //!   `mb_reply()`, valid until the next call;
 //! - `mb_panic()`: after a trap, the panic's message (`mb_reply()` holds it).
 //!
-//! Requests: `{"op": "load", "files": [[name, text], ...], "analysis":
-//! name?, "model": name?, "signals": [pattern, ...]}`, then `{"op":
-//! "run", "params": ["link2.length=0.7", ...], "initials": [...], "stop":
-//! "5"?}`. Replies: `{"ok": true, ...}` or `{"ok": false, "error":
-//! message}`, the message being what `multibody run` prints for the same
-//! files and values. The same [`Session`] runs natively in the tests.
+//! Requests:
+//! - `{"op": "load", "files": [[name, text], ...], "analysis": name?,
+//!   "model": name?, "signals": [pattern, ...]}` first;
+//! - `{"op": "run", "params": ["link2.length=0.7", ...], "initials": [...],
+//!   "stop": "5"?}`: a whole run;
+//! - `{"op": "start", ...the same values}`, then `{"op": "step", "until": t,
+//!   "inputs": {name: value}}` again and again: a run advanced in real
+//!   time while the page sets the model's inputs.
+//!
+//! Replies: `{"ok": true, ...}` or `{"ok": false, "error": message}`, the
+//! message being what `multibody run` prints for the same files and values.
+//! The same [`Session`] runs natively in the tests.
 
 mod session;
 
@@ -31,11 +37,13 @@ pub fn handle(session: &mut Option<Session>, request: &str) -> String {
         Err(e) => Err(format!("the page sent a request that is not JSON: {e}")),
         Ok(request) => match request["op"].as_str() {
             Some("load") => load(session, &request),
-            Some("run") => match session {
-                Some(session) => run(session, &request),
+            Some(op @ ("run" | "start" | "step")) => match session {
+                Some(session) if op == "run" => run(session, &request),
+                Some(session) if op == "start" => start(session, &request),
+                Some(session) => step(session, &request),
                 None => Err("no model is loaded: send `load` first".into()),
             },
-            other => Err(format!("unknown request {other:?}: the requests are `load` and `run`")),
+            other => Err(format!("unknown request {other:?}: the requests are `load`, `run`, `start` and `step`")),
         },
     };
     match reply {
@@ -68,13 +76,35 @@ fn load(session: &mut Option<Session>, request: &Value) -> Result<String, String
     Ok(json!({ "ok": true, "model": describe }).to_string())
 }
 
-fn run(session: &Session, request: &Value) -> Result<String, String> {
-    let values = Values {
+fn values(request: &Value) -> Values {
+    Values {
         params: strings(&request["params"]),
         initials: strings(&request["initials"]),
         stop: request["stop"].as_str().map(str::to_string),
-    };
-    let run = session.run(&values)?;
+    }
+}
+
+fn run(session: &Session, request: &Value) -> Result<String, String> {
+    reply(session.run(&values(request))?)
+}
+
+fn start(session: &mut Session, request: &Value) -> Result<String, String> {
+    let inputs = session.start(&values(request))?;
+    let inputs: Vec<Value> = inputs.into_iter().map(|(name, value)| json!({ "name": name, "value": value })).collect();
+    Ok(json!({ "ok": true, "inputs": inputs }).to_string())
+}
+
+fn step(session: &mut Session, request: &Value) -> Result<String, String> {
+    let until = request["until"].as_f64().ok_or("`step` needs `until`, a time")?;
+    let inputs: Vec<(String, f64)> = request["inputs"]
+        .as_object()
+        .map(|o| o.iter().filter_map(|(k, v)| Some((k.clone(), v.as_f64()?))).collect())
+        .unwrap_or_default();
+    reply(session.step(until, &inputs)?)
+}
+
+/// A run's reply; its `stop` is the time reached.
+fn reply(run: Run) -> Result<String, String> {
     // The scene is JSON already: it goes in as it is.
     Ok(format!(
         r#"{{"ok":true,"stop":{},"warnings":{},"final":{},"scene":{}}}"#,

@@ -1,11 +1,12 @@
 //! A model loaded once and run again with other values: what the live page
 //! does on every change, with the command's own checks and messages.
 
-use multibody::Mechanism;
+use multibody::{Mechanism, SimulationOptions, Simulator, Solution};
 use multibody_dyad::study::{parse_overrides, OptionOverrides};
 use multibody_dyad::{Diagnostic, Override, Package, Target, TunableKind};
 use multibody_view::{animation_scene, AnimationOptions};
 use serde_json::{json, Map, Value};
+use std::sync::Arc;
 
 /// The model files, and what of them to run.
 pub struct Session {
@@ -15,7 +16,23 @@ pub struct Session {
     name: String,
     /// Signal patterns for the plots (empty: the view's guess).
     signals: Vec<String>,
+    /// The run being stepped in real time, if one is.
+    stepping: Option<Stepping>,
 }
+
+/// A run the page advances step by step while its inputs change.
+struct Stepping {
+    simulator: Simulator<'static>,
+    mechanism: Arc<Mechanism>,
+    stop: f64,
+    /// The recorded signals' names and units.
+    names: Vec<String>,
+    units: Vec<&'static str>,
+}
+
+/// The most animation frames per second a stepped run's scene keeps of
+/// its recorded samples (the view interpolates between them).
+const STEPPED_FPS: f64 = 60.0;
 
 /// One run's values, each as the user typed it (`"0.7"`), so that a bad
 /// one gets the command's message for the same text.
@@ -61,7 +78,7 @@ impl Session {
         }
         let target = package.choose_target(analysis, model)?;
         let lowered = package.lower_target(&target, &[]).map_err(|d| render(&package, &[d]))?;
-        Ok(Session { name: lowered.name.clone(), package, target, signals })
+        Ok(Session { name: lowered.name.clone(), package, target, signals, stepping: None })
     }
 
     /// The title of the page: the analysis's or the component's name.
@@ -102,19 +119,7 @@ impl Session {
     /// Lowers, assembles and simulates with `values`; a failure is the
     /// message `multibody run` prints for the same values.
     pub fn run(&self, values: &Values) -> Result<Run, String> {
-        let overrides = parse_overrides(&values.params, &values.initials)?;
-        let stop = match &values.stop {
-            None => None,
-            Some(text) => Some(
-                text.trim()
-                    .parse::<f64>()
-                    .map_err(|_| format!("`--stop {text}`: `{text}` is not a number (write --stop 5)"))?,
-            ),
-        };
-        let lowered = self.package.lower_target(&self.target, &overrides).map_err(|d| self.blame(&overrides, d))?;
-        let options =
-            OptionOverrides { stop, ..Default::default() }.over(&lowered.options).map_err(|e| e.as_command_option())?;
-        let mechanism = lowered.assemble().map_err(|d| self.blame(&overrides, d))?;
+        let (lowered, options, mechanism) = self.prepare(values)?;
         let mut warnings: Vec<String> = mechanism.warnings().to_vec();
         let solution = mechanism.simulate(&options).map_err(|stopped| {
             let reason = lowered.with_places(self.package.sources(), &stopped.reason);
@@ -131,6 +136,80 @@ impl Session {
         Ok(Run { scene, finals, warnings, stop: options.stop })
     }
 
+    /// Starts a run that the page advances with [`step`](Self::step),
+    /// setting the model's inputs (its top-level `RealInput`s) as it goes.
+    /// Gives the inputs' names and start values.
+    pub fn start(&mut self, values: &Values) -> Result<Vec<(String, f64)>, String> {
+        self.stepping = None;
+        let (_, options, mechanism) = self.prepare(values)?;
+        let mechanism = Arc::new(mechanism);
+        let simulator = Simulator::new(mechanism.clone(), &options)
+            .map_err(|stopped| format!("the simulation cannot start: {}", stopped.reason))?;
+        let inputs = simulator
+            .input_names()
+            .into_iter()
+            .map(|name| (name.to_string(), simulator.input(name).unwrap_or(0.0)))
+            .collect();
+        let (names, units) = mechanism.signals().into_iter().map(|s| (s.name, s.unit)).unzip();
+        self.stepping = Some(Stepping { simulator, mechanism, stop: options.stop, names, units });
+        Ok(inputs)
+    }
+
+    /// Sets `inputs` and advances the started run to `until` (at most its
+    /// stop time). The scene holds the motion from the start; `finals` the
+    /// states at the time reached. A failure ends the stepped run.
+    pub fn step(&mut self, until: f64, inputs: &[(String, f64)]) -> Result<Run, String> {
+        let Some(stepping) = self.stepping.as_mut() else {
+            return Err("no run is started: send `start` first".into());
+        };
+        let target = until.min(stepping.stop);
+        let advanced =
+            inputs.iter().try_for_each(|(name, value)| stepping.simulator.set_input(name, *value)).and_then(|_| {
+                if target > stepping.simulator.time() {
+                    stepping.simulator.step_until(target).map_err(|stopped| {
+                        format!(
+                            "the simulation stopped at t = {}: {}",
+                            multibody_dyad::study::number(stopped.time),
+                            stopped.reason
+                        )
+                    })
+                } else {
+                    Ok(())
+                }
+            });
+        if let Err(message) = advanced {
+            self.stepping = None;
+            return Err(message);
+        }
+        let stepping = self.stepping.as_ref().expect("kept on success");
+        let simulator = &stepping.simulator;
+        let solution = thinned(simulator, stepping.names.clone(), stepping.units.clone(), STEPPED_FPS);
+        let scene = self.scene(&stepping.mechanism, &solution)?;
+        let mut finals = Map::new();
+        for (name, x) in simulator.state_names().iter().zip(simulator.state()) {
+            finals.insert(name.clone(), json!(x));
+        }
+        Ok(Run { scene, finals, warnings: simulator.notes().to_vec(), stop: simulator.time() })
+    }
+
+    /// The model lowered and assembled with `values`, and its options.
+    fn prepare(&self, values: &Values) -> Result<(multibody_dyad::Lowered, SimulationOptions, Mechanism), String> {
+        let overrides = parse_overrides(&values.params, &values.initials)?;
+        let stop = match &values.stop {
+            None => None,
+            Some(text) => Some(
+                text.trim()
+                    .parse::<f64>()
+                    .map_err(|_| format!("`--stop {text}`: `{text}` is not a number (write --stop 5)"))?,
+            ),
+        };
+        let lowered = self.package.lower_target(&self.target, &overrides).map_err(|d| self.blame(&overrides, d))?;
+        let options =
+            OptionOverrides { stop, ..Default::default() }.over(&lowered.options).map_err(|e| e.as_command_option())?;
+        let mechanism = lowered.assemble().map_err(|d| self.blame(&overrides, d))?;
+        Ok((lowered, options, mechanism))
+    }
+
     fn scene(&self, mechanism: &Mechanism, solution: &multibody::Solution) -> Result<String, String> {
         let options = AnimationOptions { signals: self.signals.clone(), ..Default::default() };
         animation_scene(&self.name, &mechanism.shapes(), solution, &options)
@@ -143,6 +222,23 @@ impl Session {
     fn blame(&self, overrides: &[Override], d: Diagnostic) -> String {
         self.package.blame_override(&self.target, overrides).unwrap_or_else(|| render(&self.package, &[d]))
     }
+}
+
+/// The samples a simulator recorded, at most `fps` a second (and the last):
+/// a stepped run's scene stays small however fine its output grid.
+fn thinned(simulator: &Simulator, names: Vec<String>, units: Vec<&'static str>, fps: f64) -> Solution {
+    let rows = simulator.recorded();
+    let mut solution = Solution::new(names, units);
+    let mut next = f64::NEG_INFINITY;
+    let n = rows.len();
+    for k in 0..n {
+        let t = rows.time()[k];
+        if t >= next || k + 1 == n {
+            solution.push(t, rows.row(k));
+            next = t + 1.0 / fps;
+        }
+    }
+    solution
 }
 
 /// Diagnostics as the command prints them, without colour.

@@ -137,3 +137,43 @@ fn the_protocol_answers_every_request() {
     // A failed run leaves the session as it was.
     assert_eq!(reply(&mut session, r#"{"op":"run","stop":"1"}"#)["ok"], true);
 }
+
+/// A run stepped while its input torque changes: the pendulum's energy
+/// gains exactly the work of the torque, `tau` times the angle turned in
+/// each step (it has no damping), and the scene covers the motion so far.
+#[test]
+fn a_stepped_run_takes_the_inputs_set_between_steps() {
+    let mut session = Session::load(&[example("controlled_pendulum.dyad")], None, None, Vec::new()).unwrap();
+    let inputs = session.start(&values(&[], &[], Some("3"))).unwrap();
+    assert_eq!(inputs, [("tau".to_string(), 0.0)]);
+    // The model's body: m = 1, r_cm = 0.5 along the link, I_33 = 0.02.
+    let (m, r, g, inertia) = (1.0, 0.5, 9.80665, 1.0 * 0.25 + 0.02);
+    let energy = |phi: f64, w: f64| 0.5 * inertia * w * w + m * g * r * phi.sin();
+    let (mut phi, mut w) = (0.0, 0.0);
+    let start = energy(phi, w);
+    let mut work = 0.0;
+    let mut last = None;
+    for k in 1..=30 {
+        let t = 0.1 * k as f64;
+        let tau = if t <= 1.0 + 1e-9 { 2.0 } else if t <= 2.0 + 1e-9 { -1.5 } else { 3.0 };
+        let run = session.step(t, &[("tau".into(), tau)]).unwrap();
+        assert!((run.stop - t).abs() < 1e-12, "reached {} instead of {t}", run.stop);
+        let next = run.finals["rev.phi"].as_f64().unwrap();
+        work += tau * (next - phi);
+        phi = next;
+        w = run.finals["rev.w"].as_f64().unwrap();
+        last = Some(run);
+    }
+    let error = (energy(phi, w) - start - work).abs();
+    eprintln!("energy gained minus the torque's work: {error:.1e} J (of {work:.3} J of work)");
+    assert!(error < 1e-7, "{error}");
+    // Past the stop time nothing more happens; the scene spans the run.
+    let scene: Value = serde_json::from_str(&last.unwrap().scene).unwrap();
+    assert!(scene["times"].is_string());
+    let after = session.step(10.0, &[]).unwrap();
+    assert_eq!(after.stop, 3.0);
+    // A bad input name ends the stepped run with the simulator's message.
+    let bad = session.step(3.0, &[("torque".into(), 1.0)]).err().unwrap();
+    assert!(bad.contains("torque"), "{bad}");
+    assert!(session.step(3.0, &[]).err().unwrap().contains("send `start` first"));
+}
