@@ -71,12 +71,10 @@ fn pairs(line: &str) -> Vec<(String, f64)> {
         .collect()
 }
 
-fn live_page(dir: &Path, extra: &[&str]) -> PathBuf {
+fn live_page(dir: &Path, model: &str, extra: &[&str]) -> PathBuf {
     let page = dir.join("live.html");
-    let mut args = vec!["live", &example("double_pendulum.dyad")[..], "-o", "live.html"]
-        .into_iter()
-        .map(String::from)
-        .collect::<Vec<_>>();
+    let mut args =
+        vec!["live", &example(model)[..], "-o", "live.html"].into_iter().map(String::from).collect::<Vec<_>>();
     args.extend(extra.iter().map(|s| s.to_string()));
     args.push("--wasm".into());
     args.push(module().display().to_string());
@@ -88,7 +86,7 @@ fn live_page(dir: &Path, extra: &[&str]) -> PathBuf {
 #[test]
 fn a_changed_length_runs_in_the_page_as_the_command_runs_it() {
     let dir = scratch("live_changed_length");
-    let page = live_page(&dir, &[]);
+    let page = live_page(&dir, "double_pendulum.dyad", &[]);
     let bytes = std::fs::metadata(&page).unwrap().len();
     eprintln!("live page: {bytes} bytes");
     assert!(bytes < 3_000_000, "the live page has {bytes} bytes, more than 3 MB");
@@ -151,7 +149,7 @@ fn a_changed_length_runs_in_the_page_as_the_command_runs_it() {
 #[test]
 fn a_bad_value_shows_the_commands_message_and_keeps_the_last_run() {
     let dir = scratch("live_bad_value");
-    let page = live_page(&dir, &["--stop", "2"]);
+    let page = live_page(&dir, "double_pendulum.dyad", &["--stop", "2"]);
     for (value, case) in [("link2.width=-0.1", "negative"), ("link1.d=abc", "word")] {
         let out = multibody(&dir, &["run", &example("double_pendulum.dyad"), "--param", value, "--out", "x.csv"]);
         assert_eq!(code(&out), 2, "{}", stderr(&out));
@@ -169,6 +167,39 @@ fn a_bad_value_shows_the_commands_message_and_keeps_the_last_run() {
         let changed = shot.image.changed_fraction(&kept.image);
         assert!(changed < 0.002, "{case}: the last good run was not kept ({changed})");
     }
+}
+
+/// The page steps the run (as it does in real time) and sets the model's
+/// input torque between steps: 2 N.m until t = 1 s, then -1.5 N.m. The
+/// command drives the same input from a table that jumps there (within
+/// 1e-9 s); both runs use the analysis's tolerances of 1e-10.
+#[test]
+fn an_input_set_between_steps_acts_as_the_commands_input_table() {
+    let dir = scratch("live_stepped_input");
+    let page = live_page(&dir, "controlled_pendulum.dyad", &["--stop", "3"]);
+    std::fs::write(dir.join("tau.csv"), "time,tau\n0,2\n1,2\n1.000000001,-1.5\n3,-1.5\n").unwrap();
+    let model = example("controlled_pendulum.dyad");
+    let out = multibody(&dir, &["run", &model, "--input", "tau=tau.csv", "--stop", "3", "--out", "ref.csv"]);
+    assert_eq!(code(&out), 0, "{}", stderr(&out));
+    let reference = Table::load(&dir.join("ref.csv"));
+    let shot = browser::screenshot(&page, "livestep=0.1&liveinput=tau=2@1=-1.5&t=3&panel=0", (900, 600), "live_stepped");
+    shot.assert_clean();
+    let stepped = logged(&shot, "stepped ");
+    assert_eq!(stepped.len(), 1, "the page did not report its steps:\n{}", shot.log);
+    assert!(stepped[0].starts_with("30 final "), "{}", stepped[0]);
+    let finals = pairs(stepped[0]);
+    for name in ["rev.phi", "rev.w"] {
+        let value = finals.iter().find(|(n, _)| n == name).unwrap().1;
+        let expected = *reference.column(name).last().unwrap();
+        let error = (value - expected).abs();
+        eprintln!(
+            "{name}: stepped in the page {value}, command {expected}, difference {error:.1e} = {:.4} of 1e-6",
+            error / 1e-6
+        );
+        assert!(error < 1e-6, "{name}: {value} vs {expected}");
+    }
+    // The torque turned the pendulum away from where it hangs unforced.
+    assert!(finals.iter().any(|(n, v)| n == "rev.phi" && *v < -1.0), "{finals:?}");
 }
 
 #[test]

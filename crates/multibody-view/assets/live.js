@@ -6,7 +6,9 @@
 //
 // Query parameters (for tests and links), on top of the viewer's:
 // live=NAME=VALUE;NAME=VALUE... sets values as if typed, then runs once;
-// livebench=N runs N more times, alternating a value, and logs the times.
+// livebench=N runs N more times, alternating a value, and logs the times;
+// livestep=DT&liveinput=NAME=V0@T1=V1 steps the run by DT up to the stop
+// time at once (not in real time), the input NAME at V0 until T1, then V1.
 "use strict";
 (function () {
   var viewer = window.__multibody;
@@ -205,19 +207,17 @@
       console.log("multibody-live: ran " + request.params.concat(request.initials).join(" ") + " stop=" + reply.stop +
         " ms=" + ms.toFixed(2));
     } else {
-      errorBox.textContent = reply.error;
-      errorBox.hidden = false;
-      panel.classList.add("mb-live-failed");
       if (lastChanged && rows[lastChanged]) rows[lastChanged].text.classList.add("mb-live-bad");
-      status.textContent = "Not run: see below. The view shows the last good run.";
-      console.log("multibody-live: refused " + JSON.stringify(reply.error));
+      refused(reply.error);
     }
     window.__multibodyLive.last = last;
-    window.__multibodyLive.error = reply.ok ? null : reply.error;
+    if (reply.ok) window.__multibodyLive.error = null;
     return reply;
   }
   // Slider drags come faster than runs: the latest value wins.
   function schedule() {
+    // A changed value ends a run in real time: the whole run shows it.
+    if (stepping) stopRealTime("");
     if (running) { pending = true; return; }
     pending = false;
     setTimeout(function () { run(); if (pending) schedule(); }, 0);
@@ -312,6 +312,14 @@
       box.addEventListener("change", function () { lastChanged = null; schedule(); });
       if (k === 0) moreParams = box; else moreInitials = box;
     });
+    // Real time: the page steps the model as the clock goes, and the
+    // model's inputs (its top-level RealInputs) act while it runs.
+    element("h3", null, model.inputs.length ? "Real time, with the inputs" : "Real time", fields);
+    model.inputs.forEach(addInputRow);
+    realTimeButton = element("button", null, "Run in real time \u25b6", fields);
+    realTimeButton.type = "button";
+    realTimeButton.addEventListener("click", function () { if (stepping) stopRealTime(""); else startRealTime(); });
+    element("br", null, undefined, fields);
     var reset = element("button", null, "Back to the file's values", fields);
     reset.type = "button";
     reset.addEventListener("click", function () {
@@ -327,6 +335,96 @@
     });
   }
 
+  // ------------------------------------------------------------ real time
+  var inputs = {}, inputRows = {};
+  var stepping = null, realTimeButton = null;
+  function addInputRow(name) {
+    var row = element("div", "mb-live-row", undefined, fields);
+    element("label", null, name + " (input)", row);
+    var text = element("input", "mb-live-text", undefined, row);
+    text.type = "text";
+    text.inputMode = "decimal";
+    text.value = "0";
+    text.setAttribute("aria-label", name);
+    var slider = element("input", "mb-live-slider", undefined, row);
+    slider.type = "range";
+    slider.min = "-10";
+    slider.max = "10";
+    slider.step = "0.01";
+    slider.value = "0";
+    slider.setAttribute("aria-label", name + " slider");
+    inputs[name] = 0;
+    inputRows[name] = { text: text, slider: slider };
+    text.addEventListener("change", function () {
+      var x = parseFloat(text.value);
+      if (!isFinite(x)) { text.classList.add("mb-live-bad"); return; }
+      text.classList.remove("mb-live-bad");
+      // A typed value beyond the slider widens it.
+      if (x < parseFloat(slider.min)) slider.min = String(x);
+      if (x > parseFloat(slider.max)) slider.max = String(x);
+      slider.value = String(x);
+      inputs[name] = x;
+    });
+    slider.addEventListener("input", function () {
+      inputs[name] = parseFloat(slider.value);
+      text.value = shortest(inputs[name]);
+      text.classList.remove("mb-live-bad");
+    });
+  }
+  function setInput(name, value) {
+    inputs[name] = value;
+    if (inputRows[name]) { inputRows[name].text.value = shortest(value); inputRows[name].slider.value = String(value); }
+  }
+  function startRealTime() {
+    var v = values();
+    var reply = call({ op: "start", params: v.params, initials: v.initials, stop: stopField.value.trim() });
+    if (!reply.ok) { refused(reply.error); return null; }
+    stepping = { wall: performance.now(), start: describedModel.start, steps: 0, slowest: 0 };
+    realTimeButton.textContent = "Stop \u25a0";
+    viewer.pause();
+    if (!query.has("livestep")) window.requestAnimationFrame(stepFrame);
+    return reply;
+  }
+  function stopRealTime(why) {
+    stepping = null;
+    if (realTimeButton) realTimeButton.textContent = "Run in real time \u25b6";
+    if (why) status.textContent = why;
+  }
+  // One step to `until`, with the inputs as they are now.
+  function stepTo(until) {
+    var began = performance.now();
+    var reply = call({ op: "step", until: until, inputs: inputs });
+    var ms = performance.now() - began;
+    if (!reply.ok) { stopRealTime(""); refused(reply.error); return reply; }
+    stepping.steps++;
+    stepping.slowest = Math.max(stepping.slowest, ms);
+    viewer.setScene(reply.scene, true);
+    viewer.setTime(reply.stop);
+    last = { final: reply.final, ms: ms, drawnMs: performance.now() - began, request: { inputs: inputs }, warnings: reply.warnings };
+    window.__multibodyLive.last = last;
+    status.textContent = "t = " + reply.stop.toFixed(2) + " s, in real time (" + stepping.steps + " steps, the slowest " +
+      stepping.slowest.toFixed(0) + " ms)";
+    if (reply.stop >= describedStop() - 1e-12) stopRealTime("Reached the stop time after " + stepping.steps + " steps.");
+    return reply;
+  }
+  function stepFrame(now) {
+    if (!stepping) return;
+    stepTo(stepping.start + (now - stepping.wall) / 1000);
+    if (stepping) window.requestAnimationFrame(stepFrame);
+  }
+  function describedStop() {
+    var x = parseFloat(stopField.value);
+    return isFinite(x) ? x : describedModel.stop;
+  }
+  function refused(error) {
+    errorBox.textContent = error;
+    errorBox.hidden = false;
+    panel.classList.add("mb-live-failed");
+    status.textContent = "Not run: see below. The view shows the last good run.";
+    console.log("multibody-live: refused " + JSON.stringify(error));
+    window.__multibodyLive.error = error;
+  }
+
   window.__multibodyLive = {
     last: null,
     error: null,
@@ -340,14 +438,20 @@
       lastChanged = path;
       return run();
     },
-    run: function () { return run(); }
+    run: function () { return run(); },
+    // Real time, driven by hand: start, then step to a time with an input set.
+    start: function () { return startRealTime(); },
+    step: function (until) { return stepTo(until); },
+    setInput: setInput
   };
+  var describedModel = null;
 
   try {
     var began = performance.now();
     start();
     var loaded = call(loadRequest());
     if (!loaded.ok) throw new Error(loaded.error);
+    describedModel = loaded.model;
     buildPanel(loaded.model);
     status.textContent = "Ready (engine started in " + (performance.now() - began).toFixed(0) +
       " ms): change a value and the model runs again.";
@@ -369,6 +473,26 @@
     if (r.error === null && r.last) {
       var finals = Object.keys(r.last.final).filter(function (n) { return /\.(phi|w|s|v)$/.test(n); });
       console.log("multibody-live: final " + finals.map(function (n) { return n + "=" + r.last.final[n]; }).join(" "));
+    }
+  }
+  if (query.has("livestep")) {
+    var dt = parseFloat(query.get("livestep"));
+    var schedule = (query.get("liveinput") || "").match(/^([^=]+)=([^@]+)@([^=]+)=(.+)$/);
+    if (startRealTime()) {
+      var stop = describedStop(), k = 0, reply;
+      for (;;) {
+        var t = describedModel.start + (++k) * dt;
+        if (t > stop) t = stop;
+        // The input for the step that ends at t: V0 up to T1, V1 after.
+        if (schedule) setInput(schedule[1], t <= parseFloat(schedule[3]) + 1e-9 ? parseFloat(schedule[2]) : parseFloat(schedule[4]));
+        reply = stepTo(t);
+        if (!reply.ok || t >= stop) break;
+      }
+      if (reply.ok) {
+        console.log("multibody-live: stepped " + k + " final " + Object.keys(reply.final).map(function (n) {
+          return n + "=" + reply.final[n];
+        }).join(" "));
+      }
     }
   }
   if (query.has("livebench")) {

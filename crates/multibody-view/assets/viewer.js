@@ -665,10 +665,11 @@
   var PLOT_COLOR = "#1f5fbf";
   var MARGIN = { left: 58, right: 12, top: 20, bottom: 22 };
   var plotTimes, plots, pt0, pt1;
-  function makePlot(s) {
-    var c = document.createElement("canvas");
+  // A plot of the signal `s`, drawn on `canvas` (a new one when not given).
+  function makePlot(s, canvas) {
+    var c = canvas || document.createElement("canvas");
     c.title = s.name + (s.unit ? " [" + s.unit + "]" : "") + ": click or drag to seek";
-    plotsBox.appendChild(c);
+    if (!canvas) plotsBox.appendChild(c);
     var data = floats(s.data);
     var lo = Infinity, hi = -Infinity;
     for (var i = 0; i < data.length; i++) {
@@ -678,13 +679,21 @@
     if (hi - lo < 1e-12 * Math.max(1, Math.abs(hi))) { lo -= 0.5 * Math.max(1e-6, Math.abs(lo)); hi += 0.5 * Math.max(1e-6, Math.abs(hi)); }
     var pad = 0.06 * (hi - lo);
     var plot = { name: s.name, unit: s.unit, data: data, canvas: c, lo: lo - pad, hi: hi + pad, back: null, width: 0, height: 0 };
-    attachSeek(plot);
+    if (!canvas) attachSeek(plot);
     return plot;
   }
   function makePlots() {
-    plotsBox.textContent = "";
     plotTimes = floats(scene.signalTimes);
-    plots = scene.signals.map(makePlot);
+    // The same signals again (a live page's next run): their canvases stay.
+    var old = plots || [];
+    var same = old.length > 0 && old.length === scene.signals.length &&
+      old.every(function (p, i) { return p.name === scene.signals[i].name; });
+    if (same) {
+      plots = scene.signals.map(function (s, i) { return makePlot(s, old[i].canvas); });
+    } else {
+      plotsBox.textContent = "";
+      plots = scene.signals.map(function (s) { return makePlot(s); });
+    }
     if (!plots.length) {
       var empty = document.createElement("div");
       empty.className = "mb-empty";
@@ -960,7 +969,7 @@
 
   // A new motion of the same model (a live page's next run): the view,
   // the time and the playing state stay; the plots and bounds follow.
-  function setScene(next) {
+  function setScene(next, keepView) {
     scene = next;
     readMotion();
     shapes = scene.shapes.map(makeShape);
@@ -971,7 +980,7 @@
     }
     makePlots();
     setSliderRange();
-    if (!cameraMoved) resetView();
+    if (!cameraMoved && !keepView) resetView();
     state.t = Math.min(tEnd, Math.max(tStart, state.t));
     if (state.playing && !(tEnd > tStart)) state.playing = false;
     var info = window.__multibody.info;

@@ -107,9 +107,14 @@ impl Session {
                 })
             })
             .collect();
+        let inputs: Vec<String> = match lowered.assemble() {
+            Ok(mechanism) => mechanism.input_names().into_iter().map(str::to_string).collect(),
+            Err(_) => Vec::new(),
+        };
         Ok(json!({
             "name": self.name,
             "tunables": tunables,
+            "inputs": inputs,
             "stop": lowered.options.stop,
             "start": lowered.options.start,
             "saveat": lowered.options.saveat,

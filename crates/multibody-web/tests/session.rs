@@ -155,7 +155,13 @@ fn a_stepped_run_takes_the_inputs_set_between_steps() {
     let mut last = None;
     for k in 1..=30 {
         let t = 0.1 * k as f64;
-        let tau = if t <= 1.0 + 1e-9 { 2.0 } else if t <= 2.0 + 1e-9 { -1.5 } else { 3.0 };
+        let tau = if t <= 1.0 + 1e-9 {
+            2.0
+        } else if t <= 2.0 + 1e-9 {
+            -1.5
+        } else {
+            3.0
+        };
         let run = session.step(t, &[("tau".into(), tau)]).unwrap();
         assert!((run.stop - t).abs() < 1e-12, "reached {} instead of {t}", run.stop);
         let next = run.finals["rev.phi"].as_f64().unwrap();
