@@ -150,7 +150,9 @@ fn a_changed_length_runs_in_the_page_as_the_command_runs_it() {
 fn a_bad_value_shows_the_commands_message_and_keeps_the_last_run() {
     let dir = scratch("live_bad_value");
     let page = live_page(&dir, "double_pendulum.dyad", &["--stop", "2"]);
-    for (value, case) in [("link2.width=-0.1", "negative"), ("link1.d=abc", "word")] {
+    for (value, case) in
+        [("link2.width=-0.1", "negative"), ("link1.d=abc", "word"), ("link2.box.density=-7800", "negative_mass")]
+    {
         let out = multibody(&dir, &["run", &example("double_pendulum.dyad"), "--param", value, "--out", "x.csv"]);
         assert_eq!(code(&out), 2, "{}", stderr(&out));
         let message = stderr(&out).trim().strip_prefix("error: ").unwrap().to_string();
@@ -182,7 +184,8 @@ fn an_input_set_between_steps_acts_as_the_commands_input_table() {
     let out = multibody(&dir, &["run", &model, "--input", "tau=tau.csv", "--stop", "3", "--out", "ref.csv"]);
     assert_eq!(code(&out), 0, "{}", stderr(&out));
     let reference = Table::load(&dir.join("ref.csv"));
-    let shot = browser::screenshot(&page, "livestep=0.1&liveinput=tau=2@1=-1.5&t=3&panel=0", (900, 600), "live_stepped");
+    let shot =
+        browser::screenshot(&page, "livestep=0.1&liveinput=tau=2@1=-1.5&t=3&panel=0", (900, 600), "live_stepped");
     shot.assert_clean();
     let stepped = logged(&shot, "stepped ");
     assert_eq!(stepped.len(), 1, "the page did not report its steps:\n{}", shot.log);

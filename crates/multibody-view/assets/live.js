@@ -428,11 +428,17 @@
   window.__multibodyLive = {
     last: null,
     error: null,
-    // Types `text` into the field of `path` (or the stop time for "stop") and runs at once.
+    // Types `text` into the field of `path` (the stop time for "stop", the
+    // `--param` field for a path not in the panel) and runs at once.
     set: function (path, text) {
       if (path === "stop") { stopField.value = text; lastChanged = null; return run(); }
       var row = rows[path];
-      if (!row) throw new Error("no field for " + path);
+      if (!row) {
+        // Not in the panel: as typed into the `--param` field.
+        moreParams.value = (moreParams.value + " " + path + "=" + text).trim();
+        lastChanged = null;
+        return run();
+      }
       row.text.value = text;
       typed[path] = text;
       lastChanged = path;
