@@ -5,10 +5,11 @@
 // the message `multibody run` prints for it, and the last good run stays.
 //
 // Query parameters (for tests and links), on top of the viewer's:
-// live=NAME=VALUE;NAME=VALUE... sets values as if typed, then runs once;
+// live=NAME=VALUE;NAME=VALUE... sets each value as if typed (each runs);
 // livebench=N runs N more times, alternating a value, and logs the times;
 // livestep=DT&liveinput=NAME=V0@T1=V1 steps the run by DT up to the stop
-// time at once (not in real time), the input NAME at V0 until T1, then V1.
+// time at once (not in real time), the input NAME at V0 until T1, then V1;
+// realtime starts a run in real time when the page opens.
 "use strict";
 (function () {
   var viewer = window.__multibody;
@@ -133,13 +134,16 @@
     } catch (e) {
       // A trap: the engine panicked. Its message is kept; a new instance
       // starts clean for the next change.
-      var message = new TextDecoder().decode(new Uint8Array(engine.memory.buffer, engine.mb_reply(), engine.mb_panic()));
+      // mb_panic moves the message into the reply (it may grow the memory): read after it.
+      var n = engine.mb_panic(), p = engine.mb_reply();
+      var message = new TextDecoder().decode(new Uint8Array(engine.memory.buffer, p, n));
       start();
       call(loadRequest());
       return { ok: false, error: "the engine failed (" + (message || e) + "); please report it with the model file" };
     }
     engine.mb_free(at, bytes.length);
-    var text = new TextDecoder().decode(new Uint8Array(engine.memory.buffer, engine.mb_reply(), length));
+    var reply = engine.mb_reply();
+    var text = new TextDecoder().decode(new Uint8Array(engine.memory.buffer, reply, length));
     return JSON.parse(text);
   }
   function loadRequest() {
@@ -170,7 +174,7 @@
   var rows = {};
   var lastChanged = null;
   var last = null;
-  var running = false, pending = false;
+  var queued = false;
 
   function values() {
     var params = [], initials = [];
@@ -188,20 +192,16 @@
   }
 
   function run() {
-    running = true;
     var v = values();
     var request = { op: "run", params: v.params, initials: v.initials, stop: stopField.value.trim() };
     var began = performance.now();
     var reply = call(request);
     var ms = performance.now() - began;
-    running = false;
     if (reply.ok) {
       viewer.setScene(reply.scene);
       var drawn = performance.now() - began;
       last = { final: reply.final, ms: ms, drawnMs: drawn, request: request, warnings: reply.warnings };
-      errorBox.hidden = true;
-      panel.classList.remove("mb-live-failed");
-      Object.keys(rows).forEach(function (p) { rows[p].text.classList.remove("mb-live-bad"); });
+      cleared();
       status.textContent = "t = 0 \u2026 " + reply.stop + " s, run in " + ms.toFixed(0) + " ms" +
         (reply.warnings.length ? " \u2014 " + reply.warnings.join("; ") : "");
       console.log("multibody-live: ran " + request.params.concat(request.initials).join(" ") + " stop=" + reply.stop +
@@ -211,16 +211,16 @@
       refused(reply.error);
     }
     window.__multibodyLive.last = last;
-    if (reply.ok) window.__multibodyLive.error = null;
     return reply;
   }
-  // Slider drags come faster than runs: the latest value wins.
+  // Slider drags come faster than runs: one run is queued at a time, and
+  // it reads the values as they are when it starts.
   function schedule() {
     // A changed value ends a run in real time: the whole run shows it.
     if (stepping) stopRealTime("");
-    if (running) { pending = true; return; }
-    pending = false;
-    setTimeout(function () { run(); if (pending) schedule(); }, 0);
+    if (queued) return;
+    queued = true;
+    setTimeout(function () { queued = false; run(); }, 0);
   }
 
   function shortest(x) {
@@ -336,7 +336,7 @@
   }
 
   // ------------------------------------------------------------ real time
-  var inputs = {}, inputRows = {};
+  var inputs = {}, inputRows = {}, touchedInputs = {};
   var stepping = null, realTimeButton = null;
   function addInputRow(name) {
     var row = element("div", "mb-live-row", undefined, fields);
@@ -364,9 +364,11 @@
       if (x > parseFloat(slider.max)) slider.max = String(x);
       slider.value = String(x);
       inputs[name] = x;
+      touchedInputs[name] = true;
     });
     slider.addEventListener("input", function () {
       inputs[name] = parseFloat(slider.value);
+      touchedInputs[name] = true;
       text.value = shortest(inputs[name]);
       text.classList.remove("mb-live-bad");
     });
@@ -379,13 +381,17 @@
     var v = values();
     var reply = call({ op: "start", params: v.params, initials: v.initials, stop: stopField.value.trim() });
     if (!reply.ok) { refused(reply.error); return null; }
-    stepping = { wall: performance.now(), start: describedModel.start, steps: 0, slowest: 0 };
+    cleared();
+    // The model's own input values, where the user set none.
+    reply.inputs.forEach(function (i) { if (!touchedInputs[i.name]) setInput(i.name, i.value); });
+    stepping = { wall: performance.now(), start: describedModel.start, steps: 0, slowest: 0, frame: 0 };
     realTimeButton.textContent = "Stop \u25a0";
     viewer.pause();
-    if (!query.has("livestep")) window.requestAnimationFrame(stepFrame);
+    if (!query.has("livestep")) stepping.frame = window.requestAnimationFrame(stepFrame);
     return reply;
   }
   function stopRealTime(why) {
+    if (stepping && stepping.frame) window.cancelAnimationFrame(stepping.frame);
     stepping = null;
     if (realTimeButton) realTimeButton.textContent = "Run in real time \u25b6";
     if (why) status.textContent = why;
@@ -393,9 +399,11 @@
   // One step to `until`, with the inputs as they are now.
   function stepTo(until) {
     var began = performance.now();
+    if (!stepping) return { ok: false, error: "no run in real time is going: start one first" };
     var reply = call({ op: "step", until: until, inputs: inputs });
     var ms = performance.now() - began;
     if (!reply.ok) { stopRealTime(""); refused(reply.error); return reply; }
+    cleared();
     stepping.steps++;
     stepping.slowest = Math.max(stepping.slowest, ms);
     viewer.setScene(reply.scene, true);
@@ -409,12 +417,20 @@
   }
   function stepFrame(now) {
     if (!stepping) return;
-    stepTo(stepping.start + (now - stepping.wall) / 1000);
-    if (stepping) window.requestAnimationFrame(stepFrame);
+    // A frame's time may come before the click that started the run.
+    var until = stepping.start + (now - stepping.wall) / 1000;
+    if (until > stepping.start) stepTo(until);
+    if (stepping) stepping.frame = window.requestAnimationFrame(stepFrame);
   }
   function describedStop() {
     var x = parseFloat(stopField.value);
     return isFinite(x) ? x : describedModel.stop;
+  }
+  function cleared() {
+    errorBox.hidden = true;
+    panel.classList.remove("mb-live-failed");
+    Object.keys(rows).forEach(function (p) { rows[p].text.classList.remove("mb-live-bad"); });
+    window.__multibodyLive.error = null;
   }
   function refused(error) {
     errorBox.textContent = error;
@@ -481,16 +497,17 @@
       console.log("multibody-live: final " + finals.map(function (n) { return n + "=" + r.last.final[n]; }).join(" "));
     }
   }
+  if (query.has("realtime")) startRealTime();
   if (query.has("livestep")) {
     var dt = parseFloat(query.get("livestep"));
-    var schedule = (query.get("liveinput") || "").match(/^([^=]+)=([^@]+)@([^=]+)=(.+)$/);
+    var plan = (query.get("liveinput") || "").match(/^([^=]+)=([^@]+)@([^=]+)=(.+)$/);
     if (startRealTime()) {
       var stop = describedStop(), k = 0, reply;
       for (;;) {
         var t = describedModel.start + (++k) * dt;
         if (t > stop) t = stop;
         // The input for the step that ends at t: V0 up to T1, V1 after.
-        if (schedule) setInput(schedule[1], t <= parseFloat(schedule[3]) + 1e-9 ? parseFloat(schedule[2]) : parseFloat(schedule[4]));
+        if (plan) setInput(plan[1], t <= parseFloat(plan[3]) + 1e-9 ? parseFloat(plan[2]) : parseFloat(plan[4]));
         reply = stepTo(t);
         if (!reply.ok || t >= stop) break;
       }
@@ -503,8 +520,8 @@
   }
   if (query.has("livebench")) {
     var n = Math.max(1, parseInt(query.get("livebench"), 10) || 10);
-    var path = Object.keys(rows)[0];
-    var base = rows[path].value;
+    var path = Object.keys(rows)[0] || "stop";
+    var base = path === "stop" ? describedStop() : rows[path].value;
     var times = [];
     for (var b = 0; b < n; b++) {
       window.__multibodyLive.set(path, shortest(base * (1 + 0.01 * ((b % 2) ? 1 : -1))));

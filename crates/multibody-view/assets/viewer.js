@@ -478,7 +478,7 @@
     gl.enableVertexAttribArray(0);
     gl.vertexAttribPointer(0, 3, gl.FLOAT, false, 0, 0);
     gl.bindVertexArray(null);
-    return { vao: vao, count: p.length / 3 };
+    return { vao: vao, buffer: b, count: p.length / 3 };
   }
   if (gl) grid = makeGrid();
 
@@ -975,7 +975,7 @@
     shapes = scene.shapes.map(makeShape);
     readBounds();
     if (gl) {
-      if (grid) gl.deleteVertexArray(grid.vao);
+      if (grid) { gl.deleteVertexArray(grid.vao); gl.deleteBuffer(grid.buffer); }
       grid = makeGrid();
     }
     makePlots();
