@@ -388,6 +388,32 @@ end
     assert!(err.contains("far.dyad:4:"), "the caret is on the parameter: {err}");
 }
 
+/// A library component written in Dyad that fails on a value the model
+/// gave (`Cable(n = 0)` divides by `n`): the message shows the library's
+/// expression and puts a caret on the user's `n = 0`, what is to change.
+#[test]
+fn a_value_that_breaks_a_library_component_is_shown_where_the_user_gave_it() {
+    let dir = scratch("cable-zero");
+    // In a named folder, so that the message shows the path as typed.
+    std::fs::create_dir_all(dir.join("models")).unwrap();
+    std::fs::write(
+        dir.join("models/bridge.dyad"),
+        "example component Bridge
+  world = MultibodyComponents.World()
+  post = MultibodyComponents.Fixed(r = [2, 0, 0])
+  cable = MultibodyComponents.Cable(n = 0, iscut = true, l = 2.4, m = 6, dir = [1, 0, 0])
+relations
+  connect(world.frame_b, cable.frame_a)
+  connect(cable.frame_b, post.frame_b)
+end
+",
+    )
+    .unwrap();
+    let o = multibody(&dir, &["check", "models/bridge.dyad"]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    insta::assert_snapshot!("cable_n_zero", stderr(&o));
+}
+
 /// Equations that cannot determine their unknowns: constant and singular
 /// (`x + y = 1`, `x + y = 2`; `x = x + 1`) are refused by `check` with the
 /// equations under carets; singular or without solution only where the run

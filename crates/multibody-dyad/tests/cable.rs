@@ -319,25 +319,37 @@ end
 
 /// `Cable(n = 0)` divides by zero inside the standard library's Cable: the
 /// message points there and, since the user did not write that file, at
-/// the cable the model declares too (it used to show the library alone).
+/// the value the model gave that is zero, `n = 0` (it used to show the
+/// library alone, then the whole declaration). A zero that no modifier
+/// names (`norm(dir)` of `dir = [0, 0, 0]`) points at the declaration.
 #[test]
 fn an_error_inside_the_library_cable_points_at_the_users_cable() {
-    let message = common::error_of(
-        "example component Hanging
+    let model = |modifiers: &str| {
+        format!(
+            "example component Hanging
   world = World()
-  cable = MultibodyComponents.Cable(n = 0)
+  cable = MultibodyComponents.Cable({modifiers})
 relations
   connect(world.frame_b, cable.frame_a)
 end
 analysis Run
   extends TransientAnalysis(stop = 1)
   model = Hanging()
-end",
-    );
-    println!("{message}");
-    for expected in
-        ["division by zero", "<stdlib>/MultibodyComponents.dyad", "model.dyad:3:3", "in `cable`, declared here"]
-    {
+end"
+        )
+    };
+    let message = common::error_of(&model("n = 0"));
+    for expected in [
+        "division by zero",
+        "<stdlib>/MultibodyComponents.dyad",
+        "`n` is zero",
+        "model.dyad:3:37",
+        "`n` of `cable` is given here",
+    ] {
+        assert!(message.contains(expected), "`{expected}` missing from: {message}");
+    }
+    let message = common::error_of(&model("dir = [0, 0, 0]"));
+    for expected in ["division by zero", "this is zero", "model.dyad:3:3", "in `cable`, declared here"] {
         assert!(message.contains(expected), "`{expected}` missing from: {message}");
     }
 }

@@ -638,8 +638,9 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                     self.entities.insert(child.clone(), Entity::User);
                     let mut inner = vec![(child.clone(), decl.span)];
                     inner.extend(within.iter().cloned());
+                    let given = given_values(&merged);
                     self.instantiate(sub_def, &child, merged, decl.span, &inner)
-                        .map_err(|d| within_instance(d, decl.span, &child))?;
+                        .map_err(|d| within_instance(d, decl.span, &child, &given))?;
                 }
                 Kind::Connector(ty) => {
                     if let Some(m) = merged.first() {
@@ -1526,12 +1527,26 @@ fn unknown_variable(spec: &ComponentSpec, name: &Ident) -> Diagnostic {
     d.note(format!("its variables are: {}", names.join(", ")))
 }
 
+/// The values an instance's modifiers give (`n = 0` in `Cable(n = 0)`):
+/// each name with the span of its modifier.
+fn given_values(mods: &[Mod]) -> Vec<(String, Span)> {
+    mods.iter().filter(|m| m.value.is_some()).map(|m| (m.name.name.clone(), m.span)).collect()
+}
+
 /// An error inside a definition of another file (the standard library's)
-/// also points at the instance `name` the model declared at `site`.
-fn within_instance(d: Diagnostic, site: Span, name: &str) -> Diagnostic {
+/// also points at the instance `name` the model declared at `site`, and
+/// at the modifier there that gave a value the error names (`` `n` is
+/// zero `` points at `n = 0`), which is what the user is to change.
+fn within_instance(d: Diagnostic, site: Span, name: &str, given: &[(String, Span)]) -> Diagnostic {
     if d.labels.iter().any(|l| l.span.file == site.file) {
-        d
-    } else {
-        d.secondary(site, format!("in `{name}`, declared here"))
+        return d;
+    }
+    let named = |parameter: &str| {
+        let quoted = format!("`{parameter}`");
+        d.message.contains(&quoted) || d.labels.iter().any(|l| l.primary && l.message.contains(&quoted))
+    };
+    match given.iter().find(|(parameter, span)| span.file == site.file && named(parameter)) {
+        Some((parameter, span)) => d.secondary(*span, format!("`{parameter}` of `{name}` is given here")),
+        None => d.secondary(site, format!("in `{name}`, declared here")),
     }
 }

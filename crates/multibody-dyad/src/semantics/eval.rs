@@ -155,7 +155,7 @@ pub fn eval(expr: &Expr, scope: &mut dyn Scope) -> EResult {
         }
         ExprKind::Binary { op, lhs, rhs } => {
             let (a, b) = (eval(lhs, scope)?, eval(rhs, scope)?);
-            binary(*op, a, b, lhs.span, rhs.span, expr.span)?
+            binary(*op, a, b, lhs.span, rhs.span, expr.span).map_err(|d| naming_the_divisor(d, rhs))?
         }
         ExprKind::If { condition, then, otherwise } => {
             let c = eval(condition, scope)?;
@@ -176,7 +176,8 @@ pub fn eval(expr: &Expr, scope: &mut dyn Scope) -> EResult {
             for (op, rhs) in rest {
                 let b = eval(rhs, scope)?;
                 let whole = span.to(rhs.span);
-                value = finite(binary(*op, value, b, span, rhs.span, whole)?, whole)?;
+                let result = binary(*op, value, b, span, rhs.span, whole).map_err(|d| naming_the_divisor(d, rhs))?;
+                value = finite(result, whole)?;
                 span = whole;
             }
             value
@@ -513,6 +514,20 @@ fn zip_numbers(a: &Val, b: &Val, broadcast: bool, f: &dyn Fn(f64, f64) -> f64) -
         }
         _ => None,
     }
+}
+
+/// A division by a parameter that is zero names it (`` `n` is zero ``), so
+/// that the place where its value was given can be shown too (see the
+/// lowering's `within_instance`).
+fn naming_the_divisor(mut d: Diagnostic, divisor: &Expr) -> Diagnostic {
+    if let (ExprKind::Name(path), Some(label)) = (&divisor.kind, d.labels.iter_mut().find(|l| l.primary)) {
+        if let [name] = path.parts.as_slice() {
+            if label.message == "this is zero" {
+                label.message = format!("`{}` is zero", name.name);
+            }
+        }
+    }
+    d
 }
 
 fn binary(op: BinaryOp, a: Val, b: Val, lspan: Span, rspan: Span, span: Span) -> EResult {
