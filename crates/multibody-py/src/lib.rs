@@ -126,6 +126,43 @@ fn to_python<'py>(py: Python<'py>, samples: &Samples) -> PyResult<Columns<'py>> 
 /// How often a run with the GIL released looks for Ctrl-C.
 const SIGNAL_CHECKS: std::time::Duration = std::time::Duration::from_millis(20);
 
+/// Ctrl-C, seen from work that released the GIL on the interpreter's
+/// thread: Python runs its signal handlers only when a thread holds the
+/// GIL, so the work asks every [`SIGNAL_CHECKS`]; the handler's exception
+/// (KeyboardInterrupt) is kept to be raised when the work has stopped.
+struct Interrupts {
+    raised: std::cell::RefCell<Option<PyErr>>,
+    last: std::cell::Cell<std::time::Instant>,
+}
+
+impl Interrupts {
+    fn new() -> Self {
+        Self { raised: std::cell::RefCell::new(None), last: std::cell::Cell::new(std::time::Instant::now()) }
+    }
+
+    /// Whether Ctrl-C came (asking Python at most every `SIGNAL_CHECKS`).
+    fn came(&self) -> bool {
+        if self.raised.borrow().is_some() {
+            return true;
+        }
+        if self.last.get().elapsed() < SIGNAL_CHECKS {
+            return false;
+        }
+        self.last.set(std::time::Instant::now());
+        match Python::attach(|py| py.check_signals()) {
+            Ok(()) => false,
+            Err(e) => {
+                *self.raised.borrow_mut() = Some(e);
+                true
+            }
+        }
+    }
+
+    fn into_raised(self) -> Option<PyErr> {
+        self.raised.into_inner()
+    }
+}
+
 impl Model {
     fn run(&self, overrides: &[Override], given: &OptionOverrides, signals: &[String]) -> Result<Samples, RunError> {
         self.package.run(&self.target, overrides, |analysis| given.over(analysis).map_err(|e| e.describe()), signals)
@@ -143,27 +180,11 @@ impl Model {
         signals: &[String],
     ) -> (Result<Samples, RunError>, Option<PyErr>) {
         py.detach(|| {
-            let raised = std::cell::RefCell::new(None);
-            let last = std::cell::Cell::new(std::time::Instant::now());
-            let stop = || {
-                if raised.borrow().is_some() {
-                    return true;
-                }
-                if last.get().elapsed() < SIGNAL_CHECKS {
-                    return false;
-                }
-                last.set(std::time::Instant::now());
-                match Python::attach(|py| py.check_signals()) {
-                    Ok(()) => false,
-                    Err(e) => {
-                        *raised.borrow_mut() = Some(e);
-                        true
-                    }
-                }
-            };
+            let interrupts = Interrupts::new();
+            let stop = || interrupts.came();
             let options = |analysis: &SimulationOptions| given.over(analysis).map_err(|e| e.describe());
             let result = self.package.run_until(&self.target, overrides, options, signals, Some(&stop));
-            (result, raised.into_inner())
+            (result, interrupts.into_raised())
         })
     }
 
@@ -314,15 +335,52 @@ impl Model {
             .num_threads(threads)
             .build()
             .map_err(|e| PyValueError::new_err(format!("threads={threads}: {e}")))?;
-        let results: Vec<Result<Samples, RunError>> =
-            py.detach(|| pool.install(|| sets.par_iter().map(|set| self.run(set, &given, &signals)).collect()));
-        results
+        // The runs go on other threads while this one looks for Ctrl-C,
+        // which stops the runs under way; the finished ones are kept.
+        let stopped = std::sync::atomic::AtomicBool::new(false);
+        let (results, raised): (Vec<Result<Samples, RunError>>, Option<PyErr>) = py.detach(|| {
+            std::thread::scope(|scope| {
+                let runs = scope.spawn(|| {
+                    let stop = || stopped.load(std::sync::atomic::Ordering::Relaxed);
+                    let options = |analysis: &SimulationOptions| given.over(analysis).map_err(|e| e.describe());
+                    pool.install(|| {
+                        sets.par_iter()
+                            .map(|set| self.package.run_until(&self.target, set, options, &signals, Some(&stop)))
+                            .collect()
+                    })
+                });
+                let interrupts = Interrupts::new();
+                while !runs.is_finished() {
+                    std::thread::sleep(SIGNAL_CHECKS);
+                    if interrupts.came() {
+                        stopped.store(true, std::sync::atomic::Ordering::Relaxed);
+                    }
+                }
+                (runs.join().expect("the runs do not panic"), interrupts.into_raised())
+            })
+        });
+        let interrupted = raised.is_some();
+        let mut finished = 0;
+        let out: Vec<Bound<'py, PyAny>> = results
             .into_iter()
             .map(|r| match r {
-                Ok(samples) => to_python(py, &samples)?.into_pyobject(py).map(|t| t.into_any()),
+                Ok(samples) => {
+                    finished += 1;
+                    to_python(py, &samples)?.into_pyobject(py).map(|t| t.into_any())
+                }
+                // A run Ctrl-C stopped: no result (None) in its place.
+                Err(RunError::Stopped { .. }) if interrupted => Ok(py.None().into_bound(py)),
                 Err(e) => Ok(self.error(py, e).into_value(py).into_bound(py).into_any()),
             })
-            .collect()
+            .collect::<PyResult<_>>()?;
+        match raised {
+            None => Ok(out),
+            Some(raised) => {
+                let message = format!("interrupted: {finished} of {} runs finished", out.len());
+                raised.value(py).setattr("args", (message, out))?;
+                Err(raised)
+            }
+        }
     }
 }
 
@@ -393,9 +451,23 @@ impl Simulator {
     /// is released meanwhile.
     fn step_until(&mut self, py: Python<'_>, t: f64) -> PyResult<()> {
         let sim = &mut self.sim;
-        match py.detach(|| sim.step_until(t)) {
-            Ok(()) => Ok(()),
-            Err(stopped) => Err(stopped_error(py, &stopped, Some(&self.sim))),
+        let (result, raised) = py.detach(|| {
+            let interrupts = Interrupts::new();
+            let mut progress = |_t: f64| if interrupts.came() { Err("interrupted".to_string()) } else { Ok(()) };
+            let result = sim.step_until_with(t, Some(&mut progress));
+            (result, interrupts.into_raised())
+        });
+        match (result, raised) {
+            (Ok(()), _) => Ok(()),
+            // Ctrl-C: the handler's exception with the time reached and the
+            // states recorded; the simulator stays there and can go on.
+            (Err(stopped), Some(raised)) => {
+                let partial = columns_of(py, &self.sim, self.sim.state_names())?;
+                let message = format!("interrupted at t = {}", stopped.time);
+                raised.value(py).setattr("args", (message, stopped.time, partial))?;
+                Err(raised)
+            }
+            (Err(stopped), None) => Err(stopped_error(py, &stopped, Some(&self.sim))),
         }
     }
 

@@ -277,6 +277,38 @@ def test_ctrl_c_stops_a_simulation_with_its_partial_result():
     assert "interrupted at t = " in str(e)
 
 
+def test_ctrl_c_stops_a_sweep_and_keeps_the_finished_runs():
+    """Ctrl-C during sweep() stops the runs under way with KeyboardInterrupt
+    instead of waiting for all of them; its results hold each finished run
+    (the same as that run alone) and None for the others."""
+    import os
+    import signal
+    import threading
+    import time
+
+    model = multibody.load(ROOT / "examples" / "double_pendulum.dyad")
+    # 12 runs of 2000 s of the undamped pendulum, about 0.25 s each here,
+    # one after the other on one thread: Ctrl-C comes during the fourth.
+    sets = [{"link1.d": 0.0, "link2.length": 0.5 + 0.01 * k} for k in range(12)]
+    timer = threading.Timer(0.8, lambda: os.kill(os.getpid(), signal.SIGINT))
+    started = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt) as info:
+            model.sweep(sets, threads=1, stop=2000, saveat=10)
+    finally:
+        timer.cancel()
+    assert time.monotonic() - started < 5.0
+    e = info.value
+    finished = [k for k, r in enumerate(e.results) if r is not None]
+    assert 1 <= len(finished) < len(sets), e.results
+    assert f"interrupted: {len(finished)} of 12 runs finished" in str(e)
+    assert e.results[len(finished):] == [None] * (len(sets) - len(finished))
+    k = finished[-1]
+    alone = model.simulate(sets[k], stop=2000, saveat=10)
+    assert np.array_equal(e.results[k]["link2.joint.phi"], alone["link2.joint.phi"])
+
+
 def test_runs_that_cannot_fit_in_memory_are_refused_before_they_start():
     """simulate(stop=1e4, saveat=1e-5, signals="all") would hold 1e9 samples
     of every signal: refused at once with the estimate and the budget,

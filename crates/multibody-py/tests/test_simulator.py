@@ -135,3 +135,30 @@ def test_an_euler_body_steps_through_its_singularity_with_one_note():
         assert np.abs(result["body.phi[2]"] - result.time).max() < 1e-9
         notes = [w for w in result.warnings if "singular" in w]
         assert len(notes) == 1 and "`body`" in notes[0], result.warnings
+
+
+def test_ctrl_c_stops_step_until_and_the_simulator_goes_on():
+    """Ctrl-C during step_until() (the GIL released) stops it after its
+    current step with KeyboardInterrupt, the time reached and the states
+    recorded attached; the simulator stays there and steps on."""
+    import os
+    import signal
+    import threading
+    import time
+
+    sim = multibody.load(ROOT / "examples" / "double_pendulum.dyad").simulator(saveat=1.0)
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    started = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt) as info:
+            sim.step_until(1e6)
+    finally:
+        timer.cancel()
+    assert time.monotonic() - started < 3.0
+    e = info.value
+    assert 0 < e.time < 1e6 and sim.time == e.time
+    assert "interrupted at t = " in str(e)
+    assert len(e.partial.time) > 1 and e.partial.time[-1] <= e.time
+    sim.step_until(e.time + 1.0)
+    assert sim.time == e.time + 1.0

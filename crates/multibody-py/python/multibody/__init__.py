@@ -195,6 +195,10 @@ class Model:
         ``Result``, or the exception it raised (the others are kept).
 
         ``initial``, when given, is a list of start values of the same length.
+
+        Ctrl-C stops the runs under way with ``KeyboardInterrupt``, whose
+        ``results`` holds the entries of the finished runs and ``None`` for
+        the others.
         """
         sets = [dict(s) for s in sets]
         starts = [dict(s) for s in initial] if initial is not None else [{} for _ in sets]
@@ -202,10 +206,22 @@ class Model:
             raise ValueError(f"{len(sets)} sets of parameters but {len(starts)} sets of start values")
         names = self._signal_names(signals)
         pairs = [(_pairs(p), _pairs(i)) for p, i in zip(sets, starts)]
-        out = self._native.sweep(
-            pairs, names, threads=threads, stop=stop, saveat=saveat, abstol=abstol, reltol=reltol, alg=alg
-        )
-        return [_wrap_error(r) if isinstance(r, BaseException) else Result(*r) for r in out]
+        def entries(out: list) -> list:
+            return [
+                None if r is None else _wrap_error(r) if isinstance(r, BaseException) else Result(*r) for r in out
+            ]
+
+        try:
+            out = self._native.sweep(
+                pairs, names, threads=threads, stop=stop, saveat=saveat, abstol=abstol, reltol=reltol, alg=alg
+            )
+        except KeyboardInterrupt as e:
+            if len(e.args) == 2:
+                message, out = e.args
+                e.message, e.results = message, entries(out)
+                e.args = (message,)
+            raise
+        return entries(out)
 
     def simulator(
         self,
@@ -322,10 +338,15 @@ class Simulator:
         self._all: Optional[List[str]] = None
 
     def step_until(self, t: float) -> None:
-        """Integrates to exactly ``t`` (not before the time reached)."""
+        """Integrates to exactly ``t`` (not before the time reached).
+
+        Ctrl-C stops it after its current step with ``KeyboardInterrupt``
+        (``time`` where it stopped, ``partial`` the states recorded); the
+        simulator stays there and can go on.
+        """
         try:
             self._native.step_until(t)
-        except MultibodyError as e:
+        except (MultibodyError, KeyboardInterrupt) as e:
             raise _wrap_error(e) from None
 
     def set_input(self, name: str, value: float) -> None:

@@ -387,8 +387,9 @@ struct Recorder<'a, 's, 'p, 'q> {
     progress: Option<&'p mut Progress<'q>>,
 }
 
-/// Told the time reached after every step; an error stops the run.
-type Progress<'q> = dyn FnMut(f64) -> Result<(), String> + 'q;
+/// What a run calls with the time reached after every step; an error
+/// stops the run with that reason.
+pub type Progress<'q> = dyn FnMut(f64) -> Result<(), String> + 'q;
 
 impl Recorder<'_, '_, '_, '_> {
     fn record(&mut self, t: f64, y: &[f64]) -> Result<(), StepError> {
@@ -1012,8 +1013,15 @@ impl<'m> Simulator<'m> {
     /// failure the simulator stays at the last good time, and what was
     /// recorded is kept.
     pub fn step_until(&mut self, t: f64) -> Result<(), Stopped> {
+        self.step_until_with(t, None)
+    }
+
+    /// As [`step_until`](Self::step_until), calling `progress` with the
+    /// time reached after every step: an error from it (Ctrl-C in a host)
+    /// stops there with that reason, and the simulator can go on later.
+    pub fn step_until_with(&mut self, t: f64, progress: Option<&mut Progress>) -> Result<(), Stopped> {
         let mut recorded = std::mem::take(&mut self.recorded);
-        let result = self.run_to(t, &mut recorded, None, true);
+        let result = self.run_to(t, &mut recorded, progress, true);
         self.recorded = recorded;
         if let Some(solution) = self.columns.get_mut() {
             let from = solution.len();
@@ -1206,7 +1214,16 @@ impl<'m> Simulator<'m> {
                 }
                 Ok(reached)
             }
-            Err(stop) => Err(self.stop_integration(stop)),
+            Err(stop) => {
+                // The host stopped the run after an accepted step (Ctrl-C):
+                // the simulator stands there, and goes on from there.
+                if matches!(&stop.failure, Failure::Observer(StepError::Caller(_))) {
+                    self.y.copy_from_slice(self.stepper.state());
+                    self.t = failure_time(&stop);
+                    self.ahead = false;
+                }
+                Err(self.stop_integration(stop))
+            }
         }
     }
 
