@@ -76,65 +76,71 @@ impl TableWriter {
 
 #[cfg(feature = "parquet")]
 mod parquet_table {
-    use arrow_array::{ArrayRef, Float64Array, RecordBatch};
-    use arrow_schema::{DataType, Field, Schema};
-    use parquet::arrow::ArrowWriter;
-    use parquet::basic::Compression;
+    use parquet::basic::{Compression, Repetition, Type as PhysicalType};
+    use parquet::data_type::DoubleType;
     use parquet::file::properties::WriterProperties;
+    use parquet::file::writer::SerializedFileWriter;
+    use parquet::schema::types::Type;
     use std::io;
     use std::sync::Arc;
     use tempfile::NamedTempFile;
 
-    /// The most rows buffered before they go out as one record batch.
-    const BATCH: usize = 8192;
-    /// Bytes a batch may hold: a wide table (every signal of a long chain,
-    /// 10^5 columns) gets batches of a few rows, not 8192 rows of gigabytes.
-    const BATCH_BYTES: usize = 16 << 20;
+    /// The most rows buffered before they go out as one row group.
+    const ROWS: usize = 16384;
+    /// Bytes the buffered rows may hold: a wide table (every signal of a
+    /// long chain, 10^5 columns) gets row groups of a few rows, not 16384
+    /// rows of gigabytes.
+    const BUFFER_BYTES: usize = 32 << 20;
 
-    /// Rows per record batch for `columns` columns; a row group holds two
-    /// batches (the writer keeps it until it is full).
-    pub fn batch_rows(columns: usize) -> usize {
-        (BATCH_BYTES / (8 * columns.max(1))).clamp(1, BATCH)
+    /// Rows per row group for `columns` columns.
+    pub fn group_rows(columns: usize) -> usize {
+        (BUFFER_BYTES / (8 * columns.max(1))).clamp(1, ROWS)
     }
 
     /// About what writing `samples` rows of `columns` columns holds in
-    /// memory: the batch, the row group being encoded, the footer's
-    /// description of every column chunk of every row group (which the
-    /// writer keeps to the end: about 200 bytes each), and the writer's
-    /// own state per column (measured: about 6.5 kB, so a table of 10^5
-    /// columns costs 650 MB before its first row).
+    /// memory: the buffered rows, one column chunk being encoded (the
+    /// columns are written one at a time, so a wide table does not hold an
+    /// encoder per column), the schema and its descriptors (measured: about
+    /// 1.5 kB a column), and the footer's description of every column chunk
+    /// of every row group, which the writer keeps to the end (about 200
+    /// bytes each).
     pub fn memory(samples: f64, columns: usize) -> f64 {
-        let rows = batch_rows(columns);
-        let groups = (samples / (2 * rows) as f64).ceil().max(1.0);
-        (3 * rows * columns * 8) as f64 + groups * columns as f64 * 200.0 + columns as f64 * 6.5e3
+        let rows = group_rows(columns);
+        let groups = (samples / rows as f64).ceil().max(1.0);
+        (rows * columns * 8) as f64 + columns as f64 * 1.5e3 + groups * columns as f64 * 200.0
     }
 
     pub struct ParquetTable {
-        writer: ArrowWriter<NamedTempFile>,
-        schema: Arc<Schema>,
+        writer: SerializedFileWriter<NamedTempFile>,
         columns: Vec<Vec<f64>>,
-        batch: usize,
+        rows: usize,
     }
 
     impl ParquetTable {
         pub fn new(file: NamedTempFile, keys: &[&str], names: &[&str]) -> io::Result<Self> {
-            let fields: Vec<Field> = keys
+            let fields = keys
                 .iter()
                 .chain(&["time"])
                 .chain(names)
-                .map(|name| Field::new(name.to_string(), DataType::Float64, false))
-                .collect();
-            let schema = Arc::new(Schema::new(fields));
-            let batch = batch_rows(schema.fields().len());
+                .map(|name| {
+                    Type::primitive_type_builder(name, PhysicalType::DOUBLE)
+                        .with_repetition(Repetition::REQUIRED)
+                        .build()
+                        .map(Arc::new)
+                })
+                .collect::<Result<Vec<_>, _>>()
+                .map_err(io::Error::other)?;
+            let count = fields.len();
+            let schema = Type::group_type_builder("schema").with_fields(fields).build().map_err(io::Error::other)?;
             let properties = WriterProperties::builder()
                 .set_compression(Compression::SNAPPY)
-                .set_max_row_group_row_count(Some(2 * batch))
                 // Samples of a simulation seldom repeat: dictionaries would only cost memory.
                 .set_dictionary_enabled(false)
                 .build();
-            let writer = ArrowWriter::try_new(file, schema.clone(), Some(properties)).map_err(io::Error::other)?;
-            let columns = vec![Vec::with_capacity(batch); schema.fields().len()];
-            Ok(Self { writer, schema, columns, batch })
+            let writer =
+                SerializedFileWriter::new(file, Arc::new(schema), Arc::new(properties)).map_err(io::Error::other)?;
+            let rows = group_rows(count);
+            Ok(Self { writer, columns: vec![Vec::with_capacity(rows); count], rows })
         }
 
         pub fn row(&mut self, keys: &[f64], t: f64, values: &[f64]) -> io::Result<()> {
@@ -142,27 +148,31 @@ mod parquet_table {
             for (column, &x) in self.columns.iter_mut().zip(row) {
                 column.push(x);
             }
-            if self.columns[0].len() >= self.batch {
-                self.flush_batch()?;
+            if self.columns[0].len() >= self.rows {
+                self.write_group()?;
             }
             Ok(())
         }
 
-        fn flush_batch(&mut self) -> io::Result<()> {
+        /// The buffered rows as one row group, written column by column.
+        fn write_group(&mut self) -> io::Result<()> {
             if self.columns.first().is_none_or(|c| c.is_empty()) {
                 return Ok(());
             }
-            let arrays: Vec<ArrayRef> = self
-                .columns
-                .iter_mut()
-                .map(|c| Arc::new(Float64Array::from(std::mem::replace(c, Vec::with_capacity(self.batch)))) as ArrayRef)
-                .collect();
-            let batch = RecordBatch::try_new(self.schema.clone(), arrays).map_err(io::Error::other)?;
-            self.writer.write(&batch).map_err(io::Error::other)
+            let mut group = self.writer.next_row_group().map_err(io::Error::other)?;
+            let mut k = 0;
+            while let Some(mut column) = group.next_column().map_err(io::Error::other)? {
+                column.typed::<DoubleType>().write_batch(&self.columns[k], None, None).map_err(io::Error::other)?;
+                column.close().map_err(io::Error::other)?;
+                self.columns[k].clear();
+                k += 1;
+            }
+            group.close().map_err(io::Error::other)?;
+            Ok(())
         }
 
         pub fn finish(mut self) -> io::Result<NamedTempFile> {
-            self.flush_batch()?;
+            self.write_group()?;
             self.writer.into_inner().map_err(io::Error::other)
         }
     }
