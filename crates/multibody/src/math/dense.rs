@@ -68,6 +68,12 @@ pub fn lu(a: &mut [f64], n: usize, pivots: &mut [usize]) -> bool {
         for i in k + 1..n {
             let l = a[i * n + k] / d;
             a[i * n + k] = l;
+            // Rows with nothing below the pivot are left as they are: a
+            // sparse block (a long algebraic loop of a `for`) factors in
+            // about n^2, not n^3.
+            if l == 0.0 {
+                continue;
+            }
             for j in k + 1..n {
                 a[i * n + j] -= l * a[k * n + j];
             }

@@ -11,7 +11,7 @@ use crate::math::symbolic::{self as sym, Sym, S};
 use crate::system::equations::{EquationBlock, EquationProgram, Gather, Op, Reg, Solve, TIME};
 use crate::system::{Attachment, EventLayout, SignalLaw, StateLayout};
 use crate::Error;
-use std::collections::{BinaryHeap, HashMap};
+use std::collections::{BinaryHeap, HashMap, HashSet};
 use std::ops::Range;
 
 /// Registers and ops being written.
@@ -373,9 +373,10 @@ pub(super) fn generate(
         }
         let residuals: Vec<&S> = rows.iter().map(|&r| &sorted.residuals[r]).collect();
         let mut mentioned = Vec::new();
+        let mut seen = HashSet::new();
         for r in &residuals {
             r.each_var(&mut |v| {
-                if !mentioned.contains(&v) {
+                if seen.insert(v) {
                     mentioned.push(v);
                 }
             });
@@ -409,13 +410,25 @@ pub(super) fn generate(
                 let residual_start = em.ops.len();
                 let residual_regs: Vec<Reg> = residuals.iter().map(|r| em.emit(r, &reg)).collect();
                 let residual_ops = residual_start..em.ops.len();
+                // Only the unknowns a residual mentions have a derivative
+                // other than zero: a long loop (a `for` over an array) has
+                // a few per row, and compiles in about its size, not k^3.
+                let column: HashMap<usize, usize> = unknowns.iter().enumerate().map(|(j, &x)| (x, j)).collect();
                 let mut linear = true;
-                let mut jacobian = Vec::with_capacity(k * k);
-                for r in &residuals {
-                    for &x in unknowns {
+                let mut jacobian = vec![sym::constant(0.0); k * k];
+                for (i, r) in residuals.iter().enumerate() {
+                    let mut own = Vec::new();
+                    r.each_var(&mut |v| {
+                        if column.contains_key(&v) && !own.contains(&v) {
+                            own.push(v);
+                        }
+                    });
+                    for x in own {
                         let d = sym::derivative(r, x);
-                        linear &= unknowns.iter().all(|&y| !d.depends_on(y)) && sym::affine_in(r, x).is_some();
-                        jacobian.push(d);
+                        let mut on_unknowns = false;
+                        d.each_var(&mut |y| on_unknowns |= column.contains_key(&y));
+                        linear &= !on_unknowns && sym::affine_in(r, x).is_some();
+                        jacobian[i * k + column[&x]] = d;
                     }
                 }
                 refuse_constant_singular(&jacobian, rows, unknowns, pending, sorted)?;
