@@ -71,9 +71,9 @@ fn load(session: &mut Option<Session>, request: &Value) -> Result<String, String
     }
     let loaded =
         Session::load(&files, request["analysis"].as_str(), request["model"].as_str(), strings(&request["signals"]))?;
-    let describe = loaded.describe()?;
+    let reply = json!({ "ok": true, "model": loaded.describe() }).to_string();
     *session = Some(loaded);
-    Ok(json!({ "ok": true, "model": describe }).to_string())
+    Ok(reply)
 }
 
 fn values(request: &Value) -> Values {

@@ -16,6 +16,8 @@ pub struct Session {
     name: String,
     /// Signal patterns for the plots (empty: the view's guess).
     signals: Vec<String>,
+    /// What the panel offers, described once at loading.
+    model: Value,
     /// The run being stepped in real time, if one is.
     stepping: Option<Stepping>,
 }
@@ -78,7 +80,8 @@ impl Session {
         }
         let target = package.choose_target(analysis, model)?;
         let lowered = package.lower_target(&target, &[]).map_err(|d| render(&package, &[d]))?;
-        Ok(Session { name: lowered.name.clone(), package, target, signals, stepping: None })
+        let model = description(&lowered);
+        Ok(Session { name: lowered.name.clone(), package, target, signals, model, stepping: None })
     }
 
     /// The title of the page: the analysis's or the component's name.
@@ -87,38 +90,9 @@ impl Session {
     }
 
     /// What the panel offers: the model's own parameters and start values
-    /// (with units and docs), and the run's options.
-    pub fn describe(&self) -> Result<Value, String> {
-        let lowered = self.package.lower_target(&self.target, &[]).map_err(|d| render(&self.package, &[d]))?;
-        let tunables: Vec<Value> = lowered
-            .tunables
-            .iter()
-            .map(|t| {
-                json!({
-                    "path": t.path,
-                    "kind": match t.kind { TunableKind::Parameter => "parameter", TunableKind::Start => "start" },
-                    "value": t.value,
-                    "unit": t.unit,
-                    "doc": t.doc,
-                    "min": t.min,
-                    "max": t.max,
-                    "integer": t.integer,
-                    "derived": t.derived,
-                })
-            })
-            .collect();
-        let inputs: Vec<String> = match lowered.assemble() {
-            Ok(mechanism) => mechanism.input_names().into_iter().map(str::to_string).collect(),
-            Err(_) => Vec::new(),
-        };
-        Ok(json!({
-            "name": self.name,
-            "tunables": tunables,
-            "inputs": inputs,
-            "stop": lowered.options.stop,
-            "start": lowered.options.start,
-            "saveat": lowered.options.saveat,
-        }))
+    /// (with units and docs), its inputs, and the run's options.
+    pub fn describe(&self) -> &Value {
+        &self.model
     }
 
     /// Lowers, assembles and simulates with `values`; a failure is the
@@ -227,6 +201,40 @@ impl Session {
     fn blame(&self, overrides: &[Override], d: Diagnostic) -> String {
         self.package.blame_override(&self.target, overrides).unwrap_or_else(|| render(&self.package, &[d]))
     }
+}
+
+/// The panel's description of a lowered model (see [`Session::describe`]).
+fn description(lowered: &multibody_dyad::Lowered) -> Value {
+    let tunables: Vec<Value> = lowered
+        .tunables
+        .iter()
+        .map(|t| {
+            json!({
+                "path": t.path,
+                "kind": match t.kind { TunableKind::Parameter => "parameter", TunableKind::Start => "start" },
+                "value": t.value,
+                "unit": t.unit,
+                "doc": t.doc,
+                "min": t.min,
+                "max": t.max,
+                "integer": t.integer,
+                "derived": t.derived,
+            })
+        })
+        .collect();
+    // A model that does not assemble has no inputs to offer; its runs say why.
+    let inputs: Vec<String> = match lowered.assemble() {
+        Ok(mechanism) => mechanism.input_names().into_iter().map(str::to_string).collect(),
+        Err(_) => Vec::new(),
+    };
+    json!({
+        "name": lowered.name,
+        "tunables": tunables,
+        "inputs": inputs,
+        "stop": lowered.options.stop,
+        "start": lowered.options.start,
+        "saveat": lowered.options.saveat,
+    })
 }
 
 /// The samples a simulator recorded, at most `fps` a second (and the last):

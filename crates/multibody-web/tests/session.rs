@@ -59,7 +59,8 @@ fn a_changed_length_and_start_give_the_engines_own_run() {
 
 #[test]
 fn the_panel_lists_the_models_own_values() {
-    let model = double_pendulum().describe().unwrap();
+    let session = double_pendulum();
+    let model = session.describe();
     let tunables = model["tunables"].as_array().unwrap();
     let paths: Vec<&str> = tunables.iter().map(|t| t["path"].as_str().unwrap()).collect();
     assert_eq!(
