@@ -65,6 +65,13 @@ pub fn linearize(args: &LinearizeArgs) -> Result<(), Failure> {
             }
         }
         Study::Transient => {}
+        Study::Fmu { .. } => {
+            return Err(Failure::Usage(format!(
+                "`{}` is an FMUAnalysis, which exports an FMU: run `multibody fmu` on it, or linearize its model \
+                 with --model NAME",
+                lowered.name
+            )))
+        }
     }
     let json = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("{}.json", lowered.name)));
     check_files(&args.selection.files, &json, args.bode.as_deref())?;

@@ -5,6 +5,7 @@ mod console;
 mod catalog;
 mod check;
 mod exit;
+mod fmu;
 mod inputs;
 mod linearize;
 mod live;
@@ -66,6 +67,8 @@ enum Command {
     /// Write a page that runs the model itself: change a parameter, a start value or the stop time in
     /// its panel and the motion and plots follow (offline; the engine is embedded as WebAssembly)
     Live(LiveArgs),
+    /// Export the model as an FMU (FMI 2.0, model exchange and co-simulation) for any FMI tool
+    Fmu(FmuArgs),
 }
 
 /// Which model files, and which analysis or component in them.
@@ -230,6 +233,29 @@ pub struct LiveArgs {
     pub wasm: Option<PathBuf>,
 }
 
+#[derive(Args)]
+pub struct FmuArgs {
+    #[command(flatten)]
+    pub selection: Selection,
+    /// FMI version: 2 (3 is not available yet) (default: the FMUAnalysis's `version`, else 2)
+    #[arg(long, value_name = "VERSION")]
+    pub fmi: Option<String>,
+    /// Which interfaces: me (model exchange), cs (co-simulation) or both (default: the FMUAnalysis's
+    /// `fmu_type`, else both)
+    #[arg(long, value_name = "KIND")]
+    pub kind: Option<String>,
+    /// Expose this variable as an output too (the model's RealOutputs always are)
+    #[arg(long = "output", value_name = "NAME")]
+    pub outputs: Vec<String>,
+    /// The FMU to write (default: NAME.fmu in the current folder)
+    #[arg(long, short, value_name = "FILE.fmu")]
+    pub out: Option<PathBuf>,
+    /// The runtime library the FMU carries (default: the one cargo built beside this command, or
+    /// $MULTIBODY_FMU_RUNTIME)
+    #[arg(long, value_name = "FILE")]
+    pub runtime: Option<PathBuf>,
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -240,6 +266,7 @@ fn main() -> ExitCode {
         Command::Sweep(args) => sweep::sweep(&args),
         Command::Linearize(args) => linearize::linearize(&args),
         Command::Live(args) => live::live(&args),
+        Command::Fmu(args) => fmu::fmu(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -20,6 +20,13 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     let target = choose(&package, &args.selection)?;
     let overrides = overrides(&args.values.params, &args.values.initials)?;
     let mut lowered = lower(&package, &target, &overrides)?;
+    if let multibody_dyad::Study::Fmu { .. } = lowered.study {
+        return Err(Failure::Usage(format!(
+            "`{}` is an FMUAnalysis, which exports an FMU: run `multibody fmu {}`",
+            lowered.name,
+            args.selection.files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>().join(" ")
+        )));
+    }
     if lowered.study != multibody_dyad::Study::Transient {
         // A LinearAnalysis or SteadyStateAnalysis: its result is a linear model.
         return crate::linearize::linearize(&crate::LinearizeArgs {

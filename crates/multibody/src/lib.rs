@@ -49,6 +49,7 @@ pub use model::{
     WhenAction,
 };
 pub use simulate::{
-    Method, OptionError, Rows, RunReport, SampleSink, SimulationError, SimulationOptions, Simulator, Solution, Stopped,
+    EventUpdate, Method, OptionError, Rows, RunReport, SampleSink, SimulationError, SimulationOptions, Simulator,
+    Solution, Stopped,
 };
 pub use system::{StateLayout, System};

@@ -33,11 +33,16 @@ pub enum Study {
     Linear { inputs: Vec<String>, outputs: Vec<String>, duration: Option<f64> },
     /// Find the steady state (SteadyStateAnalysis) to these tolerances.
     SteadyState { abstol: f64, reltol: f64 },
+    /// Export an FMU (DyadFMUGeneration.FMUAnalysis): the FMI version (2
+    /// or 3), which kinds, and the variables named as inputs and outputs.
+    Fmu { version: u8, model_exchange: bool, co_simulation: bool, inputs: Vec<String>, outputs: Vec<String> },
 }
 
 const LINEAR: &[&str] = &["inputs", "outputs", "duration", "loop_openings"];
 const LINEAR_IGNORED: &[&str] = &["wl", "wh", "num_frequencies"];
 const STEADY: &[&str] = &["abstol", "reltol"];
+const FMU: &[&str] = &["version", "fmu_type", "n_inputs", "inputs", "n_outputs", "outputs", "alg"];
+const FMU_IGNORED: &[&str] = &["additional_deps", "use_juliac", "verbose", "logfile", "respecialize"];
 const STEADY_IGNORED: &[&str] = &["alg", "automatic_discontinuity_detection", "respecialize"];
 
 /// The options and study of an analysis, and warnings about what it ignores.
@@ -85,8 +90,53 @@ pub fn analysis_options(
             }
             Ok((SimulationOptions::default(), Study::SteadyState { abstol, reltol }))
         }
+        "FMUAnalysis" => fmu_analysis(modifiers, warnings),
         _ => Ok((transient_options(analysis, modifiers, warnings)?, Study::Transient)),
     }
+}
+
+/// An `FMUAnalysis`: Dyad's parameters, checked. `n_inputs` and
+/// `n_outputs` must count the lists they go with; `alg` is the
+/// co-simulation's integrator.
+fn fmu_analysis(modifiers: Vec<Mod>, warnings: &mut Vec<Diagnostic>) -> Result<(SimulationOptions, Study), Diagnostic> {
+    let (mut version, mut me, mut cs) = (2, true, true);
+    let (mut inputs, mut outputs) = (Vec::new(), Vec::new());
+    let mut counts: Vec<(&str, f64, crate::syntax::source::Span)> = Vec::new();
+    let mut options = SimulationOptions::default();
+    for m in parameters("FMUAnalysis", modifiers, FMU, FMU_IGNORED, warnings)? {
+        let (value, span) = m.value.clone().expect("checked");
+        let name = m.name.name.as_str();
+        let text = |choices: &[&str]| match &value {
+            Val::Str(s) if choices.contains(&s.as_str()) => Ok(s.clone()),
+            other => Err(Diagnostic::error(format!(
+                "`{name}` takes one of {}, but this is {}",
+                choices.iter().map(|c| format!("\"{c}\"")).collect::<Vec<_>>().join(", "),
+                other.describe()
+            ))
+            .primary(span, "not one of these")),
+        };
+        match name {
+            "version" => version = if text(&["FMI_V2", "FMI_V3"])? == "FMI_V2" { 2 } else { 3 },
+            "fmu_type" => {
+                let kind = text(&["FMI_ME", "FMI_CS", "FMI_BOTH"])?;
+                (me, cs) = (kind != "FMI_CS", kind != "FMI_ME");
+            }
+            "inputs" => inputs = strings(name, &value, span)?,
+            "outputs" => outputs = strings(name, &value, span)?,
+            "n_inputs" => counts.push(("inputs", number(name, &value, span)?, span)),
+            "n_outputs" => counts.push(("outputs", number(name, &value, span)?, span)),
+            _ => options.method = method(&value, span, &SimulationOptions::default(), warnings)?,
+        }
+    }
+    for (list, n, span) in counts {
+        let len = if list == "inputs" { inputs.len() } else { outputs.len() };
+        if n != len as f64 {
+            return Err(Diagnostic::error(format!("`n_{list} = {n}` but `{list}` names {len}"))
+                .primary(span, "does not count the list")
+                .help(format!("make `n_{list}` the number of names in `{list}`")));
+        }
+    }
+    Ok((options, Study::Fmu { version, model_exchange: me, co_simulation: cs, inputs, outputs }))
 }
 
 /// The modifiers of a `kind` analysis with values: unknown ones are errors,

@@ -22,7 +22,7 @@ mod solution;
 
 pub use integrator::{Stats, StiffStretch};
 pub(crate) use simulator::did_you_mean;
-pub use simulator::{Shared, Simulator};
+pub use simulator::{EventUpdate, Shared, Simulator};
 pub use solution::{glob, CsvWriter, Rows, Solution};
 
 use crate::assembly::Mechanism;

@@ -33,6 +33,9 @@ use crate::system::joint::RotationCoordinates;
 use std::ops::Deref;
 use std::sync::{Arc, OnceLock};
 
+mod exchange;
+pub use exchange::EventUpdate;
+
 /// Passes of one event iteration before it is declared not to settle.
 const EVENT_ITERATIONS: usize = 50;
 /// Events within so short a time (relative to the time, at least 1 s)
@@ -361,6 +364,8 @@ struct RecorderState {
     row: Vec<f64>,
     /// The components whose outputs the sink reads (`None`: all).
     wanted: Option<Vec<bool>>,
+    /// Those a host asks for now ([`Simulator::signal_values`]).
+    wanted_now: Vec<bool>,
     y: Vec<f64>,
     pending_time: Vec<f64>,
     pending_rows: Vec<f64>,
@@ -376,6 +381,9 @@ struct RecorderState {
     /// No grid point after this time is recorded (the integration may
     /// stand past the time asked for).
     until: f64,
+    /// Nothing is recorded: a host reads the values it wants when it
+    /// wants them ([`Simulator::for_host`]).
+    off: bool,
 }
 
 /// The recorder during one call: its state, where samples go, and whom
@@ -424,7 +432,9 @@ impl Recorder<'_, '_, '_, '_> {
         // The previous step was final: the integrator went on from it.
         self.flush(f64::INFINITY)?;
         let (_, t1) = step.span();
-        if self.state.saveat > 0.0 {
+        if self.state.off {
+            // Nothing to record.
+        } else if self.state.saveat > 0.0 {
             loop {
                 let s = &*self.state;
                 let on_grid = s.start + s.next as f64 * s.saveat;
@@ -575,6 +585,7 @@ impl<'m> Simulator<'m> {
             scratch: OutputScratch::default(),
             row: Vec::new(),
             wanted,
+            wanted_now: Vec::new(),
             y: vec![0.0; n],
             pending_time: Vec::new(),
             pending_rows: Vec::new(),
@@ -585,6 +596,7 @@ impl<'m> Simulator<'m> {
             next: 0,
             past_stop: false,
             until: f64::INFINITY,
+            off: false,
         };
         let mut sim = Simulator {
             stepper: Stepper::new(n, options),
@@ -774,23 +786,41 @@ impl<'m> Simulator<'m> {
     pub fn values<S: AsRef<str>>(&mut self, names: &[S]) -> Result<Vec<f64>, String> {
         let table = self.mechanism.signal_table().clone();
         let mut columns = Vec::with_capacity(names.len());
-        let mut wanted = vec![false; self.mechanism.components.len()];
         for name in names {
             let name = name.as_ref();
             let Some(k) = table.index(name) else {
                 let hint = did_you_mean(name, table.names().iter().map(String::as_str));
                 return Err(format!("the model has no variable `{name}`{hint}"));
             };
-            if let Some(owner) = table.owner(k) {
-                wanted[owner] = true;
-            }
             columns.push(k);
         }
+        let mut values = vec![0.0; columns.len()];
+        self.signal_values(&columns, &mut values)?;
+        Ok(values)
+    }
+
+    /// The values of the signals at `columns` (positions among
+    /// [`Simulator::signal_names`]) at the time and state reached, into
+    /// `out`: only the components that own them are evaluated.
+    pub fn signal_values(&mut self, columns: &[usize], out: &mut [f64]) -> Result<(), String> {
+        let table = self.mechanism.signal_table().clone();
+        let width = table.names().len();
+        if let Some(&k) = columns.iter().find(|&&k| k >= width) {
+            return Err(format!("the model has {width} signals, so none at position {k}"));
+        }
         let r = &mut self.recorder;
+        r.wanted_now.clear();
+        r.wanted_now.resize(self.mechanism.components.len(), false);
+        for owner in columns.iter().filter_map(|&k| table.owner(k)) {
+            r.wanted_now[owner] = true;
+        }
         self.mechanism
-            .outputs_into(&mut r.ws, &mut r.scratch, self.t, &self.y, &mut r.row, Some(&wanted))
+            .outputs_into(&mut r.ws, &mut r.scratch, self.t, &self.y, &mut r.row, Some(&r.wanted_now))
             .map_err(|e| self.mechanism.describe(&e))?;
-        Ok(columns.iter().map(|&k| r.row[k]).collect())
+        for (o, &k) in out.iter_mut().zip(columns) {
+            *o = r.row[k];
+        }
+        Ok(())
     }
 
     /// The samples recorded so far on the output grid (every `saveat`
@@ -1068,7 +1098,7 @@ impl<'m> Simulator<'m> {
         if !target.is_finite() {
             return Err(self.stopped(StepError::Caller(format!("cannot step until t = {target}")), self.t));
         }
-        if self.recorder.next == 0 {
+        if self.recorder.next == 0 && !self.recorder.off {
             let mut recorder = Recorder { mechanism: &self.mechanism, state: &mut self.recorder, sink, progress: None };
             let (t, y) = (self.t, self.y.clone());
             if let Err(e) = recorder.record(t, &y).and_then(|_| recorder.flush(t)) {

@@ -1,0 +1,376 @@
+//! One instance of an FMU: its model, the values set before
+//! initialization, and the simulator it runs, in safe Rust. The C
+//! functions (`fmi2`) only translate to and from this.
+
+use crate::model::{token, Loaded, Settings, Source, MODEL_FOLDER, SETTINGS_FILE};
+use multibody::{Mechanism, SimulationOptions, Simulator};
+use std::path::Path;
+use std::sync::Arc;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    ModelExchange,
+    CoSimulation,
+}
+
+/// Where the instance is in FMI's state machine.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Phase {
+    Instantiated,
+    Initialization,
+    /// Model exchange: event mode; co-simulation: between steps.
+    Event,
+    /// Model exchange: continuous-time mode.
+    Continuous,
+    Terminated,
+    /// A call failed: only freeing, resetting and reading work.
+    Failed,
+}
+
+/// What an event changed (FMI 2's `fmi2EventInfo`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EventInfo {
+    pub values_changed: bool,
+    pub next_event_time: Option<f64>,
+}
+
+pub struct Instance {
+    pub kind: Kind,
+    pub phase: Phase,
+    loaded: Loaded,
+    /// The value of each variable set before initialization (parameters
+    /// and start values), by value reference.
+    set: Vec<Option<f64>>,
+    /// The inputs' names and values, in input order.
+    input_names: Vec<String>,
+    inputs: Vec<f64>,
+    start: f64,
+    stop: Option<f64>,
+    tolerance: Option<f64>,
+    simulator: Option<Simulator<'static>>,
+    /// Scratch for reading values without allocating per call.
+    columns: Vec<usize>,
+    values: Vec<f64>,
+    dy: Vec<f64>,
+}
+
+impl Instance {
+    /// Loads the model stored in `resources`, checking that it is the one
+    /// the FMU was exported with (`token`).
+    pub fn new(resources: &Path, expected_token: &str, kind: Kind) -> Result<Instance, String> {
+        let read = |path: &Path| {
+            std::fs::read_to_string(path).map_err(|e| format!("cannot read the FMU's {}: {e}", path.display()))
+        };
+        let settings_json = read(&resources.join(SETTINGS_FILE))?;
+        let settings = Settings::from_json(&settings_json)?;
+        let mut files = Vec::with_capacity(settings.files.len());
+        for name in &settings.files {
+            files.push((name.clone(), read(&resources.join(MODEL_FOLDER).join(name))?));
+        }
+        let actual = token(&settings_json, &files);
+        if actual != expected_token {
+            return Err(format!(
+                "token mismatch: the FMU's description has the token {expected_token}, but its model files and \
+                 this runtime ({}) give {actual}: the files in resources/ were edited after the export, or the \
+                 binary is another version. Export the FMU again",
+                crate::model::RUNTIME_ID
+            ));
+        }
+        let loaded = Loaded::load(&files, &settings)?;
+        let n = loaded.interface.variables.len();
+        let inputs =
+            loaded.interface.inputs.iter().map(|&vr| loaded.interface.variables[vr].start.unwrap_or(0.0)).collect();
+        let start = loaded.options.start;
+        let states = loaded.mechanism.states().names.len();
+        let input_names = loaded.mechanism.input_names().into_iter().map(String::from).collect();
+        Ok(Instance {
+            input_names,
+            kind,
+            phase: Phase::Instantiated,
+            loaded,
+            set: vec![None; n],
+            inputs,
+            start,
+            stop: None,
+            tolerance: None,
+            simulator: None,
+            columns: Vec::new(),
+            values: Vec::new(),
+            dy: vec![0.0; states],
+        })
+    }
+
+    pub fn warnings(&self) -> &[String] {
+        &self.loaded.warnings
+    }
+
+    pub fn state_count(&self) -> usize {
+        self.loaded.interface.states.len()
+    }
+
+    pub fn indicator_count(&self) -> usize {
+        self.loaded.interface.indicators
+    }
+
+    pub fn setup_experiment(&mut self, tolerance: Option<f64>, start: f64, stop: Option<f64>) -> Result<(), String> {
+        self.expect(&[Phase::Instantiated], "fmi2SetupExperiment")?;
+        if let Some(tol) = tolerance {
+            if !(tol > 0.0 && tol < 1.0) {
+                return Err(format!("the tolerance must be between 0 and 1, not {tol}"));
+            }
+        }
+        if let Some(stop) = stop {
+            if stop <= start || stop.is_nan() {
+                return Err(format!("the stop time {stop} is not after the start time {start}"));
+            }
+        }
+        (self.tolerance, self.start, self.stop) = (tolerance, start, stop);
+        Ok(())
+    }
+
+    pub fn enter_initialization(&mut self) -> Result<(), String> {
+        self.expect(&[Phase::Instantiated], "fmi2EnterInitializationMode")?;
+        self.phase = Phase::Initialization;
+        Ok(())
+    }
+
+    /// Builds the simulator from the values set (the model lowered and
+    /// assembled again if any parameter or start value changed).
+    pub fn exit_initialization(&mut self) -> Result<(), String> {
+        self.expect(&[Phase::Initialization], "fmi2ExitInitializationMode")?;
+        self.simulator = None;
+        self.ensure_simulator()?;
+        self.phase = Phase::Event;
+        Ok(())
+    }
+
+    fn options(&self) -> SimulationOptions {
+        let mut options = self.loaded.options.clone();
+        let span = options.stop - options.start;
+        options.start = self.start;
+        options.stop = self.stop.unwrap_or(self.start + span.max(1.0));
+        if let Some(tol) = self.tolerance {
+            (options.reltol, options.abstol) = (tol, tol);
+        }
+        options.saveat = 0.0;
+        options
+    }
+
+    fn ensure_simulator(&mut self) -> Result<&mut Simulator<'static>, String> {
+        if self.simulator.is_none() {
+            let overrides: Vec<_> = self
+                .set
+                .iter()
+                .zip(&self.loaded.interface.variables)
+                .filter_map(|(value, v)| Some(v.sets.as_ref()?.clone()).zip(*value))
+                .map(|(mut o, value)| {
+                    o.value = multibody_dyad::eval::Val::Number(value);
+                    o
+                })
+                .collect();
+            let mechanism: Arc<Mechanism> = self.loaded.with(&overrides)?;
+            let mut simulator = Simulator::for_host(mechanism, &self.options())
+                .map_err(|stopped| format!("the model cannot start: {}", stopped.reason))?;
+            for (name, &value) in self.input_names.iter().zip(&self.inputs) {
+                simulator.set_input(name, value)?;
+            }
+            self.simulator = Some(simulator);
+        }
+        Ok(self.simulator.as_mut().expect("made just now"))
+    }
+
+    fn expect(&self, phases: &[Phase], call: &str) -> Result<(), String> {
+        if phases.contains(&self.phase) {
+            Ok(())
+        } else {
+            Err(format!("{call} is not allowed now (the instance is {:?})", self.phase))
+        }
+    }
+
+    pub fn get_real(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), String> {
+        if vrs.len() != out.len() {
+            return Err("the value references and values differ in number".into());
+        }
+        let n = self.loaded.interface.variables.len();
+        if let Some(&bad) = vrs.iter().find(|&&vr| vr as usize >= n) {
+            return Err(format!("no variable has the value reference {bad} (the FMU has {n})"));
+        }
+        let before = matches!(self.phase, Phase::Instantiated | Phase::Initialization);
+        // The values fixed before the run: parameters, inputs, and (before
+        // initialization ends) start values.
+        let mut computed = false;
+        for (o, &vr) in out.iter_mut().zip(vrs) {
+            let v = &self.loaded.interface.variables[vr as usize];
+            match v.source {
+                Source::Parameter(_) => *o = self.set[vr as usize].or(v.start).unwrap_or(0.0),
+                Source::Input(i) => *o = self.inputs[i],
+                _ if before && v.exact => *o = self.set[vr as usize].or(v.start).unwrap_or(0.0),
+                _ => computed = true,
+            }
+        }
+        if !computed {
+            return Ok(());
+        }
+        self.ensure_simulator()?;
+        let Instance { loaded, simulator, columns, values, dy, .. } = self;
+        let simulator = simulator.as_mut().expect("made above");
+        columns.clear();
+        let mut derivatives = false;
+        for &vr in vrs {
+            match loaded.interface.variables[vr as usize].source {
+                Source::Signal(k) => columns.push(k),
+                Source::Derivative(_) => derivatives = true,
+                _ => {}
+            }
+        }
+        values.resize(columns.len(), 0.0);
+        if !columns.is_empty() {
+            simulator.signal_values(columns, values)?;
+        }
+        if derivatives {
+            simulator.derivatives(dy)?;
+        }
+        let mut next = 0;
+        for (o, &vr) in out.iter_mut().zip(vrs) {
+            match loaded.interface.variables[vr as usize].source {
+                Source::Signal(_) => {
+                    *o = values[next];
+                    next += 1;
+                }
+                Source::State(j) => *o = simulator.state()[j],
+                Source::Derivative(j) => *o = dy[j],
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<(), String> {
+        if vrs.len() != values.len() {
+            return Err("the value references and values differ in number".into());
+        }
+        let n = self.loaded.interface.variables.len();
+        for (&vr, &x) in vrs.iter().zip(values) {
+            let Some(v) = self.loaded.interface.variables.get(vr as usize) else {
+                return Err(format!("no variable has the value reference {vr} (the FMU has {n})"));
+            };
+            if !x.is_finite() {
+                return Err(format!("`{}` cannot be set to {x}", v.name));
+            }
+            match v.source {
+                Source::Input(i) => {
+                    self.inputs[i] = x;
+                    if let Some(sim) = self.simulator.as_mut() {
+                        sim.set_input(&self.input_names[i], x)?;
+                    }
+                }
+                _ if v.exact && matches!(self.phase, Phase::Instantiated | Phase::Initialization) => {
+                    self.set[vr as usize] = Some(x);
+                    self.simulator = None;
+                }
+                _ if v.exact => {
+                    return Err(format!(
+                        "`{}` can only be set before initialization ends (it is a {})",
+                        v.name,
+                        if matches!(v.source, Source::Parameter(_)) { "fixed parameter" } else { "start value" }
+                    ))
+                }
+                _ => return Err(format!("`{}` is computed by the model and cannot be set", v.name)),
+            }
+        }
+        Ok(())
+    }
+
+    fn running(&mut self, call: &str) -> Result<&mut Simulator<'static>, String> {
+        if matches!(self.phase, Phase::Instantiated | Phase::Terminated | Phase::Failed) {
+            return Err(format!("{call} is not allowed now (the instance is {:?})", self.phase));
+        }
+        self.ensure_simulator()
+    }
+
+    // Model exchange.
+
+    pub fn set_time(&mut self, t: f64) -> Result<(), String> {
+        self.running("fmi2SetTime")?.set_time(t);
+        Ok(())
+    }
+
+    pub fn set_states(&mut self, x: &[f64]) -> Result<(), String> {
+        self.running("fmi2SetContinuousStates")?.set_continuous_state(x)
+    }
+
+    pub fn get_states(&mut self, x: &mut [f64]) -> Result<(), String> {
+        let sim = self.running("fmi2GetContinuousStates")?;
+        if x.len() != sim.state().len() {
+            return Err(format!("the model has {} states, not {}", sim.state().len(), x.len()));
+        }
+        x.copy_from_slice(sim.state());
+        Ok(())
+    }
+
+    pub fn derivatives(&mut self, dx: &mut [f64]) -> Result<(), String> {
+        self.running("fmi2GetDerivatives")?.derivatives(dx)
+    }
+
+    pub fn indicators(&mut self, g: &mut [f64]) -> Result<(), String> {
+        self.running("fmi2GetEventIndicators")?.indicators(g)
+    }
+
+    pub fn enter_event_mode(&mut self) -> Result<(), String> {
+        self.expect(&[Phase::Continuous, Phase::Event], "fmi2EnterEventMode")?;
+        self.phase = Phase::Event;
+        Ok(())
+    }
+
+    pub fn new_discrete_states(&mut self) -> Result<EventInfo, String> {
+        self.expect(&[Phase::Event], "fmi2NewDiscreteStates")?;
+        let update = self.running("fmi2NewDiscreteStates")?.update_at_event()?;
+        Ok(EventInfo { values_changed: update.state_changed, next_event_time: update.next_time_event })
+    }
+
+    pub fn enter_continuous_time_mode(&mut self) -> Result<(), String> {
+        self.expect(&[Phase::Event], "fmi2EnterContinuousTimeMode")?;
+        self.phase = Phase::Continuous;
+        Ok(())
+    }
+
+    // Co-simulation.
+
+    /// One communication step from `t` (the time reached) by `h`.
+    pub fn do_step(&mut self, t: f64, h: f64) -> Result<(), String> {
+        self.expect(&[Phase::Event], "fmi2DoStep")?;
+        if !(h >= 0.0 && h.is_finite()) {
+            return Err(format!("the communication step must be 0 or positive, not {h}"));
+        }
+        let sim = self.running("fmi2DoStep")?;
+        let now = sim.time();
+        if (t - now).abs() > 1e-9 * now.abs().max(1.0) {
+            return Err(format!("the step starts at t = {t}, but the FMU stands at t = {now}"));
+        }
+        sim.advance_to(t + h)
+            .map_err(|stopped| format!("the simulation stopped at t = {}: {}", stopped.time, stopped.reason))
+    }
+
+    pub fn time(&self) -> f64 {
+        self.simulator.as_ref().map_or(self.start, |s| s.time())
+    }
+
+    pub fn terminate(&mut self) -> Result<(), String> {
+        self.phase = Phase::Terminated;
+        Ok(())
+    }
+
+    /// Back to just after instantiation.
+    pub fn reset(&mut self) {
+        self.phase = Phase::Instantiated;
+        self.set.iter_mut().for_each(|x| *x = None);
+        let interface = &self.loaded.interface;
+        self.inputs = interface.inputs.iter().map(|&vr| interface.variables[vr].start.unwrap_or(0.0)).collect();
+        self.simulator = None;
+        (self.start, self.stop, self.tolerance) = (self.loaded.options.start, None, None);
+    }
+
+    pub fn fail(&mut self) {
+        self.phase = Phase::Failed;
+    }
+}
