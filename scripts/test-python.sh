@@ -4,7 +4,10 @@
 # loop test integrates its reference with it) and the package
 # itself from crates/multibody-py (built by maturin with the release
 # profile, sharing the workspace's target folder), builds the `multibody`
-# command the tests compare with, and runs pytest on crates/multibody-py/tests.
+# command the tests compare with and the FMU runtime it exports with, and
+# runs pytest on crates/multibody-py/tests and on the FMU tests
+# (crates/multibody-fmu/tests), which check the FMUs with FMPy: when FMPy
+# cannot be installed, those skip with a message.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -15,6 +18,7 @@ if [ ! -x "$VENV/bin/python" ]; then
 fi
 "$VENV/bin/python" -m pip install -q --upgrade pip
 "$VENV/bin/python" -m pip install -q "maturin>=1.5,<2" numpy scipy pytest pandas matplotlib pyarrow "dask[distributed]" control
+"$VENV/bin/python" -m pip install -q fmpy || echo "FMPy could not be installed: the FMU tests will be skipped"
 "$VENV/bin/python" -m pip install -q ./crates/multibody-py
-cargo build --release -q -p multibody-cli
-"$VENV/bin/python" -m pytest -q crates/multibody-py/tests
+cargo build --release -q -p multibody-cli -p multibody-fmu
+"$VENV/bin/python" -m pytest -q crates/multibody-py/tests crates/multibody-fmu/tests
