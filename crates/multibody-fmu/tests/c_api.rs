@@ -1,0 +1,198 @@
+//! The FMI 2.0 functions called as a host calls them, on an FMU's files
+//! laid out in a temporary folder: the derivatives against the pendulum's
+//! closed form, and bad calls that must give `fmi2Error` with a message
+//! through the logger, never a crash. (FMPy drives whole simulations in
+//! tests/test_fmu.py.)
+
+use multibody_fmu::fmi2::*;
+use multibody_fmu::model::{MODEL_FOLDER, SETTINGS_FILE};
+use multibody_fmu::Export;
+use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+static MESSAGES: Mutex<Vec<String>> = Mutex::new(Vec::new());
+
+/// The logger, written without variadic arguments: the runtime passes the
+/// message as the format string with none (x86-64 and AArch64 pass these
+/// pointer arguments alike for both kinds of call).
+extern "C" fn logger(_env: *mut c_void, _name: *const c_char, _status: c_int, _cat: *const c_char, msg: *const c_char) {
+    let text = unsafe { CStr::from_ptr(msg) }.to_string_lossy().replace("%%", "%");
+    MESSAGES.lock().unwrap().push(text);
+}
+
+#[repr(C)]
+struct Callbacks {
+    logger: *const c_void,
+    allocate: *const c_void,
+    free: *const c_void,
+    step_finished: *const c_void,
+    environment: *mut c_void,
+}
+
+fn callbacks() -> Callbacks {
+    Callbacks {
+        logger: logger as *const c_void,
+        allocate: std::ptr::null(),
+        free: std::ptr::null(),
+        step_finished: std::ptr::null(),
+        environment: std::ptr::null_mut(),
+    }
+}
+
+fn examples() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
+}
+
+/// The resources folder of an FMU of `model`, and its token.
+fn unpacked(model: &str, dir: &Path) -> (PathBuf, String) {
+    let text = std::fs::read_to_string(examples().join(model)).unwrap();
+    let export = Export::prepare(&[(model.to_string(), text)], None, None, Vec::new(), None).unwrap();
+    let resources = dir.join("resources");
+    std::fs::create_dir_all(resources.join(MODEL_FOLDER)).unwrap();
+    std::fs::write(resources.join(SETTINGS_FILE), &export.settings_json).unwrap();
+    for (name, text) in &export.files {
+        std::fs::write(resources.join(MODEL_FOLDER).join(name), text).unwrap();
+    }
+    (resources, export.token.clone())
+}
+
+fn instantiate(resources: &Path, token: &str, kind: c_int) -> *mut c_void {
+    let name = CString::new("test").unwrap();
+    let guid = CString::new(token).unwrap();
+    let uri = CString::new(format!("file://{}", resources.display())).unwrap();
+    let cb = Box::leak(Box::new(callbacks()));
+    unsafe {
+        fmi2Instantiate(name.as_ptr(), kind, guid.as_ptr(), uri.as_ptr(), cb as *const Callbacks as *const _, 0, 0)
+    }
+}
+
+fn logged(part: &str) -> bool {
+    MESSAGES.lock().unwrap().iter().any(|m| m.contains(part))
+}
+
+fn temp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("multibody-fmu-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn derivatives_of_the_controlled_pendulum_have_the_closed_form() {
+    let dir = temp("closed-form");
+    let (resources, token) = unpacked("controlled_pendulum.dyad", &dir);
+    let c = instantiate(&resources, &token, 0);
+    assert!(!c.is_null());
+    unsafe {
+        assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), OK);
+        assert_eq!(fmi2EnterInitializationMode(c), OK);
+        assert_eq!(fmi2ExitInitializationMode(c), OK);
+        let mut info = std::mem::zeroed::<[u8; 32]>();
+        assert_eq!(fmi2NewDiscreteStates(c, info.as_mut_ptr() as *mut _), OK);
+        assert_eq!(fmi2EnterContinuousTimeMode(c), OK);
+        // (m r^2 + I_33) phi'' = -m g r cos(phi) + tau, with m = 1, r = 0.5, I_33 = 0.02.
+        let (j, g) = (0.5 * 0.5 + 0.02, 9.80665);
+        let md = Export::prepare(
+            &[(
+                "controlled_pendulum.dyad".into(),
+                std::fs::read_to_string(examples().join("controlled_pendulum.dyad")).unwrap(),
+            )],
+            None,
+            None,
+            Vec::new(),
+            None,
+        )
+        .unwrap();
+        let vr = |name: &str| md.loaded.interface.variables.iter().position(|v| v.name == name).unwrap() as c_uint;
+        for (phi, w, tau) in [(0.3, -1.0, 2.0), (-2.0, 0.5, -1.5)] {
+            let x = [phi, w];
+            assert_eq!(fmi2SetTime(c, 0.25), OK);
+            assert_eq!(fmi2SetContinuousStates(c, x.as_ptr(), 2), OK);
+            assert_eq!(fmi2SetReal(c, [vr("tau.y")].as_ptr(), 1, [tau].as_ptr()), OK);
+            let mut dx = [0.0; 2];
+            assert_eq!(fmi2GetDerivatives(c, dx.as_mut_ptr(), 2), OK);
+            let exact = (-g * 0.5 * f64::cos(phi) + tau) / j;
+            assert!((dx[0] - w).abs() < 1e-14, "{dx:?}");
+            assert!((dx[1] - exact).abs() < 1e-12 * exact.abs().max(1.0), "{} vs {exact}", dx[1]);
+            // The outputs read the state set, and der(rev.w) is the derivative.
+            let mut y = [0.0; 3];
+            let vrs = [vr("angle"), vr("speed"), vr("der(rev.w)")];
+            assert_eq!(fmi2GetReal(c, vrs.as_ptr(), 3, y.as_mut_ptr()), OK);
+            assert_eq!([y[0], y[1]], [phi, w]);
+            assert!((y[2] - exact).abs() < 1e-12 * exact.abs().max(1.0));
+        }
+        assert_eq!(fmi2Terminate(c), OK);
+        fmi2FreeInstance(c);
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn bad_calls_give_errors_with_messages_never_a_crash() {
+    let dir = temp("bad-calls");
+    let (resources, token) = unpacked("double_pendulum.dyad", &dir);
+    // A wrong token: no instance, and the logger says why.
+    assert!(instantiate(&resources, "{not-the-token}", 1).is_null());
+    assert!(logged("token mismatch"));
+    // A resource location that is not a file URI.
+    let (name, guid, uri) =
+        (CString::new("x").unwrap(), CString::new(token.clone()).unwrap(), CString::new("http://example.com").unwrap());
+    let cb = callbacks();
+    let c = unsafe {
+        fmi2Instantiate(name.as_ptr(), 1, guid.as_ptr(), uri.as_ptr(), &cb as *const Callbacks as *const _, 0, 0)
+    };
+    assert!(c.is_null() && logged("is not a file: URI"));
+    // An unknown interface type.
+    assert!(instantiate(&resources, &token, 7).is_null() && logged("fmuType 7"));
+
+    let c = instantiate(&resources, &token, 1);
+    assert!(!c.is_null());
+    unsafe {
+        // Null arrays are fine with a size of zero, an error otherwise.
+        assert_eq!(fmi2GetReal(c, std::ptr::null(), 0, std::ptr::null_mut()), OK);
+        assert_eq!(fmi2SetReal(c, std::ptr::null(), 0, std::ptr::null()), OK);
+        assert_eq!(fmi2GetInteger(c, std::ptr::null(), 0, std::ptr::null_mut()), OK);
+        assert_eq!(fmi2GetReal(c, std::ptr::null(), 2, std::ptr::null_mut()), ERROR);
+        assert!(logged("fmi2GetReal: a null array of 2 values"));
+        fmi2Reset(c);
+        // A value reference past the last.
+        let mut x = [0.0];
+        assert_eq!(fmi2GetReal(c, [100_000].as_ptr(), 1, x.as_mut_ptr()), ERROR);
+        assert!(logged("no variable has the value reference 100000"));
+        fmi2Reset(c);
+        // Steps before initialization.
+        assert_eq!(fmi2DoStep(c, 0.0, 0.1, 1), ERROR);
+        assert!(logged("fmi2DoStep is not allowed now"));
+        fmi2Reset(c);
+        // A parameter refused by the model: the model's own message.
+        assert_eq!(fmi2EnterInitializationMode(c), OK);
+        let md = Export::prepare(
+            &[(
+                "double_pendulum.dyad".into(),
+                std::fs::read_to_string(examples().join("double_pendulum.dyad")).unwrap(),
+            )],
+            None,
+            None,
+            Vec::new(),
+            None,
+        )
+        .unwrap();
+        let width = md.loaded.interface.variables.iter().position(|v| v.name == "link2.width").unwrap() as c_uint;
+        assert_eq!(fmi2SetReal(c, [width].as_ptr(), 1, [-0.1].as_ptr()), OK);
+        assert_eq!(fmi2ExitInitializationMode(c), ERROR);
+        assert!(logged("link2.width"));
+        // A communication point that is not where the FMU stands.
+        fmi2Reset(c);
+        assert_eq!(fmi2EnterInitializationMode(c), OK);
+        assert_eq!(fmi2ExitInitializationMode(c), OK);
+        assert_eq!(fmi2DoStep(c, 0.0, 0.1, 1), OK);
+        assert_eq!(fmi2DoStep(c, 0.5, 0.1, 1), ERROR);
+        assert!(logged("the step starts at t = 0.5, but the FMU stands at t = 0.1"));
+        fmi2FreeInstance(c);
+        // Null instances.
+        fmi2FreeInstance(std::ptr::null_mut());
+        assert_eq!(fmi2DoStep(std::ptr::null_mut(), 0.0, 0.1, 1), ERROR);
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
