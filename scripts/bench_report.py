@@ -136,6 +136,16 @@ def main(argv):
         p, s = get(f"planar/{what}/planar/100"), get(f"planar/{what}/3d/100")
         md.append(f"| {what} | {fmt(p)} | {fmt(s)} | {ratio(p, s)} |")
     md.append("")
+    md.append("### FMU of the double pendulum\n")
+    md.append("`crates/multibody-fmu/benches/fmu.rs`: exporting (describe and zip the runtime), and 5 s of "
+              "co-simulation through the FMI 2.0 functions (instantiate, 500 steps of 10 ms, four values read "
+              "after each) beside the same run as `multibody run` computes it (every signal every 10 ms).\n")
+    md.append("| export | co-simulation | run | co-simulation / run |")
+    md.append("|---|---|---|---|")
+    ex, cs, rn = (get(f"fmu/{k}") for k in ("export/double_pendulum", "cosimulation/double_pendulum_5s",
+                                            "run/double_pendulum_5s"))
+    md.append(f"| {fmt(ex)} | {fmt(cs)} | {fmt(rn)} | {ratio(cs, rn)} |")
+    md.append("")
     if missing:
         md.append(f"**Missing from this run: {', '.join(missing)}**\n")
     print("\n".join(md))
