@@ -148,6 +148,25 @@ impl Package {
         Self::default()
     }
 
+    /// A package of the files given as name and text (a host that holds
+    /// them in memory: the live page, an FMU). The error is every file's
+    /// syntax errors as the command prints them, without colour.
+    pub fn from_texts(files: &[(String, String)]) -> Result<Package, String> {
+        let mut package = Package::new();
+        let errors: Vec<Diagnostic> =
+            files.iter().filter_map(|(name, text)| package.add_source(name.clone(), text.clone()).err()).collect();
+        if errors.is_empty() {
+            Ok(package)
+        } else {
+            Err(package.render(&errors))
+        }
+    }
+
+    /// Diagnostics as the command prints them, without colour.
+    pub fn render(&self, diagnostics: &[Diagnostic]) -> String {
+        diagnostics.iter().map(|d| d.render(self.sources(), false)).collect::<Vec<_>>().join("\n")
+    }
+
     /// Adds and parses a source file. The text is kept either way, so that
     /// a syntax error can be shown with it.
     pub fn add_source(&mut self, name: impl Into<String>, text: impl Into<String>) -> Result<FileId, Diagnostic> {

@@ -164,19 +164,10 @@ impl Loaded {
     /// Reads the files, chooses what to run, lowers and assembles it, and
     /// lays out its variables.
     pub fn load(files: &[(String, String)], settings: &Settings) -> Result<Loaded, String> {
-        let mut package = Package::new();
-        let mut errors = Vec::new();
-        for (name, text) in files {
-            if let Err(d) = package.add_source(name.clone(), text.clone()) {
-                errors.push(d);
-            }
-        }
-        if !errors.is_empty() {
-            return Err(render(&package, &errors));
-        }
+        let package = Package::from_texts(files)?;
         let target = package.choose_target(settings.analysis.as_deref(), settings.model.as_deref())?;
-        let lowered = package.lower_target(&target, &[]).map_err(|d| render(&package, &[d]))?;
-        let mechanism = Arc::new(lowered.assemble().map_err(|d| render(&package, &[d]))?);
+        let lowered = package.lower_target(&target, &[]).map_err(|d| package.render(&[d]))?;
+        let mechanism = Arc::new(lowered.assemble().map_err(|d| package.render(&[d]))?);
         let options = lowered.options.clone();
         let mut outputs = settings.outputs.clone();
         if let Study::Fmu { outputs: more, .. } = &lowered.study {
@@ -194,7 +185,7 @@ impl Loaded {
             return Ok(self.mechanism.clone());
         }
         let blame = |d: Diagnostic| {
-            self.package.blame_override(&self.target, overrides).unwrap_or_else(|| render(&self.package, &[d]))
+            self.package.blame_override(&self.target, overrides).unwrap_or_else(|| self.package.render(&[d]))
         };
         let lowered = self.package.lower_target(&self.target, overrides).map_err(blame)?;
         let mechanism = lowered.assemble().map_err(blame)?;
@@ -365,9 +356,4 @@ fn interface(
         indicators: simulator.indicator_count(),
     };
     Ok((interface, warnings))
-}
-
-/// Diagnostics as the command prints them, without colour.
-pub fn render(package: &Package, diagnostics: &[Diagnostic]) -> String {
-    diagnostics.iter().map(|d| d.render(package.sources(), false)).collect::<Vec<_>>().join("\n")
 }

@@ -68,18 +68,9 @@ impl Session {
         model: Option<&str>,
         signals: Vec<String>,
     ) -> Result<Session, String> {
-        let mut package = Package::new();
-        let mut errors = Vec::new();
-        for (name, text) in files {
-            if let Err(d) = package.add_source(name.clone(), text.clone()) {
-                errors.push(d);
-            }
-        }
-        if !errors.is_empty() {
-            return Err(render(&package, &errors));
-        }
+        let package = Package::from_texts(files)?;
         let target = package.choose_target(analysis, model)?;
-        let lowered = package.lower_target(&target, &[]).map_err(|d| render(&package, &[d]))?;
+        let lowered = package.lower_target(&target, &[]).map_err(|d| package.render(&[d]))?;
         let model = description(&lowered);
         Ok(Session { name: lowered.name.clone(), package, target, signals, model, stepping: None })
     }
@@ -199,7 +190,7 @@ impl Session {
     /// The message for a model that fails with `overrides`: blamed on the
     /// value that spoils it, else shown at its place in the files.
     fn blame(&self, overrides: &[Override], d: Diagnostic) -> String {
-        self.package.blame_override(&self.target, overrides).unwrap_or_else(|| render(&self.package, &[d]))
+        self.package.blame_override(&self.target, overrides).unwrap_or_else(|| self.package.render(&[d]))
     }
 }
 
@@ -252,9 +243,4 @@ fn thinned(simulator: &Simulator, names: Vec<String>, units: Vec<&'static str>, 
         }
     }
     solution
-}
-
-/// Diagnostics as the command prints them, without colour.
-fn render(package: &Package, diagnostics: &[Diagnostic]) -> String {
-    diagnostics.iter().map(|d| d.render(package.sources(), false)).collect::<Vec<_>>().join("\n")
 }
