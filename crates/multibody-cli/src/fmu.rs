@@ -1,4 +1,4 @@
-//! `multibody fmu`: the model as an FMI 2.0 FMU (model exchange,
+//! `multibody fmu`: the model as an FMI 2.0 or 3.0 FMU (model exchange,
 //! co-simulation or both). Nothing is compiled: the prebuilt runtime
 //! library, the model files and their description are zipped.
 
@@ -6,7 +6,7 @@ use crate::exit::Failure;
 use crate::load::{assemble, choose, lower, read_package};
 use crate::output::{self, bytes};
 use crate::FmuArgs;
-use multibody_fmu::{Export, Kinds};
+use multibody_fmu::{Export, Kinds, Version};
 use std::path::{Path, PathBuf};
 
 /// The runtime's file name, as cargo builds it.
@@ -35,22 +35,12 @@ pub fn fmu(args: &FmuArgs) -> Result<(), Failure> {
     let package = read_package(&args.selection.files)?;
     let target = choose(&package, &args.selection)?;
     let lowered = lower(&package, &target, &[])?;
-    let version = match (args.fmi.as_deref(), &lowered.study) {
-        (Some("2") | Some("2.0"), _) | (None, _) => 2,
-        (Some("3") | Some("3.0"), _) => 3,
-        (Some(other), _) => return Err(Failure::Usage(format!("`--fmi {other}`: write 2 or 3"))),
+    let version = match args.fmi.as_deref() {
+        None => None,
+        Some("2" | "2.0") => Some(Version::Fmi2),
+        Some("3" | "3.0") => Some(Version::Fmi3),
+        Some(other) => return Err(Failure::Usage(format!("`--fmi {other}`: write 2 or 3"))),
     };
-    let asked = match &lowered.study {
-        multibody_dyad::Study::Fmu { version, .. } if args.fmi.is_none() => *version,
-        _ => version,
-    };
-    if asked == 3 {
-        return Err(Failure::Usage(
-            "FMI 3.0 export is not available yet: export FMI 2.0 (`--fmi 2`, or `version = \"FMI_V2\"` in the \
-             FMUAnalysis), which FMI 3 tools import as well"
-                .into(),
-        ));
-    }
     let mechanism = assemble(&package, &target, &[], &lowered)?;
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("{}.fmu", lowered.name)));
     output::outputs_are_safe(&args.selection.files, &[("--out", Some(&out))])?;
@@ -72,6 +62,7 @@ pub fn fmu(args: &FmuArgs) -> Result<(), Failure> {
         args.selection.model.clone(),
         args.outputs.clone(),
         kinds,
+        version,
     )
     .map_err(Failure::Usage)?;
     for w in &export.loaded.warnings {
@@ -83,8 +74,9 @@ pub fn fmu(args: &FmuArgs) -> Result<(), Failure> {
     let count = |c: multibody_fmu::model::Causality| interface.variables.iter().filter(|v| v.causality == c).count();
     use multibody_fmu::model::Causality;
     say!(
-        "FMU (FMI 2.0, {}) of {}: {} variables: {} states, {} inputs, {} outputs, {} parameters, {} event \
+        "FMU (FMI {}, {}) of {}: {} variables: {} states, {} inputs, {} outputs, {} parameters, {} event \
          indicators → {} ({}, {:.0} ms)",
+        if export.version == Version::Fmi3 { "3.0" } else { "2.0" },
         match (export.kinds.model_exchange, export.kinds.co_simulation) {
             (true, true) => "model exchange and co-simulation",
             (true, false) => "model exchange",
@@ -96,7 +88,7 @@ pub fn fmu(args: &FmuArgs) -> Result<(), Failure> {
         count(Causality::Input),
         count(Causality::Output),
         count(Causality::Parameter),
-        interface.indicators,
+        interface.indicators.len(),
         out.display(),
         bytes(archive.len() as f64),
         started.elapsed().as_secs_f64() * 1e3

@@ -67,7 +67,7 @@ enum Command {
     /// Write a page that runs the model itself: change a parameter, a start value or the stop time in
     /// its panel and the motion and plots follow (offline; the engine is embedded as WebAssembly)
     Live(LiveArgs),
-    /// Export the model as an FMU (FMI 2.0, model exchange and co-simulation) for any FMI tool
+    /// Export the model as an FMU (FMI 2.0 or 3.0, model exchange and co-simulation) for any FMI tool
     Fmu(FmuArgs),
 }
 
@@ -237,7 +237,7 @@ pub struct LiveArgs {
 pub struct FmuArgs {
     #[command(flatten)]
     pub selection: Selection,
-    /// FMI version: 2 (3 is not available yet) (default: the FMUAnalysis's `version`, else 2)
+    /// FMI version: 2 or 3 (default: the FMUAnalysis's `version`, else 2)
     #[arg(long, value_name = "VERSION")]
     pub fmi: Option<String>,
     /// Which interfaces: me (model exchange), cs (co-simulation) or both (default: the FMUAnalysis's

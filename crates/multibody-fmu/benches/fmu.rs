@@ -16,7 +16,7 @@ fn model() -> Vec<(String, String)> {
 }
 
 fn export() -> Export {
-    Export::prepare(&model(), None, None, Vec::new(), None).unwrap()
+    Export::prepare(&model(), None, None, Vec::new(), None, None).unwrap()
 }
 
 fn benches(c: &mut Criterion) {

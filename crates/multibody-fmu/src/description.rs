@@ -1,6 +1,6 @@
-//! `modelDescription.xml` for FMI 2.0.
+//! `modelDescription.xml`, for FMI 2.0 and 3.0.
 
-use crate::model::{Causality, Interface, Variability};
+use crate::model::{Causality, Interface, Variability, Variable};
 use multibody::SimulationOptions;
 use std::fmt::Write;
 
@@ -11,54 +11,66 @@ pub struct Kinds {
     pub co_simulation: bool,
 }
 
+/// The FMI version of an FMU.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Version {
+    Fmi2,
+    Fmi3,
+}
+
 /// What the description says besides the variables.
 pub struct Header<'a> {
     pub model_name: &'a str,
-    /// The binary's name (without `.so`), a C identifier.
+    /// The binary's name (without its suffix), a C identifier.
     pub identifier: &'a str,
     pub token: &'a str,
-    pub description: Option<&'a str>,
     pub kinds: Kinds,
     pub options: &'a SimulationOptions,
+    pub version: Version,
 }
 
-/// The FMI 2.0 model description of `interface`.
+/// The model description of `interface`.
 pub fn model_description(header: &Header, interface: &Interface) -> String {
+    let v3 = header.version == Version::Fmi3;
     let mut x = String::with_capacity(256 * interface.variables.len() + 2048);
     x.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
-    let _ = write!(
-        x,
-        "<fmiModelDescription fmiVersion=\"2.0\" modelName=\"{}\" guid=\"{}\"",
-        escape(header.model_name),
-        header.token
-    );
-    if let Some(d) = header.description {
-        let _ = write!(x, " description=\"{}\"", escape(d));
-    }
-    let _ = writeln!(
-        x,
-        " generationTool=\"multibody {}\" variableNamingConvention=\"structured\" numberOfEventIndicators=\"{}\">",
-        env!("CARGO_PKG_VERSION"),
-        interface.indicators
-    );
-    let id = escape(header.identifier);
-    if header.kinds.model_exchange {
+    let name = escape(header.model_name);
+    let tool = concat!("multibody ", env!("CARGO_PKG_VERSION"));
+    if v3 {
         let _ = writeln!(
             x,
-            "  <ModelExchange modelIdentifier=\"{id}\" canNotUseMemoryManagementFunctions=\"true\" \
-             canGetAndSetFMUstate=\"false\" canSerializeFMUstate=\"false\" \
-             providesDirectionalDerivative=\"false\"/>"
+            "<fmiModelDescription fmiVersion=\"3.0\" modelName=\"{name}\" instantiationToken=\"{}\" \
+             generationTool=\"{tool}\" variableNamingConvention=\"structured\">",
+            header.token
         );
+    } else {
+        let _ = writeln!(
+            x,
+            "<fmiModelDescription fmiVersion=\"2.0\" modelName=\"{name}\" guid=\"{}\" generationTool=\"{tool}\" \
+             variableNamingConvention=\"structured\" numberOfEventIndicators=\"{}\">",
+            header.token,
+            interface.indicators.len()
+        );
+    }
+    let id = escape(header.identifier);
+    // Neither FMU state nor directional derivatives (yet): said here.
+    let common = "canGetAndSetFMUState=\"false\" canSerializeFMUState=\"false\" \
+                  providesDirectionalDerivative=\"false\"";
+    let common = if v3 { common.to_string() } else { common.replace("FMUState", "FMUstate") };
+    if header.kinds.model_exchange {
+        let memory = if v3 { "" } else { " canNotUseMemoryManagementFunctions=\"true\"" };
+        let _ = writeln!(x, "  <ModelExchange modelIdentifier=\"{id}\"{memory} {common}/>");
     }
     if header.kinds.co_simulation {
-        let _ = writeln!(
-            x,
-            "  <CoSimulation modelIdentifier=\"{id}\" canHandleVariableCommunicationStepSize=\"true\" \
-             canInterpolateInputs=\"false\" maxOutputDerivativeOrder=\"0\" canRunAsynchronuously=\"false\" \
-             canBeInstantiatedOnlyOncePerProcess=\"false\" canNotUseMemoryManagementFunctions=\"true\" \
-             canGetAndSetFMUstate=\"false\" canSerializeFMUstate=\"false\" \
-             providesDirectionalDerivative=\"false\"/>"
-        );
+        let extra = if v3 {
+            "canHandleVariableCommunicationStepSize=\"true\" maxOutputDerivativeOrder=\"0\" \
+             hasEventMode=\"false\" canReturnEarlyAfterIntermediateUpdate=\"false\""
+        } else {
+            "canHandleVariableCommunicationStepSize=\"true\" canInterpolateInputs=\"false\" \
+             maxOutputDerivativeOrder=\"0\" canRunAsynchronuously=\"false\" \
+             canBeInstantiatedOnlyOncePerProcess=\"false\" canNotUseMemoryManagementFunctions=\"true\""
+        };
+        let _ = writeln!(x, "  <CoSimulation modelIdentifier=\"{id}\" {extra} {common}/>");
     }
     let mut units: Vec<&str> = interface.variables.iter().filter_map(|v| v.unit.as_deref()).collect();
     units.sort_unstable();
@@ -71,64 +83,21 @@ pub fn model_description(header: &Header, interface: &Interface) -> String {
         x.push_str("  </UnitDefinitions>\n");
     }
     let o = header.options;
+    let step = if o.saveat > 0.0 { format!(" stepSize=\"{:?}\"", o.saveat) } else { String::new() };
     let _ = writeln!(
         x,
-        "  <DefaultExperiment startTime=\"{:?}\" stopTime=\"{:?}\" tolerance=\"{:?}\"{}/>",
-        o.start,
-        o.stop,
-        o.reltol,
-        if o.saveat > 0.0 { format!(" stepSize=\"{:?}\"", o.saveat) } else { String::new() }
+        "  <DefaultExperiment startTime=\"{:?}\" stopTime=\"{:?}\" tolerance=\"{:?}\"{step}/>",
+        o.start, o.stop, o.reltol
     );
     x.push_str("  <ModelVariables>\n");
     for (vr, v) in interface.variables.iter().enumerate() {
-        let _ = write!(
-            x,
-            "    <!-- {} -->\n    <ScalarVariable name=\"{}\" valueReference=\"{vr}\"",
-            vr + 1,
-            escape(&v.name)
-        );
-        if let Some(d) = &v.description {
-            let _ = write!(x, " description=\"{}\"", escape(d));
+        if v3 {
+            variable_3(&mut x, vr, v);
+        } else {
+            variable_2(&mut x, vr, v);
         }
-        let causality = match v.causality {
-            Causality::Parameter => "parameter",
-            Causality::Input => "input",
-            Causality::Output => "output",
-            Causality::Local => "local",
-        };
-        let variability = match v.variability {
-            Variability::Fixed => "fixed",
-            Variability::Continuous => "continuous",
-        };
-        let _ = write!(x, " causality=\"{causality}\" variability=\"{variability}\"");
-        if v.causality != Causality::Input {
-            let _ = write!(x, " initial=\"{}\"", if v.exact { "exact" } else { "calculated" });
-        }
-        x.push_str(">\n      <Real");
-        if let Some(u) = &v.unit {
-            let _ = write!(x, " unit=\"{}\"", escape(u));
-        }
-        if let Some(k) = v.derivative_of {
-            let _ = write!(x, " derivative=\"{}\"", k + 1);
-        }
-        if let (Some(s), true) = (v.start, v.exact || v.causality == Causality::Input) {
-            let _ = write!(x, " start=\"{s:?}\"");
-        }
-        x.push_str("/>\n    </ScalarVariable>\n");
     }
     x.push_str("  </ModelVariables>\n  <ModelStructure>\n");
-    let list = |x: &mut String, tag: &str, indices: &[usize]| {
-        if indices.is_empty() {
-            return;
-        }
-        let _ = writeln!(x, "    <{tag}>");
-        for k in indices {
-            let _ = writeln!(x, "      <Unknown index=\"{}\"/>", k + 1);
-        }
-        let _ = writeln!(x, "    </{tag}>");
-    };
-    list(&mut x, "Outputs", &interface.outputs);
-    list(&mut x, "Derivatives", &interface.derivatives);
     // Known at initialization's end and computed: outputs, derivatives,
     // and states whose start is calculated.
     let mut initial: Vec<usize> = interface.outputs.clone();
@@ -137,9 +106,106 @@ pub fn model_description(header: &Header, interface: &Interface) -> String {
     initial.retain(|&k| !interface.variables[k].exact);
     initial.sort_unstable();
     initial.dedup();
-    list(&mut x, "InitialUnknowns", &initial);
+    if v3 {
+        // Elements name value references.
+        let list = |x: &mut String, tag: &str, refs: &[usize]| {
+            for k in refs {
+                let _ = writeln!(x, "    <{tag} valueReference=\"{k}\"/>");
+            }
+        };
+        list(&mut x, "Output", &interface.outputs);
+        list(&mut x, "ContinuousStateDerivative", &interface.derivatives);
+        list(&mut x, "InitialUnknown", &initial);
+        list(&mut x, "EventIndicator", &interface.indicators);
+    } else {
+        // Elements name 1-based positions in ModelVariables.
+        let list = |x: &mut String, tag: &str, indices: &[usize]| {
+            if indices.is_empty() {
+                return;
+            }
+            let _ = writeln!(x, "    <{tag}>");
+            for k in indices {
+                let _ = writeln!(x, "      <Unknown index=\"{}\"/>", k + 1);
+            }
+            let _ = writeln!(x, "    </{tag}>");
+        };
+        list(&mut x, "Outputs", &interface.outputs);
+        list(&mut x, "Derivatives", &interface.derivatives);
+        list(&mut x, "InitialUnknowns", &initial);
+    }
     x.push_str("  </ModelStructure>\n</fmiModelDescription>\n");
     x
+}
+
+fn causality(v: &Variable) -> &'static str {
+    match v.causality {
+        Causality::Independent => "independent",
+        Causality::Parameter => "parameter",
+        Causality::Input => "input",
+        Causality::Output => "output",
+        Causality::Local => "local",
+    }
+}
+
+fn variability(v: &Variable) -> &'static str {
+    match v.variability {
+        Variability::Fixed => "fixed",
+        Variability::Continuous => "continuous",
+    }
+}
+
+/// The attributes both versions write the same way: causality,
+/// variability, initial.
+fn kind_attributes(x: &mut String, v: &Variable) {
+    let _ = write!(x, " causality=\"{}\" variability=\"{}\"", causality(v), variability(v));
+    if !matches!(v.causality, Causality::Input | Causality::Independent) {
+        let _ = write!(x, " initial=\"{}\"", if v.exact { "exact" } else { "calculated" });
+    }
+}
+
+fn start(v: &Variable) -> Option<f64> {
+    v.start.filter(|_| v.exact || v.causality == Causality::Input)
+}
+
+/// FMI 2.0: a `ScalarVariable` holding a `Real`; `derivative` is the
+/// state's 1-based position.
+fn variable_2(x: &mut String, vr: usize, v: &Variable) {
+    let _ =
+        write!(x, "    <!-- {} -->\n    <ScalarVariable name=\"{}\" valueReference=\"{vr}\"", vr + 1, escape(&v.name));
+    if let Some(d) = &v.description {
+        let _ = write!(x, " description=\"{}\"", escape(d));
+    }
+    kind_attributes(x, v);
+    x.push_str(">\n      <Real");
+    if let Some(u) = &v.unit {
+        let _ = write!(x, " unit=\"{}\"", escape(u));
+    }
+    if let Some(k) = v.derivative_of {
+        let _ = write!(x, " derivative=\"{}\"", k + 1);
+    }
+    if let Some(s) = start(v) {
+        let _ = write!(x, " start=\"{s:?}\"");
+    }
+    x.push_str("/>\n    </ScalarVariable>\n");
+}
+
+/// FMI 3.0: a `Float64`; `derivative` is the state's value reference.
+fn variable_3(x: &mut String, vr: usize, v: &Variable) {
+    let _ = write!(x, "    <Float64 name=\"{}\" valueReference=\"{vr}\"", escape(&v.name));
+    if let Some(d) = &v.description {
+        let _ = write!(x, " description=\"{}\"", escape(d));
+    }
+    kind_attributes(x, v);
+    if let Some(u) = &v.unit {
+        let _ = write!(x, " unit=\"{}\"", escape(u));
+    }
+    if let Some(k) = v.derivative_of {
+        let _ = write!(x, " derivative=\"{k}\"");
+    }
+    if let Some(s) = start(v) {
+        let _ = write!(x, " start=\"{s:?}\"");
+    }
+    x.push_str("/>\n");
 }
 
 fn escape(s: &str) -> String {

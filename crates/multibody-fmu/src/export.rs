@@ -2,22 +2,27 @@
 //! description, zipped. Nothing is compiled: exporting is describing and
 //! zipping.
 
-use crate::description::{model_description, Header, Kinds};
+use crate::description::{model_description, Header, Kinds, Version};
 use crate::model::{token, Loaded, Settings, MODEL_FOLDER, SETTINGS_FILE};
 use std::io::{Cursor, Write};
 use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, ZipWriter};
 
-/// The folder of the binary for this platform, as FMI 2.0 names it.
-pub const PLATFORM_FOLDER: &str = if cfg!(all(target_os = "linux", target_pointer_width = "64")) {
-    "linux64"
-} else if cfg!(all(target_os = "macos", target_pointer_width = "64")) {
-    "darwin64"
-} else if cfg!(all(target_os = "windows", target_pointer_width = "64")) {
-    "win64"
-} else {
-    "unsupported"
-};
+/// The folder of the binary for this platform, as each FMI version names it.
+pub fn platform_folder(version: Version) -> String {
+    let (arch, os) = (std::env::consts::ARCH, std::env::consts::OS);
+    match version {
+        Version::Fmi3 => format!("{arch}-{}", if os == "macos" { "darwin" } else { os }),
+        Version::Fmi2 => {
+            let os = match os {
+                "macos" => "darwin",
+                "windows" => "win",
+                other => other,
+            };
+            format!("{os}{}", if cfg!(target_pointer_width = "64") { "64" } else { "32" })
+        }
+    }
+}
 
 /// The shared library's suffix on this platform.
 pub const LIBRARY_SUFFIX: &str = std::env::consts::DLL_SUFFIX;
@@ -32,18 +37,21 @@ pub struct Export {
     /// The binary's name and the FMU's model identifier.
     pub identifier: String,
     pub kinds: Kinds,
+    pub version: Version,
 }
 
 impl Export {
     /// Loads `files` (names as the user gave them) as the FMU will: the
-    /// analysis or component chosen, the extra `outputs`, and which kinds
-    /// (`None`: the `FMUAnalysis`'s, else both).
+    /// analysis or component chosen, the extra `outputs`, which kinds and
+    /// which version (`None`: the `FMUAnalysis`'s, else both kinds of FMI
+    /// 2.0).
     pub fn prepare(
         files: &[(String, String)],
         analysis: Option<String>,
         model: Option<String>,
         outputs: Vec<String>,
         kinds: Option<Kinds>,
+        version: Option<Version>,
     ) -> Result<Export, String> {
         let files = stored_names(files);
         let settings = Settings { files: files.iter().map(|(n, _)| n.clone()).collect(), analysis, model, outputs };
@@ -54,18 +62,14 @@ impl Export {
             }
             _ => Kinds { model_exchange: true, co_simulation: true },
         });
+        let version = version.unwrap_or(match &loaded.lowered.study {
+            multibody_dyad::Study::Fmu { version: 3, .. } => Version::Fmi3,
+            _ => Version::Fmi2,
+        });
         let settings_json = settings.to_json();
         let token = token(&settings_json, &files);
         let identifier = identifier(&loaded.lowered.name);
-        Ok(Export { loaded, files, settings_json, token, identifier, kinds })
-    }
-
-    /// The FMI version the model's `FMUAnalysis` asks for (2 without one).
-    pub fn asked_version(&self) -> u8 {
-        match &self.loaded.lowered.study {
-            multibody_dyad::Study::Fmu { version, .. } => *version,
-            _ => 2,
-        }
+        Ok(Export { loaded, files, settings_json, token, identifier, kinds, version })
     }
 
     pub fn model_description(&self) -> String {
@@ -73,9 +77,9 @@ impl Export {
             model_name: &self.loaded.lowered.name,
             identifier: &self.identifier,
             token: &self.token,
-            description: None,
             kinds: self.kinds,
             options: &self.loaded.options,
+            version: self.version,
         };
         model_description(&header, &self.loaded.interface)
     }
@@ -92,7 +96,7 @@ impl Export {
             zip.write_all(bytes).map_err(|e| format!("cannot zip {name}: {e}"))
         };
         add("modelDescription.xml", self.model_description().as_bytes())?;
-        add(&format!("binaries/{PLATFORM_FOLDER}/{}{LIBRARY_SUFFIX}", self.identifier), runtime)?;
+        add(&format!("binaries/{}/{}{LIBRARY_SUFFIX}", platform_folder(self.version), self.identifier), runtime)?;
         add(&format!("resources/{SETTINGS_FILE}"), self.settings_json.as_bytes())?;
         for (name, text) in &self.files {
             add(&format!("resources/{MODEL_FOLDER}/{name}"), text.as_bytes())?;

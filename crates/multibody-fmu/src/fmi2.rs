@@ -1,31 +1,20 @@
-//! The FMI 2.0 C functions. Each translates its arguments, calls the
-//! [`Instance`], and turns an error into a message through the host's
-//! logger and `fmi2Error`; a panic is caught here and never crosses into
-//! the host (it is reported as `fmi2Fatal`). Null pointers are accepted
-//! where their size is zero.
+//! The FMI 2.0 C functions. Each translates its arguments and calls the
+//! [`Instance`] inside [`crate::host::with`]: an error becomes a message
+//! through the host's logger and `fmi2Error`, a panic `fmi2Fatal`.
 
 #![allow(non_snake_case, clippy::missing_safety_doc)]
 
+use crate::host::{folder_of, instantiate, put, slice, slice_mut, text, with, Logger, Logger2};
+pub use crate::host::{Status, DISCARD, ERROR, FATAL, OK, WARNING};
 use crate::instance::{Instance, Kind, Phase};
-use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
-use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::path::PathBuf;
-
-pub type Status = c_int;
-pub const OK: Status = 0;
-pub const WARNING: Status = 1;
-pub const DISCARD: Status = 2;
-pub const ERROR: Status = 3;
-pub const FATAL: Status = 4;
+use std::ffi::{c_char, c_int, c_uint, c_void};
 
 const TRUE: c_int = 1;
 const FALSE: c_int = 0;
 
-type Logger = unsafe extern "C" fn(*mut c_void, *const c_char, Status, *const c_char, *const c_char, ...);
-
 #[repr(C)]
 pub struct CallbackFunctions {
-    logger: Option<Logger>,
+    logger: Option<Logger2>,
     allocate_memory: Option<unsafe extern "C" fn(usize, usize) -> *mut c_void>,
     free_memory: Option<unsafe extern "C" fn(*mut c_void)>,
     step_finished: Option<unsafe extern "C" fn(*mut c_void, Status)>,
@@ -40,100 +29,6 @@ pub struct EventInfo {
     values_of_continuous_states_changed: c_int,
     next_event_time_defined: c_int,
     next_event_time: f64,
-}
-
-/// What the host holds: the instance and how to talk to the host.
-pub struct Component {
-    name: CString,
-    logger: Option<Logger>,
-    environment: *mut c_void,
-    logging: bool,
-    instance: Instance,
-}
-
-impl Component {
-    fn log(&self, status: Status, category: &str, message: &str) {
-        let Some(logger) = self.logger else { return };
-        // The message is the format string: a percent sign must not start
-        // a conversion.
-        let message = CString::new(message.replace('%', "%%").replace('\0', " ")).expect("no NUL left");
-        let category = CString::new(category).expect("a plain category");
-        unsafe { logger(self.environment, self.name.as_ptr(), status, category.as_ptr(), message.as_ptr()) };
-    }
-}
-
-/// Runs `f` on the instance behind `c`: an error is logged and gives
-/// `fmi2Error` (the instance then refuses to go on); a panic `fmi2Fatal`.
-unsafe fn with(c: *mut c_void, call: &str, f: impl FnOnce(&mut Component) -> Result<Status, String>) -> Status {
-    let Some(component) = (c as *mut Component).as_mut() else { return ERROR };
-    match catch_unwind(AssertUnwindSafe(|| f(component))) {
-        Ok(Ok(status)) => status,
-        Ok(Err(message)) => {
-            component.log(ERROR, "logStatusError", &format!("{call}: {message}"));
-            component.instance.fail();
-            ERROR
-        }
-        Err(panic) => {
-            let what = panic
-                .downcast_ref::<String>()
-                .map(String::as_str)
-                .or_else(|| panic.downcast_ref::<&str>().copied())
-                .unwrap_or("a panic");
-            component.log(FATAL, "logStatusFatal", &format!("{call}: internal error: {what}"));
-            component.instance.fail();
-            FATAL
-        }
-    }
-}
-
-/// A slice from a C array, empty for a null pointer with size zero.
-unsafe fn slice<'a, T>(p: *const T, n: usize) -> Result<&'a [T], String> {
-    match (p.is_null(), n) {
-        (_, 0) => Ok(&[]),
-        (true, _) => Err(format!("a null array of {n} values")),
-        (false, _) => Ok(std::slice::from_raw_parts(p, n)),
-    }
-}
-
-unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Result<&'a mut [T], String> {
-    match (p.is_null(), n) {
-        (_, 0) => Ok(&mut []),
-        (true, _) => Err(format!("a null array of {n} values")),
-        (false, _) => Ok(std::slice::from_raw_parts_mut(p, n)),
-    }
-}
-
-unsafe fn text<'a>(p: *const c_char) -> Option<&'a str> {
-    if p.is_null() {
-        None
-    } else {
-        CStr::from_ptr(p).to_str().ok()
-    }
-}
-
-/// The folder a `file:` URI names (percent escapes decoded).
-fn folder_of(uri: &str) -> Result<PathBuf, String> {
-    let path = uri
-        .strip_prefix("file://localhost")
-        .or_else(|| uri.strip_prefix("file://"))
-        .or_else(|| uri.strip_prefix("file:"))
-        .ok_or_else(|| format!("the resource location `{uri}` is not a file: URI"))?;
-    let bytes = path.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
-    let mut k = 0;
-    while k < bytes.len() {
-        if bytes[k] == b'%' && k + 2 < bytes.len() {
-            if let Ok(b) = u8::from_str_radix(&path[k + 1..k + 3], 16) {
-                out.push(b);
-                k += 3;
-                continue;
-            }
-        }
-        out.push(bytes[k]);
-        k += 1;
-    }
-    let path = String::from_utf8(out).map_err(|_| format!("the resource location `{uri}` is not UTF-8"))?;
-    Ok(PathBuf::from(path))
 }
 
 #[no_mangle]
@@ -157,17 +52,10 @@ pub unsafe extern "C" fn fmi2Instantiate(
     logging_on: c_int,
 ) -> *mut c_void {
     let functions = functions.as_ref();
-    let logger = functions.and_then(|f| f.logger);
+    let logger = functions.and_then(|f| f.logger).map_or(Logger::None, Logger::Fmi2);
     let environment = functions.map_or(std::ptr::null_mut(), |f| f.component_environment);
-    let name = text(instance_name).unwrap_or("instance").to_string();
-    let report = |message: &str| {
-        if let Some(logger) = logger {
-            let name = CString::new(name.replace('\0', " ")).unwrap_or_default();
-            let message = CString::new(message.replace('%', "%%").replace('\0', " ")).unwrap_or_default();
-            logger(environment, name.as_ptr(), ERROR, c"logStatusError".as_ptr(), message.as_ptr());
-        }
-    };
-    let made = catch_unwind(|| -> Result<Instance, String> {
+    let name = text(instance_name).unwrap_or("instance");
+    instantiate(name, logger, environment, logging_on != 0, "fmi2Instantiate", || {
         let kind = match fmu_type {
             0 => Kind::ModelExchange,
             1 => Kind::CoSimulation,
@@ -176,39 +64,12 @@ pub unsafe extern "C" fn fmi2Instantiate(
         let guid = text(guid).ok_or("no GUID was given")?;
         let location = text(resource_location).ok_or("no resource location was given")?;
         Instance::new(&folder_of(location)?, guid, kind)
-    });
-    match made {
-        Ok(Ok(instance)) => {
-            let component = Box::new(Component {
-                name: CString::new(name.replace('\0', " ")).unwrap_or_default(),
-                logger,
-                environment,
-                logging: logging_on != 0,
-                instance,
-            });
-            for w in component.instance.warnings() {
-                if component.logging {
-                    component.log(WARNING, "logStatusWarning", w);
-                }
-            }
-            Box::into_raw(component) as *mut c_void
-        }
-        Ok(Err(message)) => {
-            report(&format!("fmi2Instantiate: {message}"));
-            std::ptr::null_mut()
-        }
-        Err(_) => {
-            report("fmi2Instantiate: internal error while loading the model");
-            std::ptr::null_mut()
-        }
-    }
+    })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2FreeInstance(c: *mut c_void) {
-    if !c.is_null() {
-        let _ = catch_unwind(|| drop(Box::from_raw(c as *mut Component)));
-    }
+    crate::host::free(c)
 }
 
 #[no_mangle]
@@ -412,12 +273,8 @@ pub unsafe extern "C" fn fmi2CompletedIntegratorStep(
         if c.instance.phase != Phase::Continuous {
             return Err("only in continuous-time mode".into());
         }
-        if let Some(e) = enter_event_mode.as_mut() {
-            *e = FALSE;
-        }
-        if let Some(t) = terminate.as_mut() {
-            *t = FALSE;
-        }
+        put(enter_event_mode, FALSE);
+        put(terminate, FALSE);
         Ok(OK)
     })
 }
@@ -541,17 +398,4 @@ pub unsafe extern "C" fn fmi2GetBooleanStatus(c: *mut c_void, _kind: c_int, valu
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetStringStatus(c: *mut c_void, _kind: c_int, _value: *mut *const c_char) -> Status {
     with(c, "fmi2GetStringStatus", |_| Ok(DISCARD))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::folder_of;
-
-    #[test]
-    fn resource_locations() {
-        assert_eq!(folder_of("file:///tmp/a%20b/resources").unwrap().to_str(), Some("/tmp/a b/resources"));
-        assert_eq!(folder_of("file:/tmp/x").unwrap().to_str(), Some("/tmp/x"));
-        assert_eq!(folder_of("file://localhost/tmp/x").unwrap().to_str(), Some("/tmp/x"));
-        assert!(folder_of("http://x").is_err());
-    }
 }

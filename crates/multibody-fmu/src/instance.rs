@@ -52,6 +52,7 @@ pub struct Instance {
     columns: Vec<usize>,
     values: Vec<f64>,
     dy: Vec<f64>,
+    g: Vec<f64>,
 }
 
 impl Instance {
@@ -82,6 +83,7 @@ impl Instance {
             loaded.interface.inputs.iter().map(|&vr| loaded.interface.variables[vr].start.unwrap_or(0.0)).collect();
         let start = loaded.options.start;
         let states = loaded.mechanism.states().names.len();
+        let indicators = loaded.interface.indicators.len();
         let input_names = loaded.mechanism.input_names().into_iter().map(String::from).collect();
         Ok(Instance {
             input_names,
@@ -97,6 +99,7 @@ impl Instance {
             columns: Vec::new(),
             values: Vec::new(),
             dy: vec![0.0; states],
+            g: vec![0.0; indicators],
         })
     }
 
@@ -109,7 +112,7 @@ impl Instance {
     }
 
     pub fn indicator_count(&self) -> usize {
-        self.loaded.interface.indicators
+        self.loaded.interface.indicators.len()
     }
 
     pub fn setup_experiment(&mut self, tolerance: Option<f64>, start: f64, stop: Option<f64>) -> Result<(), String> {
@@ -204,6 +207,7 @@ impl Instance {
             match v.source {
                 Source::Parameter(_) => *o = self.set[vr as usize].or(v.start).unwrap_or(0.0),
                 Source::Input(i) => *o = self.inputs[i],
+                Source::Time if before => *o = self.start,
                 _ if before && v.exact => *o = self.set[vr as usize].or(v.start).unwrap_or(0.0),
                 _ => computed = true,
             }
@@ -212,16 +216,20 @@ impl Instance {
             return Ok(());
         }
         self.ensure_simulator()?;
-        let Instance { loaded, simulator, columns, values, dy, .. } = self;
+        let Instance { loaded, simulator, columns, values, dy, g, .. } = self;
         let simulator = simulator.as_mut().expect("made above");
         columns.clear();
-        let mut derivatives = false;
+        let (mut derivatives, mut indicators) = (false, false);
         for &vr in vrs {
             match loaded.interface.variables[vr as usize].source {
                 Source::Signal(k) => columns.push(k),
                 Source::Derivative(_) => derivatives = true,
+                Source::Indicator(_) => indicators = true,
                 _ => {}
             }
+        }
+        if indicators {
+            simulator.indicators(g)?;
         }
         values.resize(columns.len(), 0.0);
         if !columns.is_empty() {
@@ -239,6 +247,8 @@ impl Instance {
                 }
                 Source::State(j) => *o = simulator.state()[j],
                 Source::Derivative(j) => *o = dy[j],
+                Source::Indicator(k) => *o = g[k],
+                Source::Time => *o = simulator.time(),
                 _ => {}
             }
         }

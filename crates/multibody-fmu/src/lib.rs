@@ -1,4 +1,4 @@
-//! FMI 2.0 export of Dyad models, model exchange and co-simulation.
+//! FMI 2.0 and 3.0 export of Dyad models, model exchange and co-simulation.
 //!
 //! One runtime library serves every FMU: built once as this crate's
 //! `cdylib`, it is copied into the FMU as `binaries/<platform>/<model>.so`
@@ -14,13 +14,16 @@
 //!   export and the runtime share it, so they agree);
 //! - [`description`]: the `modelDescription.xml`;
 //! - [`export`]: the zip;
-//! - [`instance`]: one instance in safe Rust; [`fmi2`]: the C functions.
+//! - [`instance`]: one instance in safe Rust; [`fmi2`] and [`fmi3`]: the C
+//!   functions, sharing their guard and logging (`host`).
 
 pub mod description;
 pub mod export;
 pub mod fmi2;
+pub mod fmi3;
+mod host;
 pub mod instance;
 pub mod model;
 
-pub use description::Kinds;
+pub use description::{Kinds, Version};
 pub use export::Export;

@@ -11,7 +11,7 @@ use std::sync::Arc;
 
 /// The runtime's identity, part of every token: an FMU exported for
 /// another runtime refuses to instantiate.
-pub const RUNTIME_ID: &str = concat!("multibody-fmu ", env!("CARGO_PKG_VERSION"), " (FMI 2.0, layout 1)");
+pub const RUNTIME_ID: &str = concat!("multibody-fmu ", env!("CARGO_PKG_VERSION"), " (FMI 2.0 and 3.0, layout 2)");
 
 /// The settings file beside the model files in `resources/`.
 pub const SETTINGS_FILE: &str = "fmu.json";
@@ -85,6 +85,8 @@ pub fn token(settings_json: &str, files: &[(String, String)]) -> String {
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Causality {
+    /// Time.
+    Independent,
     Parameter,
     Input,
     Output,
@@ -110,6 +112,9 @@ pub enum Source {
     Input(usize),
     /// A parameter of the model's files (the tunable of that position).
     Parameter(usize),
+    Time,
+    /// Event indicator `k` (FMI 3.0 lists them as variables).
+    Indicator(usize),
 }
 
 /// One scalar variable; its value reference is its position.
@@ -143,7 +148,10 @@ pub struct Interface {
     pub outputs: Vec<usize>,
     /// The value reference of each input, in input order.
     pub inputs: Vec<usize>,
-    pub indicators: usize,
+    /// The value reference of each event indicator.
+    pub indicators: Vec<usize>,
+    /// The value reference of time.
+    pub time: usize,
 }
 
 /// A model loaded from its files and assembled with its own values.
@@ -335,6 +343,30 @@ fn interface(
             sets: Some(t.set(t.value)),
         });
     }
+    let local = |name: String, description: &str, source: Source| Variable {
+        name,
+        unit: None,
+        description: Some(description.into()),
+        causality: Causality::Local,
+        variability: Variability::Continuous,
+        exact: false,
+        start: None,
+        source,
+        derivative_of: None,
+        sets: None,
+    };
+    let names = simulator.indicator_names();
+    let mut indicators = Vec::with_capacity(names.len());
+    for (k, name) in names.iter().enumerate() {
+        indicators.push(variables.len());
+        variables.push(local(format!("event_indicator[{}]", k + 1), name, Source::Indicator(k)));
+    }
+    let time = variables.len();
+    variables.push(Variable {
+        causality: Causality::Independent,
+        unit: Some("s".into()),
+        ..local("time".into(), "time", Source::Time)
+    });
     let outputs: Vec<usize> =
         variables.iter().enumerate().filter(|(_, v)| v.causality == Causality::Output).map(|(k, _)| k).collect();
     let mut warnings = Vec::new();
@@ -347,13 +379,6 @@ fn interface(
     } else if outputs.is_empty() {
         warnings.push("the model has no outputs (top-level RealOutput components): its variables are local".into());
     }
-    let interface = Interface {
-        variables,
-        states: state_vr,
-        derivatives,
-        outputs,
-        inputs: input_vr,
-        indicators: simulator.indicator_count(),
-    };
+    let interface = Interface { variables, states: state_vr, derivatives, outputs, inputs: input_vr, indicators, time };
     Ok((interface, warnings))
 }

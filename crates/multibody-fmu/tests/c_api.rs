@@ -47,7 +47,7 @@ fn examples() -> PathBuf {
 /// The resources folder of an FMU of `model`, and its token.
 fn unpacked(model: &str, dir: &Path) -> (PathBuf, String) {
     let text = std::fs::read_to_string(examples().join(model)).unwrap();
-    let export = Export::prepare(&[(model.to_string(), text)], None, None, Vec::new(), None).unwrap();
+    let export = Export::prepare(&[(model.to_string(), text)], None, None, Vec::new(), None, None).unwrap();
     let resources = dir.join("resources");
     std::fs::create_dir_all(resources.join(MODEL_FOLDER)).unwrap();
     std::fs::write(resources.join(SETTINGS_FILE), &export.settings_json).unwrap();
@@ -101,6 +101,7 @@ fn derivatives_of_the_controlled_pendulum_have_the_closed_form() {
             None,
             None,
             Vec::new(),
+            None,
             None,
         )
         .unwrap();
@@ -176,6 +177,7 @@ fn bad_calls_give_errors_with_messages_never_a_crash() {
             None,
             Vec::new(),
             None,
+            None,
         )
         .unwrap();
         let width = md.loaded.interface.variables.iter().position(|v| v.name == "link2.width").unwrap() as c_uint;
@@ -193,6 +195,85 @@ fn bad_calls_give_errors_with_messages_never_a_crash() {
         // Null instances.
         fmi2FreeInstance(std::ptr::null_mut());
         assert_eq!(fmi2DoStep(std::ptr::null_mut(), 0.0, 0.1, 1), ERROR);
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+static MESSAGES3: Mutex<Vec<String>> = Mutex::new(Vec::new());
+
+extern "C" fn logger3(_env: *mut c_void, _status: c_int, _cat: *const c_char, msg: *const c_char) {
+    MESSAGES3.lock().unwrap().push(unsafe { CStr::from_ptr(msg) }.to_string_lossy().into_owned());
+}
+
+#[test]
+fn fmi_3_steps_as_fmi_2_does_and_refuses_a_wrong_token() {
+    use multibody_fmu::fmi3::*;
+    let dir = temp("fmi3");
+    let (resources, token) = unpacked("double_pendulum.dyad", &dir);
+    let path = CString::new(format!("{}/", resources.display())).unwrap();
+    let (name, good, bad) =
+        (CString::new("three").unwrap(), CString::new(token.clone()).unwrap(), CString::new("{wrong}").unwrap());
+    let logger = Some(logger3 as multibody_fmu::fmi3::LogMessage);
+    unsafe {
+        let none = fmi3InstantiateCoSimulation(
+            name.as_ptr(),
+            bad.as_ptr(),
+            path.as_ptr(),
+            false,
+            false,
+            false,
+            false,
+            std::ptr::null(),
+            0,
+            std::ptr::null_mut(),
+            logger,
+            std::ptr::null(),
+        );
+        assert!(none.is_null());
+        assert!(MESSAGES3.lock().unwrap().iter().any(|m| m.contains("token mismatch")));
+        let three = fmi3InstantiateCoSimulation(
+            name.as_ptr(),
+            good.as_ptr(),
+            path.as_ptr(),
+            false,
+            false,
+            false,
+            false,
+            std::ptr::null(),
+            0,
+            std::ptr::null_mut(),
+            logger,
+            std::ptr::null(),
+        );
+        let two = instantiate(&resources, &token, 1);
+        assert!(!three.is_null() && !two.is_null());
+        assert_eq!(fmi3EnterInitializationMode(three, false, 0.0, 0.0, false, 0.0), OK);
+        assert_eq!(fmi3ExitInitializationMode(three), OK);
+        assert_eq!(fmi2EnterInitializationMode(two), OK);
+        assert_eq!(fmi2ExitInitializationMode(two), OK);
+        let (mut a, mut b) = ([0.0; 4], [0.0; 4]);
+        let (mut event, mut stop, mut early, mut reached) = (true, true, true, 0.0);
+        for k in 0..20 {
+            let t = k as f64 * 0.05;
+            assert_eq!(fmi3DoStep(three, t, 0.05, true, &mut event, &mut stop, &mut early, &mut reached), OK);
+            assert_eq!(fmi2DoStep(two, t, 0.05, 1), OK);
+        }
+        assert!(!event && !stop && !early && (reached - 1.0).abs() < 1e-12);
+        let text = std::fs::read_to_string(examples().join("double_pendulum.dyad")).unwrap();
+        let e = Export::prepare(&[("double_pendulum.dyad".into(), text)], None, None, Vec::new(), None, None).unwrap();
+        let states: Vec<c_uint> = ["link1.joint.phi", "link2.joint.phi", "link1.joint.w", "link2.joint.w"]
+            .iter()
+            .map(|n| e.loaded.interface.variables.iter().position(|v| &v.name == n).unwrap() as c_uint)
+            .collect();
+        assert_eq!(fmi3GetFloat64(three, states.as_ptr(), 4, a.as_mut_ptr(), 4), OK);
+        assert_eq!(fmi2GetReal(two, states.as_ptr(), 4, b.as_mut_ptr()), OK);
+        assert_eq!(a, b);
+        // Types the FMU has none of: fine for no values, an error otherwise.
+        assert_eq!(fmi3GetInt32(three, std::ptr::null(), 0, std::ptr::null_mut(), 0), OK);
+        assert_eq!(fmi3GetInt32(three, states.as_ptr(), 1, std::ptr::null_mut(), 1), ERROR);
+        assert!(MESSAGES3.lock().unwrap().iter().any(|m| m.contains("only Float64 variables")));
+        fmi3FreeInstance(three);
+        fmi2FreeInstance(two);
     }
     let _ = std::fs::remove_dir_all(dir);
 }

@@ -1,9 +1,9 @@
-"""FMUs written by `multibody fmu`, checked by an independent importer:
-FMPy (PyPI) validates them and simulates them in model exchange (its own
-CVode integrates, calling our derivatives and event indicators) and in
-co-simulation (our integrator steps), against `multibody run` of the same
-files. scripts/test-python.sh installs FMPy; without it these tests skip
-with a message."""
+"""FMUs written by `multibody fmu`, FMI 2.0 and 3.0, checked by an
+independent importer: FMPy (PyPI) validates them and simulates them in
+model exchange (its own CVode integrates, calling our derivatives and event
+indicators) and in co-simulation (our integrator steps), against `multibody
+run` of the same files. scripts/test-python.sh installs FMPy; without it
+these tests skip with a message."""
 
 import os
 import shutil
@@ -17,6 +17,7 @@ import pytest
 
 fmpy = pytest.importorskip("fmpy", reason="FMPy (pip install fmpy) is needed to check the FMUs")
 from fmpy.fmi2 import FMU2Slave  # noqa: E402
+from fmpy.fmi3 import FMU3Slave  # noqa: E402
 from fmpy.model_description import read_model_description  # noqa: E402
 from fmpy.validation import validate_fmu  # noqa: E402
 
@@ -32,10 +33,15 @@ def multibody(*args, check=True):
     return done
 
 
-def export(tmp_path, model, name, *options):
+def export(tmp_path, model, name, *options, fmi="2"):
     fmu = tmp_path / f"{name}.fmu"
-    multibody("fmu", model, "-o", fmu, *options)
+    multibody("fmu", model, "-o", fmu, "--fmi", fmi, *options)
     return fmu
+
+
+VERSIONS = pytest.mark.parametrize("fmi", ["2", "3"])
+# Where each version keeps the binary for this platform.
+PLATFORM = {"2": "linux64", "3": "x86_64-linux"}
 
 
 def run(tmp_path, model, name, *options):
@@ -63,19 +69,20 @@ BOUNCING = EXAMPLES / "equations" / "bouncing_ball.dyad"
 ANGLES = ["link1.joint.phi", "link2.joint.phi", "link1.joint.w", "link2.joint.w"]
 
 
-def test_the_fmus_validate_and_their_zip_is_as_fmi_2_says(tmp_path):
+@VERSIONS
+def test_the_fmus_validate_and_their_zip_is_as_fmi_says(tmp_path, fmi):
     for model, name in [(DOUBLE_PENDULUM, "dp"), (CONTROLLED, "cp"), (BOUNCING, "bb")]:
-        fmu = export(tmp_path, model, name)
+        fmu = export(tmp_path, model, name, fmi=fmi)
         assert validate_fmu(str(fmu)) == [], name
         with zipfile.ZipFile(fmu) as z:
             names = z.namelist()
             assert all("\\" not in n for n in names), names
             assert all(i.compress_type == zipfile.ZIP_DEFLATED for i in z.infolist())
             md = read_model_description(str(fmu))
-            assert md.fmiVersion == "2.0"
+            assert md.fmiVersion == f"{fmi}.0"
             identifier = md.modelExchange.modelIdentifier
             assert identifier == md.coSimulation.modelIdentifier
-            assert f"binaries/linux64/{identifier}.so" in names
+            assert f"binaries/{PLATFORM[fmi]}/{identifier}.so" in names
             assert "modelDescription.xml" in names and "resources/fmu.json" in names
     # Variable names are the result table's columns (plus der(x) and parameters).
     reference = run(tmp_path, DOUBLE_PENDULUM, "dp", "--stop", "0.1")
@@ -83,13 +90,14 @@ def test_the_fmus_validate_and_their_zip_is_as_fmi_2_says(tmp_path):
     columns = set(reference)
     for v in md.modelVariables:
         if v.causality == "local":
-            assert v.name in columns or v.name.startswith("der("), v.name
+            assert v.name in columns or v.name.startswith(("der(", "event_indicator[")), v.name
     parameters = {v.name: v.start for v in md.modelVariables if v.causality == "parameter"}
     assert parameters["link2.length"] == "0.5" or float(parameters["link2.length"]) > 0
 
 
-def test_double_pendulum_in_both_modes_matches_the_command(tmp_path):
-    fmu = export(tmp_path, DOUBLE_PENDULUM, "dp")
+@VERSIONS
+def test_double_pendulum_in_both_modes_matches_the_command(tmp_path, fmi):
+    fmu = export(tmp_path, DOUBLE_PENDULUM, "dp", fmi=fmi)
     options = ["--stop", "3", "--saveat", "0.01"]
     same = run(tmp_path, DOUBLE_PENDULUM, "same", *options, "--reltol", "1e-8", "--abstol", "1e-8")
     exact = run(tmp_path, DOUBLE_PENDULUM, "exact", *options, "--reltol", "1e-12", "--abstol", "1e-12")
@@ -107,7 +115,7 @@ def test_double_pendulum_in_both_modes_matches_the_command(tmp_path):
                                relative_tolerance=tol, output=ANGLES)
         me_error[tol] = worst(me, exact, ANGLES)
     run_error = worst(same, exact, ANGLES)
-    print(f"double pendulum, 3 s: co-simulation vs run {cs_error:.2e}; model exchange vs exact {me_error} "
+    print(f"FMI {fmi}, double pendulum, 3 s: co-simulation vs run {cs_error:.2e}; model exchange vs exact {me_error} "
           f"(the run at 1e-8 vs exact: {run_error:.2e})")
     assert cs_error < 1e-6
     assert me_error[1e-10] < 1e-6
@@ -122,8 +130,9 @@ def torque_tables(tmp_path):
     return table, fmpy_input
 
 
-def test_a_torque_input_fed_from_a_table_in_both_modes(tmp_path):
-    fmu = export(tmp_path, CONTROLLED, "cp")
+@VERSIONS
+def test_a_torque_input_fed_from_a_table_in_both_modes(tmp_path, fmi):
+    fmu = export(tmp_path, CONTROLLED, "cp", fmi=fmi)
     md = read_model_description(str(fmu))
     inputs = [v.name for v in md.modelVariables if v.causality == "input"]
     outputs = [v.name for v in md.modelVariables if v.causality == "output"]
@@ -141,12 +150,13 @@ def test_a_torque_input_fed_from_a_table_in_both_modes(tmp_path):
                                    relative_tolerance=tol, input=signal, output=names)
         errors[kind] = worst(result, exact, names)
         assert abs(result["angle"][-1] - exact["angle"][-1]) < 1e-6
-    print(f"pendulum with a torque table, 3 s: {errors}")
+    print(f"FMI {fmi}, pendulum with a torque table, 3 s: {errors}")
     assert max(errors.values()) < 1e-6
 
 
-def test_events_of_a_bouncing_ball_in_both_modes(tmp_path):
-    fmu = export(tmp_path, BOUNCING, "bb")
+@VERSIONS
+def test_events_of_a_bouncing_ball_in_both_modes(tmp_path, fmi):
+    fmu = export(tmp_path, BOUNCING, "bb", fmi=fmi)
     reference = run(tmp_path, BOUNCING, "bb")
     # The impacts the command found: where the count steps up.
     steps = np.nonzero(np.diff(reference["impacts"]))[0]
@@ -157,34 +167,44 @@ def test_events_of_a_bouncing_ball_in_both_modes(tmp_path):
                                    relative_tolerance=1e-10, output=["h", "v", "impacts", "last_impact"])
         got = np.unique(result["last_impact"][result["impacts"] > 0])
         assert len(got) == 10, (kind, got)
-        print(f"bouncing ball, {kind}: impact times differ by at most {np.max(np.abs(got - impact_times)):.2e} s")
+        print(f"FMI {fmi}, bouncing ball, {kind}: impact times differ by at most {np.max(np.abs(got - impact_times)):.2e} s")
         assert np.max(np.abs(got - impact_times)) < 1e-7
         assert abs(result["h"][-1] - reference["h"][-1]) < 1e-6
 
 
-def test_two_instances_in_one_process_give_what_one_gives(tmp_path):
-    fmu = export(tmp_path, DOUBLE_PENDULUM, "dp")
+@VERSIONS
+def test_two_instances_in_one_process_give_what_one_gives(tmp_path, fmi):
+    fmu = export(tmp_path, DOUBLE_PENDULUM, "dp", fmi=fmi)
     folder = fmpy.extract(str(fmu))
     md = read_model_description(folder)
     vr = {v.name: v.valueReference for v in md.modelVariables}
     phi = [vr["link1.joint.phi"], vr["link2.joint.phi"]]
 
     def instance(name, length=None):
-        slave = FMU2Slave(guid=md.guid, unzipDirectory=folder, modelIdentifier=md.coSimulation.modelIdentifier,
-                          instanceName=name)
-        slave.instantiate()
-        slave.setupExperiment(tolerance=1e-8, startTime=0.0)
-        slave.enterInitializationMode()
+        if fmi == "2":
+            slave = FMU2Slave(guid=md.guid, unzipDirectory=folder, modelIdentifier=md.coSimulation.modelIdentifier,
+                              instanceName=name)
+            slave.instantiate()
+            slave.setupExperiment(tolerance=1e-8, startTime=0.0)
+            slave.enterInitializationMode()
+        else:
+            slave = FMU3Slave(guid=md.guid, unzipDirectory=folder, modelIdentifier=md.coSimulation.modelIdentifier,
+                              instanceName=name)
+            slave.instantiate()
+            slave.enterInitializationMode(tolerance=1e-8, startTime=0.0)
         if length is not None:
-            slave.setReal([vr["link2.length"]], [length])
+            (slave.setReal if fmi == "2" else slave.setFloat64)([vr["link2.length"]], [length])
         slave.exitInitializationMode()
         return slave
+
+    def read(slave):
+        return (slave.getReal if fmi == "2" else slave.getFloat64)(phi)
 
     alone = instance("alone")
     alone_values = []
     for k in range(100):
         alone.doStep(k * 0.01, 0.01)
-        alone_values.append(alone.getReal(phi))
+        alone_values.append(read(alone))
     alone.terminate()
     alone.freeInstance()
 
@@ -193,8 +213,8 @@ def test_two_instances_in_one_process_give_what_one_gives(tmp_path):
     for k in range(100):
         a.doStep(k * 0.01, 0.01)
         b.doStep(k * 0.01, 0.01)
-        a_values.append(a.getReal(phi))
-        b_values.append(b.getReal(phi))
+        a_values.append(read(a))
+        b_values.append(read(b))
     for s in (a, b):
         s.terminate()
         s.freeInstance()
@@ -208,8 +228,9 @@ def test_two_instances_in_one_process_give_what_one_gives(tmp_path):
     shutil.rmtree(folder, ignore_errors=True)
 
 
-def test_an_edited_model_file_refuses_to_instantiate(tmp_path):
-    fmu = export(tmp_path, DOUBLE_PENDULUM, "dp")
+@VERSIONS
+def test_an_edited_model_file_refuses_to_instantiate(tmp_path, fmi):
+    fmu = export(tmp_path, DOUBLE_PENDULUM, "dp", fmi=fmi)
     edited = tmp_path / "edited.fmu"
     with zipfile.ZipFile(fmu) as src, zipfile.ZipFile(edited, "w", zipfile.ZIP_DEFLATED) as dst:
         for item in src.infolist():
@@ -220,8 +241,9 @@ def test_an_edited_model_file_refuses_to_instantiate(tmp_path):
             dst.writestr(item.filename, data)
     messages = []
 
-    def logger(env, name, status, category, message):
-        messages.append(message.decode())
+    def logger(*args):
+        # FMI 2.0 passes the instance's name before the status; 3.0 does not.
+        messages.append(args[-1].decode())
 
     with pytest.raises(Exception):
         fmpy.simulate_fmu(str(edited), fmi_type="CoSimulation", stop_time=0.1, logger=logger)
@@ -248,13 +270,14 @@ def test_an_fmu_analysis_in_the_model_file(tmp_path):
     model = tmp_path / "export.dyad"
     model.write_text(CONTROLLED.read_text() + """
 analysis PendulumFMU
-  extends DyadFMUGeneration.FMUAnalysis(version = "FMI_V2", fmu_type = "FMI_CS", n_outputs = 1, outputs = ["rev.phi"])
+  extends DyadFMUGeneration.FMUAnalysis(version = "FMI_V3", fmu_type = "FMI_CS", n_outputs = 1, outputs = ["rev.phi"])
   model = ControlledPendulum()
 end
 """)
     fmu = tmp_path / "p.fmu"
     multibody("fmu", model, "--analysis", "PendulumFMU", "-o", fmu)
     md = read_model_description(str(fmu))
+    assert md.fmiVersion == "3.0"
     assert md.modelExchange is None and md.coSimulation is not None
     outputs = sorted(v.name for v in md.modelVariables if v.causality == "output")
     assert outputs == ["angle", "rev.phi", "speed"]
