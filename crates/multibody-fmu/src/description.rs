@@ -53,9 +53,9 @@ pub fn model_description(header: &Header, interface: &Interface) -> String {
         );
     }
     let id = escape(header.identifier);
-    // Neither FMU state nor directional derivatives (yet): said here.
+    // No FMU state (yet); directional derivatives by differences.
     let common = "canGetAndSetFMUState=\"false\" canSerializeFMUState=\"false\" \
-                  providesDirectionalDerivative=\"false\"";
+                  providesDirectionalDerivative=\"true\"";
     let common = if v3 { common.to_string() } else { common.replace("FMUState", "FMUstate") };
     if header.kinds.model_exchange {
         let memory = if v3 { "" } else { " canNotUseMemoryManagementFunctions=\"true\"" };

@@ -223,14 +223,18 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     c: *mut c_void,
-    _unknown: *const c_uint,
-    _nu: usize,
-    _known: *const c_uint,
-    _nk: usize,
-    _dv_known: *const f64,
-    _dv_unknown: *mut f64,
+    unknowns: *const c_uint,
+    n_unknowns: usize,
+    knowns: *const c_uint,
+    n_knowns: usize,
+    seed: *const f64,
+    sensitivity: *mut f64,
 ) -> Status {
-    unsupported(c, "fmi2GetDirectionalDerivative")
+    with(c, "fmi2GetDirectionalDerivative", |c| {
+        let (unknowns, knowns) = (slice(unknowns, n_unknowns)?, slice(knowns, n_knowns)?);
+        let (seed, out) = (slice(seed, n_knowns)?, slice_mut(sensitivity, n_unknowns)?);
+        c.instance.directional_derivative(unknowns, knowns, seed, out).map(|_| OK)
+    })
 }
 
 // Model exchange.

@@ -1,7 +1,7 @@
 //! The FMI 3.0 C functions, over the same [`Instance`] as FMI 2.0's. Every
 //! function of the standard's headers is exported (a host may look them
 //! all up); those of features the description does not claim (clocks,
-//! scheduled execution, FMU state, directional derivatives, types other
+//! scheduled execution, FMU state, adjoint derivatives, types other
 //! than Float64) give `fmi3Error` with a message, or `fmi3OK` when asked
 //! for no values.
 
@@ -260,8 +260,6 @@ not_offered! {
     fmi3SerializedFMUStateSize(state: *mut c_void, size: *mut usize);
     fmi3SerializeFMUState(state: *mut c_void, bytes: *mut u8, size: usize);
     fmi3DeserializeFMUState(bytes: *const u8, size: usize, state: *mut *mut c_void);
-    fmi3GetDirectionalDerivative(unknowns: *const Vr, nu: usize, knowns: *const Vr, nk: usize, seed: *const f64,
-        ns: usize, sensitivity: *mut f64, nsens: usize);
     fmi3GetAdjointDerivative(unknowns: *const Vr, nu: usize, knowns: *const Vr, nk: usize, seed: *const f64,
         ns: usize, sensitivity: *mut f64, nsens: usize);
     fmi3EnterConfigurationMode();
@@ -279,6 +277,27 @@ not_offered! {
     fmi3GetOutputDerivatives(vr: *const Vr, nvr: usize, orders: *const i32, v: *mut f64, n: usize);
     fmi3GetVariableDependencies(dependent: Vr, element_dependent: *mut usize, independents: *mut Vr,
         element_independents: *mut usize, kinds: *mut i32, n: usize);
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetDirectionalDerivative(
+    c: *mut c_void,
+    unknowns: *const Vr,
+    n_unknowns: usize,
+    knowns: *const Vr,
+    n_knowns: usize,
+    seed: *const f64,
+    n_seed: usize,
+    sensitivity: *mut f64,
+    n_sensitivity: usize,
+) -> Status {
+    with(c, "fmi3GetDirectionalDerivative", |c| {
+        scalars(n_knowns, n_seed)?;
+        scalars(n_unknowns, n_sensitivity)?;
+        let (unknowns, knowns) = (slice(unknowns, n_unknowns)?, slice(knowns, n_knowns)?);
+        let (seed, out) = (slice(seed, n_seed)?, slice_mut(sensitivity, n_sensitivity)?);
+        c.instance.directional_derivative(unknowns, knowns, seed, out).map(|_| OK)
+    })
 }
 
 #[no_mangle]

@@ -268,12 +268,7 @@ impl Instance {
                 return Err(format!("`{}` cannot be set to {x}", v.name));
             }
             match v.source {
-                Source::Input(i) => {
-                    self.inputs[i] = x;
-                    if let Some(sim) = self.simulator.as_mut() {
-                        sim.set_input(&self.input_names[i], x)?;
-                    }
-                }
+                Source::Input(i) => self.set_input_value(i, x)?,
                 _ if v.exact && matches!(self.phase, Phase::Instantiated | Phase::Initialization) => {
                     self.set[vr as usize] = Some(x);
                     self.simulator = None;
@@ -342,6 +337,85 @@ impl Instance {
         self.expect(&[Phase::Event], "fmi2EnterContinuousTimeMode")?;
         self.phase = Phase::Continuous;
         Ok(())
+    }
+
+    /// The derivative of the variables `unknowns` (derivatives, outputs,
+    /// any computed variable) along `seed` on the `knowns` (states and
+    /// inputs), at the time, state and inputs set: central differences,
+    /// Richardson-extrapolated (error about 1e-10 relative on smooth
+    /// models). The state and inputs are restored.
+    pub fn directional_derivative(
+        &mut self,
+        unknowns: &[u32],
+        knowns: &[u32],
+        seed: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), String> {
+        if knowns.len() != seed.len() || unknowns.len() != out.len() {
+            return Err("the seed and the knowns, or the result and the unknowns, differ in number".into());
+        }
+        let interface = &self.loaded.interface;
+        // Each known: a state (its position) or an input.
+        let mut moved = Vec::with_capacity(knowns.len());
+        for &vr in knowns {
+            let state = interface.states.iter().position(|&k| k == vr as usize);
+            match (state, interface.variables.get(vr as usize).map(|v| v.source)) {
+                (Some(j), _) => moved.push((true, j)),
+                (None, Some(Source::Input(i))) => moved.push((false, i)),
+                (None, Some(_)) => {
+                    let name = &interface.variables[vr as usize].name;
+                    return Err(format!("`{name}` is neither a state nor an input, so not a known of a derivative"));
+                }
+                (None, None) => return Err(format!("no variable has the value reference {vr}")),
+            }
+        }
+        let x0 = self.running("fmi2GetDirectionalDerivative")?.state().to_vec();
+        let u0 = self.inputs.clone();
+        let size = |v: &[f64]| v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        let scale =
+            moved.iter().map(|&(state, k)| if state { x0[k] } else { u0[k] }).fold(1.0_f64, |m, x| m.max(x.abs()));
+        let h = 1e-3 * scale / size(seed).max(f64::MIN_POSITIVE);
+        let mut at = |step: f64, values: &mut [f64]| -> Result<(), String> {
+            let mut x = x0.clone();
+            for (&(state, k), &d) in moved.iter().zip(seed) {
+                if state {
+                    x[k] += step * d;
+                } else {
+                    self.set_input_value(k, u0[k] + step * d)?;
+                }
+            }
+            self.running("fmi2GetDirectionalDerivative")?.set_continuous_state(&x)?;
+            self.get_real(unknowns, values)
+        };
+        let n = unknowns.len();
+        let mut f = vec![0.0; 4 * n];
+        let (plus, rest) = f.split_at_mut(n);
+        let (minus, rest) = rest.split_at_mut(n);
+        let (half_plus, half_minus) = rest.split_at_mut(n);
+        let evaluated = at(h, plus)
+            .and_then(|_| at(-h, minus))
+            .and_then(|_| at(h / 2.0, half_plus))
+            .and_then(|_| at(-h / 2.0, half_minus));
+        // Back to where the host stood, whatever happened.
+        for (i, &u) in u0.iter().enumerate() {
+            self.set_input_value(i, u)?;
+        }
+        self.running("fmi2GetDirectionalDerivative")?.set_continuous_state(&x0)?;
+        evaluated?;
+        for (k, o) in out.iter_mut().enumerate() {
+            let d_h = (plus[k] - minus[k]) / (2.0 * h);
+            let d_half = (half_plus[k] - half_minus[k]) / h;
+            *o = (4.0 * d_half - d_h) / 3.0;
+        }
+        Ok(())
+    }
+
+    fn set_input_value(&mut self, i: usize, x: f64) -> Result<(), String> {
+        self.inputs[i] = x;
+        match self.simulator.as_mut() {
+            Some(sim) => sim.set_input(&self.input_names[i], x),
+            None => Ok(()),
+        }
     }
 
     // Co-simulation.

@@ -122,6 +122,35 @@ fn derivatives_of_the_controlled_pendulum_have_the_closed_form() {
             assert_eq!(fmi2GetReal(c, vrs.as_ptr(), 3, y.as_mut_ptr()), OK);
             assert_eq!([y[0], y[1]], [phi, w]);
             assert!((y[2] - exact).abs() < 1e-12 * exact.abs().max(1.0));
+            // Directional derivatives, column by column: the Jacobian of
+            // (der(rev.phi), der(rev.w), angle) by (rev.phi, rev.w, tau).
+            let unknowns = [vr("der(rev.phi)"), vr("der(rev.w)"), vr("angle")];
+            let knowns = [vr("rev.phi"), vr("rev.w"), vr("tau.y")];
+            let columns = [[0.0, g * 0.5 * f64::sin(phi) / j, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0 / j, 0.0]];
+            for (k, want) in columns.iter().enumerate() {
+                let mut seed = [0.0; 3];
+                seed[k] = 1.0;
+                let mut got = [0.0; 3];
+                let status = fmi2GetDirectionalDerivative(
+                    c,
+                    unknowns.as_ptr(),
+                    3,
+                    knowns.as_ptr(),
+                    3,
+                    seed.as_ptr(),
+                    got.as_mut_ptr(),
+                );
+                assert_eq!(status, OK);
+                for (g, w) in got.iter().zip(want) {
+                    assert!((g - w).abs() < 1e-9 * w.abs().max(1.0), "column {k}: {got:?} vs {want:?}");
+                }
+            }
+            // The state and the input are where they were.
+            let mut back = [0.0; 2];
+            assert_eq!(fmi2GetContinuousStates(c, back.as_mut_ptr(), 2), OK);
+            assert_eq!(back, x);
+            assert_eq!(fmi2GetReal(c, [vr("tau.y")].as_ptr(), 1, back.as_mut_ptr()), OK);
+            assert_eq!(back[0], tau);
         }
         assert_eq!(fmi2Terminate(c), OK);
         fmi2FreeInstance(c);
