@@ -27,6 +27,14 @@ pub fn read_package(paths: &[PathBuf]) -> Result<Package, Failure> {
     let mut errors = Vec::new();
     for file in &files {
         let bytes = read_model_file(file)?;
+        if crate::import::is_urdf(file) {
+            // A robot: read as the model file `multibody import` writes.
+            let (_, dyad) = crate::import::urdf_as_dyad(file, bytes, &Default::default())?;
+            if let Err(d) = package.add_source(format!("{}.dyad", named_folder(file).display()), dyad) {
+                errors.push(d);
+            }
+            continue;
+        }
         // Bytes that are not UTF-8 text are reported at their place, like syntax errors.
         if let Err(d) = package.add_source_bytes(named_folder(file).display().to_string(), bytes) {
             errors.push(d);

@@ -6,6 +6,7 @@ mod catalog;
 mod check;
 mod exit;
 mod fmu;
+mod import;
 mod inputs;
 mod linearize;
 mod live;
@@ -67,6 +68,8 @@ enum Command {
     /// Write a page that runs the model itself: change a parameter, a start value or the stop time in
     /// its panel and the motion and plots follow (offline; the engine is embedded as WebAssembly)
     Live(LiveArgs),
+    /// Write a URDF robot as a Dyad model file (components named as its links and joints)
+    Import(ImportArgs),
     /// Export the model as an FMU (FMI 2.0 or 3.0, model exchange and co-simulation) for any FMI tool
     Fmu(FmuArgs),
 }
@@ -234,6 +237,19 @@ pub struct LiveArgs {
 }
 
 #[derive(Args)]
+pub struct ImportArgs {
+    /// The URDF file
+    #[arg(value_name = "FILE.urdf")]
+    pub file: PathBuf,
+    /// The model file to write (default: the URDF file's name with .dyad, in the current folder)
+    #[arg(long, short, value_name = "FILE.dyad")]
+    pub out: Option<PathBuf>,
+    /// The root link moves freely (a floating base) instead of being fixed to the world
+    #[arg(long)]
+    pub floating: bool,
+}
+
+#[derive(Args)]
 pub struct FmuArgs {
     #[command(flatten)]
     pub selection: Selection,
@@ -267,6 +283,7 @@ fn main() -> ExitCode {
         Command::Linearize(args) => linearize::linearize(&args),
         Command::Live(args) => live::live(&args),
         Command::Fmu(args) => fmu::fmu(&args),
+        Command::Import(args) => import::import(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -41,6 +41,7 @@ mod syntax;
 
 pub mod stdlib;
 pub mod study;
+pub mod urdf;
 
 pub use lowering::symbolic;
 pub use reports::{diagnostics, source_map};

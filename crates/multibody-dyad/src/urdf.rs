@@ -1,0 +1,890 @@
+//! URDF robots: read with the place of everything (so that an error says
+//! file:line:col), checked as a tree, and written as a Dyad model file of
+//! the library's URDF parts, whose component names are the URDF's link and
+//! joint names. `multibody import` writes that file; `multibody run
+//! robot.urdf` reads the same text directly.
+//!
+//! Conventions: a joint's `<origin>` places its frame in the parent link's
+//! (`xyz`, then the fixed-axis roll, pitch, yaw: `R = Rz(yaw) Ry(pitch)
+//! Rx(roll)`), which our `URDFRevolute`/`URDFPrismatic` take as a rotation by
+//! `angle` about `n`; an `<inertial>`'s inertia is rotated into the link
+//! frame. URDF is z-up: the World's gravity points along -z.
+
+use std::fmt::Write;
+
+/// A place in the URDF file (1-based).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Pos {
+    pub line: u32,
+    pub col: u32,
+}
+
+/// What is wrong with a URDF file, and where.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UrdfError {
+    pub at: Pos,
+    pub message: String,
+    pub help: Option<String>,
+}
+
+impl UrdfError {
+    fn new(at: Pos, message: impl Into<String>) -> Self {
+        UrdfError { at, message: message.into(), help: None }
+    }
+
+    fn help(mut self, help: impl Into<String>) -> Self {
+        self.help = Some(help.into());
+        self
+    }
+
+    /// `file:line:col: error: message` and the help, as the command prints it.
+    pub fn render(&self, file: &str) -> String {
+        let mut s = format!("{file}:{}:{}: error: {}", self.at.line, self.at.col, self.message);
+        if let Some(h) = &self.help {
+            let _ = write!(s, "\n  help: {h}");
+        }
+        s
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Origin {
+    pub xyz: [f64; 3],
+    pub rpy: [f64; 3],
+}
+
+impl Default for Origin {
+    fn default() -> Self {
+        Origin { xyz: [0.0; 3], rpy: [0.0; 3] }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Inertial {
+    pub origin: Origin,
+    pub mass: f64,
+    /// ixx, ixy, ixz, iyy, iyz, izz, in the inertial frame.
+    pub inertia: [f64; 6],
+    pub at: Pos,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Geometry {
+    Box { size: [f64; 3] },
+    Cylinder { radius: f64, length: f64 },
+    Sphere { radius: f64 },
+    Mesh { filename: String, scale: [f64; 3] },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Visual {
+    pub origin: Origin,
+    pub geometry: Geometry,
+    pub at: Pos,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Link {
+    pub name: String,
+    pub inertial: Option<Inertial>,
+    pub visuals: Vec<Visual>,
+    pub at: Pos,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum JointKind {
+    Revolute,
+    Continuous,
+    Prismatic,
+    Fixed,
+    Floating,
+    Planar,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mimic {
+    pub joint: String,
+    pub multiplier: f64,
+    pub offset: f64,
+    pub at: Pos,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Joint {
+    pub name: String,
+    pub kind: JointKind,
+    /// Positions among the robot's links.
+    pub parent: usize,
+    pub child: usize,
+    pub origin: Origin,
+    /// The unit axis, in the joint frame.
+    pub axis: [f64; 3],
+    pub limits: Option<(f64, f64)>,
+    pub damping: f64,
+    pub friction: f64,
+    pub mimic: Option<Mimic>,
+    pub at: Pos,
+}
+
+/// An element the import does not map, once per tag, with its first place.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Skipped {
+    pub tag: String,
+    pub at: Pos,
+    pub count: usize,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Robot {
+    pub name: String,
+    pub links: Vec<Link>,
+    /// In the file's order.
+    pub joints: Vec<Joint>,
+    /// The link no joint moves.
+    pub root: usize,
+    pub skipped: Vec<Skipped>,
+}
+
+/// Reads and checks a URDF file.
+pub fn parse(text: &str) -> Result<Robot, UrdfError> {
+    let doc = roxmltree::Document::parse(text).map_err(|e| {
+        let p = e.pos();
+        UrdfError::new(Pos { line: p.row, col: p.col }, format!("this is not well-formed XML: {e}"))
+    })?;
+    let pos = |n: roxmltree::Node| {
+        let p = doc.text_pos_at(n.range().start);
+        Pos { line: p.row, col: p.col }
+    };
+    let root = doc.root_element();
+    if root.tag_name().name() != "robot" {
+        return Err(UrdfError::new(
+            pos(root),
+            format!("the root element is `<{}>`, not `<robot>`", root.tag_name().name()),
+        )
+        .help("a URDF file describes one `<robot name=\"...\">`"));
+    }
+    let mut skipped: Vec<Skipped> = Vec::new();
+    let mut skip = |tag: &str, at: Pos| match skipped.iter_mut().find(|s| s.tag == tag) {
+        Some(s) => s.count += 1,
+        None => skipped.push(Skipped { tag: tag.to_string(), at, count: 1 }),
+    };
+    let mut links: Vec<Link> = Vec::new();
+    let mut raw_joints = Vec::new();
+    for node in root.children().filter(|n| n.is_element()) {
+        match node.tag_name().name() {
+            "link" => {
+                let link = read_link(node, &pos, &mut skip)?;
+                if let Some(other) = links.iter().find(|l| l.name == link.name) {
+                    return Err(UrdfError::new(link.at, format!("a second link named `{}`", link.name))
+                        .help(format!("the first is at line {}", other.at.line)));
+                }
+                links.push(link);
+            }
+            "joint" => raw_joints.push(node),
+            "material" => {}
+            other => skip(other, pos(node)),
+        }
+    }
+    if links.is_empty() {
+        return Err(UrdfError::new(pos(root), "the robot has no `<link>`"));
+    }
+    let mut joints: Vec<Joint> = Vec::new();
+    for node in raw_joints {
+        let joint = read_joint(node, &links, &pos, &mut skip)?;
+        if let Some(other) = joints.iter().find(|j| j.name == joint.name) {
+            return Err(UrdfError::new(joint.at, format!("a second joint named `{}`", joint.name))
+                .help(format!("the first is at line {}", other.at.line)));
+        }
+        if let Some(other) = joints.iter().find(|j| j.child == joint.child) {
+            return Err(UrdfError::new(
+                joint.at,
+                format!(
+                    "the link `{}` has two parents: joint `{}` (line {}) and joint `{}`",
+                    links[joint.child].name, other.name, other.at.line, joint.name
+                ),
+            )
+            .help("each link is the child of at most one joint; a closed chain cannot be written in URDF"));
+        }
+        joints.push(joint);
+    }
+    for j in &joints {
+        if let Some(m) = &j.mimic {
+            if !joints.iter().any(|o| o.name == m.joint) {
+                return Err(UrdfError::new(
+                    m.at,
+                    format!("`{}` mimics the joint `{}`, which does not exist", j.name, m.joint),
+                ));
+            }
+        }
+    }
+    // The root: the one link no joint moves; a loop leaves none.
+    let roots: Vec<usize> = (0..links.len()).filter(|&l| !joints.iter().any(|j| j.child == l)).collect();
+    let root_link = match roots.as_slice() {
+        [one] => *one,
+        [] => {
+            return Err(loop_error(&links, &joints));
+        }
+        many => {
+            let names: Vec<String> = many.iter().map(|&l| format!("`{}`", links[l].name)).collect();
+            return Err(UrdfError::new(
+                links[many[1]].at,
+                format!(
+                    "the robot is in {} pieces: the links {} are each moved by no joint",
+                    many.len(),
+                    names.join(", ")
+                ),
+            )
+            .help("join them with joints (a `fixed` joint for a rigid attachment)"));
+        }
+    };
+    // Every link reached from the root (a loop elsewhere leaves some out).
+    let mut reached = vec![false; links.len()];
+    let mut stack = vec![root_link];
+    while let Some(l) = stack.pop() {
+        if std::mem::replace(&mut reached[l], true) {
+            continue;
+        }
+        stack.extend(joints.iter().filter(|j| j.parent == l).map(|j| j.child));
+    }
+    if reached.iter().any(|r| !r) {
+        return Err(loop_error(&links, &joints));
+    }
+    Ok(Robot { name: root.attribute("name").unwrap_or("robot").to_string(), links, joints, root: root_link, skipped })
+}
+
+/// The joints of a loop, for the message: from a link not reached, up its
+/// parents until one repeats.
+fn loop_error(links: &[Link], joints: &[Joint]) -> UrdfError {
+    let parent_joint = |l: usize| joints.iter().position(|j| j.child == l);
+    let mut seen = Vec::new();
+    let mut link = (0..links.len()).find(|&l| parent_joint(l).is_some()).unwrap_or(0);
+    while let Some(j) = parent_joint(link) {
+        if seen.contains(&j) {
+            let start = seen.iter().position(|&s| s == j).unwrap_or(0);
+            let cycle: Vec<String> = seen[start..].iter().map(|&k: &usize| format!("`{}`", joints[k].name)).collect();
+            return UrdfError::new(joints[j].at, format!("the joints {} form a loop", cycle.join(" → ")))
+                .help("URDF describes trees: remove one joint of the loop and close it in a model file with a joint of the library");
+        }
+        seen.push(j);
+        link = joints[j].parent;
+    }
+    UrdfError::new(links[0].at, "the links do not form a tree")
+}
+
+type PosOf<'a> = dyn Fn(roxmltree::Node) -> Pos + 'a;
+
+fn read_link(node: roxmltree::Node, pos: &PosOf, skip: &mut dyn FnMut(&str, Pos)) -> Result<Link, UrdfError> {
+    let name = required(node, "name", pos)?.to_string();
+    let mut link = Link { name, inertial: None, visuals: Vec::new(), at: pos(node) };
+    for child in node.children().filter(|n| n.is_element()) {
+        match child.tag_name().name() {
+            "inertial" => link.inertial = Some(read_inertial(child, pos)?),
+            "visual" => {
+                if let Some(v) = read_visual(child, pos, skip)? {
+                    link.visuals.push(v);
+                }
+            }
+            "collision" => skip("collision", pos(child)),
+            other => skip(other, pos(child)),
+        }
+    }
+    Ok(link)
+}
+
+fn read_inertial(node: roxmltree::Node, pos: &PosOf) -> Result<Inertial, UrdfError> {
+    let origin = read_origin(node, pos)?;
+    let mass_node = element(node, "mass")
+        .ok_or_else(|| UrdfError::new(pos(node), "`<inertial>` without `<mass value=\"...\"/>`"))?;
+    let mass = number(mass_node, "value", pos)?;
+    if mass < 0.0 {
+        return Err(
+            UrdfError::new(pos(mass_node), format!("a negative mass ({mass} kg)")).help("masses are 0 or positive")
+        );
+    }
+    let i =
+        element(node, "inertia").ok_or_else(|| UrdfError::new(pos(node), "`<inertial>` without `<inertia .../>`"))?;
+    let mut inertia = [0.0; 6];
+    for (k, key) in ["ixx", "ixy", "ixz", "iyy", "iyz", "izz"].iter().enumerate() {
+        inertia[k] = number(i, key, pos)?;
+    }
+    let at = pos(i);
+    let [xx, xy, xz, yy, yz, zz] = inertia;
+    // Positive semi-definite, and the triangle inequalities of a real body.
+    let principal_minors =
+        [xx, xx * yy - xy * xy, xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz)];
+    // Rounding in the file (-5e-20 for a zero) is not a negative inertia.
+    let size = (xx.abs() + yy.abs() + zz.abs()).max(1e-9);
+    let tol = [1e-9 * size, 1e-9 * size * size, 1e-9 * size * size * size];
+    if principal_minors.iter().zip(tol).any(|(&m, t)| m < -t) || [xx, yy, zz].iter().any(|&d| d < -1e-9 * size) {
+        return Err(UrdfError::new(
+            at,
+            format!("the inertia (ixx {xx}, ixy {xy}, ixz {xz}, iyy {yy}, iyz {yz}, izz {zz}) is not positive semi-definite"),
+        )
+        .help("no rigid body has this inertia: check the signs of the products of inertia"));
+    }
+    Ok(Inertial { origin, mass, inertia, at: pos(node) })
+}
+
+fn read_visual(
+    node: roxmltree::Node,
+    pos: &PosOf,
+    skip: &mut dyn FnMut(&str, Pos),
+) -> Result<Option<Visual>, UrdfError> {
+    let origin = read_origin(node, pos)?;
+    let Some(geometry) = element(node, "geometry") else {
+        return Err(UrdfError::new(pos(node), "`<visual>` without `<geometry>`"));
+    };
+    let Some(shape) = geometry.children().find(|n| n.is_element()) else {
+        return Err(UrdfError::new(pos(geometry), "`<geometry>` without a shape (box, cylinder, sphere or mesh)"));
+    };
+    let geometry = match shape.tag_name().name() {
+        "box" => Geometry::Box { size: vector(shape, "size", pos)?.ok_or_else(|| missing(shape, "size", pos))? },
+        "cylinder" => {
+            Geometry::Cylinder { radius: number(shape, "radius", pos)?, length: number(shape, "length", pos)? }
+        }
+        "sphere" => Geometry::Sphere { radius: number(shape, "radius", pos)? },
+        "mesh" => {
+            skip("mesh", pos(shape));
+            Geometry::Mesh {
+                filename: required(shape, "filename", pos)?.to_string(),
+                scale: vector(shape, "scale", pos)?.unwrap_or([1.0; 3]),
+            }
+        }
+        other => {
+            skip(other, pos(shape));
+            return Ok(None);
+        }
+    };
+    Ok(Some(Visual { origin, geometry, at: pos(node) }))
+}
+
+fn read_joint(
+    node: roxmltree::Node,
+    links: &[Link],
+    pos: &PosOf,
+    skip: &mut dyn FnMut(&str, Pos),
+) -> Result<Joint, UrdfError> {
+    let name = required(node, "name", pos)?.to_string();
+    let kind = match required(node, "type", pos)? {
+        "revolute" => JointKind::Revolute,
+        "continuous" => JointKind::Continuous,
+        "prismatic" => JointKind::Prismatic,
+        "fixed" => JointKind::Fixed,
+        "floating" => JointKind::Floating,
+        "planar" => JointKind::Planar,
+        other => {
+            return Err(UrdfError::new(pos(node), format!("the joint `{name}` has the type `{other}`"))
+                .help("URDF's joint types are revolute, continuous, prismatic, fixed, floating and planar"))
+        }
+    };
+    let link_of = |tag: &str| -> Result<usize, UrdfError> {
+        let e = element(node, tag)
+            .ok_or_else(|| UrdfError::new(pos(node), format!("the joint `{name}` has no `<{tag} link=\"...\"/>`")))?;
+        let wanted = required(e, "link", pos)?;
+        links.iter().position(|l| l.name == wanted).ok_or_else(|| {
+            let hint = crate::diagnostics::did_you_mean(wanted, links.iter().map(|l| l.name.as_str()));
+            let mut err = UrdfError::new(
+                pos(e),
+                format!("the joint `{name}` names the {tag} link `{wanted}`, which does not exist"),
+            );
+            if let Some(h) = hint {
+                err = err.help(h);
+            }
+            err
+        })
+    };
+    if matches!(kind, JointKind::Floating | JointKind::Planar) {
+        let what = if kind == JointKind::Floating { "floating" } else { "planar" };
+        return Err(UrdfError::new(pos(node), format!("the joint `{name}` is {what}, which the import does not map yet"))
+            .help("revolute, continuous, prismatic and fixed joints are imported; a floating base is `multibody import --floating`"));
+    }
+    let (parent, child) = (link_of("parent")?, link_of("child")?);
+    if parent == child {
+        return Err(UrdfError::new(
+            pos(node),
+            format!("the joint `{name}` joins the link `{}` to itself", links[parent].name),
+        ));
+    }
+    let origin = read_origin(node, pos)?;
+    let mut axis = [1.0, 0.0, 0.0];
+    if let Some(a) = element(node, "axis") {
+        axis = vector(a, "xyz", pos)?.unwrap_or(axis);
+        let norm = axis.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if norm <= 1e-12
+            && matches!(kind, JointKind::Revolute | JointKind::Continuous | JointKind::Prismatic | JointKind::Planar)
+        {
+            return Err(UrdfError::new(pos(a), format!("the axis of `{name}` is zero")));
+        }
+        if norm > 1e-12 {
+            axis = axis.map(|x| x / norm);
+        }
+    }
+    let mut joint = Joint {
+        name,
+        kind,
+        parent,
+        child,
+        origin,
+        axis,
+        limits: None,
+        damping: 0.0,
+        friction: 0.0,
+        mimic: None,
+        at: pos(node),
+    };
+    for e in node.children().filter(|n| n.is_element()) {
+        match e.tag_name().name() {
+            "origin" | "axis" | "parent" | "child" => {}
+            "limit" => {
+                skip("limit", pos(e));
+                let lower = optional_number(e, "lower", pos)?.unwrap_or(0.0);
+                let upper = optional_number(e, "upper", pos)?.unwrap_or(0.0);
+                joint.limits = Some((lower, upper));
+            }
+            "dynamics" => {
+                joint.damping = optional_number(e, "damping", pos)?.unwrap_or(0.0);
+                joint.friction = optional_number(e, "friction", pos)?.unwrap_or(0.0);
+                if joint.damping < 0.0 {
+                    return Err(UrdfError::new(
+                        pos(e),
+                        format!("a negative damping ({}) on `{}`", joint.damping, joint.name),
+                    ));
+                }
+                if joint.friction != 0.0 {
+                    skip("dynamics friction", pos(e));
+                }
+            }
+            "mimic" => {
+                skip("mimic", pos(e));
+                joint.mimic = Some(Mimic {
+                    joint: required(e, "joint", pos)?.to_string(),
+                    multiplier: optional_number(e, "multiplier", pos)?.unwrap_or(1.0),
+                    offset: optional_number(e, "offset", pos)?.unwrap_or(0.0),
+                    at: pos(e),
+                })
+            }
+            other => skip(other, pos(e)),
+        }
+    }
+    Ok(joint)
+}
+
+fn element<'a, 'i>(node: roxmltree::Node<'a, 'i>, tag: &str) -> Option<roxmltree::Node<'a, 'i>> {
+    node.children().find(|n| n.is_element() && n.tag_name().name() == tag)
+}
+
+fn required<'a>(node: roxmltree::Node<'a, '_>, key: &str, pos: &PosOf) -> Result<&'a str, UrdfError> {
+    node.attribute(key).ok_or_else(|| missing(node, key, pos))
+}
+
+fn missing(node: roxmltree::Node, key: &str, pos: &PosOf) -> UrdfError {
+    UrdfError::new(pos(node), format!("`<{}>` needs the attribute `{key}`", node.tag_name().name()))
+}
+
+fn parse_number(text: &str, node: roxmltree::Node, key: &str, pos: &PosOf) -> Result<f64, UrdfError> {
+    let x: f64 = text.trim().parse().map_err(|_| {
+        UrdfError::new(pos(node), format!("`{key}=\"{text}\"` of `<{}>` is not a number", node.tag_name().name()))
+    })?;
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(UrdfError::new(pos(node), format!("`{key}=\"{text}\"` of `<{}>` is not finite", node.tag_name().name())))
+    }
+}
+
+fn number(node: roxmltree::Node, key: &str, pos: &PosOf) -> Result<f64, UrdfError> {
+    parse_number(required(node, key, pos)?, node, key, pos)
+}
+
+fn optional_number(node: roxmltree::Node, key: &str, pos: &PosOf) -> Result<Option<f64>, UrdfError> {
+    node.attribute(key).map(|t| parse_number(t, node, key, pos)).transpose()
+}
+
+fn vector(node: roxmltree::Node, key: &str, pos: &PosOf) -> Result<Option<[f64; 3]>, UrdfError> {
+    let Some(text) = node.attribute(key) else { return Ok(None) };
+    let parts: Vec<&str> = text.split_whitespace().collect();
+    if parts.len() != 3 {
+        return Err(UrdfError::new(
+            pos(node),
+            format!("`{key}=\"{text}\"` of `<{}>` needs three numbers", node.tag_name().name()),
+        ));
+    }
+    let mut v = [0.0; 3];
+    for (k, p) in parts.iter().enumerate() {
+        v[k] = parse_number(p, node, key, pos)?;
+    }
+    Ok(Some(v))
+}
+
+fn read_origin(node: roxmltree::Node, pos: &PosOf) -> Result<Origin, UrdfError> {
+    let Some(o) = element(node, "origin") else { return Ok(Origin::default()) };
+    Ok(Origin { xyz: vector(o, "xyz", pos)?.unwrap_or([0.0; 3]), rpy: vector(o, "rpy", pos)?.unwrap_or([0.0; 3]) })
+}
+
+/// How a robot is imported.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImportOptions {
+    /// The root link moves freely (a floating base) instead of being fixed
+    /// to the world.
+    pub floating: bool,
+    /// Joint damping (`<dynamics damping>`) as a damper on the joint's axis;
+    /// without it, the dynamics Pinocchio computes (it leaves damping out).
+    pub damping: bool,
+}
+
+impl Default for ImportOptions {
+    fn default() -> Self {
+        ImportOptions { floating: false, damping: true }
+    }
+}
+
+type Mat = [[f64; 3]; 3];
+
+/// `R = Rz(yaw) Ry(pitch) Rx(roll)`: the child frame's axes in the parent's.
+pub fn rpy_matrix([r, p, y]: [f64; 3]) -> Mat {
+    let (sr, cr, sp, cp, sy, cy) = (r.sin(), r.cos(), p.sin(), p.cos(), y.sin(), y.cos());
+    [
+        [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+        [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+        [-sp, cp * sr, cp * cr],
+    ]
+}
+
+/// The axis and angle of a rotation matrix (`angle` in [0, pi]).
+pub fn axis_angle(m: &Mat) -> ([f64; 3], f64) {
+    let trace = m[0][0] + m[1][1] + m[2][2];
+    let cos = ((trace - 1.0) / 2.0).clamp(-1.0, 1.0);
+    let skew = [m[2][1] - m[1][2], m[0][2] - m[2][0], m[1][0] - m[0][1]];
+    let sin2 = (skew[0] * skew[0] + skew[1] * skew[1] + skew[2] * skew[2]).sqrt();
+    let angle = sin2.atan2(trace - 1.0);
+    if angle < 1e-12 {
+        return ([1.0, 0.0, 0.0], 0.0);
+    }
+    if cos > -0.99 {
+        return (skew.map(|x| x / sin2), angle);
+    }
+    // Near a half turn: the axis from the symmetric part, its sign from the
+    // skew part.
+    let k = (0..3).max_by(|&a, &b| m[a][a].total_cmp(&m[b][b])).unwrap_or(0);
+    let mut n = [0.0; 3];
+    n[k] = ((m[k][k] - cos) / (1.0 - cos)).max(0.0).sqrt();
+    for i in (0..3).filter(|&i| i != k) {
+        n[i] = (m[i][k] + m[k][i]) / (2.0 * (1.0 - cos) * n[k]);
+    }
+    let dot = n[0] * skew[0] + n[1] * skew[1] + n[2] * skew[2];
+    if dot < 0.0 {
+        n = n.map(|x| -x);
+    }
+    let norm = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    (n.map(|x| x / norm), angle)
+}
+
+fn mat_vec(m: &Mat, v: [f64; 3]) -> [f64; 3] {
+    [0, 1, 2].map(|i| m[i][0] * v[0] + m[i][1] * v[1] + m[i][2] * v[2])
+}
+
+/// `R I R'`: an inertia given in a rotated frame, in the link frame.
+fn rotate_inertia(m: &Mat, [xx, xy, xz, yy, yz, zz]: [f64; 6]) -> Mat {
+    let i = [[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]];
+    let mut out = [[0.0; 3]; 3];
+    for a in 0..3 {
+        for b in 0..3 {
+            out[a][b] =
+                (0..3).flat_map(|c| (0..3).map(move |d| (c, d))).map(|(c, d)| m[a][c] * i[c][d] * m[b][d]).sum();
+        }
+    }
+    out
+}
+
+/// Words a component may not be named.
+const RESERVED: &[&str] = &[
+    "analysis",
+    "and",
+    "component",
+    "connect",
+    "connector",
+    "constant",
+    "der",
+    "each",
+    "else",
+    "elseif",
+    "end",
+    "enum",
+    "example",
+    "extends",
+    "false",
+    "final",
+    "for",
+    "function",
+    "if",
+    "in",
+    "initial",
+    "input",
+    "model",
+    "not",
+    "or",
+    "output",
+    "parameter",
+    "partial",
+    "potential",
+    "flow",
+    "relations",
+    "struct",
+    "then",
+    "time",
+    "true",
+    "type",
+    "variable",
+    "when",
+    "world",
+    "pi",
+];
+
+/// A Dyad identifier for each name, unique, as close to it as can be.
+fn identifiers<'a>(names: impl Iterator<Item = (&'a str, &'static str)>) -> Vec<String> {
+    let mut used: Vec<String> = Vec::new();
+    for (name, kind) in names {
+        let mut id: String =
+            name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' }).collect();
+        if id.is_empty() || id.starts_with(|c: char| c.is_ascii_digit()) {
+            id.insert(0, '_');
+        }
+        if RESERVED.contains(&id.as_str()) {
+            id.push('_');
+        }
+        let base = id.clone();
+        if used.contains(&id) {
+            id = format!("{base}_{kind}");
+        }
+        let mut k = 2;
+        while used.contains(&id) {
+            id = format!("{base}_{kind}{k}");
+            k += 1;
+        }
+        used.push(id);
+    }
+    used
+}
+
+fn num(x: f64) -> String {
+    if x == 0.0 {
+        "0".into()
+    } else {
+        format!("{x:?}")
+    }
+}
+
+fn vec3(v: [f64; 3]) -> String {
+    format!("[{}, {}, {}]", num(v[0]), num(v[1]), num(v[2]))
+}
+
+/// A Dyad type name from the robot's name.
+fn type_name(name: &str) -> String {
+    let mut out = String::new();
+    let mut upper = true;
+    for c in name.chars() {
+        if c.is_ascii_alphanumeric() {
+            out.push(if upper { c.to_ascii_uppercase() } else { c });
+            upper = false;
+        } else {
+            upper = true;
+        }
+    }
+    if out.is_empty() || out.starts_with(|c: char| c.is_ascii_digit()) {
+        out.insert(0, 'R');
+    }
+    out
+}
+
+/// The component names of the links and of the joints: the URDF's names
+/// made Dyad identifiers (`left elbow` is `left_elbow`), unique (a joint
+/// named as a link gets `_joint`).
+pub fn dyad_names(robot: &Robot) -> (Vec<String>, Vec<String>) {
+    let all = identifiers(
+        robot
+            .links
+            .iter()
+            .map(|l| (l.name.as_str(), "link"))
+            .chain(robot.joints.iter().map(|j| (j.name.as_str(), "joint"))),
+    );
+    let joints = all[robot.links.len()..].to_vec();
+    let mut links = all;
+    links.truncate(robot.links.len());
+    (links, joints)
+}
+
+/// The robot as a Dyad model file: a component named after the robot, of
+/// the World (gravity along -z), a `Body` per link with mass, a joint
+/// component per joint (named as in the URDF), the visuals as shapes, a
+/// damper per damped joint, and an analysis that simulates it.
+pub fn to_dyad(robot: &Robot, file: &str, options: &ImportOptions) -> String {
+    let (link_ids, joint_ids) = dyad_names(robot);
+    let ty = type_name(&robot.name);
+    let mut declarations: Vec<String> = Vec::new();
+    let mut relations: Vec<String> = Vec::new();
+    // The connectors at each link's frame.
+    let mut at_link: Vec<Vec<String>> = vec![Vec::new(); robot.links.len()];
+    let mut used = link_ids.iter().chain(&joint_ids).cloned().collect::<Vec<_>>();
+    let mut fresh = |base: String| {
+        let mut id = base.clone();
+        let mut k = 2;
+        while used.contains(&id) {
+            id = format!("{base}{k}");
+            k += 1;
+        }
+        used.push(id.clone());
+        id
+    };
+    declarations.push("  world = MultibodyComponents.World(n = [0, 0, -1])".into());
+    for (l, link) in robot.links.iter().enumerate() {
+        let id = &link_ids[l];
+        let massive = link.inertial.as_ref().is_some_and(|i| i.mass > 0.0 || i.inertia.iter().any(|&x| x != 0.0));
+        if let Some(inertial) = link.inertial.as_ref().filter(|_| massive) {
+            let r = rpy_matrix(inertial.origin.rpy);
+            let i = rotate_inertia(&r, inertial.inertia);
+            let floating = options.floating && l == robot.root;
+            let state = if floating { "orientation_state = OrientationState.Quaternion(), " } else { "" };
+            let render = if link.visuals.is_empty() { "" } else { "render = false, " };
+            declarations.push(format!(
+                "  \"Link `{}` (line {})\"\n  {id} = MultibodyComponents.Body({state}{render}m = {}, r_cm = {}, I_11 = {}, I_22 = {}, \
+                 I_33 = {}, I_21 = {}, I_31 = {}, I_32 = {})",
+                link.name,
+                link.at.line,
+                num(inertial.mass),
+                vec3(inertial.origin.xyz),
+                num(i[0][0]),
+                num(i[1][1]),
+                num(i[2][2]),
+                num(i[1][0]),
+                num(i[2][0]),
+                num(i[2][1])
+            ));
+            at_link[l].push(format!("{id}.frame_a"));
+        }
+        for (k, visual) in link.visuals.iter().enumerate() {
+            let r = rpy_matrix(visual.origin.rpy);
+            let (ex, ey, ez) =
+                (mat_vec(&r, [1.0, 0.0, 0.0]), mat_vec(&r, [0.0, 1.0, 0.0]), mat_vec(&r, [0.0, 0.0, 1.0]));
+            let c = visual.origin.xyz;
+            let shift = |dir: [f64; 3], by: f64| [c[0] - by * dir[0], c[1] - by * dir[1], c[2] - by * dir[2]];
+            let shape = match &visual.geometry {
+                Geometry::Box { size } => format!(
+                    "BoxShape(r_shape = {}, length_direction = {}, width_direction = {}, length = {}, width = {}, height = {})",
+                    vec3(shift(ex, size[0] / 2.0)),
+                    vec3(ex),
+                    vec3(ey),
+                    num(size[0]),
+                    num(size[1]),
+                    num(size[2])
+                ),
+                Geometry::Cylinder { radius, length } => format!(
+                    "CylinderShape(r_shape = {}, length_direction = {}, width_direction = {}, length = {}, width = {}, height = {})",
+                    vec3(shift(ez, length / 2.0)),
+                    vec3(ez),
+                    vec3(ex),
+                    num(*length),
+                    num(2.0 * radius),
+                    num(2.0 * radius)
+                ),
+                Geometry::Sphere { radius } => format!(
+                    "SphereShape(r_shape = {}, length = {}, width = {}, height = {})",
+                    vec3(c),
+                    num(2.0 * radius),
+                    num(2.0 * radius),
+                    num(2.0 * radius)
+                ),
+                Geometry::Mesh { .. } => continue,
+            };
+            let name = fresh(format!(
+                "{id}_visual{}",
+                if link.visuals.len() > 1 { (k + 1).to_string() } else { String::new() }
+            ));
+            declarations.push(format!("  {name} = MultibodyComponents.{shape}"));
+            at_link[l].push(format!("{name}.frame_a"));
+        }
+    }
+    for (j, joint) in robot.joints.iter().enumerate() {
+        let id = &joint_ids[j];
+        let (n, angle) = axis_angle(&rpy_matrix(joint.origin.rpy));
+        let r = vec3(joint.origin.xyz);
+        let origin =
+            if angle == 0.0 { format!("r = {r}") } else { format!("r = {r}, n = {}, angle = {}", vec3(n), num(angle)) };
+        let note = format!("  \"Joint `{}` ({:?}, line {})\"\n", joint.name, joint.kind, joint.at.line)
+            .replace("Continuous", "continuous");
+        let component = match joint.kind {
+            JointKind::Revolute | JointKind::Continuous => {
+                format!("URDFRevolute({origin}, joint_n = {}, phi(initial = 0), w(initial = 0))", vec3(joint.axis))
+            }
+            JointKind::Prismatic => {
+                format!("URDFPrismatic({origin}, joint_n = {}, s(initial = 0), v(initial = 0))", vec3(joint.axis))
+            }
+            JointKind::Fixed | JointKind::Floating | JointKind::Planar => {
+                if angle == 0.0 {
+                    format!("FixedTranslation(r = {r})")
+                } else {
+                    format!("FixedRotation({origin})")
+                }
+            }
+        };
+        declarations.push(format!("{note}  {id} = MultibodyComponents.{component}"));
+        at_link[joint.parent].push(format!("{id}.frame_a"));
+        at_link[joint.child].push(format!("{id}.frame_b"));
+        if joint.damping > 0.0 && options.damping {
+            let damper = fresh(format!("{id}_damping"));
+            let (lib, a, b) = match joint.kind {
+                JointKind::Prismatic => ("TranslationalComponents", "flange_a", "flange_b"),
+                _ => ("RotationalComponents", "spline_a", "spline_b"),
+            };
+            if matches!(joint.kind, JointKind::Revolute | JointKind::Continuous | JointKind::Prismatic) {
+                declarations.push(format!("  {damper} = {lib}.Damper(d = {})", num(joint.damping)));
+                relations.push(format!("  connect({damper}.{a}, {id}.support)"));
+                relations.push(format!("  connect({damper}.{b}, {id}.axis)"));
+            }
+        }
+    }
+    if !options.floating {
+        at_link[robot.root].insert(0, "world.frame_b".into());
+    }
+    let mut connects: Vec<String> = Vec::new();
+    // A link with one connector (a massless leaf) needs no connect.
+    for connectors in at_link.iter().filter(|c| c.len() >= 2) {
+        connects.push(format!("  connect({})", connectors.join(", ")));
+    }
+    connects.extend(relations);
+    let mut out = String::new();
+    let moving = robot.joints.iter().filter(|j| !matches!(j.kind, JointKind::Fixed)).count();
+    let _ = writeln!(
+        out,
+        "\"\"\"\n# {}\n\nImported from `{file}` by `multibody import`: {} links, {} joints ({moving} that move), \
+         {} base. URDF is z-up: the World's gravity points along -z.\n\"\"\"",
+        robot.name,
+        robot.links.len(),
+        robot.joints.len(),
+        if options.floating { "a floating" } else { "a fixed" }
+    );
+    let _ = writeln!(out, "component {ty}");
+    for d in &declarations {
+        let _ = writeln!(out, "{d}");
+    }
+    let _ = writeln!(out, "relations");
+    for c in &connects {
+        let _ = writeln!(out, "{c}");
+    }
+    let _ = writeln!(out, "end\n");
+    let _ = writeln!(out, "\"Five seconds, saved every 10 ms.\"\nanalysis {ty}Simulation\n  extends TransientAnalysis(stop = 5, saveat = 0.01)\n  model = {ty}()\nend");
+    out
+}
+
+/// What leaving out an element of this tag does, for the note.
+pub fn skipped_effect(tag: &str) -> &'static str {
+    match tag {
+        "collision" => "collision geometry is not used (no contacts)",
+        "transmission" | "gazebo" => "simulator and controller settings are not used",
+        "safety_controller" | "calibration" => "controller settings are not used",
+        "dynamics friction" => "joint friction is not applied (damping is)",
+        "mimic" => "the mimic coupling is not applied yet: the joint moves on its own",
+        "limit" => "limits are not enforced (nor are they in Pinocchio's dynamics)",
+        "mesh" => "meshes are not drawn yet (the link's mass and inertia are kept)",
+        _ => "not part of the model",
+    }
+}
