@@ -741,7 +741,8 @@ pub fn to_dyad(robot: &Robot, file: &str, options: &ImportOptions) -> String {
         let massive = link.inertial.as_ref().is_some_and(|i| i.mass > 0.0 || i.inertia.iter().any(|&x| x != 0.0));
         if let Some(inertial) = link.inertial.as_ref().filter(|_| massive) {
             let r = rpy_matrix(inertial.origin.rpy);
-            let i = rotate_inertia(&r, inertial.inertia);
+            // Rounding in the file (-5e-20 for a zero) is not an inertia.
+            let i = rotate_inertia(&r, inertial.inertia).map(|row| row.map(|x| if x.abs() < 1e-15 { 0.0 } else { x }));
             let floating = options.floating && l == robot.root;
             let state = if floating { "orientation_state = OrientationState.Quaternion(), " } else { "" };
             let render = if link.visuals.is_empty() { "" } else { "render = false, " };
