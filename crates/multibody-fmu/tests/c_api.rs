@@ -44,10 +44,15 @@ fn examples() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
 }
 
+/// The export of an example model, as `multibody fmu` prepares it.
+fn export_of(model: &str) -> Export {
+    let text = std::fs::read_to_string(examples().join(model)).unwrap();
+    Export::prepare(&[(model.to_string(), text)], None, None, Vec::new(), None, None).unwrap()
+}
+
 /// The resources folder of an FMU of `model`, and its token.
 fn unpacked(model: &str, dir: &Path) -> (PathBuf, String) {
-    let text = std::fs::read_to_string(examples().join(model)).unwrap();
-    let export = Export::prepare(&[(model.to_string(), text)], None, None, Vec::new(), None, None).unwrap();
+    let export = export_of(model);
     let resources = dir.join("resources");
     std::fs::create_dir_all(resources.join(MODEL_FOLDER)).unwrap();
     std::fs::write(resources.join(SETTINGS_FILE), &export.settings_json).unwrap();
@@ -93,18 +98,7 @@ fn derivatives_of_the_controlled_pendulum_have_the_closed_form() {
         assert_eq!(fmi2EnterContinuousTimeMode(c), OK);
         // (m r^2 + I_33) phi'' = -m g r cos(phi) + tau, with m = 1, r = 0.5, I_33 = 0.02.
         let (j, g) = (0.5 * 0.5 + 0.02, 9.80665);
-        let md = Export::prepare(
-            &[(
-                "controlled_pendulum.dyad".into(),
-                std::fs::read_to_string(examples().join("controlled_pendulum.dyad")).unwrap(),
-            )],
-            None,
-            None,
-            Vec::new(),
-            None,
-            None,
-        )
-        .unwrap();
+        let md = export_of("controlled_pendulum.dyad");
         let vr = |name: &str| md.loaded.interface.variables.iter().position(|v| v.name == name).unwrap() as c_uint;
         for (phi, w, tau) in [(0.3, -1.0, 2.0), (-2.0, 0.5, -1.5)] {
             let x = [phi, w];
@@ -197,18 +191,7 @@ fn bad_calls_give_errors_with_messages_never_a_crash() {
         fmi2Reset(c);
         // A parameter refused by the model: the model's own message.
         assert_eq!(fmi2EnterInitializationMode(c), OK);
-        let md = Export::prepare(
-            &[(
-                "double_pendulum.dyad".into(),
-                std::fs::read_to_string(examples().join("double_pendulum.dyad")).unwrap(),
-            )],
-            None,
-            None,
-            Vec::new(),
-            None,
-            None,
-        )
-        .unwrap();
+        let md = export_of("double_pendulum.dyad");
         let width = md.loaded.interface.variables.iter().position(|v| v.name == "link2.width").unwrap() as c_uint;
         assert_eq!(fmi2SetReal(c, [width].as_ptr(), 1, [-0.1].as_ptr()), OK);
         assert_eq!(fmi2ExitInitializationMode(c), ERROR);
@@ -288,8 +271,7 @@ fn fmi_3_steps_as_fmi_2_does_and_refuses_a_wrong_token() {
             assert_eq!(fmi2DoStep(two, t, 0.05, 1), OK);
         }
         assert!(!event && !stop && !early && (reached - 1.0).abs() < 1e-12);
-        let text = std::fs::read_to_string(examples().join("double_pendulum.dyad")).unwrap();
-        let e = Export::prepare(&[("double_pendulum.dyad".into(), text)], None, None, Vec::new(), None, None).unwrap();
+        let e = export_of("double_pendulum.dyad");
         let states: Vec<c_uint> = ["link1.joint.phi", "link2.joint.phi", "link1.joint.w", "link2.joint.w"]
             .iter()
             .map(|n| e.loaded.interface.variables.iter().position(|v| &v.name == n).unwrap() as c_uint)
