@@ -2,7 +2,8 @@
 """Golden values of URDF robots' dynamics from Pinocchio (PyPI's `pin`),
 which the URDF tests compare with: per file, the moving joints in
 Pinocchio's order and, at random states (seeded), the forward dynamics
-(ABA) with no joint torque and the joint-space mass matrix (CRBA), with
+(ABA) with no joint torque, the joint-space mass matrix (CRBA) and the
+inverse dynamics (RNEA) at random accelerations, with
 gravity 9.80665 m/s^2 along -z and a fixed base.
 
 Usage: scripts/urdf_goldens.py FILE.urdf... > goldens.json
@@ -42,13 +43,18 @@ def goldens(path, seed=2026):
             else:
                 q[j["idx_q"]] = angles[k]
         ddq = pin.aba(model, data, q, v, np.zeros(model.nv))
+        a = rng.uniform(-1.0, 1.0, model.nv)
+        tau = pin.rnea(model, data, q, v, a)
         mass = pin.crba(model, data, q)
         mass = np.triu(mass) + np.triu(mass, 1).T
         if not (np.all(np.isfinite(ddq)) and np.all(np.isfinite(mass))):
             # A joint with no inertia behind it: the mass matrix is singular.
             return {"joints": [j["name"] for j in joints], "states": [], "singular": True,
                     "pinocchio": pin.__version__}
-        out.append({"q": angles.tolist(), "v": v.tolist(), "ddq": ddq.tolist(), "M": mass.tolist()})
+        # How much rounding the forward dynamics amplify: solving M x = b
+        # loses up to cond(M) times the precision.
+        out.append({"q": angles.tolist(), "v": v.tolist(), "ddq": ddq.tolist(), "M": mass.tolist(),
+                    "a": a.tolist(), "tau": tau.tolist(), "cond": float(np.linalg.cond(mass)) if model.nv else 1.0})
     return {"joints": [j["name"] for j in joints], "states": out, "pinocchio": pin.__version__}
 
 

@@ -3,7 +3,7 @@
 //! (golden values made by `scripts/urdf_goldens.py` with PyPI's `pin`),
 //! and bad files, each with its message at file:line:col.
 
-use multibody::{SimulationOptions, Simulator};
+use multibody::{JointSpace, Mechanism, SimulationOptions, Simulator};
 use multibody_dyad::urdf::{self, ImportOptions};
 use multibody_dyad::Package;
 use serde_json::Value;
@@ -14,9 +14,9 @@ fn folder() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/urdf")
 }
 
-/// The robot of the file at `path` imported, assembled, in a simulator,
-/// and the Dyad names of the URDF's joints.
-fn simulator(path: &std::path::Path) -> Result<(Simulator<'static>, Vec<(String, String)>), String> {
+/// The robot of the file at `path` imported and assembled, and the Dyad
+/// names of the URDF's joints.
+fn mechanism(path: &std::path::Path) -> Result<(Arc<Mechanism>, Vec<(String, String)>), String> {
     let file = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
     let robot = urdf::parse(&text).map_err(|e| e.render(&file))?;
@@ -29,15 +29,17 @@ fn simulator(path: &std::path::Path) -> Result<(Simulator<'static>, Vec<(String,
     let target = package.choose_target(None, None)?;
     let lowered = package.lower_target(&target, &[]).map_err(|d| package.render(&[d]))?;
     let mechanism = lowered.assemble().map_err(|d| package.render(&[d]))?;
-    let sim = Simulator::for_host(Arc::new(mechanism), &SimulationOptions::default()).map_err(|s| s.reason)?;
-    Ok((sim, names))
+    Ok((Arc::new(mechanism), names))
 }
 
-/// The worst difference, relative to the largest acceleration of each
-/// state, between our forward dynamics and Pinocchio's `golden` ones; an
-/// error when the file does not load.
-fn compare(path: &std::path::Path, golden: &Value) -> Result<f64, String> {
-    let (mut sim, dyad_names) = simulator(path)?;
+/// The worst differences, relative to the largest value of each state,
+/// between our dynamics and Pinocchio's `golden` ones: forward dynamics
+/// (the simulator's and the joint space's), the mass matrix and the
+/// inverse dynamics; an error when the file does not load.
+fn compare(path: &std::path::Path, golden: &Value) -> Result<[f64; 3], String> {
+    let (mechanism, dyad_names) = mechanism(path)?;
+    let mut sim = Simulator::for_host(mechanism.clone(), &SimulationOptions::default()).map_err(|s| s.reason)?;
+    let mut space = JointSpace::new(&mechanism)?;
     let dyad = |urdf_name: &str| dyad_names.iter().find(|(u, _)| u == urdf_name).map(|(_, d)| d.clone());
     let names: Vec<String> = sim.state_names().to_vec();
     let joints: Vec<String> = golden["joints"]
@@ -56,11 +58,58 @@ fn compare(path: &std::path::Path, golden: &Value) -> Result<f64, String> {
     if names.len() != 2 * joints.len() {
         return Err(format!("{} states for {} joints of Pinocchio's", names.len(), joints.len()));
     }
-    let mut worst = 0.0_f64;
+    // Pinocchio's joint k is the joint space's at[k].
+    let at: Vec<usize> = joints
+        .iter()
+        .map(|j| space.joints().iter().position(|s| s == j).ok_or_else(|| format!("`{j}` is not in the joint space")))
+        .collect::<Result<_, _>>()?;
+    let n = joints.len();
+    let mut worst = [0.0_f64; 3];
     for state in golden["states"].as_array().unwrap() {
         let numbers =
             |key: &str| -> Vec<f64> { state[key].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect() };
         let (q, v, ddq) = (numbers("q"), numbers("v"), numbers("ddq"));
+        let (a, tau) = (numbers("a"), numbers("tau"));
+        let mass: Vec<f64> = state["M"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .flat_map(|r| r.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()))
+            .collect();
+        // Vectors in the joint space's order.
+        let ours = |x: &[f64]| -> Vec<f64> {
+            let mut o = vec![0.0; n];
+            for k in 0..n {
+                o[at[k]] = x[k];
+            }
+            o
+        };
+        let (qs, vs, accelerations) = (ours(&q), ours(&v), ours(&a));
+        let mut m = vec![0.0; n * n];
+        space.mass_matrix(&qs, &mut m)?;
+        let scale = mass.iter().fold(f64::MIN_POSITIVE, |s, x| s.max(x.abs()));
+        for i in 0..n {
+            for j in 0..n {
+                worst[1] = worst[1].max((m[at[i] * n + at[j]] - mass[i * n + j]).abs() / scale);
+            }
+        }
+        let mut t = vec![0.0; n];
+        space.inverse_dynamics(&qs, &vs, &accelerations, &mut t)?;
+        let scale = tau.iter().fold(1.0_f64, |s, x| s.max(x.abs()));
+        for k in 0..n {
+            worst[2] = worst[2].max((t[at[k]] - tau[k]).abs() / scale);
+        }
+        let mut fd = vec![0.0; n];
+        space.forward_dynamics(&qs, &vs, &vec![0.0; n], &mut fd)?;
+        // Accelerations are compared relative to their largest, and within
+        // what rounding allows: solving M x = b loses up to cond(M) times
+        // the precision (iCub's M reaches 1.2e8), so the tolerance 1e-10
+        // stands for cond(M) up to 1e5 and grows with it past that.
+        let cond = state["cond"].as_f64().unwrap_or(1.0);
+        let scale = ddq.iter().fold(1.0_f64, |s, x| s.max(x.abs())) * (cond / 1e5).max(1.0);
+        for k in 0..n {
+            worst[0] = worst[0].max((fd[at[k]] - ddq[k]).abs() / scale);
+        }
         let mut y = vec![0.0; names.len()];
         for k in 0..joints.len() {
             y[q_at[k]] = q[k];
@@ -69,10 +118,9 @@ fn compare(path: &std::path::Path, golden: &Value) -> Result<f64, String> {
         sim.set_continuous_state(&y)?;
         let mut dy = vec![0.0; y.len()];
         sim.derivatives(&mut dy)?;
-        let scale = ddq.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
         for k in 0..joints.len() {
             assert_eq!(dy[q_at[k]], v[k]);
-            worst = worst.max((dy[v_at[k]] - ddq[k]).abs() / scale);
+            worst[0] = worst[0].max((dy[v_at[k]] - ddq[k]).abs() / scale);
         }
     }
     Ok(worst)
@@ -82,13 +130,22 @@ fn compare(path: &std::path::Path, golden: &Value) -> Result<f64, String> {
 fn forward_dynamics_equal_pinocchios() {
     let goldens: Value =
         serde_json::from_str(&std::fs::read_to_string(folder().join("goldens.json")).unwrap()).unwrap();
-    let mut worst = 0.0_f64;
+    let mut worst = [0.0_f64; 3];
     for (file, golden) in goldens.as_object().unwrap() {
         let error = compare(&folder().join(file), golden).unwrap_or_else(|e| panic!("{file}: {e}"));
-        assert!(error < 1e-10, "{file}: forward dynamics differ from Pinocchio's by {error:.1e} (relative)");
-        worst = worst.max(error);
+        assert!(
+            error.iter().all(|&e| e < 1e-10),
+            "{file}: forward dynamics, mass matrix, inverse dynamics differ from Pinocchio's by {error:?} (relative)"
+        );
+        for k in 0..3 {
+            worst[k] = worst[k].max(error[k]);
+        }
     }
-    println!("forward dynamics vs Pinocchio: worst relative difference {worst:.1e} (tolerance 1e-10)");
+    println!(
+        "vs Pinocchio, worst relative differences: forward dynamics {:.1e}, mass matrix {:.1e}, inverse dynamics \
+         {:.1e} (tolerance 1e-10)",
+        worst[0], worst[1], worst[2]
+    );
 }
 
 /// Every URDF of a corpus (example-robot-data from PyPI) whose golden
@@ -102,29 +159,35 @@ fn a_corpus_of_real_robots_agrees_with_pinocchio_or_is_refused() {
         return;
     };
     let goldens: Value = serde_json::from_str(&std::fs::read_to_string(goldens).unwrap()).unwrap();
-    let (mut agree, mut refused, mut worst, mut differ) = (0, Vec::new(), 0.0_f64, Vec::new());
+    let (mut agree, mut refused, mut worst, mut differ) = (0, Vec::new(), [0.0_f64; 3], Vec::new());
     for (path, golden) in goldens.as_object().unwrap() {
         let name = std::path::Path::new(path).file_name().unwrap().to_string_lossy().into_owned();
         if golden["singular"].as_bool() == Some(true) {
             // Pinocchio's mass matrix is singular: ours must refuse the model.
-            let refusal = simulator(std::path::Path::new(path)).err();
+            let refusal = mechanism(std::path::Path::new(path)).err();
             assert!(refusal.is_some(), "{name}: Pinocchio finds a singular mass matrix, but the model was accepted");
             refused
                 .push(format!("{name} (singular in Pinocchio too): {}", refusal.unwrap().lines().next().unwrap_or("")));
             continue;
         }
         match compare(std::path::Path::new(path), golden) {
-            Ok(error) if error < 1e-10 => {
-                worst = worst.max(error);
+            Ok(error) if error.iter().all(|&e| e < 1e-10) => {
+                for k in 0..3 {
+                    worst[k] = worst[k].max(error[k]);
+                }
                 agree += 1;
             }
-            Ok(error) => differ.push(format!("{name}: {error:.1e}")),
+            Ok(error) => differ.push(format!("{name}: {error:?}")),
             Err(message) => refused.push(format!("{name}: {}", message.lines().next().unwrap_or(""))),
         }
     }
     println!(
-        "{} files: {agree} agree with Pinocchio (worst {worst:.1e}), {} refused:",
+        "{} files: {agree} agree with Pinocchio (worst: forward dynamics {:.1e}, mass matrix {:.1e}, inverse \
+         dynamics {:.1e}), {} refused:",
         agree + refused.len(),
+        worst[0],
+        worst[1],
+        worst[2],
         refused.len()
     );
     for r in &refused {

@@ -42,7 +42,9 @@ pub mod system;
 pub use assembly::{LoopInfo, Mechanism};
 pub use dynamics::{DynamicsError, Workspace};
 pub use error::{closest, Error};
-pub use linear::{Derivatives, Linearization, LinearizeError, LinearizeOptions, Pole, SteadyState, SteadyStateOptions};
+pub use linear::{
+    Derivatives, JointSpace, Linearization, LinearizeError, LinearizeOptions, Pole, SteadyState, SteadyStateOptions,
+};
 pub use math::expr::{Cmp, Expr, Func, Func2, TimeExpr};
 pub use model::{
     ComponentInstance, Connection, Equation, Equations, Flow, Model, OrientationState, Value, Variable, When,

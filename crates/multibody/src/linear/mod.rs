@@ -15,9 +15,11 @@
 //! sources are. With both, the result reports their largest difference as
 //! its own accuracy check.
 
+mod joint_space;
 mod steady;
 mod tangent;
 
+pub use joint_space::JointSpace;
 pub use steady::{SteadyState, SteadyStateOptions};
 
 use crate::outputs::OutputScratch;
