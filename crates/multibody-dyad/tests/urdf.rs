@@ -14,9 +14,12 @@ fn folder() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/urdf")
 }
 
+/// Each URDF joint's name and its component's.
+type JointNames = Vec<(String, String)>;
+
 /// The robot of the file at `path` imported and assembled, and the Dyad
 /// names of the URDF's joints.
-fn mechanism(path: &std::path::Path) -> Result<(Arc<Mechanism>, Vec<(String, String)>), String> {
+fn mechanism(path: &std::path::Path) -> Result<(Arc<Mechanism>, JointNames), String> {
     let file = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
     let robot = urdf::parse(&text).map_err(|e| e.render(&file))?;
