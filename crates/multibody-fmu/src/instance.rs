@@ -155,7 +155,8 @@ impl Instance {
         if let Some(tol) = self.tolerance {
             (options.reltol, options.abstol) = (tol, tol);
         }
-        options.saveat = 0.0;
+        // The analysis's saveat stays: nothing is recorded, but with
+        // friction it bounds the steps, as in a run.
         options
     }
 
