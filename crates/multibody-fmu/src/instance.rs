@@ -66,6 +66,12 @@ impl Instance {
         let settings = Settings::from_json(&settings_json)?;
         let mut files = Vec::with_capacity(settings.files.len());
         for name in &settings.files {
+            // Only files of the FMU's model folder.
+            if name.contains(['/', '\\']) || name.starts_with('.') {
+                return Err(format!(
+                    "`{SETTINGS_FILE}` names the model file `{name}`, which is not in resources/{MODEL_FOLDER}"
+                ));
+            }
             files.push((name.clone(), read(&resources.join(MODEL_FOLDER).join(name))?));
         }
         let actual = token(&settings_json, &files);

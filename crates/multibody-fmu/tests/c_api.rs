@@ -169,6 +169,12 @@ fn bad_calls_give_errors_with_messages_never_a_crash() {
     assert!(c.is_null() && logged("is not a file: URI"));
     // An unknown interface type.
     assert!(instantiate(&resources, &token, 7).is_null() && logged("fmuType 7"));
+    // A settings file that names a file outside the model folder.
+    let elsewhere = dir.join("elsewhere");
+    std::fs::create_dir_all(elsewhere.join("resources")).unwrap();
+    std::fs::write(elsewhere.join("resources").join(SETTINGS_FILE), r#"{"files": ["../../secret.dyad"]}"#).unwrap();
+    assert!(instantiate(&elsewhere.join("resources"), &token, 1).is_null());
+    assert!(logged("names the model file `../../secret.dyad`, which is not in resources/model"));
 
     let c = instantiate(&resources, &token, 1);
     assert!(!c.is_null());
@@ -223,40 +229,33 @@ fn fmi_3_steps_as_fmi_2_does_and_refuses_a_wrong_token() {
     let dir = temp("fmi3");
     let (resources, token) = unpacked("double_pendulum.dyad", &dir);
     let path = CString::new(format!("{}/", resources.display())).unwrap();
-    let (name, good, bad) =
-        (CString::new("three").unwrap(), CString::new(token.clone()).unwrap(), CString::new("{wrong}").unwrap());
-    let logger = Some(logger3 as multibody_fmu::fmi3::LogMessage);
+    let name = CString::new("three").unwrap();
+    // An FMI 3.0 co-simulation instance with the token `token`.
+    let co_simulation = |token: &str| {
+        let token = CString::new(token).unwrap();
+        let logger = Some(logger3 as multibody_fmu::fmi3::LogMessage);
+        let (none, env) = (std::ptr::null(), std::ptr::null_mut());
+        unsafe {
+            fmi3InstantiateCoSimulation(
+                name.as_ptr(),
+                token.as_ptr(),
+                path.as_ptr(),
+                false,
+                false,
+                false,
+                false,
+                none,
+                0,
+                env,
+                logger,
+                std::ptr::null(),
+            )
+        }
+    };
     unsafe {
-        let none = fmi3InstantiateCoSimulation(
-            name.as_ptr(),
-            bad.as_ptr(),
-            path.as_ptr(),
-            false,
-            false,
-            false,
-            false,
-            std::ptr::null(),
-            0,
-            std::ptr::null_mut(),
-            logger,
-            std::ptr::null(),
-        );
-        assert!(none.is_null());
+        assert!(co_simulation("{wrong}").is_null());
         assert!(MESSAGES3.lock().unwrap().iter().any(|m| m.contains("token mismatch")));
-        let three = fmi3InstantiateCoSimulation(
-            name.as_ptr(),
-            good.as_ptr(),
-            path.as_ptr(),
-            false,
-            false,
-            false,
-            false,
-            std::ptr::null(),
-            0,
-            std::ptr::null_mut(),
-            logger,
-            std::ptr::null(),
-        );
+        let three = co_simulation(&token);
         let two = instantiate(&resources, &token, 1);
         assert!(!three.is_null() && !two.is_null());
         assert_eq!(fmi3EnterInitializationMode(three, false, 0.0, 0.0, false, 0.0), OK);
