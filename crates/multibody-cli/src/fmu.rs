@@ -6,6 +6,7 @@ use crate::exit::Failure;
 use crate::load::{assemble, choose, lower, read_package};
 use crate::output::{self, bytes};
 use crate::FmuArgs;
+use multibody_fmu::model::Causality;
 use multibody_fmu::{Export, Kinds, Version};
 use std::path::{Path, PathBuf};
 
@@ -71,8 +72,7 @@ pub fn fmu(args: &FmuArgs) -> Result<(), Failure> {
     let archive = export.archive(&runtime).map_err(Failure::Io)?;
     output::write_atomically(&out, |w| w.write_all(&archive))?;
     let interface = &export.loaded.interface;
-    let count = |c: multibody_fmu::model::Causality| interface.variables.iter().filter(|v| v.causality == c).count();
-    use multibody_fmu::model::Causality;
+    let count = |c: Causality| interface.variables.iter().filter(|v| v.causality == c).count();
     say!(
         "FMU (FMI {}, {}) of {}: {} variables: {} states, {} inputs, {} outputs, {} parameters, {} event \
          indicators → {} ({}, {:.0} ms)",

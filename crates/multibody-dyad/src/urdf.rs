@@ -97,8 +97,6 @@ pub enum JointKind {
     Continuous,
     Prismatic,
     Fixed,
-    Floating,
-    Planar,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -370,8 +368,10 @@ fn read_joint(
         "continuous" => JointKind::Continuous,
         "prismatic" => JointKind::Prismatic,
         "fixed" => JointKind::Fixed,
-        "floating" => JointKind::Floating,
-        "planar" => JointKind::Planar,
+        what @ ("floating" | "planar") => {
+            return Err(UrdfError::new(pos(node), format!("the joint `{name}` is {what}, which the import does not map yet"))
+                .help("revolute, continuous, prismatic and fixed joints are imported; a floating base is `multibody import --floating`"))
+        }
         other => {
             return Err(UrdfError::new(pos(node), format!("the joint `{name}` has the type `{other}`"))
                 .help("URDF's joint types are revolute, continuous, prismatic, fixed, floating and planar"))
@@ -393,11 +393,6 @@ fn read_joint(
             err
         })
     };
-    if matches!(kind, JointKind::Floating | JointKind::Planar) {
-        let what = if kind == JointKind::Floating { "floating" } else { "planar" };
-        return Err(UrdfError::new(pos(node), format!("the joint `{name}` is {what}, which the import does not map yet"))
-            .help("revolute, continuous, prismatic and fixed joints are imported; a floating base is `multibody import --floating`"));
-    }
     let (parent, child) = (link_of("parent")?, link_of("child")?);
     if parent == child {
         return Err(UrdfError::new(
@@ -410,9 +405,7 @@ fn read_joint(
     if let Some(a) = element(node, "axis") {
         axis = vector(a, "xyz", pos)?.unwrap_or(axis);
         let norm = axis.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if norm <= 1e-12
-            && matches!(kind, JointKind::Revolute | JointKind::Continuous | JointKind::Prismatic | JointKind::Planar)
-        {
+        if norm <= 1e-12 && matches!(kind, JointKind::Revolute | JointKind::Continuous | JointKind::Prismatic) {
             return Err(UrdfError::new(pos(a), format!("the axis of `{name}` is zero")));
         }
         if norm > 1e-12 {
@@ -819,7 +812,7 @@ pub fn to_dyad(robot: &Robot, file: &str, options: &ImportOptions) -> String {
             JointKind::Prismatic => {
                 format!("URDFPrismatic({origin}, joint_n = {}, s(initial = 0), v(initial = 0))", vec3(joint.axis))
             }
-            JointKind::Fixed | JointKind::Floating | JointKind::Planar => {
+            JointKind::Fixed => {
                 if angle == 0.0 {
                     format!("FixedTranslation(r = {r})")
                 } else {

@@ -256,6 +256,16 @@ fn bad_files_are_refused_with_their_place() {
         link("a")
     )));
     assert!(e.contains("the type `hinge`") && e.contains("revolute, continuous, prismatic"), "{e}");
+
+    let e = error_of(&robot(format!(
+        "{}\n{}\n<joint name=\"j\" type=\"planar\"><parent link=\"a\"/><child link=\"b\"/></joint>",
+        link("a"),
+        link("b")
+    )));
+    assert!(
+        e.starts_with("bad.urdf:4:1") && e.contains("the joint `j` is planar, which the import does not map yet"),
+        "{e}"
+    );
 }
 
 #[test]
