@@ -59,8 +59,14 @@ pub fn import(args: &ImportArgs) -> Result<(), Failure> {
         )));
     }
     let target = package.choose_target(None, None).map_err(Failure::Usage)?;
-    let lowered = package.lower_target(&target, &[]).map_err(|d| Failure::Usage(package.render(&[d])))?;
-    let mechanism = lowered.assemble().map_err(|d| Failure::Usage(package.render(&[d])))?;
+    // The diagnostic is rendered as the checks of a model file are.
+    let refused = |d| {
+        eprint!("{}", package.render(&[d]));
+        say!("the imported model was not written: {} does not assemble as it is", args.file.display());
+        Failure::Model
+    };
+    let lowered = package.lower_target(&target, &[]).map_err(refused)?;
+    let mechanism = lowered.assemble().map_err(refused)?;
     output::write_atomically(&out, |w| w.write_all(dyad.as_bytes()))?;
     say!(
         "{}: {} links, {} joints → {} ({} degrees of freedom; gravity along -z, URDF's up being z)",
@@ -68,7 +74,7 @@ pub fn import(args: &ImportArgs) -> Result<(), Failure> {
         robot.links.len(),
         robot.joints.len(),
         out.display(),
-        mechanism.states().nv
+        mechanism.degrees_of_freedom()
     );
     Ok(())
 }

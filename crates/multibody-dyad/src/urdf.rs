@@ -205,16 +205,7 @@ pub fn parse(text: &str) -> Result<Robot, UrdfError> {
         }
         joints.push(joint);
     }
-    for j in &joints {
-        if let Some(m) = &j.mimic {
-            if !joints.iter().any(|o| o.name == m.joint) {
-                return Err(UrdfError::new(
-                    m.at,
-                    format!("`{}` mimics the joint `{}`, which does not exist", j.name, m.joint),
-                ));
-            }
-        }
-    }
+    check_mimics(&joints)?;
     // The root: the one link no joint moves; a loop leaves none.
     let roots: Vec<usize> = (0..links.len()).filter(|&l| !joints.iter().any(|j| j.child == l)).collect();
     let root_link = match roots.as_slice() {
@@ -248,6 +239,52 @@ pub fn parse(text: &str) -> Result<Robot, UrdfError> {
         return Err(loop_error(&links, &joints));
     }
     Ok(Robot { name: root.attribute("name").unwrap_or("robot").to_string(), links, joints, root: root_link, skipped })
+}
+
+/// Each mimic names a joint that exists and moves, the follower moves too,
+/// and no chain of mimics comes back to where it started.
+fn check_mimics(joints: &[Joint]) -> Result<(), UrdfError> {
+    let leader = |j: &Joint| j.mimic.as_ref().and_then(|m| joints.iter().position(|o| o.name == m.joint));
+    for j in joints {
+        let Some(m) = &j.mimic else { continue };
+        let Some(l) = leader(j) else {
+            return Err(UrdfError::new(
+                m.at,
+                format!("`{}` mimics the joint `{}`, which does not exist", j.name, m.joint),
+            ));
+        };
+        if j.kind == JointKind::Fixed || joints[l].kind == JointKind::Fixed {
+            let fixed = if j.kind == JointKind::Fixed { &j.name } else { &joints[l].name };
+            return Err(UrdfError::new(
+                m.at,
+                format!("`{}` mimics `{}`, but `{fixed}` is a fixed joint", j.name, m.joint),
+            )
+            .help("a mimic couples the coordinates of two moving joints"));
+        }
+        if !(m.multiplier.is_finite() && m.offset.is_finite()) {
+            return Err(UrdfError::new(
+                m.at,
+                format!("the mimic of `{}` has a multiplier or offset that is not a finite number", j.name),
+            ));
+        }
+        let mut chain = vec![j.name.as_str()];
+        let mut at = l;
+        while let Some(next) = leader(&joints[at]) {
+            chain.push(joints[at].name.as_str());
+            if joints[at].name == j.name {
+                return Err(UrdfError::new(
+                    m.at,
+                    format!("the mimic joints {} follow each other in a circle", chain.join(" -> ")),
+                )
+                .help("one joint of the chain must move on its own"));
+            }
+            if chain.len() > joints.len() {
+                break;
+            }
+            at = next;
+        }
+    }
+    Ok(())
 }
 
 /// The joints of a loop, for the message: from a link not reached, up its
@@ -448,7 +485,6 @@ fn read_joint(
                 }
             }
             "mimic" => {
-                skip("mimic", pos(e));
                 joint.mimic = Some(Mimic {
                     joint: required(e, "joint", pos)?.to_string(),
                     multiplier: optional_number(e, "multiplier", pos)?.unwrap_or(1.0),
@@ -754,6 +790,14 @@ pub fn to_dyad(robot: &Robot, file: &str, options: &ImportOptions) -> String {
                 num(i[2][1])
             ));
             at_link[l].push(format!("{id}.frame_a"));
+        } else {
+            // A link without mass is a frame: named, so that its pose and
+            // signals can be asked for by the link's name.
+            declarations.push(format!(
+                "  \"Link `{}` (line {}): no mass, a frame\"\n  {id} = MultibodyComponents.FixedTranslation(r = [0, 0, 0])",
+                link.name, link.at.line
+            ));
+            at_link[l].push(format!("{id}.frame_a"));
         }
         for (k, visual) in link.visuals.iter().enumerate() {
             let r = rpy_matrix(visual.origin.rpy);
@@ -805,12 +849,14 @@ pub fn to_dyad(robot: &Robot, file: &str, options: &ImportOptions) -> String {
             if angle == 0.0 { format!("r = {r}") } else { format!("r = {r}, n = {}, angle = {}", vec3(n), num(angle)) };
         let note = format!("  \"Joint `{}` ({:?}, line {})\"\n", joint.name, joint.kind, joint.at.line)
             .replace("Continuous", "continuous");
+        // A mimic's follower starts where its leader puts it.
+        let start = if joint.mimic.is_some() { "guess" } else { "initial" };
         let component = match joint.kind {
             JointKind::Revolute | JointKind::Continuous => {
-                format!("URDFRevolute({origin}, joint_n = {}, phi(initial = 0), w(initial = 0))", vec3(joint.axis))
+                format!("URDFRevolute({origin}, joint_n = {}, phi({start} = 0), w({start} = 0))", vec3(joint.axis))
             }
             JointKind::Prismatic => {
-                format!("URDFPrismatic({origin}, joint_n = {}, s(initial = 0), v(initial = 0))", vec3(joint.axis))
+                format!("URDFPrismatic({origin}, joint_n = {}, s({start} = 0), v({start} = 0))", vec3(joint.axis))
             }
             JointKind::Fixed => {
                 if angle == 0.0 {
@@ -823,6 +869,23 @@ pub fn to_dyad(robot: &Robot, file: &str, options: &ImportOptions) -> String {
         declarations.push(format!("{note}  {id} = MultibodyComponents.{component}"));
         at_link[joint.parent].push(format!("{id}.frame_a"));
         at_link[joint.child].push(format!("{id}.frame_b"));
+        if let Some(m) = &joint.mimic {
+            let leader = robot.joints.iter().position(|o| o.name == m.joint).expect("checked by parse");
+            let coordinate = |kind: JointKind| if kind == JointKind::Prismatic { "s" } else { "phi" };
+            relations.push(format!(
+                "  \"Mimic (line {}): `{}` = {} * `{}` + {}\"\n  {id}.axis.{} = {} * {}.axis.{} + {}",
+                m.at.line,
+                joint.name,
+                num(m.multiplier),
+                m.joint,
+                num(m.offset),
+                coordinate(joint.kind),
+                num(m.multiplier),
+                joint_ids[leader],
+                coordinate(robot.joints[leader].kind),
+                num(m.offset)
+            ));
+        }
         if joint.damping > 0.0 && options.damping {
             let damper = fresh(format!("{id}_damping"));
             let (lib, a, b) = match joint.kind {
@@ -840,7 +903,7 @@ pub fn to_dyad(robot: &Robot, file: &str, options: &ImportOptions) -> String {
         at_link[robot.root].insert(0, "world.frame_b".into());
     }
     let mut connects: Vec<String> = Vec::new();
-    // A link with one connector (a massless leaf) needs no connect.
+    // A link with one connector (a floating root alone) needs no connect.
     for connectors in at_link.iter().filter(|c| c.len() >= 2) {
         connects.push(format!("  connect({})", connectors.join(", ")));
     }
@@ -876,7 +939,6 @@ pub fn skipped_effect(tag: &str) -> &'static str {
         "transmission" | "gazebo" => "simulator and controller settings are not used",
         "safety_controller" | "calibration" => "controller settings are not used",
         "dynamics friction" => "joint friction is not applied (damping is)",
-        "mimic" => "the mimic coupling is not applied yet: the joint moves on its own",
         "limit" => "limits are not enforced (nor are they in Pinocchio's dynamics)",
         "mesh" => "meshes are not drawn yet (the link's mass and inertia are kept)",
         _ => "not part of the model",

@@ -1,32 +1,56 @@
 //! URDF robots imported as Dyad models, checked against Pinocchio: the
-//! forward dynamics at ten random states of each file in `tests/urdf/`
-//! (golden values made by `scripts/urdf_goldens.py` with PyPI's `pin`),
-//! and bad files, each with its message at file:line:col.
+//! forward dynamics, mass matrix, inverse dynamics and link poses at ten
+//! random states of each file in `tests/urdf/`, with a fixed and a floating
+//! base and with the file's joint damping (golden values made by
+//! `scripts/urdf_goldens.py` with PyPI's `pin`); mimic joints held through
+//! a run; and bad files, each with its message at file:line:col.
 
 use multibody::{JointSpace, Mechanism, SimulationOptions, Simulator};
 use multibody_dyad::urdf::{self, ImportOptions};
 use multibody_dyad::Package;
 use serde_json::Value;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 fn folder() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/urdf")
 }
 
-/// Each URDF joint's name and its component's.
-type JointNames = Vec<(String, String)>;
+/// Each URDF name of a joint or link and its component's.
+#[derive(Default)]
+struct Names {
+    joints: Vec<(String, String)>,
+    links: Vec<(String, String)>,
+    root: String,
+}
+
+impl Names {
+    /// A joint of Pinocchio's: the floating base is its root link.
+    fn joint(&self, pinocchio: &str) -> Option<&str> {
+        if pinocchio == "root_joint" {
+            return Some(&self.root);
+        }
+        self.joints.iter().find(|(u, _)| u == pinocchio).map(|(_, d)| d.as_str())
+    }
+
+    fn link(&self, urdf: &str) -> Option<&str> {
+        self.links.iter().find(|(u, _)| u == urdf).map(|(_, d)| d.as_str())
+    }
+}
 
 /// The robot of the file at `path` imported and assembled, and the Dyad
-/// names of the URDF's joints.
-fn mechanism(path: &std::path::Path) -> Result<(Arc<Mechanism>, JointNames), String> {
+/// names of the URDF's joints and links.
+fn mechanism(path: &Path, options: &ImportOptions) -> Result<(Arc<Mechanism>, Names), String> {
     let file = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
     let robot = urdf::parse(&text).map_err(|e| e.render(&file))?;
-    let (_, joint_ids) = urdf::dyad_names(&robot);
-    let names = robot.joints.iter().map(|j| j.name.clone()).zip(joint_ids).collect();
-    // Pinocchio's dynamics leave joint damping out.
-    let dyad = urdf::to_dyad(&robot, &file, &ImportOptions { damping: false, ..Default::default() });
+    let (link_ids, joint_ids) = urdf::dyad_names(&robot);
+    let names = Names {
+        joints: robot.joints.iter().map(|j| j.name.clone()).zip(joint_ids).collect(),
+        root: link_ids[robot.root].clone(),
+        links: robot.links.iter().map(|l| l.name.clone()).zip(link_ids).collect(),
+    };
+    let dyad = urdf::to_dyad(&robot, &file, options);
     let mut package = Package::new();
     package.add_source(format!("{file}.dyad"), dyad).map_err(|d| package.render(&[d]))?;
     let target = package.choose_target(None, None)?;
@@ -35,126 +59,142 @@ fn mechanism(path: &std::path::Path) -> Result<(Arc<Mechanism>, JointNames), Str
     Ok((Arc::new(mechanism), names))
 }
 
-/// The worst differences, relative to the largest value of each state,
-/// between our dynamics and Pinocchio's `golden` ones: forward dynamics
-/// (the simulator's and the joint space's), the mass matrix and the
-/// inverse dynamics; an error when the file does not load.
-fn compare(path: &std::path::Path, golden: &Value) -> Result<[f64; 3], String> {
-    let (mechanism, dyad_names) = mechanism(path)?;
+fn numbers(x: &Value) -> Vec<f64> {
+    x.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
+}
+
+/// The worst differences between our dynamics and Pinocchio's `golden`
+/// ones, each relative to the largest value of its kind at a state:
+/// forward dynamics (the simulator's and the joint space's), mass matrix,
+/// inverse dynamics and link poses; an error when the file does not load.
+fn compare(path: &Path, golden: &Value) -> Result<[f64; 4], String> {
+    let options = ImportOptions {
+        floating: golden["floating"].as_bool().unwrap_or(false),
+        // Pinocchio's dynamics leave joint damping out: the golden values
+        // of a damped variant have its torques as joint forces.
+        damping: golden["damped"].as_bool().unwrap_or(false),
+    };
+    let (mechanism, names) = mechanism(path, &options)?;
     let mut sim = Simulator::for_host(mechanism.clone(), &SimulationOptions::default()).map_err(|s| s.reason)?;
     let mut space = JointSpace::new(&mechanism)?;
-    let dyad = |urdf_name: &str| dyad_names.iter().find(|(u, _)| u == urdf_name).map(|(_, d)| d.clone());
-    let names: Vec<String> = sim.state_names().to_vec();
-    let joints: Vec<String> = golden["joints"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|j| dyad(j.as_str().unwrap()).ok_or_else(|| format!("Pinocchio's joint {j} is not in the file")))
-        .collect::<Result<_, _>>()?;
-    let coordinate = |joint: &str, what: &[&str]| {
-        what.iter()
-            .find_map(|w| names.iter().position(|n| *n == format!("{joint}.{w}")))
-            .ok_or_else(|| format!("no state of `{joint}` among {names:?}"))
-    };
-    let q_at: Vec<usize> = joints.iter().map(|j| coordinate(j, &["phi", "s"])).collect::<Result<_, _>>()?;
-    let v_at: Vec<usize> = joints.iter().map(|j| coordinate(j, &["w", "v"])).collect::<Result<_, _>>()?;
-    if names.len() != 2 * joints.len() {
-        return Err(format!("{} states for {} joints of Pinocchio's", names.len(), joints.len()));
+    let (nq, nv) = (space.coordinates().len(), space.velocities().len());
+    // Where each of Pinocchio's coordinates is in ours, in its order.
+    let (mut q_at, mut v_at) = (Vec::new(), Vec::new());
+    for joint in golden["joints"].as_array().unwrap() {
+        let name = joint["name"].as_str().unwrap();
+        let ours = names.joint(name).ok_or_else(|| format!("Pinocchio's joint {name} is not in the file"))?;
+        let (q, v) = space.joint(ours).ok_or_else(|| format!("`{ours}` is not in the joint space"))?;
+        if q.len() as u64 != joint["nq"].as_u64().unwrap() || v.len() as u64 != joint["nv"].as_u64().unwrap() {
+            return Err(format!("`{ours}` has {} and {} coordinates, Pinocchio's {joint}", q.len(), v.len()));
+        }
+        q_at.extend(q);
+        v_at.extend(v);
     }
-    // Pinocchio's joint k is the joint space's at[k].
-    let at: Vec<usize> = joints
-        .iter()
-        .map(|j| space.joints().iter().position(|s| s == j).ok_or_else(|| format!("`{j}` is not in the joint space")))
-        .collect::<Result<_, _>>()?;
-    let n = joints.len();
-    let mut worst = [0.0_f64; 3];
+    if q_at.len() != nq || v_at.len() != nv {
+        return Err(format!("{nq} and {nv} coordinates for Pinocchio's {} and {}", q_at.len(), v_at.len()));
+    }
+    let ours = |x: &[f64], at: &[usize]| -> Vec<f64> {
+        let mut o = vec![0.0; at.len()];
+        for (k, &i) in at.iter().enumerate() {
+            o[i] = x[k];
+        }
+        o
+    };
+    let largest = |x: &[f64]| x.iter().fold(1.0_f64, |s, x| s.max(x.abs()));
+    let mut worst = [0.0_f64; 4];
     for state in golden["states"].as_array().unwrap() {
-        let numbers =
-            |key: &str| -> Vec<f64> { state[key].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect() };
-        let (q, v, ddq) = (numbers("q"), numbers("v"), numbers("ddq"));
-        let (a, tau) = (numbers("a"), numbers("tau"));
-        let mass: Vec<f64> = state["M"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .flat_map(|r| r.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()))
-            .collect();
-        // Vectors in the joint space's order.
-        let ours = |x: &[f64]| -> Vec<f64> {
-            let mut o = vec![0.0; n];
-            for k in 0..n {
-                o[at[k]] = x[k];
-            }
-            o
-        };
-        let (qs, vs, accelerations) = (ours(&q), ours(&v), ours(&a));
-        let mut m = vec![0.0; n * n];
-        space.mass_matrix(&qs, &mut m)?;
-        let scale = mass.iter().fold(f64::MIN_POSITIVE, |s, x| s.max(x.abs()));
-        for i in 0..n {
-            for j in 0..n {
-                worst[1] = worst[1].max((m[at[i] * n + at[j]] - mass[i * n + j]).abs() / scale);
+        let (q, v, a) = (
+            ours(&numbers(&state["q"]), &q_at),
+            ours(&numbers(&state["v"]), &v_at),
+            ours(&numbers(&state["a"]), &v_at),
+        );
+        let (ddq, tau) = (numbers(&state["ddq"]), numbers(&state["tau"]));
+        let mass: Vec<f64> = state["M"].as_array().unwrap().iter().flat_map(numbers).collect();
+        let mut m = vec![0.0; nv * nv];
+        space.mass_matrix(&q, &mut m)?;
+        let scale = largest(&mass);
+        for i in 0..nv {
+            for j in 0..nv {
+                worst[1] = worst[1].max((m[v_at[i] * nv + v_at[j]] - mass[i * nv + j]).abs() / scale);
             }
         }
-        let mut t = vec![0.0; n];
-        space.inverse_dynamics(&qs, &vs, &accelerations, &mut t)?;
-        let scale = tau.iter().fold(1.0_f64, |s, x| s.max(x.abs()));
-        for k in 0..n {
-            worst[2] = worst[2].max((t[at[k]] - tau[k]).abs() / scale);
+        let mut t = vec![0.0; nv];
+        space.inverse_dynamics(&q, &v, &a, &mut t)?;
+        for k in 0..nv {
+            worst[2] = worst[2].max((t[v_at[k]] - tau[k]).abs() / largest(&tau));
         }
-        let mut fd = vec![0.0; n];
-        space.forward_dynamics(&qs, &vs, &vec![0.0; n], &mut fd)?;
+        let mut fd = vec![0.0; nv];
+        space.forward_dynamics(&q, &v, &vec![0.0; nv], &mut fd)?;
         // Accelerations are compared relative to their largest, and within
         // what rounding allows: solving M x = b loses up to cond(M) times
         // the precision (iCub's M reaches 1.2e8), so the tolerance 1e-10
         // stands for cond(M) up to 1e5 and grows with it past that.
         let cond = state["cond"].as_f64().unwrap_or(1.0);
-        let scale = ddq.iter().fold(1.0_f64, |s, x| s.max(x.abs())) * (cond / 1e5).max(1.0);
-        for k in 0..n {
-            worst[0] = worst[0].max((fd[at[k]] - ddq[k]).abs() / scale);
+        let scale = largest(&ddq) * (cond / 1e5).max(1.0);
+        for k in 0..nv {
+            worst[0] = worst[0].max((fd[v_at[k]] - ddq[k]).abs() / scale);
         }
-        let mut y = vec![0.0; names.len()];
-        for k in 0..joints.len() {
-            y[q_at[k]] = q[k];
-            y[v_at[k]] = v[k];
-        }
+        // The simulator's derivatives at the same state.
+        let y: Vec<f64> = q.iter().chain(&v).copied().collect();
         sim.set_continuous_state(&y)?;
         let mut dy = vec![0.0; y.len()];
         sim.derivatives(&mut dy)?;
-        for k in 0..joints.len() {
-            assert_eq!(dy[q_at[k]], v[k]);
-            worst[0] = worst[0].max((dy[v_at[k]] - ddq[k]).abs() / scale);
+        for k in 0..nv {
+            worst[0] = worst[0].max((dy[nq + v_at[k]] - ddq[k]).abs() / scale);
+        }
+        for (link, pose) in state["poses"].as_object().unwrap() {
+            let frame = names.link(link).ok_or_else(|| format!("Pinocchio's link {link} is not in the file"))?;
+            let pose = numbers(pose);
+            let ours = space.frame_pose(frame, &q)?;
+            let flat: Vec<f64> = ours.r_0.iter().chain(ours.rotation.iter().flatten()).copied().collect();
+            for k in 0..12 {
+                worst[3] = worst[3].max((flat[k] - pose[k]).abs() / largest(&pose[..3]).max(1.0));
+            }
         }
     }
     Ok(worst)
 }
 
+const KINDS: [&str; 4] = ["forward dynamics", "mass matrix", "inverse dynamics", "link poses"];
+
+fn describe(error: &[f64; 4]) -> String {
+    KINDS.iter().zip(error).map(|(k, e)| format!("{k} {e:.1e}")).collect::<Vec<_>>().join(", ")
+}
+
 #[test]
-fn forward_dynamics_equal_pinocchios() {
+fn dynamics_and_poses_equal_pinocchios_with_fixed_and_floating_bases() {
     let goldens: Value =
         serde_json::from_str(&std::fs::read_to_string(folder().join("goldens.json")).unwrap()).unwrap();
-    let mut worst = [0.0_f64; 3];
-    for (file, golden) in goldens.as_object().unwrap() {
-        let error = compare(&folder().join(file), golden).unwrap_or_else(|e| panic!("{file}: {e}"));
+    let mut worst = [0.0_f64; 4];
+    for (variant, golden) in goldens.as_object().unwrap() {
+        let file = variant.split(' ').next().unwrap();
+        let error = compare(&folder().join(file), golden).unwrap_or_else(|e| panic!("{variant}: {e}"));
         assert!(
             error.iter().all(|&e| e < 1e-10),
-            "{file}: forward dynamics, mass matrix, inverse dynamics differ from Pinocchio's by {error:?} (relative)"
+            "{variant}: differs from Pinocchio by {} (relative)",
+            describe(&error)
         );
-        for k in 0..3 {
+        for k in 0..4 {
             worst[k] = worst[k].max(error[k]);
         }
     }
+    let variants: Vec<&String> = goldens.as_object().unwrap().keys().collect();
+    assert!(
+        variants.iter().any(|v| v.ends_with("floating")) && variants.iter().any(|v| v.ends_with("damped")),
+        "the golden values lack a floating or a damped variant: {variants:?}"
+    );
     println!(
-        "vs Pinocchio, worst relative differences: forward dynamics {:.1e}, mass matrix {:.1e}, inverse dynamics \
-         {:.1e} (tolerance 1e-10)",
-        worst[0], worst[1], worst[2]
+        "vs Pinocchio ({} variants), worst relative differences: {} (tolerance 1e-10)",
+        variants.len(),
+        describe(&worst)
     );
 }
 
 /// Every URDF of a corpus (example-robot-data from PyPI) whose golden
 /// values `scripts/urdf_goldens.py` wrote to `$MULTIBODY_URDF_CORPUS`
-/// (keys: the files' paths): each either agrees with Pinocchio to 1e-10 or
-/// is refused with a message; the counts are printed.
+/// (keys: the files' paths, with " floating" for the floating variant):
+/// each either agrees with Pinocchio to 1e-10 or is refused with a
+/// message; the counts are printed.
 #[test]
 fn a_corpus_of_real_robots_agrees_with_pinocchio_or_is_refused() {
     let Some(goldens) = std::env::var_os("MULTIBODY_URDF_CORPUS") else {
@@ -162,41 +202,44 @@ fn a_corpus_of_real_robots_agrees_with_pinocchio_or_is_refused() {
         return;
     };
     let goldens: Value = serde_json::from_str(&std::fs::read_to_string(goldens).unwrap()).unwrap();
-    let (mut agree, mut refused, mut worst, mut differ) = (0, Vec::new(), [0.0_f64; 3], Vec::new());
-    for (path, golden) in goldens.as_object().unwrap() {
-        let name = std::path::Path::new(path).file_name().unwrap().to_string_lossy().into_owned();
+    let (mut agree, mut refused, mut worst, mut differ) = (0, Vec::new(), [0.0_f64; 4], Vec::new());
+    for (variant, golden) in goldens.as_object().unwrap() {
+        let path = Path::new(variant.split(" floating").next().unwrap());
+        let name = format!(
+            "{}{}",
+            path.file_name().unwrap().to_string_lossy(),
+            if variant.ends_with(" floating") { " (floating)" } else { "" }
+        );
         if golden["singular"].as_bool() == Some(true) {
             // Pinocchio's mass matrix is singular: ours must refuse the model.
-            let refusal = mechanism(std::path::Path::new(path)).err();
+            let floating = golden["floating"].as_bool().unwrap_or(false);
+            let refusal = mechanism(path, &ImportOptions { floating, damping: false }).err();
             assert!(refusal.is_some(), "{name}: Pinocchio finds a singular mass matrix, but the model was accepted");
             refused
                 .push(format!("{name} (singular in Pinocchio too): {}", refusal.unwrap().lines().next().unwrap_or("")));
             continue;
         }
-        match compare(std::path::Path::new(path), golden) {
+        match compare(path, golden) {
             Ok(error) if error.iter().all(|&e| e < 1e-10) => {
-                for k in 0..3 {
+                for k in 0..4 {
                     worst[k] = worst[k].max(error[k]);
                 }
                 agree += 1;
             }
-            Ok(error) => differ.push(format!("{name}: {error:?}")),
+            Ok(error) => differ.push(format!("{name}: {}", describe(&error))),
             Err(message) => refused.push(format!("{name}: {}", message.lines().next().unwrap_or(""))),
         }
     }
     println!(
-        "{} files: {agree} agree with Pinocchio (worst: forward dynamics {:.1e}, mass matrix {:.1e}, inverse \
-         dynamics {:.1e}), {} refused:",
+        "{} variants: {agree} agree with Pinocchio (worst: {}), {} refused:",
         agree + refused.len(),
-        worst[0],
-        worst[1],
-        worst[2],
+        describe(&worst),
         refused.len()
     );
     for r in &refused {
         println!("  {r}");
     }
-    assert!(differ.is_empty(), "forward dynamics differ from Pinocchio's (relative): {differ:?}");
+    assert!(differ.is_empty(), "differ from Pinocchio (relative): {differ:?}");
 }
 
 fn error_of(text: &str) -> String {
@@ -317,4 +360,39 @@ fn a_floating_robot_at_rest_falls_as_one_body() {
         }
     }
     assert!(names.iter().any(|n| n == "base.v_0[3]"), "{names:?}");
+}
+
+#[test]
+fn mimic_joints_hold_through_a_run() {
+    // Pinocchio's loader (4.1, mimic = true) refuses this file: a slide
+    // mimics a revolute that itself mimics another, declared after it.
+    let (mechanism, names) = mechanism(&folder().join("mimic.urdf"), &ImportOptions::default()).unwrap();
+    assert_eq!(mechanism.degrees_of_freedom(), 1);
+    let options = SimulationOptions { stop: 1.0, saveat: 0.001, reltol: 1e-8, abstol: 1e-8, ..Default::default() };
+    let solution = mechanism.simulate(&options).unwrap();
+    let column = |joint: &str, what: &str| solution.get(&format!("{}.{what}", names.joint(joint).unwrap())).unwrap();
+    let (left, right, tip) = (column("left_finger", "phi"), column("right_finger", "phi"), column("tip", "s"));
+    let (mut worst, mut travel) = (0.0_f64, 0.0_f64);
+    for k in 0..left.len() {
+        worst = worst.max((right[k] - (-left[k] + 0.01)).abs()).max((tip[k] - 0.02 * right[k]).abs());
+        travel = travel.max(left[k].abs());
+    }
+    assert!(travel > 0.5, "the leader hardly moved ({travel} rad): the test would not see a loose coupling");
+    assert!(worst < 1e-10, "the followers leave their leaders by {worst:.1e}");
+    println!("mimic joints: followers within {worst:.1e} of multiplier x leader + offset over 1 s ({} samples)", left.len());
+}
+
+#[test]
+fn bad_mimics_are_refused_with_their_place() {
+    let text = std::fs::read_to_string(folder().join("mimic.urdf")).unwrap();
+    let e = error_of(&text.replace("joint=\"left_finger\"", "joint=\"thumb\""));
+    assert!(e.starts_with("bad.urdf:21:5") && e.contains("mimics the joint `thumb`, which does not exist"), "{e}");
+    // The left finger mimicking the tip closes a circle of three.
+    let circle = text.replace(
+        "<limit lower=\"-1\" upper=\"1\" effort=\"5\" velocity=\"2\"/>\n  </joint>\n  <link name=\"left\">",
+        "<limit lower=\"-1\" upper=\"1\" effort=\"5\" velocity=\"2\"/>\n    <mimic joint=\"tip\"/>\n  </joint>\n  <link name=\"left\">",
+    );
+    assert_ne!(circle, text);
+    let e = error_of(&circle);
+    assert!(e.contains("follow each other in a circle") && e.contains("right_finger -> left_finger -> tip"), "{e}");
 }

@@ -293,6 +293,46 @@ impl Mechanism {
             .collect()
     }
 
+    /// The frame node of `frame`: a frame connector (`elbow.frame_b`), or
+    /// a component, whose `frame_a` (or only frame connector) is meant.
+    pub(crate) fn frame_node(&self, frame: &str) -> Result<usize, String> {
+        let is_frame =
+            |c: &CompiledComponent, local: usize| self.connectors[c.first_connector + local].node != usize::MAX;
+        let at = |c: &CompiledComponent, local: usize| self.connectors[c.first_connector + local].node;
+        if let Some(c) = self.components.iter().find(|c| !c.hidden && c.name == frame) {
+            let frames: Vec<usize> = (0..c.spec.connectors.len()).filter(|&k| is_frame(c, k)).collect();
+            let chosen = frames.iter().find(|&&k| c.spec.connectors[k].name == "frame_a").or(frames.first());
+            return match (chosen, frames.len()) {
+                (Some(&k), 1) => Ok(at(c, k)),
+                (Some(&k), _) if c.spec.connectors[k].name == "frame_a" => Ok(at(c, k)),
+                _ => Err(format!("`{frame}` has no frame_a: name one of its frames ({})", self.frame_names(c))),
+            };
+        }
+        let (component, connector) = frame.rsplit_once('.').unwrap_or((frame, ""));
+        let Some(c) = self.components.iter().find(|c| !c.hidden && c.name == component) else {
+            let names: Vec<&str> = self.components.iter().filter(|c| !c.hidden).map(|c| c.name.as_str()).collect();
+            let near = crate::error::closest(component, names.iter().copied());
+            let hint = near.first().map(|n| format!("; did you mean `{n}`?")).unwrap_or_default();
+            return Err(format!("no component or frame `{frame}` in the model{hint}"));
+        };
+        match c.spec.connectors.iter().position(|s| s.name == connector) {
+            Some(k) if is_frame(c, k) => Ok(at(c, k)),
+            _ => Err(format!("`{component}` has no frame `{connector}`: its frames are {}", self.frame_names(c))),
+        }
+    }
+
+    fn frame_names(&self, c: &CompiledComponent) -> String {
+        let names: Vec<&str> = (0..c.spec.connectors.len())
+            .filter(|&k| self.connectors[c.first_connector + k].node != usize::MAX && !c.spec.connectors[k].internal)
+            .map(|k| c.spec.connectors[k].name)
+            .collect();
+        if names.is_empty() {
+            "none".into()
+        } else {
+            names.join(", ")
+        }
+    }
+
     /// Explains a dynamics error in the model's terms.
     pub fn describe(&self, error: &DynamicsError) -> String {
         let name = |link: usize| self.components[self.system.links[link].source.0].name.clone();
