@@ -4,7 +4,8 @@
 #   render the animation and live pages and screenshot them (skipped when
 #   /usr/bin/chromium is already there);
 # - the engine compiled to WebAssembly (scripts/build-web.sh), which the
-#   live page tests embed.
+#   live page tests embed;
+# - real robots and Pinocchio's dynamics of them (scripts/fetch-robots.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -22,3 +23,7 @@ else
 fi
 
 scripts/build-web.sh
+
+# Real robots (example-robot-data) and Pinocchio's dynamics of them, for
+# the URDF conformance tests; they skip with a message without them.
+scripts/fetch-robots.sh

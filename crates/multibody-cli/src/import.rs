@@ -13,13 +13,29 @@ pub fn is_urdf(path: &Path) -> bool {
     path.extension().is_some_and(|e| e.eq_ignore_ascii_case("urdf"))
 }
 
+/// How a URDF file's meshes are found and what a missing one does.
+pub struct Meshes<'a> {
+    /// Folders that hold ROS packages (`--package-dir`); `ROS_PACKAGE_PATH`
+    /// is searched after them.
+    pub package_dirs: &'a [PathBuf],
+    /// A missing mesh stops the import (else it is noted and left out).
+    pub required: bool,
+    /// Mesh visuals are left out (`--no-meshes`).
+    pub leave_out: bool,
+}
+
 /// The robot of a URDF file as Dyad text, the elements it did not map
 /// said once each (with file:line:col) on stderr.
-pub fn urdf_as_dyad(path: &Path, bytes: Vec<u8>, options: &ImportOptions) -> Result<(Robot, String), Failure> {
+pub fn urdf_as_dyad(
+    path: &Path,
+    bytes: Vec<u8>,
+    options: &ImportOptions,
+    meshes: &Meshes,
+) -> Result<(Robot, String), Failure> {
     let file = path.display().to_string();
     let text = String::from_utf8(bytes)
         .map_err(|e| Failure::Usage(format!("{file} is not UTF-8 text (byte {})", e.utf8_error().valid_up_to())))?;
-    let robot = urdf::parse(&text).map_err(|e| {
+    let mut robot = urdf::parse(&text).map_err(|e| {
         eprintln!("{}", e.render(&file));
         Failure::Model
     })?;
@@ -32,6 +48,33 @@ pub fn urdf_as_dyad(path: &Path, bytes: Vec<u8>, options: &ImportOptions) -> Res
             s.tag,
             urdf::skipped_effect(&s.tag)
         );
+    }
+    if meshes.leave_out {
+        for link in &mut robot.links {
+            link.visuals.retain(|v| !matches!(v.geometry, urdf::Geometry::Mesh { .. }));
+        }
+    }
+    let mut package_dirs = meshes.package_dirs.to_vec();
+    if let Some(ros) = std::env::var_os("ROS_PACKAGE_PATH") {
+        package_dirs.extend(std::env::split_paths(&ros).filter(|p| !p.as_os_str().is_empty()));
+    }
+    let folder = path
+        .parent()
+        .map_or_else(|| PathBuf::from("."), |p| if p.as_os_str().is_empty() { ".".into() } else { p.into() });
+    let missing = urdf::resolve_meshes(&mut robot, &urdf::MeshSearch { urdf_folder: folder, package_dirs });
+    for m in &missing {
+        if meshes.required {
+            eprintln!("error: {}", m.render(&file));
+        } else {
+            say!("{}; the link is drawn without it", m.render(&file).replacen(": the mesh", ": note: the mesh", 1));
+        }
+    }
+    if meshes.required && !missing.is_empty() {
+        say!(
+            "help: name the folder that holds the package with --package-dir (or ROS_PACKAGE_PATH), or import \
+             without meshes with --no-meshes"
+        );
+        return Err(Failure::Model);
     }
     let dyad = urdf::to_dyad(&robot, &file, options);
     Ok((robot, dyad))
@@ -47,8 +90,13 @@ pub fn import(args: &ImportArgs) -> Result<(), Failure> {
     output::outputs_are_safe(std::slice::from_ref(&args.file), &[("--out", Some(&out))])?;
     let bytes =
         std::fs::read(&args.file).map_err(|e| Failure::Io(format!("cannot read {}: {e}", args.file.display())))?;
-    let (robot, dyad) =
-        urdf_as_dyad(&args.file, bytes, &ImportOptions { floating: args.floating, ..Default::default() })?;
+    // Mesh files are named from the model file's folder.
+    let base = out
+        .parent()
+        .map_or_else(|| PathBuf::from("."), |p| if p.as_os_str().is_empty() { ".".into() } else { p.into() });
+    let options = ImportOptions { floating: args.floating, mesh_base: Some(base), ..Default::default() };
+    let meshes = Meshes { package_dirs: &args.package_dir, required: true, leave_out: args.no_meshes };
+    let (robot, dyad) = urdf_as_dyad(&args.file, bytes, &options, &meshes)?;
     // The file must be a model that assembles before it is written.
     let mut package = multibody_dyad::Package::new();
     let name = out.display().to_string();

@@ -29,7 +29,13 @@ pub fn read_package(paths: &[PathBuf]) -> Result<Package, Failure> {
         let bytes = read_model_file(file)?;
         if crate::import::is_urdf(file) {
             // A robot: read as the model file `multibody import` writes.
-            let (_, dyad) = crate::import::urdf_as_dyad(file, bytes, &Default::default())?;
+            // Meshes are named from the URDF's folder, where the model is.
+            let options = multibody_dyad::urdf::ImportOptions {
+                mesh_base: file.parent().map(Path::to_path_buf),
+                ..Default::default()
+            };
+            let meshes = crate::import::Meshes { package_dirs: &[], required: false, leave_out: false };
+            let (_, dyad) = crate::import::urdf_as_dyad(file, bytes, &options, &meshes)?;
             if let Err(d) = package.add_source(format!("{}.dyad", named_folder(file).display()), dyad) {
                 errors.push(d);
             }

@@ -247,6 +247,13 @@ pub struct ImportArgs {
     /// The root link moves freely (a floating base) instead of being fixed to the world
     #[arg(long)]
     pub floating: bool,
+    /// A folder that holds ROS packages (or is one), for `package://NAME/...` meshes; repeatable.
+    /// Folders above the URDF file and ROS_PACKAGE_PATH are searched too
+    #[arg(long, value_name = "DIR")]
+    pub package_dir: Vec<PathBuf>,
+    /// Leave mesh visuals out (instead of stopping at a mesh that is not found)
+    #[arg(long)]
+    pub no_meshes: bool,
 }
 
 #[derive(Args)]

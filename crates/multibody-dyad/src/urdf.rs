@@ -11,6 +11,7 @@
 //! frame. URDF is z-up: the World's gravity points along -z.
 
 use std::fmt::Write;
+use std::path::{Path, PathBuf};
 
 /// A place in the URDF file (1-based).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -70,10 +71,24 @@ pub struct Inertial {
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Geometry {
-    Box { size: [f64; 3] },
-    Cylinder { radius: f64, length: f64 },
-    Sphere { radius: f64 },
-    Mesh { filename: String, scale: [f64; 3] },
+    Box {
+        size: [f64; 3],
+    },
+    Cylinder {
+        radius: f64,
+        length: f64,
+    },
+    Sphere {
+        radius: f64,
+    },
+    /// `filename` as written (`package://...`, `file://...` or a path);
+    /// `path` where [`resolve_meshes`] found it.
+    Mesh {
+        filename: String,
+        scale: [f64; 3],
+        path: Option<std::path::PathBuf>,
+        at: Pos,
+    },
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -204,6 +219,13 @@ pub fn parse(text: &str) -> Result<Robot, UrdfError> {
             .help("each link is the child of at most one joint; a closed chain cannot be written in URDF"));
         }
         joints.push(joint);
+    }
+    // A fixed joint does not move: a mimic on it (Talos's grippers have
+    // some) changes nothing.
+    for j in joints.iter_mut().filter(|j| j.kind == JointKind::Fixed) {
+        if let Some(m) = j.mimic.take() {
+            skip("mimic", m.at);
+        }
     }
     check_mimics(&joints)?;
     // The root: the one link no joint moves; a loop leaves none.
@@ -378,13 +400,12 @@ fn read_visual(
             Geometry::Cylinder { radius: number(shape, "radius", pos)?, length: number(shape, "length", pos)? }
         }
         "sphere" => Geometry::Sphere { radius: number(shape, "radius", pos)? },
-        "mesh" => {
-            skip("mesh", pos(shape));
-            Geometry::Mesh {
-                filename: required(shape, "filename", pos)?.to_string(),
-                scale: vector(shape, "scale", pos)?.unwrap_or([1.0; 3]),
-            }
-        }
+        "mesh" => Geometry::Mesh {
+            filename: required(shape, "filename", pos)?.to_string(),
+            scale: vector(shape, "scale", pos)?.unwrap_or([1.0; 3]),
+            path: None,
+            at: pos(shape),
+        },
         other => {
             skip(other, pos(shape));
             return Ok(None);
@@ -550,6 +571,115 @@ fn read_origin(node: roxmltree::Node, pos: &PosOf) -> Result<Origin, UrdfError> 
     Ok(Origin { xyz: vector(o, "xyz", pos)?.unwrap_or([0.0; 3]), rpy: vector(o, "rpy", pos)?.unwrap_or([0.0; 3]) })
 }
 
+/// Where mesh files are looked for: the URDF file's folder, and folders
+/// that hold ROS packages (`--package-dir`, `ROS_PACKAGE_PATH`).
+#[derive(Clone, Debug, Default)]
+pub struct MeshSearch {
+    pub urdf_folder: PathBuf,
+    pub package_dirs: Vec<PathBuf>,
+}
+
+/// A mesh that was not found: its place, its name as written, and the
+/// places looked at.
+#[derive(Clone, Debug)]
+pub struct MissingMesh {
+    pub at: Pos,
+    pub filename: String,
+    pub looked: Vec<PathBuf>,
+}
+
+impl MissingMesh {
+    pub fn render(&self, file: &str) -> String {
+        let looked: Vec<String> = self.looked.iter().map(|p| p.display().to_string()).collect();
+        format!(
+            "{file}:{}:{}: the mesh `{}` is not found (looked for {})",
+            self.at.line,
+            self.at.col,
+            self.filename,
+            if looked.is_empty() { "nothing".into() } else { looked.join(", ") }
+        )
+    }
+}
+
+/// The folder of the ROS package `name`, seen from `search`: a package
+/// folder given (or one inside it), or a folder above the URDF file named
+/// `name` or whose `package.xml` names it.
+fn package_folder(name: &str, search: &MeshSearch, looked: &mut Vec<PathBuf>) -> Option<PathBuf> {
+    let names_package = |dir: &Path| {
+        dir.file_name().is_some_and(|f| f == name)
+            || std::fs::read_to_string(dir.join("package.xml")).is_ok_and(|x| {
+                roxmltree::Document::parse(&x).is_ok_and(|d| {
+                    d.root_element().children().any(|n| n.has_tag_name("name") && n.text().map(str::trim) == Some(name))
+                })
+            })
+    };
+    for dir in &search.package_dirs {
+        if names_package(dir) {
+            return Some(dir.clone());
+        }
+        looked.push(dir.join(name));
+        if dir.join(name).is_dir() {
+            return Some(dir.join(name));
+        }
+    }
+    let start = std::fs::canonicalize(&search.urdf_folder).unwrap_or_else(|_| search.urdf_folder.clone());
+    for dir in start.ancestors() {
+        if names_package(dir) {
+            return Some(dir.to_path_buf());
+        }
+        looked.push(dir.join(name));
+        if dir.join(name).is_dir() {
+            return Some(dir.join(name));
+        }
+    }
+    None
+}
+
+/// Finds every mesh file of the robot (`path` of each mesh); the ones not
+/// found are returned, and keep no path.
+pub fn resolve_meshes(robot: &mut Robot, search: &MeshSearch) -> Vec<MissingMesh> {
+    let mut missing = Vec::new();
+    for visual in robot.links.iter_mut().flat_map(|l| l.visuals.iter_mut()) {
+        let Geometry::Mesh { filename, path, at, .. } = &mut visual.geometry else { continue };
+        let mut looked = Vec::new();
+        let candidate = if let Some(rest) = filename.strip_prefix("package://") {
+            let (package, inside) = rest.split_once('/').unwrap_or((rest, ""));
+            package_folder(package, search, &mut looked).map(|dir| dir.join(inside))
+        } else if let Some(absolute) = filename.strip_prefix("file://") {
+            Some(PathBuf::from(absolute))
+        } else {
+            Some(search.urdf_folder.join(&*filename))
+        };
+        match candidate {
+            Some(file) if file.is_file() => *path = Some(file),
+            Some(file) => {
+                looked.clear();
+                looked.push(file);
+                missing.push(MissingMesh { at: *at, filename: filename.clone(), looked });
+            }
+            None => missing.push(MissingMesh { at: *at, filename: filename.clone(), looked }),
+        }
+    }
+    missing
+}
+
+/// `path` relative to the folder `from` (both made absolute), for a model
+/// file that names its meshes from where it is.
+pub fn relative_path(path: &Path, from: &Path) -> PathBuf {
+    let absolute = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| std::path::absolute(p).unwrap_or(p.into()));
+    let (path, from) = (absolute(path), absolute(from));
+    let common = path.components().zip(from.components()).take_while(|(a, b)| a == b).count();
+    if common == 0 {
+        return path;
+    }
+    let mut out = PathBuf::new();
+    for _ in from.components().skip(common) {
+        out.push("..");
+    }
+    out.extend(path.components().skip(common));
+    out
+}
+
 /// How a robot is imported.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ImportOptions {
@@ -559,12 +689,23 @@ pub struct ImportOptions {
     /// Joint damping (`<dynamics damping>`) as a damper on the joint's axis;
     /// without it, the dynamics Pinocchio computes (it leaves damping out).
     pub damping: bool,
+    /// Mimic joints as couplings of their axes; without it, each moves on
+    /// its own (as in Pinocchio's dynamics unless asked otherwise).
+    pub mimic: bool,
+    /// The folder the model file will be in: mesh files are named from
+    /// there (absolute paths without it).
+    pub mesh_base: Option<PathBuf>,
 }
 
 impl Default for ImportOptions {
     fn default() -> Self {
-        ImportOptions { floating: false, damping: true }
+        ImportOptions { floating: false, damping: true, mimic: true, mesh_base: None }
     }
+}
+
+/// A Dyad string literal.
+fn quoted(text: &str) -> String {
+    format!("\"{}\"", text.replace('\\', "\\\\").replace('"', "\\\""))
 }
 
 type Mat = [[f64; 3]; 3];
@@ -790,6 +931,15 @@ pub fn to_dyad(robot: &Robot, file: &str, options: &ImportOptions) -> String {
                 num(i[2][1])
             ));
             at_link[l].push(format!("{id}.frame_a"));
+        } else if options.floating && l == robot.root {
+            // The floating base's free motion belongs to a Body: a massless
+            // root gets one without mass (the links fixed to it carry it).
+            declarations.push(format!(
+                "  \"Link `{}` (line {}): no mass, the floating base\"\n  {id} = MultibodyComponents.Body(orientation_state = \
+                 OrientationState.Quaternion(), m = 0, r_cm = [0, 0, 0], I_11 = 0, I_22 = 0, I_33 = 0)",
+                link.name, link.at.line
+            ));
+            at_link[l].push(format!("{id}.frame_a"));
         } else {
             // A link without mass is a frame: named, so that its pose and
             // signals can be asked for by the link's name.
@@ -831,7 +981,30 @@ pub fn to_dyad(robot: &Robot, file: &str, options: &ImportOptions) -> String {
                     num(2.0 * radius),
                     num(2.0 * radius)
                 ),
-                Geometry::Mesh { .. } => continue,
+                Geometry::Mesh { path: None, .. } => continue,
+                Geometry::Mesh { path: Some(path), scale, .. } => {
+                    let file = match &options.mesh_base {
+                        Some(base) => relative_path(path, base),
+                        None => path.clone(),
+                    };
+                    // The mesh's scale (per axis) goes into the transform.
+                    let row = |i: usize| {
+                        format!(
+                            "[{}, {}, {}, {}]",
+                            num(r[i][0] * scale[0]),
+                            num(r[i][1] * scale[1]),
+                            num(r[i][2] * scale[2]),
+                            num(c[i])
+                        )
+                    };
+                    format!(
+                        "ShapefileVisualizer(shapefile = {}, shape_transform = [{}, {}, {}, [0, 0, 0, 1]])",
+                        quoted(&file.to_string_lossy()),
+                        row(0),
+                        row(1),
+                        row(2)
+                    )
+                }
             };
             let name = fresh(format!(
                 "{id}_visual{}",
@@ -850,7 +1023,8 @@ pub fn to_dyad(robot: &Robot, file: &str, options: &ImportOptions) -> String {
         let note = format!("  \"Joint `{}` ({:?}, line {})\"\n", joint.name, joint.kind, joint.at.line)
             .replace("Continuous", "continuous");
         // A mimic's follower starts where its leader puts it.
-        let start = if joint.mimic.is_some() { "guess" } else { "initial" };
+        let mimic = joint.mimic.as_ref().filter(|_| options.mimic);
+        let start = if mimic.is_some() { "guess" } else { "initial" };
         let component = match joint.kind {
             JointKind::Revolute | JointKind::Continuous => {
                 format!("URDFRevolute({origin}, joint_n = {}, phi({start} = 0), w({start} = 0))", vec3(joint.axis))
@@ -869,7 +1043,7 @@ pub fn to_dyad(robot: &Robot, file: &str, options: &ImportOptions) -> String {
         declarations.push(format!("{note}  {id} = MultibodyComponents.{component}"));
         at_link[joint.parent].push(format!("{id}.frame_a"));
         at_link[joint.child].push(format!("{id}.frame_b"));
-        if let Some(m) = &joint.mimic {
+        if let Some(m) = mimic {
             let leader = robot.joints.iter().position(|o| o.name == m.joint).expect("checked by parse");
             let coordinate = |kind: JointKind| if kind == JointKind::Prismatic { "s" } else { "phi" };
             relations.push(format!(
@@ -939,8 +1113,8 @@ pub fn skipped_effect(tag: &str) -> &'static str {
         "transmission" | "gazebo" => "simulator and controller settings are not used",
         "safety_controller" | "calibration" => "controller settings are not used",
         "dynamics friction" => "joint friction is not applied (damping is)",
+        "mimic" => "a mimic on a fixed joint has no effect",
         "limit" => "limits are not enforced (nor are they in Pinocchio's dynamics)",
-        "mesh" => "meshes are not drawn yet (the link's mass and inertia are kept)",
         _ => "not part of the model",
     }
 }

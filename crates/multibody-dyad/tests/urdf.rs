@@ -73,6 +73,9 @@ fn compare(path: &Path, golden: &Value) -> Result<[f64; 4], String> {
         // Pinocchio's dynamics leave joint damping out: the golden values
         // of a damped variant have its torques as joint forces.
         damping: golden["damped"].as_bool().unwrap_or(false),
+        // Nor mimic joints, unless asked (mimic_joints_hold_through_a_run).
+        mimic: false,
+        ..Default::default()
     };
     let (mechanism, names) = mechanism(path, &options)?;
     let mut sim = Simulator::for_host(mechanism.clone(), &SimulationOptions::default()).map_err(|s| s.reason)?;
@@ -190,36 +193,49 @@ fn dynamics_and_poses_equal_pinocchios_with_fixed_and_floating_bases() {
     );
 }
 
-/// Every URDF of a corpus (example-robot-data from PyPI) whose golden
-/// values `scripts/urdf_goldens.py` wrote to `$MULTIBODY_URDF_CORPUS`
-/// (keys: the files' paths, with " floating" for the floating variant):
-/// each either agrees with Pinocchio to 1e-10 or is refused with a
+/// The robots `scripts/fetch-robots.sh` fetched (example-robot-data from
+/// PyPI, with Pinocchio's golden values): `$MULTIBODY_ROBOTS`, by default
+/// the workspace's `target/robots`; `None`, said, when they are not there.
+fn robots() -> Option<(PathBuf, Value)> {
+    let folder = std::env::var_os("MULTIBODY_ROBOTS")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../target/robots"));
+    let Ok(text) = std::fs::read_to_string(folder.join("pinocchio-goldens.json")) else {
+        println!(
+            "skipped: no robots in {} (scripts/fetch-robots.sh fetches them with Pinocchio's values)",
+            folder.display()
+        );
+        return None;
+    };
+    Some((folder.join("example-robot-data"), serde_json::from_str(&text).unwrap()))
+}
+
+/// Every URDF file of example-robot-data, with a fixed and a floating
+/// base: each either agrees with Pinocchio to 1e-10 or is refused with a
 /// message; the counts are printed.
 #[test]
 fn a_corpus_of_real_robots_agrees_with_pinocchio_or_is_refused() {
-    let Some(goldens) = std::env::var_os("MULTIBODY_URDF_CORPUS") else {
-        println!("skipped: set MULTIBODY_URDF_CORPUS to golden values of a URDF corpus (scripts/urdf_goldens.py)");
-        return;
-    };
-    let goldens: Value = serde_json::from_str(&std::fs::read_to_string(goldens).unwrap()).unwrap();
+    let Some((folder, goldens)) = robots() else { return };
+    let files = count_urdf_files(&folder);
     let (mut agree, mut refused, mut worst, mut differ) = (0, Vec::new(), [0.0_f64; 4], Vec::new());
     for (variant, golden) in goldens.as_object().unwrap() {
-        let path = Path::new(variant.split(" floating").next().unwrap());
+        let path = folder.join(variant.split(" floating").next().unwrap());
         let name = format!(
             "{}{}",
             path.file_name().unwrap().to_string_lossy(),
             if variant.ends_with(" floating") { " (floating)" } else { "" }
         );
+        let floating = golden["floating"].as_bool().unwrap_or(false);
         if golden["singular"].as_bool() == Some(true) {
             // Pinocchio's mass matrix is singular: ours must refuse the model.
-            let floating = golden["floating"].as_bool().unwrap_or(false);
-            let refusal = mechanism(path, &ImportOptions { floating, damping: false }).err();
+            let refusal =
+                mechanism(&path, &ImportOptions { floating, damping: false, mimic: false, ..Default::default() }).err();
             assert!(refusal.is_some(), "{name}: Pinocchio finds a singular mass matrix, but the model was accepted");
             refused
                 .push(format!("{name} (singular in Pinocchio too): {}", refusal.unwrap().lines().next().unwrap_or("")));
             continue;
         }
-        match compare(path, golden) {
+        match compare(&path, golden) {
             Ok(error) if error.iter().all(|&e| e < 1e-10) => {
                 for k in 0..4 {
                     worst[k] = worst[k].max(error[k]);
@@ -231,8 +247,9 @@ fn a_corpus_of_real_robots_agrees_with_pinocchio_or_is_refused() {
         }
     }
     println!(
-        "{} variants: {agree} agree with Pinocchio (worst: {}), {} refused:",
-        agree + refused.len(),
+        "{files} URDF files, {} variants with Pinocchio's values (fixed and floating bases): {agree} agree \
+         (worst: {}), {} refused:",
+        agree + refused.len() + differ.len(),
         describe(&worst),
         refused.len()
     );
@@ -240,6 +257,24 @@ fn a_corpus_of_real_robots_agrees_with_pinocchio_or_is_refused() {
         println!("  {r}");
     }
     assert!(differ.is_empty(), "differ from Pinocchio (relative): {differ:?}");
+    // Most of the corpus must load: a regression that refuses files fails.
+    assert!(agree >= 120, "only {agree} variants agree");
+}
+
+fn count_urdf_files(folder: &Path) -> usize {
+    let mut count = 0;
+    let mut stack = vec![folder.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e == "urdf") {
+                count += 1;
+            }
+        }
+    }
+    count
 }
 
 fn error_of(text: &str) -> String {
@@ -379,7 +414,10 @@ fn mimic_joints_hold_through_a_run() {
     }
     assert!(travel > 0.5, "the leader hardly moved ({travel} rad): the test would not see a loose coupling");
     assert!(worst < 1e-10, "the followers leave their leaders by {worst:.1e}");
-    println!("mimic joints: followers within {worst:.1e} of multiplier x leader + offset over 1 s ({} samples)", left.len());
+    println!(
+        "mimic joints: followers within {worst:.1e} of multiplier x leader + offset over 1 s ({} samples)",
+        left.len()
+    );
 }
 
 #[test]

@@ -150,7 +150,7 @@ impl<'m> JointSpace<'m> {
         self.check(&[("q", q.len(), true), ("v", v.len(), false), ("a", a.len(), false), ("tau", tau.len(), false)])?;
         self.motion(q, Some(v))?;
         let n = self.bias.len();
-        for ((t, row), b) in tau.iter_mut().zip(self.mass.chunks_exact(n)).zip(&self.bias) {
+        for ((t, row), b) in tau.iter_mut().zip(self.mass.chunks_exact(n.max(1))).zip(&self.bias) {
             // `bias` is the force that leaves the joints unaccelerated, -C.
             *t = row.iter().zip(a).map(|(m, x)| m * x).sum::<f64>() - b;
         }
