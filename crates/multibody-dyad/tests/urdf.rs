@@ -434,3 +434,39 @@ fn bad_mimics_are_refused_with_their_place() {
     let e = error_of(&circle);
     assert!(e.contains("follow each other in a circle") && e.contains("right_finger -> left_finger -> tip"), "{e}");
 }
+
+#[test]
+fn an_undamped_ur5_conserves_energy() {
+    let Some((folder, _)) = robots() else { return };
+    let path = folder.join("ur_description/urdf/ur5_robot.urdf");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let robot = urdf::parse(&text).unwrap();
+    assert!(robot.joints.iter().all(|j| j.damping == 0.0), "the UR5 file has damping: energy is not conserved");
+    let dyad = urdf::to_dyad(&robot, "ur5_robot.urdf", &ImportOptions::default());
+    let mut package = Package::new();
+    package.add_source("ur5_robot.dyad", dyad).unwrap();
+    let target = package.choose_target(None, None).unwrap();
+    // Swinging from an arm stretched out sideways, every joint turned.
+    let starts = [("shoulder_pan_joint", 0.3), ("shoulder_lift_joint", -0.4), ("elbow_joint", 0.6)];
+    let starts = starts.iter().chain(&[("wrist_1_joint", -1.1), ("wrist_2_joint", 0.8), ("wrist_3_joint", 0.5)]);
+    let overrides: Vec<_> = starts.map(|(j, x)| multibody_dyad::Override::initial(format!("{j}.phi"), *x)).collect();
+    let lowered = package.lower_target(&target, &overrides).unwrap_or_else(|d| panic!("{}", package.render(&[d])));
+    let mechanism = lowered.assemble().unwrap_or_else(|d| panic!("{}", package.render(&[d])));
+    let options =
+        SimulationOptions { stop: 5.0, saveat: 0.01, reltol: 1e-12, abstol: 1e-12, ..SimulationOptions::default() };
+    let solution = mechanism.simulate(&options).unwrap();
+    let sum = |suffix: &str| -> Vec<f64> {
+        let columns: Vec<&[f64]> =
+            solution.names().iter().filter(|n| n.ends_with(suffix)).map(|n| solution.get(n).unwrap()).collect();
+        assert!(columns.len() >= 6, "{} columns end in {suffix}", columns.len());
+        (0..solution.time().len()).map(|k| columns.iter().map(|c| c[k]).sum()).collect()
+    };
+    let (kinetic, potential) = (sum(".KE"), sum(".PE"));
+    let energy: Vec<f64> = kinetic.iter().zip(&potential).map(|(k, p)| k + p).collect();
+    // Relative to the energy that changes form: the largest kinetic energy.
+    let scale = kinetic.iter().fold(0.0_f64, |m, k| m.max(*k));
+    assert!(scale > 10.0, "the arm hardly moved (largest kinetic energy {scale} J)");
+    let drift = energy.iter().map(|e| (e - energy[0]).abs()).fold(0.0, f64::max) / scale;
+    assert!(drift < 1e-9, "the energy drifts by {drift:.1e} of the largest kinetic energy {scale:.1} J over 5 s");
+    println!("UR5, 5 s undamped: energy within {drift:.1e} of the largest kinetic energy ({scale:.1} J)");
+}
