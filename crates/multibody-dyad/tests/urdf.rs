@@ -79,7 +79,7 @@ fn compare(path: &Path, golden: &Value) -> Result<[f64; 4], String> {
     };
     let (mechanism, names) = mechanism(path, &options)?;
     let mut sim = Simulator::for_host(mechanism.clone(), &SimulationOptions::default()).map_err(|s| s.reason)?;
-    let mut space = JointSpace::new(&mechanism)?;
+    let mut space = JointSpace::new(mechanism.clone())?;
     let (nq, nv) = (space.coordinates().len(), space.velocities().len());
     // Where each of Pinocchio's coordinates is in ours, in its order.
     let (mut q_at, mut v_at) = (Vec::new(), Vec::new());

@@ -61,6 +61,18 @@ fn load_text(text: String, file: String, analysis: Option<String>, model: Option
     Ok(Model { name: lowered.name.clone(), options: lowered.options.clone(), package, target })
 }
 
+/// Reads a URDF robot's text as the model `multibody import` writes (mesh
+/// visuals left out: Python draws nothing); `file` names it in messages.
+#[pyfunction]
+#[pyo3(signature = (text, file, floating = false))]
+fn load_urdf(text: String, file: String, floating: bool) -> PyResult<Model> {
+    use multibody_dyad::urdf;
+    let robot = urdf::parse(&text)
+        .map_err(|e| ModelError::new_err((e.render(&file), file.clone(), e.at.line as usize, e.at.col as usize)))?;
+    let dyad = urdf::to_dyad(&robot, &file, &urdf::ImportOptions { floating, ..Default::default() });
+    load_text(dyad, format!("{file}.dyad"), None, None)
+}
+
 /// The analysis or component asked for, or the only one.
 fn choose(package: &Package, analysis: Option<String>, model: Option<String>) -> PyResult<Target> {
     if let Some(name) = analysis {
@@ -215,6 +227,18 @@ impl Model {
             ("saveat", o.saveat),
             ("dtmax", o.dtmax),
         ]
+    }
+
+    /// The joint-space dynamics of the model with these parameters (see
+    /// `multibody::JointSpace`).
+    fn joint_space(&self, params: Values) -> PyResult<JointSpace> {
+        let lowered = self
+            .package
+            .lower_target(&self.target, &overrides(params, Vec::new()))
+            .map_err(|d| model_error(&self.package, &d))?;
+        let mechanism = lowered.assemble().map_err(|d| model_error(&self.package, &d))?;
+        let space = multibody::JointSpace::new(Arc::new(mechanism)).map_err(PyValueError::new_err)?;
+        Ok(JointSpace { space })
     }
 
     /// Every signal of the model, by name.
@@ -607,6 +631,56 @@ type LinearTuple = (
 type SteadyTuple = (f64, usize, Vec<(String, f64)>);
 
 /// Bad names are `ValueError`s; the rest `LinearizationError`s.
+/// A mechanism's mass matrix, forward and inverse dynamics and frame
+/// poses by joint coordinate (the Python layer makes numpy arrays).
+#[pyclass(module = "multibody._multibody")]
+struct JointSpace {
+    space: multibody::JointSpace,
+}
+
+#[pymethods]
+impl JointSpace {
+    #[getter]
+    fn joints(&self) -> Vec<String> {
+        self.space.joints().to_vec()
+    }
+
+    #[getter]
+    fn coordinates(&self) -> Vec<String> {
+        self.space.coordinates().to_vec()
+    }
+
+    #[getter]
+    fn velocities(&self) -> Vec<String> {
+        self.space.velocities().to_vec()
+    }
+
+    fn mass_matrix(&mut self, q: Vec<f64>) -> PyResult<Vec<f64>> {
+        let n = self.space.velocities().len();
+        let mut out = vec![0.0; n * n];
+        self.space.mass_matrix(&q, &mut out).map_err(PyValueError::new_err)?;
+        Ok(out)
+    }
+
+    fn forward_dynamics(&mut self, q: Vec<f64>, v: Vec<f64>, tau: Vec<f64>) -> PyResult<Vec<f64>> {
+        let mut a = vec![0.0; self.space.velocities().len()];
+        self.space.forward_dynamics(&q, &v, &tau, &mut a).map_err(PyValueError::new_err)?;
+        Ok(a)
+    }
+
+    fn inverse_dynamics(&mut self, q: Vec<f64>, v: Vec<f64>, a: Vec<f64>) -> PyResult<Vec<f64>> {
+        let mut tau = vec![0.0; self.space.velocities().len()];
+        self.space.inverse_dynamics(&q, &v, &a, &mut tau).map_err(PyValueError::new_err)?;
+        Ok(tau)
+    }
+
+    /// The frame's origin (3) and its `R` (9, row-major).
+    fn frame_pose(&mut self, frame: &str, q: Vec<f64>) -> PyResult<(Vec<f64>, Vec<f64>)> {
+        let pose = self.space.frame_pose(frame, &q).map_err(PyValueError::new_err)?;
+        Ok((pose.r_0.to_vec(), pose.rotation.iter().flatten().copied().collect()))
+    }
+}
+
 fn linearize_error(e: multibody::LinearizeError) -> PyErr {
     match e {
         multibody::LinearizeError::UnknownInput { .. } | multibody::LinearizeError::UnknownOutput { .. } => {
@@ -620,7 +694,9 @@ fn linearize_error(e: multibody::LinearizeError) -> PyErr {
 fn _multibody(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Model>()?;
     m.add_class::<Simulator>()?;
+    m.add_class::<JointSpace>()?;
     m.add_function(wrap_pyfunction!(load_text, m)?)?;
+    m.add_function(wrap_pyfunction!(load_urdf, m)?)?;
     m.add("MultibodyError", m.py().get_type::<MultibodyError>())?;
     m.add("ModelError", m.py().get_type::<ModelError>())?;
     m.add("SimulationError", m.py().get_type::<SimulationError>())?;

@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import fnmatch
 import os
-from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -46,6 +46,7 @@ __all__ = [
     "Model",
     "Result",
     "Simulator",
+    "JointSpace",
     "LinearModel",
     "MultibodyError",
     "LinearizationError",
@@ -131,6 +132,12 @@ class Model:
     def options(self) -> Dict[str, float]:
         """The analysis's options: start, stop, abstol, reltol, saveat, dtmax."""
         return dict(self._native.options)
+
+    def joint_space(self, params: Optional[Mapping[str, float]] = None) -> "JointSpace":
+        """The model's dynamics by joint coordinate, as robotics libraries
+        give them (mass matrix, forward and inverse dynamics, frame poses),
+        with these parameter values; for models without loops."""
+        return JointSpace(_call(self._native.joint_space, list((params or {}).items())))
 
     def signals(self, *patterns: str) -> List[str]:
         """Every signal's name, or those matching the glob patterns (``"*.phi"``)."""
@@ -283,6 +290,65 @@ class Model:
 
     def __repr__(self) -> str:
         return f"<multibody.Model {self.name!r} from {self.file}>"
+
+
+class JointSpace:
+    """A mechanism's dynamics by joint coordinate (``Model.joint_space()``).
+
+    ``q`` are the position coordinates (``coordinates``: ``elbow.phi``, or a
+    floating base's ``r_0`` and quaternion ``Q_hat`` [w, i, j, k]) and
+    ``v`` the velocity coordinates (``velocities``: ``elbow.w``, or a
+    floating base's ``v_0`` in the world and ``w_a`` in the body), in tree
+    order. Forces ``tau`` are joint torques and forces (a floating base's: a
+    world force and a body torque); the model's own joint forces (springs,
+    dampers) and gravity are in the dynamics already.
+    """
+
+    def __init__(self, native: "_multibody.JointSpace"):
+        self._native = native
+
+    @property
+    def joints(self) -> List[str]:
+        """The joints (the floating base by its link), in tree order."""
+        return self._native.joints
+
+    @property
+    def coordinates(self) -> List[str]:
+        """The names of the position coordinates ``q``."""
+        return self._native.coordinates
+
+    @property
+    def velocities(self) -> List[str]:
+        """The names of the velocity coordinates ``v`` (and of ``a`` and ``tau``)."""
+        return self._native.velocities
+
+    def mass_matrix(self, q: Sequence[float]) -> np.ndarray:
+        """``M(q)``, ``nv x nv``."""
+        n = len(self.velocities)
+        return np.array(_call(self._native.mass_matrix, _floats(q)), dtype=float).reshape(n, n)
+
+    def forward_dynamics(self, q: Sequence[float], v: Sequence[float], tau: Optional[Sequence[float]] = None) -> np.ndarray:
+        """The accelerations at ``(q, v)`` under the joint forces ``tau`` (none by default)."""
+        tau = np.zeros(len(self.velocities)) if tau is None else tau
+        return np.array(_call(self._native.forward_dynamics, _floats(q), _floats(v), _floats(tau)))
+
+    def inverse_dynamics(self, q: Sequence[float], v: Sequence[float], a: Sequence[float]) -> np.ndarray:
+        """The joint forces that give the accelerations ``a`` at ``(q, v)``."""
+        return np.array(_call(self._native.inverse_dynamics, _floats(q), _floats(v), _floats(a)))
+
+    def frame_pose(self, frame: str, q: Sequence[float]) -> Tuple[np.ndarray, np.ndarray]:
+        """The origin (world coordinates) and ``R`` (``v_frame = R v_world``)
+        of a frame at ``q``: a link or component's name, or a connector
+        (``elbow.frame_b``)."""
+        r, rotation = _call(self._native.frame_pose, frame, _floats(q))
+        return np.array(r), np.array(rotation).reshape(3, 3)
+
+    def __repr__(self) -> str:
+        return f"<JointSpace of {len(self.joints)} joints, {len(self.coordinates)} + {len(self.velocities)} coordinates>"
+
+
+def _floats(x: Sequence[float]) -> List[float]:
+    return [float(v) for v in np.asarray(x, dtype=float).ravel()]
 
 
 class Simulator:
@@ -501,9 +567,18 @@ class LinearModel:
         )
 
 
-def load(path: Union[str, "os.PathLike[str]"], *, analysis: Optional[str] = None, model: Optional[str] = None) -> Model:
+def load(
+    path: Union[str, "os.PathLike[str]"],
+    *,
+    analysis: Optional[str] = None,
+    model: Optional[str] = None,
+    floating: bool = False,
+) -> Model:
     """Loads a ``.dyad`` file: its analysis (``analysis=`` when it has
-    several), or a component with default options (``model=``)."""
+    several), or a component with default options (``model=``). A
+    ``.urdf`` file is read as ``multibody import`` writes it (a fixed
+    base, or a floating one with ``floating=True``; mesh visuals left out),
+    with gravity along -z."""
     path = os.fspath(path)
     with open(path, "rb") as f:
         data = f.read()
@@ -511,6 +586,8 @@ def load(path: Union[str, "os.PathLike[str]"], *, analysis: Optional[str] = None
         text = data.decode("utf-8")
     except UnicodeDecodeError as e:
         raise ModelError(f"{path} is not UTF-8 text (byte offset {e.start})", path, 0, 0) from None
+    if path.lower().endswith(".urdf"):
+        return Model(_call(_multibody.load_urdf, text, path, floating=floating), path)
     return loads(text, file=path, analysis=analysis, model=model)
 
 

@@ -24,6 +24,7 @@ use crate::dynamics::Workspace;
 use crate::math::dense::{cholesky, cholesky_solve};
 use crate::system::Anchor;
 use std::ops::Range;
+use std::sync::Arc;
 
 /// The pose of a frame: its origin in world coordinates and its rotation
 /// `R` as the frame's `R` signals have it (`v_frame = R * v_world`; the
@@ -36,8 +37,8 @@ pub struct FramePose {
 }
 
 /// The joint-space dynamics of a mechanism (see the module's doc).
-pub struct JointSpace<'m> {
-    mechanism: &'m Mechanism,
+pub struct JointSpace {
+    mechanism: Arc<Mechanism>,
     ws: Workspace,
     /// Each joint's name and where its coordinates are in `q` and `v`.
     joints: Vec<(String, Range<usize>, Range<usize>)>,
@@ -48,10 +49,10 @@ pub struct JointSpace<'m> {
     bias: Vec<f64>,
 }
 
-impl<'m> JointSpace<'m> {
+impl JointSpace {
     /// The joint space of `mechanism`; an error says why it has none (a
     /// loop or constraint, states of its own equations).
-    pub fn new(mechanism: &'m Mechanism) -> Result<JointSpace<'m>, String> {
+    pub fn new(mechanism: Arc<Mechanism>) -> Result<JointSpace, String> {
         let system = &mechanism.system;
         let states = &system.states;
         if system.uses_mass_matrix() {
@@ -76,13 +77,13 @@ impl<'m> JointSpace<'m> {
         joints.sort_by_key(|(_, q, _)| q.start);
         let nv = states.nv;
         Ok(JointSpace {
-            mechanism,
             ws: mechanism.workspace(),
             names: joints.iter().map(|(n, _, _)| n.clone()).collect(),
             joints,
             y: states.start.clone(),
             mass: vec![0.0; nv * nv],
             bias: vec![0.0; nv],
+            mechanism,
         })
     }
 
@@ -128,7 +129,7 @@ impl<'m> JointSpace<'m> {
             None => self.y[nq..nq + nv].fill(0.0),
         }
         let (qs, vs) = self.y.split_at(nq);
-        let m = self.mechanism;
+        let m = &self.mechanism;
         m.system
             .mass_matrix_and_bias(&mut self.ws, 0.0, qs, &vs[..nv], &mut self.mass, &mut self.bias)
             .map_err(|e| m.describe(&e))
@@ -176,7 +177,7 @@ impl<'m> JointSpace<'m> {
     /// or a component, whose `frame_a` (or only frame connector) is meant.
     pub fn frame_pose(&mut self, frame: &str, q: &[f64]) -> Result<FramePose, String> {
         self.check(&[("q", q.len(), true)])?;
-        let m = self.mechanism;
+        let m = self.mechanism.clone();
         let node = m.frame_node(frame)?;
         self.motion(q, None)?;
         m.system.world_poses(&mut self.ws);
