@@ -9,7 +9,8 @@
 #      shared/bench/peers/run.sh --native, in the same run and on the same
 #      machine, so that the ratios hold even when absolute times drift; and
 #      Pinocchio's computeABADerivatives (scripts/peers/pin_derivatives.cpp)
-#      against our aba_derivatives/N;
+#      against our aba_derivatives/N; and Pinocchio's ABA on Talos from URDF
+#      (scripts/peers/pin_urdf_aba.sh) against our urdf/forward_dynamics_talos;
 #   3. the work-precision comparison (our adaptive integrator against
 #      MuJoCo's RK4 on the Pendulum and DoublePendulum references):
 #      crates/multibody-cli/examples/work_precision.rs, then
@@ -109,6 +110,14 @@ if [ ! -x "$PIN_DERIVATIVES" ] || [ "$ROOT/scripts/peers/pin_derivatives.cpp" -n
 fi
 say "running Pinocchio's computeABADerivatives"
 "$PIN_DERIVATIVES" 2>>"$OUT/peers.log" | tail -n +2 >>"$OUT/peers.csv"
+
+if [ -x target/robots/venv/bin/python ]; then
+  say "running Pinocchio's ABA on Talos from URDF (scripts/peers/pin_urdf_aba.sh)"
+  OUT=$PEERS_CACHE/bin bash "$ROOT/scripts/peers/pin_urdf_aba.sh" 2>>"$OUT/peers.log" >>"$OUT/peers.csv" ||
+    say "warning: Pinocchio's ABA on Talos failed (log: $OUT/peers.log)"
+else
+  say "warning: no robots (scripts/fetch-robots.sh): the URDF comparison is left out"
+fi
 
 # 3. Work-precision.
 say "running the work-precision example"

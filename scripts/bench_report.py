@@ -146,6 +146,17 @@ def main(argv):
                                             "run/double_pendulum_5s"))
     md.append(f"| {fmt(ex)} | {fmt(cs)} | {fmt(rn)} | {ratio(cs, rn)} |")
     md.append("")
+    md.append("### A robot from URDF: Talos (60 links, 32 moving joints)\n")
+    md.append("`crates/multibody-dyad/benches/urdf.rs` on example-robot-data's `talos_reduced.urdf` "
+              "(scripts/fetch-robots.sh): importing it (read and check the URDF, write the Dyad model, lower and "
+              "assemble), and its forward dynamics at random states, beside Pinocchio's ABA in C++ on the same "
+              "file (scripts/peers/pin_urdf_aba.cpp, the peers' generic build flags), same machine, same run.\n")
+    md.append("| import | forward dynamics, ours | Pinocchio C++ ABA | ours / Pinocchio |")
+    md.append("|---|---|---|---|")
+    im, fd = get("urdf/import_talos"), get("urdf/forward_dynamics_talos")
+    pin_fd = peers.get(("pinocchio-c++", "aba_urdf", 32))
+    md.append(f"| {fmt(im)} | {fmt(fd)} | {fmt(pin_fd)} | {ratio(fd, pin_fd)} |")
+    md.append("")
     if missing:
         md.append(f"**Missing from this run: {', '.join(missing)}**\n")
     print("\n".join(md))
