@@ -64,9 +64,9 @@ pub fn urdf_as_dyad(
     let missing = urdf::resolve_meshes(&mut robot, &urdf::MeshSearch { urdf_folder: folder, package_dirs });
     for m in &missing {
         if meshes.required {
-            eprintln!("error: {}", m.render(&file));
+            eprintln!("{}", m.render(&file, "error"));
         } else {
-            say!("{}; the link is drawn without it", m.render(&file).replacen(": the mesh", ": note: the mesh", 1));
+            say!("{}; the link is drawn without it", m.render(&file, "note"));
         }
     }
     if meshes.required && !missing.is_empty() {
@@ -117,12 +117,13 @@ pub fn import(args: &ImportArgs) -> Result<(), Failure> {
     let mechanism = lowered.assemble().map_err(refused)?;
     output::write_atomically(&out, |w| w.write_all(dyad.as_bytes()))?;
     say!(
-        "{}: {} links, {} joints → {} ({} degrees of freedom; gravity along -z, URDF's up being z)",
+        "{}: {} links, {} joints → {} ({} degree{} of freedom; gravity along -z, URDF's up being z)",
         robot.name,
         robot.links.len(),
         robot.joints.len(),
         out.display(),
-        mechanism.degrees_of_freedom()
+        mechanism.degrees_of_freedom(),
+        if mechanism.degrees_of_freedom() == 1 { "" } else { "s" }
     );
     Ok(())
 }

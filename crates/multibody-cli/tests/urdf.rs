@@ -55,3 +55,94 @@ fn import_refuses_bad_files_and_outputs() {
     assert_eq!(code(&out), 1, "{}", stderr(&out));
     assert!(stderr(&out).contains("two_parents.urdf:6:1"), "{}", stderr(&out));
 }
+
+/// A robot package laid out as ROS has it, in `dir`: `pkg/arm_description`
+/// with its package.xml, a mesh (a tetrahedron, ASCII STL) and a URDF that
+/// names the mesh `package://arm_description/...`, and one more visual
+/// naming `mesh` (as written in the file).
+fn robot_package(dir: &std::path::Path, mesh: &str) -> std::path::PathBuf {
+    let package = dir.join("pkg/arm_description");
+    std::fs::create_dir_all(package.join("meshes")).unwrap();
+    std::fs::create_dir_all(package.join("urdf")).unwrap();
+    std::fs::write(
+        package.join("package.xml"),
+        "<?xml version=\"1.0\"?>\n<package format=\"2\">\n  <name>arm_description</name>\n  <version>0.1.0</version>\n</package>\n",
+    )
+    .unwrap();
+    std::fs::write(
+        package.join("meshes/tip.stl"),
+        "solid tip\nfacet normal 0 0 -1\nouter loop\nvertex 0 0 0\nvertex 0 1 0\nvertex 1 0 0\nendloop\nendfacet\n\
+         facet normal 0 -1 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 0 1\nendloop\nendfacet\n\
+         facet normal -1 0 0\nouter loop\nvertex 0 0 0\nvertex 0 0 1\nvertex 0 1 0\nendloop\nendfacet\n\
+         facet normal 1 1 1\nouter loop\nvertex 1 0 0\nvertex 0 1 0\nvertex 0 0 1\nendloop\nendfacet\nendsolid tip\n",
+    )
+    .unwrap();
+    let urdf = format!(
+        "<robot name=\"meshed\">\n  <link name=\"base\"/>\n  <joint name=\"hinge\" type=\"continuous\">\n    \
+         <parent link=\"base\"/><child link=\"arm\"/><axis xyz=\"0 1 0\"/>\n  </joint>\n  <link name=\"arm\">\n    \
+         <inertial><origin xyz=\"0.5 0 0\"/><mass value=\"1\"/><inertia ixx=\"0.01\" ixy=\"0\" ixz=\"0\" iyy=\"0.1\" iyz=\"0\" izz=\"0.1\"/></inertial>\n    \
+         <visual><geometry><mesh filename=\"package://arm_description/meshes/tip.stl\" scale=\"0.1 0.2 0.3\"/></geometry></visual>\n    \
+         <visual><geometry><mesh filename=\"{mesh}\"/></geometry></visual>\n  </link>\n</robot>\n"
+    );
+    let path = package.join("urdf/meshed.urdf");
+    std::fs::write(&path, urdf).unwrap();
+    path
+}
+
+#[test]
+fn meshes_are_found_through_their_package_or_reported_at_their_place() {
+    let dir = scratch("urdf-meshes");
+    // A missing mesh stops the import, at the mesh's place, with what to do.
+    let urdf = robot_package(&dir, "package://gripper_description/meshes/finger.dae");
+    let urdf = urdf.display().to_string();
+    let out = multibody(&dir, &["import", &urdf, "-o", "meshed.dyad"]);
+    assert_eq!(code(&out), 1, "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(
+        err.contains(
+            "meshed.urdf:9:23: error: the mesh `package://gripper_description/meshes/finger.dae` is not found"
+        ),
+        "{err}"
+    );
+    assert!(err.contains("--package-dir") && err.contains("--no-meshes"), "{err}");
+    assert!(!dir.join("meshed.dyad").exists());
+    // Without meshes it imports; `run` notes the missing one and goes on.
+    let out = multibody(&dir, &["import", &urdf, "-o", "meshed.dyad", "--no-meshes"]);
+    assert_eq!(code(&out), 0, "{}", stderr(&out));
+    assert!(!std::fs::read_to_string(dir.join("meshed.dyad")).unwrap().contains("ShapefileVisualizer"));
+    let out = multibody(&dir, &["run", &urdf, "--stop", "0.1", "-o", "meshed.csv"]);
+    assert_eq!(code(&out), 0, "{}", stderr(&out));
+    assert!(stderr(&out).contains("note: the mesh `package://gripper_description/meshes/finger.dae` is not found"));
+
+    // The other package, elsewhere, named by --package-dir: both meshes are
+    // found, named from the model file's folder, the scale in the transform.
+    let other = dir.join("elsewhere/gripper_description/meshes");
+    std::fs::create_dir_all(&other).unwrap();
+    std::fs::copy(dir.join("pkg/arm_description/meshes/tip.stl"), other.join("finger.dae")).unwrap();
+    std::fs::remove_file(dir.join("meshed.dyad")).unwrap();
+    let out = multibody(&dir, &["import", &urdf, "-o", "meshed.dyad", "--package-dir", "elsewhere"]);
+    assert_eq!(code(&out), 0, "{}", stderr(&out));
+    let text = std::fs::read_to_string(dir.join("meshed.dyad")).unwrap();
+    assert!(
+        text.contains(
+            "ShapefileVisualizer(shapefile = \"pkg/arm_description/meshes/tip.stl\", shape_transform = [[0.1, 0, 0, 0], \
+             [0, 0.2, 0, 0], [0, 0, 0.3, 0], [0, 0, 0, 1]])"
+        ),
+        "{text}"
+    );
+    assert!(text.contains("shapefile = \"elsewhere/gripper_description/meshes/finger.dae\""), "{text}");
+    let out = multibody(&dir, &["run", "meshed.dyad", "--stop", "0.1", "-o", "imported.csv"]);
+    assert_eq!(code(&out), 0, "{}", stderr(&out));
+}
+
+#[test]
+fn mimic_joints_are_imported_as_couplings() {
+    let dir = scratch("urdf-mimic");
+    let mimic = crate_path("../multibody-dyad/tests/urdf/mimic.urdf");
+    let out = multibody(&dir, &["import", &mimic, "-o", "mimic.dyad"]);
+    assert_eq!(code(&out), 0, "{}", stderr(&out));
+    assert!(stderr(&out).contains("(1 degree of freedom;"), "{}", stderr(&out));
+    let text = std::fs::read_to_string(dir.join("mimic.dyad")).unwrap();
+    assert!(text.contains("right_finger.axis.phi = -1.0 * left_finger.axis.phi + 0.01"), "{text}");
+    assert!(text.contains("tip.axis.s = 0.02 * right_finger.axis.phi + 0"), "{text}");
+}

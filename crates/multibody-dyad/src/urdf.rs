@@ -589,10 +589,14 @@ pub struct MissingMesh {
 }
 
 impl MissingMesh {
-    pub fn render(&self, file: &str) -> String {
-        let looked: Vec<String> = self.looked.iter().map(|p| p.display().to_string()).collect();
+    /// `file:line:col: {severity}: the mesh ... is not found (looked for ...)`.
+    pub fn render(&self, file: &str, severity: &str) -> String {
+        let mut looked: Vec<String> = self.looked.iter().take(3).map(|p| p.display().to_string()).collect();
+        if self.looked.len() > 3 {
+            looked.push(format!("{} more places", self.looked.len() - 3));
+        }
         format!(
-            "{file}:{}:{}: the mesh `{}` is not found (looked for {})",
+            "{file}:{}:{}: {severity}: the mesh `{}` is not found (looked for {})",
             self.at.line,
             self.at.col,
             self.filename,
