@@ -149,7 +149,13 @@ impl ParamSpec {
         unit: &'static str,
         doc: &'static str,
     ) -> Self {
-        Self { name, ty: ParamType::FixedMatrix(default.len(), default[0].len()), default: Default::Matrix(default), unit, doc }
+        Self {
+            name,
+            ty: ParamType::FixedMatrix(default.len(), default[0].len()),
+            default: Default::Matrix(default),
+            unit,
+            doc,
+        }
     }
     pub const fn integer(name: &'static str, default: f64, doc: &'static str) -> Self {
         Self { name, ty: ParamType::Integer, default: Default::Number(default), unit: "", doc }

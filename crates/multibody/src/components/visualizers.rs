@@ -261,7 +261,8 @@ fn frame_axes(p: &ParamSet) -> Vec<LocalShape> {
         .collect()
 }
 
-const IDENTITY_4: &[&[f64]] = &[&[1.0, 0.0, 0.0, 0.0], &[0.0, 1.0, 0.0, 0.0], &[0.0, 0.0, 1.0, 0.0], &[0.0, 0.0, 0.0, 1.0]];
+const IDENTITY_4: &[&[f64]] =
+    &[&[1.0, 0.0, 0.0, 0.0], &[0.0, 1.0, 0.0, 0.0], &[0.0, 0.0, 1.0, 0.0], &[0.0, 0.0, 0.0, 1.0]];
 
 pub static SHAPEFILE_VISUALIZER: ComponentSpec = ComponentSpec {
     kind: "ShapefileVisualizer",
