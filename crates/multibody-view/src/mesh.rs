@@ -294,7 +294,7 @@ mod collada {
 
     fn rotation(axis: [f64; 3], angle: f64) -> M4 {
         let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
-        if !(n > 0.0) {
+        if n <= 0.0 || n.is_nan() {
             return IDENTITY;
         }
         let [x, y, z] = axis.map(|a| a / n);
