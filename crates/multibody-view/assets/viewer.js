@@ -14,20 +14,15 @@
   var scene = JSON.parse(document.getElementById("mb-scene").textContent);
   var query = new URLSearchParams(window.location.search);
 
-  function floats(b64) {
-    if (!b64) return new Float32Array(0);
-    var s = atob(b64);
+  // The bytes of a base64 string, as an ArrayBuffer.
+  function buffer(b64) {
+    var s = atob(b64 || "");
     var bytes = new Uint8Array(s.length);
     for (var i = 0; i < s.length; i++) bytes[i] = s.charCodeAt(i);
-    return new Float32Array(bytes.buffer);
+    return bytes.buffer;
   }
-  function uints(b64) {
-    if (!b64) return new Uint32Array(0);
-    var s = atob(b64);
-    var bytes = new Uint8Array(s.length);
-    for (var i = 0; i < s.length; i++) bytes[i] = s.charCodeAt(i);
-    return new Uint32Array(bytes.buffer);
-  }
+  function floats(b64) { return new Float32Array(buffer(b64)); }
+  function uints(b64) { return new Uint32Array(buffer(b64)); }
 
   // The motion; a live page replaces it after each run (setScene).
   var times, frameCount, poseCount, vectorCount, poses, vectorData, tStart, tEnd;

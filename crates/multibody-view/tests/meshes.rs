@@ -3,6 +3,9 @@
 //! bounds, units and normals against the geometry the files were written
 //! with.
 
+mod common;
+
+use common::models;
 use multibody_view::mesh::{load, parse, Format, MeshData};
 use std::path::{Path, PathBuf};
 
@@ -46,32 +49,7 @@ fn assert_normals_outward(mesh: &MeshData) {
 /// A binary STL of the cube [-1, 1]^3 (12 triangles wound outwards), with
 /// zero facet normals as some exporters write them.
 fn binary_cube_stl() -> Vec<u8> {
-    let corner = |i: usize| [0, 1, 2].map(|k| if i & (1 << k) != 0 { 1.0f32 } else { -1.0 });
-    // Each face: its four corners around it (bit k of a corner's number is
-    // its k-th coordinate), turned counter-clockwise seen from outside.
-    let faces = [[0, 2, 6, 4], [1, 5, 7, 3], [0, 4, 5, 1], [2, 3, 7, 6], [0, 1, 3, 2], [4, 6, 7, 5]];
-    let mut bytes = vec![0u8; 80];
-    bytes.extend_from_slice(&12u32.to_le_bytes());
-    for mut f in faces {
-        let [a, b, c] = [f[0], f[1], f[2]].map(corner);
-        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-        let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
-        // The face's centre is its outward direction (the cube is centred on 0).
-        let centre: Vec<f32> = (0..3).map(|k| f.iter().map(|&i| corner(i)[k]).sum::<f32>()).collect();
-        if n[0] * centre[0] + n[1] * centre[1] + n[2] * centre[2] < 0.0 {
-            f.reverse();
-        }
-        for tri in [[f[0], f[1], f[2]], [f[0], f[2], f[3]]] {
-            bytes.extend_from_slice(&[0u8; 12]);
-            for i in tri {
-                for x in corner(i) {
-                    bytes.extend_from_slice(&x.to_le_bytes());
-                }
-            }
-            bytes.extend_from_slice(&[0, 0]);
-        }
-    }
+    let bytes = models::box_stl(1.0, 1.0, 1.0);
     assert_eq!(bytes.len(), 84 + 12 * 50);
     bytes
 }
