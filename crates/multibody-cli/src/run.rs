@@ -99,7 +99,15 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
                 out.display()
             );
             if let Some(solution) = &kept.solution {
-                write_views(args, &files, false, &lowered.name, &mechanism, solution)?;
+                write_views(
+                    args,
+                    &files,
+                    false,
+                    &lowered.name,
+                    &mechanism,
+                    solution,
+                    &model_folder(&package, &lowered),
+                )?;
             }
             for w in &report.warnings {
                 say!("warning: {w}");
@@ -113,7 +121,15 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
             say!("{}: the simulation stopped at t = {}: {reason}", error_word(), number(stopped.time));
             let kept = csv.finish(&partial_csv)?;
             if let Some(solution) = kept.solution.as_ref().filter(|s| !s.is_empty()) {
-                write_views(args, &files, true, &lowered.name, &mechanism, solution)?;
+                write_views(
+                    args,
+                    &files,
+                    true,
+                    &lowered.name,
+                    &mechanism,
+                    solution,
+                    &model_folder(&package, &lowered),
+                )?;
             }
             match kept.span {
                 Some((first, last)) => say!(
@@ -201,6 +217,13 @@ pub fn chosen_signals(mechanism: &Mechanism, patterns: &[String]) -> Result<Vec<
     Ok(names.into_iter().filter(|n| patterns.is_empty() || patterns.iter().any(|p| glob(p, n))).collect())
 }
 
+/// The folder of the model file being run (the one that holds the analysis
+/// or component), from which relative mesh paths are read.
+fn model_folder(package: &multibody_dyad::Package, lowered: &multibody_dyad::Lowered) -> PathBuf {
+    let file = file_of(package, &lowered.name);
+    Path::new(&file).parent().map(Path::to_path_buf).unwrap_or_default()
+}
+
 /// The animation page and the plot, when asked for (under their partial
 /// names when the run stopped part way).
 fn write_views(
@@ -210,6 +233,7 @@ fn write_views(
     title: &str,
     mechanism: &Mechanism,
     solution: &Solution,
+    model_folder: &Path,
 ) -> Result<(), Failure> {
     let view_error = |e: multibody_view::ViewError| match e {
         io @ multibody_view::ViewError::Io { .. } => Failure::Io(io.to_string()),
@@ -218,9 +242,16 @@ fn write_views(
     let place = |path: &Path| if partial { output::partial_path(path) } else { path.to_path_buf() };
     if let Some(path) = &files.animate {
         let path = place(path);
-        let options = multibody_view::AnimationOptions { signals: args.signals.clone(), ..Default::default() };
+        let options = multibody_view::AnimationOptions {
+            signals: args.signals.clone(),
+            mesh_folder: Some(model_folder.to_path_buf()),
+            ..Default::default()
+        };
         let page =
             multibody_view::animation_html(title, &mechanism.shapes(), solution, &options).map_err(view_error)?;
+        for note in &page.summary.left_out {
+            say!("warning: animation: {note}");
+        }
         output::write_atomically(&path, |w| w.write_all(page.html.as_bytes()))?;
         say!(
             "  animation: {} frames of {} shapes → {} ({})",

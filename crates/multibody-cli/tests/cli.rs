@@ -451,3 +451,126 @@ end
         std::fs::remove_file(dir.join("FallSimulation.csv")).unwrap();
     }
 }
+
+/// The scene JSON an animation page embeds.
+fn page_scene(page: &std::path::Path) -> serde_json::Value {
+    let html = std::fs::read_to_string(page).unwrap();
+    let start = html.find("id=\"mb-scene\">").expect("the page has a scene") + "id=\"mb-scene\">".len();
+    let end = start + html[start..].find("</script>").unwrap();
+    serde_json::from_str(&html[start..end]).unwrap()
+}
+
+/// Standard base64 back to bytes (the page's arrays).
+fn unbase64(text: &str) -> Vec<u8> {
+    let value = |c: u8| match c {
+        b'A'..=b'Z' => c - b'A',
+        b'a'..=b'z' => c - b'a' + 26,
+        b'0'..=b'9' => c - b'0' + 52,
+        b'+' => 62,
+        _ => 63,
+    };
+    let digits: Vec<u8> = text.bytes().filter(|&c| c != b'=').map(value).collect();
+    let mut out = Vec::new();
+    for chunk in digits.chunks(4) {
+        let n = chunk.iter().enumerate().fold(0u32, |n, (i, &d)| n | (u32::from(d) << (18 - 6 * i)));
+        out.extend_from_slice(&n.to_be_bytes()[1..chunk.len()]);
+    }
+    out
+}
+
+/// A pendulum whose link is drawn twice from one mesh file, named by a
+/// string parameter of a component of the model's own, relative to the
+/// model file's folder.
+const MESH_MODEL: &str = r#"
+component Link
+  frame_a = Frame3D()
+  parameter part::String = "parts/tetra.stl"
+  body = MultibodyComponents.Body(m = 1, r_cm = [0.5, 0, 0])
+  look = MultibodyComponents.ShapefileVisualizer(shapefile = part, shape_scale = 0.2, color = [0.9, 0.5, 0.1, 1])
+  again = MultibodyComponents.ShapefileVisualizer(shapefile = part, shape_transform = [[1, 0, 0, 0.3], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]])
+relations
+  connect(frame_a, body.frame_a, look.frame_a, again.frame_a)
+end
+
+component MeshArm
+  world = MultibodyComponents.World()
+  rev = MultibodyComponents.Revolute(n = [0, 0, 1])
+  link = Link(part = "PART")
+relations
+  connect(world.frame_b, rev.frame_a)
+  connect(rev.frame_b, link.frame_a)
+end
+
+analysis MeshArmSimulation
+  extends TransientAnalysis(stop = 0.5, saveat = 0.05)
+  model = MeshArm()
+end
+"#;
+
+/// A tetrahedron with unit legs along x, y and z (ASCII STL).
+const TETRA_STL: &str = "solid t\n\
+    facet normal 0 0 -1\nouter loop\nvertex 0 0 0\nvertex 0 1 0\nvertex 1 0 0\nendloop\nendfacet\n\
+    facet normal 0 -1 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 0 1\nendloop\nendfacet\n\
+    facet normal -1 0 0\nouter loop\nvertex 0 0 0\nvertex 0 0 1\nvertex 0 1 0\nendloop\nendfacet\n\
+    facet normal 1 1 1\nouter loop\nvertex 1 0 0\nvertex 0 1 0\nvertex 0 0 1\nendloop\nendfacet\nendsolid t\n";
+
+#[test]
+fn run_draws_a_mesh_file_from_the_model_folder_once() {
+    let dir = scratch("mesh-run");
+    std::fs::create_dir_all(dir.join("model/parts")).unwrap();
+    std::fs::write(dir.join("model/parts/tetra.stl"), TETRA_STL).unwrap();
+    std::fs::write(dir.join("model/arm.dyad"), MESH_MODEL.replace("PART", "parts/tetra.stl")).unwrap();
+    // Run from elsewhere than the model's folder.
+    let o = multibody(&dir, &["run", "model/arm.dyad", "--animate", "arm.html", "--out", "arm.csv"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
+    let scene = page_scene(&dir.join("arm.html"));
+    let meshes = scene["meshes"].as_array().unwrap();
+    assert_eq!(meshes.len(), 1, "one file, embedded once");
+    assert!(meshes[0]["path"].as_str().unwrap().ends_with("model/parts/tetra.stl"), "{}", meshes[0]["path"]);
+    let floats = |key: &str| -> Vec<f32> {
+        unbase64(meshes[0][key].as_str().unwrap())
+            .chunks(4)
+            .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+            .collect()
+    };
+    let indices = unbase64(meshes[0]["indices"].as_str().unwrap());
+    assert_eq!(indices.len() / 4, 12, "the file's 4 triangles");
+    let positions = floats("positions");
+    assert_eq!(floats("normals").len(), positions.len());
+    // The file's corners: the unit tetrahedron.
+    for axis in 0..3 {
+        let values: Vec<f32> = positions.iter().skip(axis).step_by(3).copied().collect();
+        let (lo, hi) = values.iter().fold((f32::MAX, f32::MIN), |(lo, hi), &x| (lo.min(x), hi.max(x)));
+        assert_eq!((lo, hi), (0.0, 1.0), "axis {axis}");
+    }
+    let shapes: Vec<&serde_json::Value> =
+        scene["shapes"].as_array().unwrap().iter().filter(|s| s["kind"] == "mesh").collect();
+    assert_eq!(shapes.len(), 2);
+    assert_eq!(shapes[0]["component"], "link.look");
+    assert!(shapes.iter().all(|s| s["mesh"] == 0));
+    assert_eq!(shapes[0]["scale"], 0.2);
+    assert_eq!(shapes[1]["transform"][3], 0.3);
+    assert_eq!(shapes[0]["color"][1], 0.5);
+}
+
+#[test]
+fn a_missing_mesh_file_is_left_out_with_a_warning_and_the_results_are_kept() {
+    let dir = scratch("mesh-missing");
+    std::fs::create_dir_all(dir.join("model")).unwrap();
+    std::fs::write(dir.join("model/arm.dyad"), MESH_MODEL.replace("PART", "parts/nowhere.stl")).unwrap();
+    let o = multibody(&dir, &["run", "model/arm.dyad", "--animate", "arm.html", "--out", "arm.csv"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let err = stderr(&o);
+    for component in ["link.look", "link.again"] {
+        let line =
+            err.lines().find(|l| l.contains(component)).unwrap_or_else(|| panic!("no warning for {component}:\n{err}"));
+        assert!(line.starts_with("warning:"), "{line}");
+        assert!(line.contains("model/parts/nowhere.stl") && line.contains("no such file"), "{line}");
+    }
+    assert_eq!(Table::load(&dir.join("arm.csv")).time.len(), 11, "the results are kept");
+    let scene = page_scene(&dir.join("arm.html"));
+    assert!(scene["meshes"].as_array().unwrap().is_empty());
+    assert!(scene["shapes"].as_array().unwrap().iter().all(|s| s["kind"] != "mesh"));
+    assert!(!scene["shapes"].as_array().unwrap().is_empty(), "the other shapes are drawn");
+}

@@ -783,6 +783,32 @@ fn mass_with_stops() {
 }
 
 #[test]
+fn mesh_pendulum() {
+    let mut m = Model::new("MeshPendulum");
+    m.add("world", "World");
+    m.add("rev", "Revolute").set("n", [0.0, 0.0, 1.0]).initial("phi", 0.6).initial("w", 0.0);
+    m.add("rod", "FixedTranslation").set("r", [0.0, -0.5, 0.0]);
+    m.add("body", "Body").set("m", 1.0).set("r_cm", [0.0, 0.0, 0.0]).set("render", false);
+    m.add("bob", "ShapefileVisualizer")
+        .set("shapefile", "meshes/bob.obj")
+        .set("color", [0.95, 0.55, 0.1, 1.0])
+        .set("shape_scale", 1.5);
+    m.connect(["world.frame_b", "rev.frame_a"]);
+    m.connect(["rev.frame_b", "rod.frame_a"]);
+    m.connect(["rod.frame_b", "body.frame_a", "bob.frame_a"]);
+    // The string parameter reaches the shape as written.
+    let (from_file, _, _) = run_file("mesh_pendulum.dyad");
+    let shapes = from_file.assemble().unwrap().shapes();
+    assert_eq!(shapes, m.clone().assemble().unwrap().shapes());
+    let mesh = shapes.iter().find(|s| s.component == "bob").expect("bob draws a shape");
+    let multibody::components::shapes::ShapeKind::Mesh { path, scale, .. } = &mesh.kind else {
+        panic!("bob draws {:?}", mesh.kind)
+    };
+    assert_eq!((path.as_str(), *scale), ("meshes/bob.obj", 1.5));
+    assert_same("mesh_pendulum.dyad", m, options(3.0, 0.01));
+}
+
+#[test]
 fn every_example_is_checked() {
     let checked = [
         "pendulum.dyad",
@@ -805,6 +831,7 @@ fn every_example_is_checked() {
         "elasto_backlash.dyad",
         "elasto_gap.dyad",
         "mass_with_stops.dyad",
+        "mesh_pendulum.dyad",
         "docs/annotated_swing.dyad",
         "PlanarMechanics/slider_crank.dyad",
         "PlanarMechanics/springs.dyad",

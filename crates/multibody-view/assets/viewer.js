@@ -14,13 +14,15 @@
   var scene = JSON.parse(document.getElementById("mb-scene").textContent);
   var query = new URLSearchParams(window.location.search);
 
-  function floats(b64) {
-    if (!b64) return new Float32Array(0);
-    var s = atob(b64);
+  // The bytes of a base64 string, as an ArrayBuffer.
+  function buffer(b64) {
+    var s = atob(b64 || "");
     var bytes = new Uint8Array(s.length);
     for (var i = 0; i < s.length; i++) bytes[i] = s.charCodeAt(i);
-    return new Float32Array(bytes.buffer);
+    return bytes.buffer;
   }
+  function floats(b64) { return new Float32Array(buffer(b64)); }
+  function uints(b64) { return new Uint32Array(buffer(b64)); }
 
   // The motion; a live page replaces it after each run (setScene).
   var times, frameCount, poseCount, vectorCount, poses, vectorData, tStart, tEnd;
@@ -171,6 +173,22 @@
       item.local = { origin: s.origin, length: length, e1: e1, e2: e2, e3: cross(e1, e2) };
     }
     if (item.kind === "helix" && meshes) item.mesh = helixMesh(item.windings);
+    if (item.kind === "mesh") {
+      // A point p of the file goes to transform * (scale * p) in the frame:
+      // the 3x3 part times the scale (row-major), its normal matrix (the
+      // cofactors, signed so a mirror keeps normals outward), the offset.
+      var t = s.transform, k = s.scale;
+      var a = [t[0] * k, t[1] * k, t[2] * k, t[4] * k, t[5] * k, t[6] * k, t[8] * k, t[9] * k, t[10] * k];
+      var c = [a[4] * a[8] - a[5] * a[7], a[5] * a[6] - a[3] * a[8], a[3] * a[7] - a[4] * a[6],
+               a[2] * a[7] - a[1] * a[8], a[0] * a[8] - a[2] * a[6], a[1] * a[6] - a[0] * a[7],
+               a[1] * a[5] - a[2] * a[4], a[2] * a[3] - a[0] * a[5], a[0] * a[4] - a[1] * a[3]];
+      var det = a[0] * c[0] + a[1] * c[1] + a[2] * c[2];
+      if (det < 0) c = c.map(function (x) { return -x; });
+      item.meshIndex = s.mesh;
+      item.linear = a;
+      item.cofactor = c;
+      item.offset = [t[3], t[7], t[11]];
+    }
     return item;
   }
   var meshes = null;
@@ -323,7 +341,7 @@
     var wide = positions.length / 3 > 65535;
     gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, wide ? new Uint32Array(indices) : new Uint16Array(indices), gl.STATIC_DRAW);
     gl.bindVertexArray(null);
-    return { vao: vao, count: indices.length, type: wide ? gl.UNSIGNED_INT : gl.UNSIGNED_SHORT };
+    return { vao: vao, count: indices.length, type: wide ? gl.UNSIGNED_INT : gl.UNSIGNED_SHORT, buffers: [pb, nb, ib] };
   }
 
   // Unit meshes. Sphere: diameter 1 about the origin. Cylinder, cone and
@@ -424,6 +442,17 @@
     return helixMeshes[useg];
   }
 
+  // The meshes of mesh files, each once (scene.meshes), for the "mesh" shapes.
+  var fileMeshes = [];
+  function loadFileMeshes() {
+    fileMeshes.forEach(function (m) { gl.deleteVertexArray(m.vao); m.buffers.forEach(function (b) { gl.deleteBuffer(b); }); });
+    fileMeshes = (scene.meshes || []).map(function (m) {
+      var mesh = makeMesh(floats(m.positions), floats(m.normals), uints(m.indices));
+      mesh.path = m.path;
+      return mesh;
+    });
+  }
+
   var meshProgram = null, lineProgram = null, grid = null;
   if (gl) {
     meshProgram = program(MESH_VS, MESH_FS,
@@ -438,6 +467,7 @@
       box: boxMesh()
     };
     shapes.forEach(function (s) { if (s.kind === "helix") s.mesh = helixMesh(s.windings); });
+    loadFileMeshes();
     canvas.addEventListener("webglcontextlost", function (e) {
       e.preventDefault();
       report("the WebGL context was lost: reload the page");
@@ -536,6 +566,44 @@
     draws++;
   }
 
+  // A mesh placed by a general affine map: `m` the 3x3 part (row-major),
+  // `n` its normal matrix (row-major), `o` the origin, all in the world.
+  function drawAffine(mesh, m, n, o, color, specular) {
+    model[0] = m[0]; model[1] = m[3]; model[2] = m[6]; model[3] = 0;
+    model[4] = m[1]; model[5] = m[4]; model[6] = m[7]; model[7] = 0;
+    model[8] = m[2]; model[9] = m[5]; model[10] = m[8]; model[11] = 0;
+    model[12] = o[0]; model[13] = o[1]; model[14] = o[2]; model[15] = 1;
+    normalMatrix[0] = n[0]; normalMatrix[1] = n[3]; normalMatrix[2] = n[6];
+    normalMatrix[3] = n[1]; normalMatrix[4] = n[4]; normalMatrix[5] = n[7];
+    normalMatrix[6] = n[2]; normalMatrix[7] = n[5]; normalMatrix[8] = n[8];
+    gl.uniformMatrix4fv(meshProgram.uModel, false, model);
+    gl.uniformMatrix3fv(meshProgram.uNormalMatrix, false, normalMatrix);
+    gl.uniform4f(meshProgram.uColor, color[0], color[1], color[2], color[3]);
+    gl.uniform1f(meshProgram.uSpecular, specular);
+    gl.uniform4f(meshProgram.uHelix, 0, 0, 0, 0);
+    gl.bindVertexArray(mesh.vao);
+    gl.drawElements(gl.TRIANGLES, mesh.count, mesh.type, 0);
+    draws++;
+  }
+  // Row-major 3x3 products: the frame's rotation (at `o` in poseRotation) times `a`.
+  var worldLinear = new Float64Array(9), worldNormal = new Float64Array(9);
+  function rotateInto(out, r, o, a) {
+    for (var i = 0; i < 3; i++) {
+      for (var j = 0; j < 3; j++) {
+        out[3 * i + j] = r[o + 3 * i] * a[j] + r[o + 3 * i + 1] * a[3 + j] + r[o + 3 * i + 2] * a[6 + j];
+      }
+    }
+    return out;
+  }
+  function drawFileMesh(s) {
+    var mesh = fileMeshes[s.meshIndex];
+    if (!mesh) return;
+    var o = s.pose * 9;
+    var origin = addScaled(positionOf(s.pose), apply3(poseRotation, o, s.offset), 1);
+    drawAffine(mesh, rotateInto(worldLinear, poseRotation, o, s.linear),
+      rotateInto(worldNormal, poseRotation, o, s.cofactor), origin, s.color, s.specular);
+  }
+
   function drawArrow(origin, e1, e2, e3, length, width, color, specular) {
     if (!(length > 0)) return;
     var head = Math.min(0.4 * length, 4 * width);
@@ -546,6 +614,7 @@
   }
 
   function drawShape(s) {
+    if (s.kind === "mesh") { drawFileMesh(s); return; }
     var at = placeShape(s);
     var o = at.origin, e1 = at.e1, e2 = at.e2, e3 = at.e3, length = at.length;
     switch (s.kind) {
@@ -977,6 +1046,7 @@
     if (gl) {
       if (grid) { gl.deleteVertexArray(grid.vao); gl.deleteBuffer(grid.buffer); }
       grid = makeGrid();
+      loadFileMeshes();
     }
     makePlots();
     setSliderRange();

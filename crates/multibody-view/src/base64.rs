@@ -25,6 +25,12 @@ pub fn encode_f32(values: &[f32]) -> String {
     encode(&bytes)
 }
 
+/// Little-endian `u32`s, as JavaScript's `Uint32Array` reads them.
+pub fn encode_u32(values: &[u32]) -> String {
+    let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+    encode(&bytes)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -43,5 +49,6 @@ mod tests {
     #[test]
     fn floats_are_little_endian() {
         assert_eq!(encode_f32(&[1.0]), encode(&[0x00, 0x00, 0x80, 0x3f]));
+        assert_eq!(encode_u32(&[0x0403_0201]), encode(&[1, 2, 3, 4]));
     }
 }

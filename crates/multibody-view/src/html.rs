@@ -2,7 +2,7 @@
 //! renderer and canvas plots, in `assets/`) and the sampled motion embedded
 //! as base64 `Float32Array`s.
 
-use crate::base64::encode_f32;
+use crate::base64::{encode_f32, encode_u32};
 use crate::json::Json;
 use crate::scene::{sample, Scene, ScenePlacement};
 use crate::signals::choose_signals;
@@ -10,7 +10,7 @@ use crate::ViewError;
 use multibody::components::shapes::Shape;
 use multibody::Solution;
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 const TEMPLATE: &str = include_str!("../assets/viewer.html");
 const STYLE: &str = include_str!("../assets/viewer.css");
@@ -38,6 +38,10 @@ pub struct AnimationOptions {
     pub looping: bool,
     /// Start playing when the page opens.
     pub autoplay: bool,
+    /// The folder relative mesh paths (ShapefileVisualizer's `shapefile`)
+    /// are read from: the folder of the model file being run. `None`: the
+    /// current directory.
+    pub mesh_folder: Option<PathBuf>,
 }
 
 impl Default for AnimationOptions {
@@ -51,6 +55,7 @@ impl Default for AnimationOptions {
             speed: 1.0,
             looping: true,
             autoplay: true,
+            mesh_folder: None,
         }
     }
 }
@@ -101,7 +106,7 @@ pub fn animation_scene(
     solution: &Solution,
     options: &AnimationOptions,
 ) -> Result<(String, AnimationSummary), ViewError> {
-    let scene = sample(shapes, solution, options.fps, options.max_frames)?;
+    let scene = sample(shapes, solution, options.fps, options.max_frames, options.mesh_folder.as_deref())?;
     let mut signals = choose_signals(solution, &options.signals)?;
     let mut left_out = scene.skipped.clone();
     if signals.len() > options.max_signals {
@@ -211,6 +216,11 @@ fn scene_json(
         if s.kind == "helix" {
             j.key("windings").number(s.windings);
         }
+        if let Some(mesh) = &s.mesh {
+            j.key("mesh").number(mesh.index as f64);
+            j.key("transform").numbers(&mesh.transform.concat());
+            j.key("scale").number(mesh.scale);
+        }
         match &s.placement {
             ScenePlacement::Frame { pose, origin, length, width_dir } => {
                 j.key("place").string("frame");
@@ -231,6 +241,17 @@ fn scene_json(
                 j.key("scale").number(*scale);
             }
         }
+        j.end_object();
+    }
+    j.end_array();
+    // Each mesh file once; shapes name it by its place here.
+    j.key("meshes").begin_array();
+    for (path, mesh) in &scene.meshes {
+        j.begin_object();
+        j.key("path").string(path);
+        j.key("positions").string(&encode_f32(&mesh.positions));
+        j.key("normals").string(&encode_f32(&mesh.normals));
+        j.key("indices").string(&encode_u32(&mesh.indices));
         j.end_object();
     }
     j.end_array();

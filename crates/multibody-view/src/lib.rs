@@ -29,6 +29,7 @@ mod json;
 mod linear;
 #[cfg(feature = "live")]
 mod live;
+pub mod mesh;
 #[cfg(feature = "images")]
 mod plot;
 mod scene;
@@ -48,6 +49,7 @@ pub use linear::{
 pub use live::{live_html, LiveModel};
 #[cfg(feature = "images")]
 pub use plot::{plot_png, plot_svg, write_plot, PlotFormat, PlotOptions, PlotSummary};
+pub use scene::{mesh_path, MAX_MESH_TRIANGLES};
 pub use signals::{choose_signals, default_signals};
 
 pub use multibody::components::shapes::Shape;

@@ -6,7 +6,7 @@ use crate::base64::encode;
 use crate::html::{animation_scene, page};
 use crate::json::Json;
 use crate::{Animation, AnimationOptions, ViewError};
-use multibody::components::shapes::Shape;
+use multibody::components::shapes::{Shape, ShapeKind};
 use multibody::Solution;
 use std::io::Write;
 
@@ -41,7 +41,16 @@ pub fn live_html(
     model: &LiveModel,
     wasm: &[u8],
 ) -> Result<Animation, ViewError> {
-    let (scene, mut summary) = animation_scene(title, shapes, solution, options)?;
+    // The page's own runs (WebAssembly) read no files: mesh shapes are left
+    // out from the first view too, so that the picture does not change.
+    let (meshes, shapes): (Vec<Shape>, Vec<Shape>) =
+        shapes.iter().cloned().partition(|s| matches!(s.kind, ShapeKind::Mesh { .. }));
+    let (scene, mut summary) = animation_scene(title, &shapes, solution, options)?;
+    for s in &meshes {
+        summary
+            .left_out
+            .push(format!("{}: the live page draws no mesh files (`multibody run --animate` does)", s.component));
+    }
     let mut deflate = flate2::write::DeflateEncoder::new(Vec::new(), flate2::Compression::best());
     let compressed = deflate.write_all(wasm).and_then(|_| deflate.finish());
     let compressed = compressed.map_err(|e| ViewError::Io { path: "<the WebAssembly module>".into(), source: e })?;

@@ -2,10 +2,12 @@
 //! the shapes are placed by, at the animation's frame times, and the shapes
 //! themselves with their placements resolved to indices into those poses.
 
+use crate::mesh::{self, MeshData};
 use crate::ViewError;
 use multibody::components::shapes::{Placement, Shape, ShapeKind};
 use multibody::Solution;
 use std::collections::HashMap;
+use std::path::{Path, PathBuf};
 
 /// Floats per pose: position (3) and the frame-to-world rotation as a unit
 /// quaternion `[w, x, y, z]` (4).
@@ -14,6 +16,12 @@ pub const POSE_FLOATS: usize = 7;
 /// The most pose data a page embeds (bytes before base64); longer or larger
 /// runs get fewer frames per second.
 const MAX_POSE_BYTES: usize = 24 << 20;
+
+/// The most triangles of mesh files (ShapefileVisualizer) a page embeds,
+/// each file counted once however many shapes draw it: about 40 MB of page,
+/// and still a few frames per second in a software renderer. A file that
+/// would pass it is left out, with a message.
+pub const MAX_MESH_TRIANGLES: usize = 1_000_000;
 
 /// Everything the page needs to draw the motion.
 #[derive(Debug)]
@@ -31,6 +39,18 @@ pub struct Scene {
     pub bbox: ([f64; 3], [f64; 3]),
     /// Shapes left out, with the reason.
     pub skipped: Vec<String>,
+    /// The mesh files the shapes draw, each once: the path as resolved, and
+    /// the mesh.
+    pub meshes: Vec<(String, MeshData)>,
+}
+
+/// A mesh shape's file (an index into `Scene::meshes`) and where it goes in
+/// its frame: `transform * (scale * p)`.
+#[derive(Debug)]
+pub struct SceneMesh {
+    pub index: usize,
+    pub transform: [[f64; 4]; 4],
+    pub scale: f64,
 }
 
 #[derive(Debug)]
@@ -43,6 +63,7 @@ pub struct SceneShape {
     pub width: f64,
     pub height: f64,
     pub placement: ScenePlacement,
+    pub mesh: Option<SceneMesh>,
 }
 
 #[derive(Debug)]
@@ -61,6 +82,7 @@ fn kind_name(kind: &ShapeKind) -> (&'static str, f64) {
         ShapeKind::Helix { windings } => ("helix", *windings),
         ShapeKind::Line => ("line", 0.0),
         ShapeKind::Arrow => ("arrow", 0.0),
+        ShapeKind::Mesh { .. } => ("mesh", 0.0),
     }
 }
 
@@ -201,9 +223,61 @@ fn frame_times(times: &[f64], fps: f64, max_frames: usize) -> Vec<f64> {
     (0..wanted).map(|k| t0 + duration * k as f64 / (wanted - 1) as f64).collect()
 }
 
+/// The file a mesh shape names: an absolute path as it is, a relative one
+/// from `folder` (the current directory when there is none); `~` is a
+/// name like any other.
+pub fn mesh_path(path: &str, folder: Option<&Path>) -> PathBuf {
+    let p = Path::new(path);
+    match folder {
+        Some(folder) if p.is_relative() => folder.join(p),
+        _ => p.to_path_buf(),
+    }
+}
+
+/// The mesh files of a scene, each read once, within the triangle budget.
+#[derive(Default)]
+struct MeshFiles {
+    loaded: Vec<(String, MeshData)>,
+    by_path: HashMap<PathBuf, Result<usize, String>>,
+    triangles: usize,
+}
+
+impl MeshFiles {
+    fn get(&mut self, path: &Path) -> Result<usize, String> {
+        if let Some(known) = self.by_path.get(path) {
+            return known.clone();
+        }
+        let result = mesh::load(path).and_then(|m| {
+            if m.triangles() == 0 {
+                return Err("it has no triangles".to_string());
+            }
+            if self.triangles + m.triangles() > MAX_MESH_TRIANGLES {
+                return Err(format!(
+                    "it has {} triangles, and the page's budget of {MAX_MESH_TRIANGLES} triangles of meshes has \
+                     {} left; simplify (decimate) the mesh",
+                    m.triangles(),
+                    MAX_MESH_TRIANGLES - self.triangles
+                ));
+            }
+            self.triangles += m.triangles();
+            self.loaded.push((path.display().to_string(), m));
+            Ok(self.loaded.len() - 1)
+        });
+        self.by_path.insert(path.to_path_buf(), result.clone());
+        result
+    }
+}
+
 /// Samples the motion of `shapes` in `solution` at about `fps` frames per
-/// simulated second, with at most `max_frames` frames.
-pub fn sample(shapes: &[Shape], solution: &Solution, fps: f64, max_frames: usize) -> Result<Scene, ViewError> {
+/// simulated second, with at most `max_frames` frames. Mesh files are read
+/// from `mesh_folder` when their path is relative.
+pub fn sample(
+    shapes: &[Shape],
+    solution: &Solution,
+    fps: f64,
+    max_frames: usize,
+    mesh_folder: Option<&Path>,
+) -> Result<Scene, ViewError> {
     let times = solution.time();
     if times.is_empty() {
         return Err(ViewError::EmptySolution);
@@ -215,7 +289,8 @@ pub fn sample(shapes: &[Shape], solution: &Solution, fps: f64, max_frames: usize
     let mut vector_index: HashMap<String, usize> = HashMap::new();
     let mut vectors: Vec<(String, [&[f64]; 3])> = Vec::new();
     let mut skipped = Vec::new();
-    let mut placed: Vec<(&Shape, ScenePlacementDraft)> = Vec::new();
+    let mut placed: Vec<(&Shape, ScenePlacementDraft, Option<usize>)> = Vec::new();
+    let mut mesh_files = MeshFiles::default();
 
     let mut frame = |name: &str, skipped: &mut Vec<String>, component: &str| -> Option<usize> {
         if let Some(&i) = frame_index.get(name) {
@@ -234,6 +309,19 @@ pub fn sample(shapes: &[Shape], solution: &Solution, fps: f64, max_frames: usize
         }
     };
     for shape in shapes {
+        let mesh = match &shape.kind {
+            ShapeKind::Mesh { path, .. } => {
+                let file = mesh_path(path, mesh_folder);
+                match mesh_files.get(&file) {
+                    Ok(index) => Some(index),
+                    Err(why) => {
+                        skipped.push(format!("{}: the mesh {} is not drawn: {why}", shape.component, file.display()));
+                        continue;
+                    }
+                }
+            }
+            _ => None,
+        };
         let draft = match &shape.placement {
             Placement::InFrame { frame: f, origin, length, width_dir } => {
                 let Some(pose) = frame(f, &mut skipped, &shape.component) else { continue };
@@ -268,7 +356,7 @@ pub fn sample(shapes: &[Shape], solution: &Solution, fps: f64, max_frames: usize
                 ScenePlacementDraft::Vector { pose, vector: v, scale: *scale }
             }
         };
-        placed.push((shape, draft));
+        placed.push((shape, draft, mesh));
     }
 
     // Frame times, within the size budget.
@@ -341,8 +429,14 @@ pub fn sample(shapes: &[Shape], solution: &Solution, fps: f64, max_frames: usize
 
     let scene_shapes: Vec<SceneShape> = placed
         .iter()
-        .map(|(shape, draft)| {
+        .map(|(shape, draft, mesh)| {
             let (kind, windings) = kind_name(&shape.kind);
+            let mesh = match (&shape.kind, mesh) {
+                (ShapeKind::Mesh { transform, scale, .. }, Some(index)) => {
+                    Some(SceneMesh { index: *index, transform: *transform, scale: *scale })
+                }
+                _ => None,
+            };
             let placement = match *draft {
                 ScenePlacementDraft::Frame { pose, origin, length, width_dir } => {
                     ScenePlacement::Frame { pose: remap[pose], origin, length, width_dir }
@@ -363,6 +457,7 @@ pub fn sample(shapes: &[Shape], solution: &Solution, fps: f64, max_frames: usize
                 width: shape.width,
                 height: shape.height,
                 placement,
+                mesh,
             }
         })
         .collect();
@@ -376,6 +471,7 @@ pub fn sample(shapes: &[Shape], solution: &Solution, fps: f64, max_frames: usize
         shapes: scene_shapes,
         bbox: ([0.0; 3], [0.0; 3]),
         skipped,
+        meshes: mesh_files.loaded,
     };
     scene.bbox = bounds(&scene);
     Ok(scene)
@@ -422,6 +518,12 @@ fn bounds(scene: &Scene) -> ([f64; 3], [f64; 3]) {
     for k in 0..scene.times.len() {
         for s in &scene.shapes {
             match s.placement {
+                ScenePlacement::Frame { pose: j, .. } if s.mesh.is_some() => {
+                    let (p, m) = pose(k, j);
+                    for corner in mesh_corners(scene, s) {
+                        add(apply(&p, &m, &corner));
+                    }
+                }
                 ScenePlacement::Frame { pose: j, origin, length, .. } => {
                     let (p, m) = pose(k, j);
                     let start = apply(&p, &m, &origin);
@@ -449,6 +551,21 @@ fn bounds(scene: &Scene) -> ([f64; 3], [f64; 3]) {
     }
     let pad = widest / 2.0;
     (lo.map(|x| x - pad), hi.map(|x| x + pad))
+}
+
+/// The corners of a mesh shape's box in its frame: the file's bounds
+/// through `transform * scale`.
+fn mesh_corners(scene: &Scene, s: &SceneShape) -> Vec<[f64; 3]> {
+    let Some(mesh) = &s.mesh else { return Vec::new() };
+    let data = &scene.meshes[mesh.index].1;
+    let t = &mesh.transform;
+    (0..8)
+        .map(|c| {
+            let corner = [0, 1, 2].map(|i| f64::from(if c & (1 << i) != 0 { data.max[i] } else { data.min[i] }));
+            let q = corner.map(|x| x * mesh.scale);
+            [0, 1, 2].map(|i| t[i][0] * q[0] + t[i][1] * q[1] + t[i][2] * q[2] + t[i][3])
+        })
+        .collect()
 }
 
 #[cfg(test)]

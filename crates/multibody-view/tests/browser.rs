@@ -7,7 +7,7 @@
 mod common;
 
 use common::browser::screenshot;
-use common::models;
+use common::models::{self, Block};
 use common::pixels::{is_green, is_magenta, is_purple, is_red};
 use multibody::Solution;
 use multibody_view::{write_animation, AnimationOptions};
@@ -199,4 +199,40 @@ fn controls_work_and_errors_are_caught() {
     let shot = screenshot(&broken, "t=0.5", (800, 500), "broken");
     let caught = std::panic::catch_unwind(|| shot.assert_clean()).is_err();
     assert!(caught, "an uncaught exception went unnoticed:\n{}", shot.log);
+}
+
+/// A mesh file drawn by a ShapefileVisualizer (read from a relative path in
+/// the page's mesh folder, scaled and turned by its parameters, on a moving
+/// frame) covers the same pixels as the BoxShape primitive of the block the
+/// file's geometry makes; with `render = false` it is not drawn.
+#[test]
+fn mesh_file_is_drawn_where_its_geometry_puts_it() {
+    let dir = scratch("mesh_block");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("box.stl"), models::box_stl(0.5, 0.15, 0.15)).unwrap();
+    let options = AnimationOptions { mesh_folder: Some(dir.clone()), ..Default::default() };
+    let mut found = Vec::new();
+    for block in [Block::Primitive, Block::Mesh { render: true }, Block::Mesh { render: false }] {
+        let mechanism = models::mesh_or_box(block);
+        let solution = models::simulate(&mechanism, 0.2);
+        let name = format!("{block:?}").replace([' ', '{', '}', ':'], "");
+        let page = dir.join(format!("{name}.html"));
+        let summary = write_animation(&page, "mesh", &mechanism.shapes(), &solution, &options).unwrap();
+        assert!(summary.left_out.is_empty(), "{:?}", summary.left_out);
+        let shot = screenshot(&page, "t=0&panel=0", VIEW, &format!("mesh_{name}"));
+        shot.assert_clean();
+        assert!(shot.image.drawn_fraction() > 0.005, "the view is blank ({block:?})");
+        let (n, x, y) = shot.image.find(is_magenta);
+        eprintln!("{block:?}: {n} magenta pixels around ({x:.1}, {y:.1})");
+        found.push((n, x, y));
+    }
+    let [(n_box, x_box, y_box), (n_mesh, x_mesh, y_mesh), (n_hidden, _, _)] = found[..] else { unreachable!() };
+    assert!(n_box > 500, "the reference box is too small to compare: {n_box} pixels");
+    let ratio = n_mesh as f64 / n_box as f64;
+    assert!((0.93..1.07).contains(&ratio), "the mesh covers {n_mesh} pixels, the box {n_box}");
+    assert!(
+        (x_mesh - x_box).abs() < 2.0 && (y_mesh - y_box).abs() < 2.0,
+        "the mesh is around ({x_mesh:.1}, {y_mesh:.1}), the box around ({x_box:.1}, {y_box:.1})"
+    );
+    assert_eq!(n_hidden, 0, "the mesh is drawn although render = false");
 }

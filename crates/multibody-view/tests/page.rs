@@ -79,3 +79,41 @@ fn missing_frames_are_left_out_and_reported() {
     assert_eq!(page.summary.left_out.len(), 1);
     assert!(page.summary.left_out[0].contains("ghost.frame_a"), "{:?}", page.summary.left_out);
 }
+
+/// A mesh shape alone: the page's bounds, which frame the camera, are the
+/// box the file's geometry makes through shape_scale and shape_transform
+/// (an absolute path, read whatever the mesh folder is).
+#[test]
+fn bounds_hold_the_mesh_as_placed() {
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("page_mesh_bounds");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("block.stl");
+    std::fs::write(&file, models::box_stl(0.5, 0.15, 0.15)).unwrap();
+    let mut model = multibody::Model::new("LoneMesh");
+    model.add("world", "World").set("render", false);
+    let moved =
+        vec![vec![0.0, -1.0, 0.0, 2.0], vec![1.0, 0.0, 0.0, 0.0], vec![0.0, 0.0, 1.0, -1.0], vec![0.0, 0.0, 0.0, 1.0]];
+    model
+        .add("part", "ShapefileVisualizer")
+        .set("shapefile", file.display().to_string())
+        .set("shape_transform", multibody::Value::Matrix(moved))
+        .set("shape_scale", 0.5);
+    model.connect(["world.frame_b", "part.frame_a"]);
+    let mechanism = model.assemble().unwrap();
+    let solution = models::simulate(&mechanism, 0.1);
+    let options = AnimationOptions { mesh_folder: Some("/nowhere".into()), ..Default::default() };
+    let page = animation_html("lone mesh", &mechanism.shapes(), &solution, &options).unwrap();
+    assert!(page.summary.left_out.is_empty(), "{:?}", page.summary.left_out);
+    let html = &page.html;
+    let start = html.find("id=\"mb-scene\">").unwrap() + "id=\"mb-scene\">".len();
+    let scene: serde_json::Value =
+        serde_json::from_str(&html[start..start + html[start..].find("</script>").unwrap()]).unwrap();
+    // Half sizes 0.25, 0.075, 0.075 after the scale; x and y swapped by the
+    // quarter turn; centred on (2, 0, -1).
+    let (lo, hi) = ([1.925, -0.25, -1.075], [2.075, 0.25, -0.925]);
+    for i in 0..3 {
+        let (a, b) = (scene["bbox"]["min"][i].as_f64().unwrap(), scene["bbox"]["max"][i].as_f64().unwrap());
+        assert!((a - lo[i]).abs() < 1e-6 && (b - hi[i]).abs() < 1e-6, "axis {i}: {a} .. {b}");
+    }
+    assert_eq!(scene["meshes"].as_array().unwrap().len(), 1);
+}

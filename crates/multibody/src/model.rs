@@ -28,6 +28,8 @@ pub enum Value {
     Matrix(Vec<Vec<f64>>),
     /// A variant of an enumeration, e.g. `Quaternion` of `OrientationState`.
     Enum(String),
+    /// A string, e.g. the path of a mesh file.
+    Str(String),
 }
 
 impl Value {
@@ -39,6 +41,7 @@ impl Value {
             Value::Array(v) => format!("an array of {} numbers", v.len()),
             Value::Matrix(rows) => format!("a {}x{} array", rows.len(), rows.first().map_or(0, |r| r.len())),
             Value::Enum(name) => format!("the enumeration value {name}"),
+            Value::Str(_) => "a string".into(),
         }
     }
 }
@@ -79,6 +82,7 @@ impl fmt::Display for Value {
                 write!(f, "]")
             }
             Value::Enum(name) => write!(f, "{name}"),
+            Value::Str(text) => write!(f, "{text:?}"),
         }
     }
 }
@@ -96,6 +100,16 @@ impl From<i32> for Value {
 impl From<bool> for Value {
     fn from(b: bool) -> Self {
         Value::Bool(b)
+    }
+}
+impl From<&str> for Value {
+    fn from(text: &str) -> Self {
+        Value::Str(text.into())
+    }
+}
+impl From<String> for Value {
+    fn from(text: String) -> Self {
+        Value::Str(text)
     }
 }
 impl<const N: usize> From<[f64; N]> for Value {

@@ -1453,9 +1453,6 @@ fn engine_value(value: &Val, span: Span, name: &str) -> Result<multibody::Value,
             Val::Missing => d
                 .primary(span, "`missing` is not a value")
                 .help(format!("give `{name}` a value, or leave it out for its default; `missing` only removes start values, as in `r_0(initial = missing)`")),
-            Val::Str(_) => d
-                .primary(span, "a string")
-                .help("library parameters take numbers, booleans, arrays of numbers and enumeration values"),
             _ => d
                 .primary(span, "not a number, a vector or a matrix")
                 .help("arrays hold numbers, and the rows of a matrix have equal lengths: `[[1, 0], [0, 1]]`"),

@@ -67,13 +67,14 @@ impl Val {
         }
     }
 
-    /// The engine's value: numbers, booleans, vectors, matrices, enumerations.
+    /// The engine's value: numbers, booleans, strings, vectors, matrices, enumerations.
     pub fn to_engine(&self) -> Option<multibody::Value> {
         use multibody::Value;
         match self {
             Val::Number(x) => Some(Value::Number(*x)),
             Val::Bool(b) => Some(Value::Bool(*b)),
             Val::Enum(e) => Some(Value::Enum(e.clone())),
+            Val::Str(text) => Some(Value::Str(text.clone())),
             Val::Array(items) => match self.shape()?.len() {
                 1 => Some(Value::Array(numbers(items)?)),
                 2 => {
@@ -82,7 +83,7 @@ impl Val {
                 }
                 _ => None,
             },
-            Val::Str(_) | Val::Missing => None,
+            Val::Missing => None,
         }
     }
 }

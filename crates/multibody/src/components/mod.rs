@@ -228,6 +228,7 @@ static REGISTRY: &[&ComponentSpec] = &[
     &visualizers::CYLINDER_VISUALIZER,
     &visualizers::SPHERE_VISUALIZER,
     &visualizers::FRAME_VISUALIZER,
+    &visualizers::SHAPEFILE_VISUALIZER,
     &blocks::trajectories::KINEMATIC5,
     &blocks::trajectories::KINEMATIC_PTP,
     &blocks::trajectories::KINEMATIC_PTP_BOUNDED_JERK,
@@ -645,7 +646,8 @@ mod tests {
                     ParamType::Vector(_) | ParamType::IntVector(_) => crate::Value::Array(params.vector(p.name)),
                     ParamType::Bool => crate::Value::Bool(params.boolean(p.name)),
                     ParamType::Enum(..) => crate::Value::Enum(params.variant(p.name).into()),
-                    ParamType::Matrix(_) => crate::Value::Matrix(params.matrix(p.name)),
+                    ParamType::Matrix(_) | ParamType::FixedMatrix(..) => crate::Value::Matrix(params.matrix(p.name)),
+                    ParamType::Text => crate::Value::Str(params.text(p.name).into()),
                 };
                 if let Err(e) = params::check_value("c", p.name, p.ty, &value) {
                     panic!("{}.{}: default does not fit: {e}", spec.kind, p.name);

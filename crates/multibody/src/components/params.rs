@@ -51,6 +51,8 @@ impl<'a> ParamSet<'a> {
                     Default::Vector(v) => Some(Value::Array(v.to_vec())),
                     Default::Bool(b) => Some(Value::Bool(b)),
                     Default::Enum(e) => Some(Value::Enum(e.to_string())),
+                    Default::Matrix(rows) => Some(Value::Matrix(rows.iter().map(|r| r.to_vec()).collect())),
+                    Default::Text(text) => Some(Value::Str(text.to_string())),
                     Default::World(name, factor) => Some(world.scaled(name, factor)),
                     Default::Derived(_) => None,
                     Default::Required => {
@@ -136,6 +138,14 @@ impl<'a> ParamSet<'a> {
         match self.value(name) {
             Some(Value::Matrix(rows)) => rows.clone(),
             _ => Vec::new(),
+        }
+    }
+
+    /// A string parameter (`""` if it has none).
+    pub fn text(&self, name: &str) -> &str {
+        match self.value(name) {
+            Some(Value::Str(text)) => text,
+            _ => "",
         }
     }
 
@@ -248,6 +258,21 @@ pub fn check_value(component: &str, name: &str, ty: ParamType, value: &Value) ->
             }
             finite(component, name, value, &rows.concat()).map(|_| value.clone())
         }
+        (ParamType::FixedMatrix(r, c), Value::Matrix(rows)) => {
+            if let Some(bad) = rows.iter().find(|row| row.len() != c) {
+                return Err(wrong_size(c, bad.len()));
+            }
+            if rows.len() != r {
+                return Err(Error::InvalidValue {
+                    component: component.into(),
+                    name: name.into(),
+                    value: value.to_string(),
+                    reason: format!("it needs {r} rows of {c} numbers, not {} rows", rows.len()),
+                });
+            }
+            finite(component, name, value, &rows.concat()).map(|_| value.clone())
+        }
+        (ParamType::Text, Value::Str(_)) => Ok(value.clone()),
         (ParamType::Enum(ty_name, variants), Value::Enum(v)) => {
             let bare = v.strip_prefix(ty_name).and_then(|s| s.strip_prefix('.')).unwrap_or(v);
             let bare = bare.strip_suffix("()").unwrap_or(bare);

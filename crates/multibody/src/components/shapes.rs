@@ -23,6 +23,11 @@ pub enum ShapeKind {
     Line,
     /// An arrow (shaft and head) of shaft diameter `width`.
     Arrow,
+    /// A triangle mesh read from a file (STL, OBJ or Collada) when the view
+    /// is made. A point `p` of the file is drawn at `transform * (scale * p)`
+    /// in the frame the shape is fixed in. `path` is as the model gives it:
+    /// the view resolves a relative path (see `multibody_view`).
+    Mesh { path: String, transform: [[f64; 4]; 4], scale: f64 },
 }
 
 /// Where a shape is, relative to its component's frames. Frame names are

@@ -57,6 +57,11 @@ pub enum ParamType {
     Enum(&'static str, &'static [&'static str]),
     /// Rows of this many numbers each, any number of rows (a table).
     Matrix(usize),
+    /// Exactly this many rows of this many numbers each, e.g. a 4x4
+    /// homogeneous transform.
+    FixedMatrix(usize, usize),
+    /// A string in double quotes, e.g. the path of a mesh file.
+    Text,
 }
 
 impl ParamType {
@@ -69,6 +74,8 @@ impl ParamType {
             ParamType::Integer => "an integer".into(),
             ParamType::IntVector(n) => format!("an array of {n} integers"),
             ParamType::Matrix(n) => format!("rows of {n} numbers, e.g. [[0, 1], [2, 3]]"),
+            ParamType::FixedMatrix(r, c) => format!("a {r}x{c} array of numbers, given as {r} rows of {c}"),
+            ParamType::Text => "a string, e.g. \"meshes/part.stl\"".into(),
             ParamType::Enum(ty, variants) => {
                 format!("one of {}", variants.iter().map(|v| format!("{ty}.{v}")).collect::<Vec<_>>().join(", "))
             }
@@ -83,6 +90,10 @@ pub enum Default {
     Vector(&'static [f64]),
     Bool(bool),
     Enum(&'static str),
+    /// A matrix, as rows.
+    Matrix(&'static [&'static [f64]]),
+    /// A string.
+    Text(&'static str),
     /// A World parameter times a factor, e.g. `world.default_body_diameter / 2`.
     World(&'static str, f64),
     /// Computed by the component from its other parameters; the text says how.
@@ -98,6 +109,8 @@ impl std::fmt::Display for Default {
             Default::Vector(v) => write!(f, "{}", crate::Value::Array(v.to_vec())),
             Default::Bool(b) => write!(f, "{b}"),
             Default::Enum(v) => write!(f, "{v}"),
+            Default::Matrix(rows) => write!(f, "{}", crate::Value::Matrix(rows.iter().map(|r| r.to_vec()).collect())),
+            Default::Text(text) => write!(f, "{text:?}"),
             Default::World(p, s) if *s == 1.0 => write!(f, "world.{p}"),
             Default::World(p, s) if *s < 1.0 => write!(f, "world.{p} / {}", 1.0 / s),
             Default::World(p, s) => write!(f, "world.{p} * {s}"),
@@ -125,6 +138,24 @@ impl ParamSpec {
     }
     pub const fn boolean(name: &'static str, default: bool, doc: &'static str) -> Self {
         Self { name, ty: ParamType::Bool, default: Default::Bool(default), unit: "", doc }
+    }
+    pub const fn text(name: &'static str, default: &'static str, doc: &'static str) -> Self {
+        Self { name, ty: ParamType::Text, default: Default::Text(default), unit: "", doc }
+    }
+    /// A matrix of as many rows and columns as its default has.
+    pub const fn matrix(
+        name: &'static str,
+        default: &'static [&'static [f64]],
+        unit: &'static str,
+        doc: &'static str,
+    ) -> Self {
+        Self {
+            name,
+            ty: ParamType::FixedMatrix(default.len(), default[0].len()),
+            default: Default::Matrix(default),
+            unit,
+            doc,
+        }
     }
     pub const fn integer(name: &'static str, default: f64, doc: &'static str) -> Self {
         Self { name, ty: ParamType::Integer, default: Default::Number(default), unit: "", doc }

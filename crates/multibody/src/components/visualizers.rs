@@ -10,6 +10,7 @@
 //! - BoxVisualizer, CylinderVisualizer, SphereVisualizer: what a URDF
 //!   importer emits for a link without mass.
 //! - FrameVisualizer: the three axes of a frame, red x, green y, blue z.
+//! - ShapefileVisualizer: a mesh read from a file (STL, OBJ, Collada).
 
 use super::shapes::{LocalShape, ShapeKind};
 use super::spec::{concat, ComponentSpec, ConnectorSpec, ParamSpec, ParamType, Shape, VarSpec};
@@ -258,6 +259,62 @@ fn frame_axes(p: &ParamSet) -> Vec<LocalShape> {
                 .colored(colors[k], specular)
         })
         .collect()
+}
+
+const IDENTITY_4: &[&[f64]] =
+    &[&[1.0, 0.0, 0.0, 0.0], &[0.0, 1.0, 0.0, 0.0], &[0.0, 0.0, 1.0, 0.0], &[0.0, 0.0, 0.0, 1.0]];
+
+pub static SHAPEFILE_VISUALIZER: ComponentSpec = ComponentSpec {
+    kind: "ShapefileVisualizer",
+    doc: "A mesh read from a file (STL, ASCII or binary; OBJ; Collada .dae) drawn in frame_a, with no mass or \
+          inertia. A point p of the file is drawn at shape_transform * (shape_scale * p) in frame_a \
+          coordinates: shape_transform is the 4x4 homogeneous transform from mesh coordinates to frame_a, \
+          written as rows. A relative shapefile path is taken from the folder of the model file being run (the \
+          file given on the command line that holds the analysis or component); an absolute path is used as it \
+          is, and `~` is not expanded. shapefile = \"\" or render = false draws nothing. The file is read when \
+          the animation page is written: a file that is missing or unreadable leaves the shape out with a \
+          warning, and the run's results are kept.",
+    params: &[
+        ParamSpec::boolean("render", true, "Whether to draw the mesh"),
+        ParamSpec::vector("color", &[0.5, 0.5, 0.5, 1.0], "", "RGBA color of the mesh"),
+        ParamSpec::text("shapefile", "", "Path of the mesh file (.stl, .obj, .dae); \"\" draws nothing"),
+        ParamSpec::matrix(
+            "shape_transform",
+            IDENTITY_4,
+            "",
+            "Homogeneous transform from mesh coordinates to frame_a (rows; translation in m)",
+        ),
+        ParamSpec::real("shape_scale", 1.0, "", "Uniform scale of the mesh, applied before shape_transform"),
+        ParamSpec::real("specular_coefficient", 0.7, "", "Specular reflection coefficient (0 = fully diffuse)"),
+    ],
+    connectors: &FRAME,
+    variables: &[],
+    build: |p| {
+        p.non_negative("shape_scale", false)?;
+        let t = p.matrix("shape_transform");
+        if t[3] != [0.0, 0.0, 0.0, 1.0] {
+            return Err(p.invalid("shape_transform", "its last row must be [0, 0, 0, 1] (a rigid or affine transform)"));
+        }
+        Ok(Box::new(Visual { outputs_pose: false }))
+    },
+    shapes: shapefile_mesh,
+};
+
+fn shapefile_mesh(p: &ParamSet) -> Vec<LocalShape> {
+    let path = p.text("shapefile");
+    if !p.boolean("render") || path.is_empty() {
+        return Vec::new();
+    }
+    let rows = p.matrix("shape_transform");
+    let mut transform = [[0.0; 4]; 4];
+    for (i, row) in rows.iter().take(4).enumerate() {
+        for (j, x) in row.iter().take(4).enumerate() {
+            transform[i][j] = *x;
+        }
+    }
+    let kind = ShapeKind::Mesh { path: path.to_string(), transform, scale: p.real("shape_scale") };
+    vec![LocalShape::in_frame(kind, "frame_a", Vec3::zeros(), Vec3::x(), 0.0, 0.0)
+        .colored(p.color("color"), p.real("specular_coefficient"))]
 }
 
 /// A component that only draws: no parts; the shape primitives output
