@@ -48,7 +48,11 @@ pub fn live(args: &LiveArgs) -> Result<(), Failure> {
         initials: args.values.initials.clone(),
         stop: args.stop,
     };
-    let view = multibody_view::AnimationOptions { signals: args.signals.clone(), ..Default::default() };
+    let view = multibody_view::AnimationOptions {
+        signals: args.signals.clone(),
+        up: multibody_view::AnimationOptions::up_of(&mechanism),
+        ..Default::default()
+    };
     let page = multibody_view::live_html(&lowered.name, &mechanism.shapes(), &solution, &view, &model, &wasm)
         .map_err(|e| Failure::Usage(e.to_string()))?;
     output::write_atomically(&args.out, |w| w.write_all(page.html.as_bytes()))?;

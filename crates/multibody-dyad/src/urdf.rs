@@ -95,6 +95,10 @@ pub enum Geometry {
 pub struct Visual {
     pub origin: Origin,
     pub geometry: Geometry,
+    /// RGBA, from the visual's `<material>` or the robot's material it names.
+    pub color: Option<[f64; 4]>,
+    /// The name of the robot's material, when the visual names one.
+    pub material: Option<String>,
     pub at: Pos,
 }
 
@@ -183,6 +187,8 @@ pub fn parse(text: &str) -> Result<Robot, UrdfError> {
     };
     let mut links: Vec<Link> = Vec::new();
     let mut raw_joints = Vec::new();
+    // The robot's named materials, which visuals may name.
+    let mut materials: Vec<(String, [f64; 4])> = Vec::new();
     for node in root.children().filter(|n| n.is_element()) {
         match node.tag_name().name() {
             "link" => {
@@ -194,12 +200,20 @@ pub fn parse(text: &str) -> Result<Robot, UrdfError> {
                 links.push(link);
             }
             "joint" => raw_joints.push(node),
-            "material" => {}
+            "material" => {
+                if let (Some(name), Some(color)) = read_material(node, &pos)? {
+                    materials.push((name, color));
+                }
+            }
             other => skip(other, pos(node)),
         }
     }
     if links.is_empty() {
         return Err(UrdfError::new(pos(root), "the robot has no `<link>`"));
+    }
+    for visual in links.iter_mut().flat_map(|l| l.visuals.iter_mut()).filter(|v| v.color.is_none()) {
+        let named = visual.material.as_ref().and_then(|m| materials.iter().find(|(n, _)| n == m));
+        visual.color = named.map(|(_, c)| *c);
     }
     let mut joints: Vec<Joint> = Vec::new();
     for node in raw_joints {
@@ -411,7 +425,11 @@ fn read_visual(
             return Ok(None);
         }
     };
-    Ok(Some(Visual { origin, geometry, at: pos(node) }))
+    let (material, color) = match element(node, "material") {
+        Some(m) => read_material(m, pos)?,
+        None => (None, None),
+    };
+    Ok(Some(Visual { origin, geometry, color, material, at: pos(node) }))
 }
 
 fn read_joint(
@@ -551,19 +569,38 @@ fn optional_number(node: roxmltree::Node, key: &str, pos: &PosOf) -> Result<Opti
 }
 
 fn vector(node: roxmltree::Node, key: &str, pos: &PosOf) -> Result<Option<[f64; 3]>, UrdfError> {
+    numbers(node, key, pos, "three")
+}
+
+/// `N` numbers separated by spaces (`words` says how many, for the message).
+fn numbers<const N: usize>(
+    node: roxmltree::Node,
+    key: &str,
+    pos: &PosOf,
+    words: &str,
+) -> Result<Option<[f64; N]>, UrdfError> {
     let Some(text) = node.attribute(key) else { return Ok(None) };
     let parts: Vec<&str> = text.split_whitespace().collect();
-    if parts.len() != 3 {
+    if parts.len() != N {
         return Err(UrdfError::new(
             pos(node),
-            format!("`{key}=\"{text}\"` of `<{}>` needs three numbers", node.tag_name().name()),
+            format!("`{key}=\"{text}\"` of `<{}>` needs {words} numbers", node.tag_name().name()),
         ));
     }
-    let mut v = [0.0; 3];
+    let mut v = [0.0; N];
     for (k, p) in parts.iter().enumerate() {
         v[k] = parse_number(p, node, key, pos)?;
     }
     Ok(Some(v))
+}
+
+/// A `<material>`'s name and its `<color rgba>`, if it has one.
+fn read_material(node: roxmltree::Node, pos: &PosOf) -> Result<(Option<String>, Option<[f64; 4]>), UrdfError> {
+    let color = match element(node, "color") {
+        Some(c) => numbers(c, "rgba", pos, "four")?,
+        None => None,
+    };
+    Ok((node.attribute("name").map(str::to_string), color))
 }
 
 fn read_origin(node: roxmltree::Node, pos: &PosOf) -> Result<Origin, UrdfError> {
@@ -1009,6 +1046,12 @@ pub fn to_dyad(robot: &Robot, file: &str, options: &ImportOptions) -> String {
                         row(2)
                     )
                 }
+            };
+            let shape = match visual.color {
+                Some([r, g, b, a]) => {
+                    format!("{}, color = [{}, {}, {}, {}])", &shape[..shape.len() - 1], num(r), num(g), num(b), num(a))
+                }
+                None => shape,
             };
             let name = fresh(format!(
                 "{id}_visual{}",

@@ -475,10 +475,47 @@
   }
 
   // ------------------------------------------------------------ bounds, grid, camera
+  // The world is drawn turned so that its up (against gravity, `scene.up`;
+  // z for a robot from URDF) is the screen's up: `display` (rows) takes
+  // world coordinates to those of the camera, grid and bounds, which keep y
+  // up; `toDisplay` is it as a 4x4 for the view matrices.
+  var display, toDisplay;
+  function readUp() {
+    var a = unit(scene.up || [0, 1, 0]), c = a[1];
+    var v = [-a[2], 0, a[0]]; // a x y
+    if (c < -1 + 1e-12) {
+      display = [[1, 0, 0], [0, -1, 0], [0, 0, -1]];
+    } else {
+      // Rodrigues: c I + [v]x + v v' / (1 + c), the turn taking a to y.
+      var k = 1 / (1 + c);
+      display = [[c + v[0] * v[0] * k, -v[2] + v[0] * v[1] * k, v[1] + v[0] * v[2] * k],
+                 [v[2] + v[1] * v[0] * k, c + v[1] * v[1] * k, -v[0] + v[1] * v[2] * k],
+                 [-v[1] + v[2] * v[0] * k, v[0] + v[2] * v[1] * k, c + v[2] * v[2] * k]];
+    }
+    toDisplay = new Float32Array(16);
+    for (var r = 0; r < 3; r++) for (var col = 0; col < 3; col++) toDisplay[col * 4 + r] = display[r][col];
+    toDisplay[15] = 1;
+  }
+  // Display coordinates back to the world's (for the shader's eye and light).
+  function toWorld(p) {
+    return [display[0][0] * p[0] + display[1][0] * p[1] + display[2][0] * p[2],
+            display[0][1] * p[0] + display[1][1] * p[1] + display[2][1] * p[2],
+            display[0][2] * p[0] + display[1][2] * p[1] + display[2][2] * p[2]];
+  }
   var bmin, bmax, center, radius;
   function readBounds() {
-    bmin = scene.bbox.min;
-    bmax = scene.bbox.max;
+    readUp();
+    bmin = [Infinity, Infinity, Infinity];
+    bmax = [-Infinity, -Infinity, -Infinity];
+    var lo = scene.bbox.min, hi = scene.bbox.max;
+    for (var corner = 0; corner < 8; corner++) {
+      var p = [corner & 1 ? hi[0] : lo[0], corner & 2 ? hi[1] : lo[1], corner & 4 ? hi[2] : lo[2]];
+      for (var i = 0; i < 3; i++) {
+        var x = display[i][0] * p[0] + display[i][1] * p[1] + display[i][2] * p[2];
+        bmin[i] = Math.min(bmin[i], x);
+        bmax[i] = Math.max(bmax[i], x);
+      }
+    }
     center = [(bmin[0] + bmax[0]) / 2, (bmin[1] + bmax[1]) / 2, (bmin[2] + bmax[2]) / 2];
     radius = Math.max(norm(sub(bmax, bmin)) / 2, 1e-3);
   }
@@ -680,6 +717,7 @@
     var near = camera.distance / 200, far = camera.distance * 20 + radius * 4;
     var viewProjection = multiply(perspective(FOVY, w / h, near, far), lookAt(eye, axes));
 
+    // The grid lies in display coordinates; everything else is the world's.
     gl.useProgram(lineProgram.program);
     gl.uniformMatrix4fv(lineProgram.uViewProjection, false, viewProjection);
     gl.uniform4f(lineProgram.uColor, 0.72, 0.74, 0.78, 1);
@@ -687,10 +725,11 @@
     gl.drawArrays(gl.LINES, 0, grid.count);
 
     gl.useProgram(meshProgram.program);
-    gl.uniformMatrix4fv(meshProgram.uViewProjection, false, viewProjection);
-    gl.uniform3f(meshProgram.uEye, eye[0], eye[1], eye[2]);
+    gl.uniformMatrix4fv(meshProgram.uViewProjection, false, multiply(viewProjection, toDisplay));
+    var worldEye = toWorld(eye);
+    gl.uniform3f(meshProgram.uEye, worldEye[0], worldEye[1], worldEye[2]);
     // A light above and to the left of the camera, turning with it.
-    var light = addScaled(addScaled(axes.z, axes.y, 0.8), axes.x, -0.45);
+    var light = toWorld(addScaled(addScaled(axes.z, axes.y, 0.8), axes.x, -0.45));
     gl.uniform3f(meshProgram.uLight, light[0], light[1], light[2]);
     draws = 0;
     var i;
@@ -710,9 +749,11 @@
     gl.disable(gl.SCISSOR_TEST);
     gl.viewport(0, 0, size, size);
     var triadEye = scale(dir, 4);
-    var triadViewProjection = multiply(orthographic(1.45, 0.1, 10), lookAt(triadEye, cameraAxes(triadEye, [0, 0, 0])));
+    var triadViewProjection = multiply(
+      multiply(orthographic(1.45, 0.1, 10), lookAt(triadEye, cameraAxes(triadEye, [0, 0, 0]))), toDisplay);
     gl.uniformMatrix4fv(meshProgram.uViewProjection, false, triadViewProjection);
-    gl.uniform3f(meshProgram.uEye, triadEye[0], triadEye[1], triadEye[2]);
+    var triadWorldEye = toWorld(triadEye);
+    gl.uniform3f(meshProgram.uEye, triadWorldEye[0], triadWorldEye[1], triadWorldEye[2]);
     var basis = [[1, 0, 0], [0, 1, 0], [0, 0, 1]];
     for (i = 0; i < 3; i++) {
       var e1 = basis[i], e2 = basis[(i + 1) % 3], e3 = basis[(i + 2) % 3];

@@ -42,6 +42,22 @@ pub struct AnimationOptions {
     /// are read from: the folder of the model file being run. `None`: the
     /// current directory.
     pub mesh_folder: Option<PathBuf>,
+    /// The world's up, drawn upwards on the page: against gravity
+    /// ([`AnimationOptions::up_of`]); `[0, 1, 0]` by default.
+    pub up: [f64; 3],
+}
+
+impl AnimationOptions {
+    /// The up of a mechanism's world: against uniform gravity, else y.
+    pub fn up_of(mechanism: &multibody::Mechanism) -> [f64; 3] {
+        let world = mechanism.world();
+        let n = world.n;
+        if world.point_gravity || n.norm() < 1e-12 || !n.iter().all(|x| x.is_finite()) {
+            return [0.0, 1.0, 0.0];
+        }
+        let n = -n / n.norm();
+        [n.x, n.y, n.z]
+    }
 }
 
 impl Default for AnimationOptions {
@@ -56,6 +72,7 @@ impl Default for AnimationOptions {
             looping: true,
             autoplay: true,
             mesh_folder: None,
+            up: [0.0, 1.0, 0.0],
         }
     }
 }
@@ -200,6 +217,7 @@ fn scene_json(
     j.key("poses").string(&encode_f32(&scene.poses));
     j.key("vectorCount").number(scene.vector_names.len() as f64);
     j.key("vectors").string(&encode_f32(&scene.vectors));
+    j.key("up").numbers(&options.up);
     j.key("bbox").begin_object();
     j.key("min").numbers(&scene.bbox.0);
     j.key("max").numbers(&scene.bbox.1);

@@ -236,3 +236,65 @@ fn mesh_file_is_drawn_where_its_geometry_puts_it() {
     );
     assert_eq!(n_hidden, 0, "the mesh is drawn although render = false");
 }
+
+/// The Panda of example-robot-data (from PyPI, fetched by
+/// scripts/fetch-robots.sh; skipped without it), read from its URDF with
+/// its meshes (Collada files found through `package://`), painted magenta:
+/// the page draws the robot from the meshes alone (nothing else of the
+/// scene is magenta), and draws nothing magenta with the meshes left out.
+#[test]
+fn the_panda_is_drawn_with_its_meshes() {
+    use multibody_dyad::urdf::{self, Geometry, ImportOptions, MeshSearch};
+    let robots = std::env::var_os("MULTIBODY_ROBOTS")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../target/robots"));
+    let path = robots.join("example-robot-data/panda_description/urdf/panda.urdf");
+    let Ok(text) = std::fs::read_to_string(&path) else {
+        println!("skipped: no {} (scripts/fetch-robots.sh fetches it)", path.display());
+        return;
+    };
+    let mut found = Vec::new();
+    for with_meshes in [true, false] {
+        let mut robot = urdf::parse(&text).unwrap();
+        let search = MeshSearch { urdf_folder: path.parent().unwrap().into(), package_dirs: Vec::new() };
+        let missing = urdf::resolve_meshes(&mut robot, &search);
+        assert!(
+            missing.is_empty(),
+            "{:?}",
+            missing.iter().map(|m| m.render("panda.urdf", "error")).collect::<Vec<_>>()
+        );
+        let mut meshes = 0;
+        for link in &mut robot.links {
+            link.visuals.retain(|v| with_meshes || !matches!(v.geometry, Geometry::Mesh { .. }));
+            for visual in &mut link.visuals {
+                visual.color = Some([1.0, 0.0, 1.0, 1.0]);
+                meshes += matches!(visual.geometry, Geometry::Mesh { .. }) as usize;
+            }
+        }
+        assert_eq!(meshes, if with_meshes { 11 } else { 0 }, "the Panda has 11 visual meshes");
+        let dyad = urdf::to_dyad(&robot, "panda.urdf", &ImportOptions::default());
+        let mut package = multibody_dyad::Package::new();
+        package.add_source("panda.dyad", dyad).unwrap();
+        let target = package.choose_target(None, None).unwrap();
+        let mechanism = package.lower_target(&target, &[]).unwrap().assemble().unwrap();
+        let solution = models::simulate(&mechanism, 0.2);
+        let page = scratch(&format!("panda_{with_meshes}.html"));
+        // URDF's z up, drawn up.
+        let options = AnimationOptions { up: AnimationOptions::up_of(&mechanism), ..Default::default() };
+        assert_eq!(options.up, [0.0, 0.0, 1.0]);
+        let summary = write_animation(&page, "Panda", &mechanism.shapes(), &solution, &options).unwrap();
+        assert!(summary.left_out.is_empty(), "{:?}", summary.left_out);
+        let shot = screenshot(&page, "t=0&panel=0", VIEW, &format!("panda_{with_meshes}"));
+        shot.assert_clean();
+        let (n, x, y) = shot.image.find(is_magenta);
+        println!(
+            "Panda {}: {n} magenta pixels around ({x:.0}, {y:.0})",
+            if with_meshes { "with meshes" } else { "without" }
+        );
+        found.push(n);
+    }
+    assert!(found[0] > 3000, "the Panda's meshes cover only {} pixels of {}x{}", found[0], VIEW.0, VIEW.1);
+    // Without the meshes only the shading of the bodies' default (purple)
+    // spheres passes for magenta here and there.
+    assert!(found[1] * 50 < found[0], "{} magenta pixels without the meshes: the count is not the meshes'", found[1]);
+}

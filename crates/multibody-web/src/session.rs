@@ -181,7 +181,11 @@ impl Session {
     }
 
     fn scene(&self, mechanism: &Mechanism, solution: &multibody::Solution) -> Result<String, String> {
-        let options = AnimationOptions { signals: self.signals.clone(), ..Default::default() };
+        let options = AnimationOptions {
+            signals: self.signals.clone(),
+            up: AnimationOptions::up_of(mechanism),
+            ..Default::default()
+        };
         animation_scene(&self.name, &mechanism.shapes(), solution, &options)
             .map(|(scene, _)| scene)
             .map_err(|e| e.to_string())
