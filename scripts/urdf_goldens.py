@@ -10,7 +10,11 @@ Everything is written in the coordinates of our joint space
 (multibody::JointSpace), converted here from Pinocchio's:
 - a revolute or continuous joint: its angle (Pinocchio keeps cos and sin
   for a continuous one), its rate, its acceleration, its torque;
-- the floating base: q = [r_0 (3), quaternion [w, i, j, k]] where
+- a planar joint: [x, y, angle] (Pinocchio's [x, y, cos, sin]), with the
+  velocities in the plane's fixed axes, where Pinocchio's are in the
+  turned ones (converted as for the floating base, in two dimensions);
+- the floating base (and a floating joint, relative to its parent):
+  q = [r_0 (3), quaternion [w, i, j, k]] where
   Pinocchio has [x, y, z, i, j, k, w] (the same rotation: Pinocchio's
   matrix maps body to world, ours world to body, with one formula apart
   from that transpose); v = [v_0 in the world, angular velocity in the
@@ -51,11 +55,11 @@ def goldens(path, floating=False, damped=False, seed=2026, states=STATES):
     joints = []
     for j in range(1, model.njoints):
         joint = model.joints[j]
-        free = joint.shortname() == "JointModelFreeFlyer"
-        if joint.nv != 1 and not free:
+        free, planar = joint.shortname() == "JointModelFreeFlyer", joint.shortname() == "JointModelPlanar"
+        if joint.nv != 1 and not (free or planar):
             raise SystemExit(f"{path}: joint {model.names[j]} has {joint.nv} degrees of freedom")
-        joints.append({"name": model.names[j], "free": free, "nq_pin": joint.nq, "idx_q": joint.idx_q,
-                       "idx_v": joint.idx_v, "nv": joint.nv})
+        joints.append({"name": model.names[j], "free": free, "planar": planar, "nq_pin": joint.nq,
+                       "idx_q": joint.idx_q, "idx_v": joint.idx_v, "nv": joint.nv})
     links = [f.name for f in model.frames if f.type == pin.FrameType.BODY]
     damping = np.array(model.damping) if damped else np.zeros(model.nv)
     out = []
@@ -69,6 +73,11 @@ def goldens(path, floating=False, damped=False, seed=2026, states=STATES):
                 quaternion /= np.linalg.norm(quaternion)  # [i, j, k, w] as Pinocchio stores it
                 q[j["idx_q"]:j["idx_q"] + 7] = np.concatenate([position, quaternion])
                 ours_q += list(position) + [quaternion[3], quaternion[0], quaternion[1], quaternion[2]]
+                continue
+            if j["planar"]:  # x, y, cos, sin; ours x, y, angle
+                x, y, angle = rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), rng.uniform(-np.pi, np.pi)
+                q[j["idx_q"]:j["idx_q"] + 4] = [x, y, np.cos(angle), np.sin(angle)]
+                ours_q += [x, y, angle]
                 continue
             angle = rng.uniform(-np.pi, np.pi)
             if j["nq_pin"] == 2:  # continuous: cos, sin
@@ -93,15 +102,24 @@ def goldens(path, floating=False, damped=False, seed=2026, states=STATES):
         T = np.eye(model.nv)
         ours_v, ours_a, ours_ddq = v.copy(), a.copy(), ddq.copy()
         for j in joints:
-            if not j["free"]:
-                continue
             k = j["idx_v"]
-            R = data.oMi[model.getJointId(j["name"])].rotation  # body to world
-            w = v[k + 3:k + 6]
-            T[k:k + 3, k:k + 3] = R.T
-            ours_v[k:k + 3] = R @ v[k:k + 3]
-            ours_a[k:k + 3] = R @ (a[k:k + 3] + np.cross(w, v[k:k + 3]))
-            ours_ddq[k:k + 3] = R @ (ddq[k:k + 3] + np.cross(w, v[k:k + 3]))
+            if j["free"]:
+                # The joint's own rotation, child to parent (the world's for a base).
+                R = pin.XYZQUATToSE3(q[j["idx_q"]:j["idx_q"] + 7]).rotation
+                w = v[k + 3:k + 6]
+                T[k:k + 3, k:k + 3] = R.T
+                ours_v[k:k + 3] = R @ v[k:k + 3]
+                ours_a[k:k + 3] = R @ (a[k:k + 3] + np.cross(w, v[k:k + 3]))
+                ours_ddq[k:k + 3] = R @ (ddq[k:k + 3] + np.cross(w, v[k:k + 3]))
+            elif j["planar"]:
+                # In the plane: Pinocchio's velocity is in the turned frame.
+                c, s_ = q[j["idx_q"] + 2], q[j["idx_q"] + 3]
+                R = np.array([[c, -s_], [s_, c]])
+                w, vp = v[k + 2], v[k:k + 2]
+                T[k:k + 2, k:k + 2] = R.T
+                ours_v[k:k + 2] = R @ vp
+                ours_a[k:k + 2] = R @ (a[k:k + 2] + w * np.array([-vp[1], vp[0]]))
+                ours_ddq[k:k + 2] = R @ (ddq[k:k + 2] + w * np.array([-vp[1], vp[0]]))
         ours_tau = T.T @ tau
         ours_mass = T.T @ mass @ T
         # How much rounding the forward dynamics amplify: solving M x = b
@@ -109,7 +127,7 @@ def goldens(path, floating=False, damped=False, seed=2026, states=STATES):
         out.append({"q": ours_q, "v": ours_v.tolist(), "ddq": ours_ddq.tolist(), "M": ours_mass.tolist(),
                     "a": ours_a.tolist(), "tau": ours_tau.tolist(), "poses": poses,
                     "cond": float(np.linalg.cond(mass)) if model.nv else 1.0})
-    described = [{"name": j["name"], "nq": 7 if j["free"] else 1, "nv": j["nv"]} for j in joints]
+    described = [{"name": j["name"], "nq": 7 if j["free"] else 3 if j["planar"] else 1, "nv": j["nv"]} for j in joints]
     return {"joints": described, "floating": floating, "damped": damped, "states": out,
             "pinocchio": pin.__version__}
 

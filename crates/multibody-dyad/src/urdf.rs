@@ -116,6 +116,17 @@ pub enum JointKind {
     Continuous,
     Prismatic,
     Fixed,
+    /// Six degrees of freedom between two links.
+    Floating,
+    /// Motion in the plane whose normal is the axis.
+    Planar,
+}
+
+impl JointKind {
+    /// A joint of one coordinate (which mimics and dampers act on).
+    pub fn has_one_coordinate(self) -> bool {
+        matches!(self, JointKind::Revolute | JointKind::Continuous | JointKind::Prismatic)
+    }
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -289,13 +300,12 @@ fn check_mimics(joints: &[Joint]) -> Result<(), UrdfError> {
                 format!("`{}` mimics the joint `{}`, which does not exist", j.name, m.joint),
             ));
         };
-        if j.kind == JointKind::Fixed || joints[l].kind == JointKind::Fixed {
-            let fixed = if j.kind == JointKind::Fixed { &j.name } else { &joints[l].name };
+        if !(j.kind.has_one_coordinate() && joints[l].kind.has_one_coordinate()) {
             return Err(UrdfError::new(
                 m.at,
-                format!("`{}` mimics `{}`, but `{fixed}` is a fixed joint", j.name, m.joint),
+                format!("`{}` ({:?}) mimics `{}` ({:?})", j.name, j.kind, m.joint, joints[l].kind).to_lowercase(),
             )
-            .help("a mimic couples the coordinates of two moving joints"));
+            .help("a mimic couples two joints of one coordinate each: revolute, continuous or prismatic"));
         }
         if !(m.multiplier.is_finite() && m.offset.is_finite()) {
             return Err(UrdfError::new(
@@ -444,10 +454,8 @@ fn read_joint(
         "continuous" => JointKind::Continuous,
         "prismatic" => JointKind::Prismatic,
         "fixed" => JointKind::Fixed,
-        what @ ("floating" | "planar") => {
-            return Err(UrdfError::new(pos(node), format!("the joint `{name}` is {what}, which the import does not map yet"))
-                .help("revolute, continuous, prismatic and fixed joints are imported; a floating base is `multibody import --floating`"))
-        }
+        "floating" => JointKind::Floating,
+        "planar" => JointKind::Planar,
         other => {
             return Err(UrdfError::new(pos(node), format!("the joint `{name}` has the type `{other}`"))
                 .help("URDF's joint types are revolute, continuous, prismatic, fixed, floating and planar"))
@@ -481,7 +489,7 @@ fn read_joint(
     if let Some(a) = element(node, "axis") {
         axis = vector(a, "xyz", pos)?.unwrap_or(axis);
         let norm = axis.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if norm <= 1e-12 && matches!(kind, JointKind::Revolute | JointKind::Continuous | JointKind::Prismatic) {
+        if norm <= 1e-12 && (kind.has_one_coordinate() || kind == JointKind::Planar) {
             return Err(UrdfError::new(pos(a), format!("the axis of `{name}` is zero")));
         }
         if norm > 1e-12 {
@@ -521,6 +529,9 @@ fn read_joint(
                 }
                 if joint.friction != 0.0 {
                     skip("dynamics friction", pos(e));
+                }
+                if joint.damping != 0.0 && !joint.kind.has_one_coordinate() {
+                    skip("dynamics damping", pos(e));
                 }
             }
             "mimic" => {
@@ -742,6 +753,18 @@ impl Default for ImportOptions {
     fn default() -> Self {
         ImportOptions { floating: false, damping: true, mimic: true, mesh_base: None }
     }
+}
+
+/// A unit vector perpendicular to `axis`: the plane's x of a planar joint
+/// (x itself for the axis z, as Pinocchio's planar joint has it).
+fn in_plane(axis: [f64; 3]) -> [f64; 3] {
+    let k = (0..3).min_by(|&a, &b| axis[a].abs().total_cmp(&axis[b].abs())).unwrap_or(0);
+    let mut e = [0.0; 3];
+    e[k] = 1.0;
+    let d = axis[k];
+    let v = [e[0] - d * axis[0], e[1] - d * axis[1], e[2] - d * axis[2]];
+    let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    v.map(|x| x / norm)
 }
 
 /// A Dyad string literal.
@@ -1086,9 +1109,24 @@ pub fn to_dyad(robot: &Robot, file: &str, options: &ImportOptions) -> String {
                     format!("FixedRotation({origin})")
                 }
             }
+            JointKind::Planar => {
+                format!("Planar(n = {}, n_x = {})", vec3(joint.axis), vec3(in_plane(joint.axis)))
+            }
+            JointKind::Floating => "FreeMotion(orientation_state = OrientationState.Quaternion())".into(),
         };
         declarations.push(format!("{note}  {id} = MultibodyComponents.{component}"));
-        at_link[joint.parent].push(format!("{id}.frame_a"));
+        if matches!(joint.kind, JointKind::Planar | JointKind::Floating) {
+            // These library joints have no origin of their own: a fixed
+            // part before them carries it.
+            let placed = fresh(format!("{id}_origin"));
+            let part =
+                if angle == 0.0 { format!("FixedTranslation(r = {r})") } else { format!("FixedRotation({origin})") };
+            declarations.push(format!("  {placed} = MultibodyComponents.{part}"));
+            at_link[joint.parent].push(format!("{placed}.frame_a"));
+            relations.push(format!("  connect({placed}.frame_b, {id}.frame_a)"));
+        } else {
+            at_link[joint.parent].push(format!("{id}.frame_a"));
+        }
         at_link[joint.child].push(format!("{id}.frame_b"));
         if let Some(m) = mimic {
             let leader = robot.joints.iter().position(|o| o.name == m.joint).expect("checked by parse");
@@ -1113,7 +1151,7 @@ pub fn to_dyad(robot: &Robot, file: &str, options: &ImportOptions) -> String {
                 JointKind::Prismatic => ("TranslationalComponents", "flange_a", "flange_b"),
                 _ => ("RotationalComponents", "spline_a", "spline_b"),
             };
-            if matches!(joint.kind, JointKind::Revolute | JointKind::Continuous | JointKind::Prismatic) {
+            if joint.kind.has_one_coordinate() {
                 declarations.push(format!("  {damper} = {lib}.Damper(d = {})", num(joint.damping)));
                 relations.push(format!("  connect({damper}.{a}, {id}.support)"));
                 relations.push(format!("  connect({damper}.{b}, {id}.axis)"));
@@ -1160,6 +1198,7 @@ pub fn skipped_effect(tag: &str) -> &'static str {
         "transmission" | "gazebo" => "simulator and controller settings are not used",
         "safety_controller" | "calibration" => "controller settings are not used",
         "dynamics friction" => "joint friction is not applied (damping is)",
+        "dynamics damping" => "the damping of planar and floating joints is not applied",
         "mimic" => "a mimic on a fixed joint has no effect",
         "limit" => "limits are not enforced (nor are they in Pinocchio's dynamics)",
         _ => "not part of the model",

@@ -336,14 +336,21 @@ fn bad_files_are_refused_with_their_place() {
     assert!(e.contains("the type `hinge`") && e.contains("revolute, continuous, prismatic"), "{e}");
 
     let e = error_of(&robot(format!(
-        "{}\n{}\n<joint name=\"j\" type=\"planar\"><parent link=\"a\"/><child link=\"b\"/></joint>",
+        "{}\n{}\n<joint name=\"j\" type=\"planar\"><parent link=\"a\"/><child link=\"b\"/><axis xyz=\"0 0 0\"/></joint>",
         link("a"),
         link("b")
     )));
-    assert!(
-        e.starts_with("bad.urdf:4:1") && e.contains("the joint `j` is planar, which the import does not map yet"),
-        "{e}"
-    );
+    assert!(e.starts_with("bad.urdf:4:") && e.contains("the axis of `j` is zero"), "{e}");
+
+    // A planar joint cannot be mimicked.
+    let e = error_of(&robot(format!(
+        "{}\n{}\n{}\n<joint name=\"p\" type=\"planar\"><parent link=\"a\"/><child link=\"b\"/></joint>\n\
+         <joint name=\"m\" type=\"revolute\"><parent link=\"b\"/><child link=\"c\"/><mimic joint=\"p\"/></joint>",
+        link("a"),
+        link("b"),
+        link("c")
+    )));
+    assert!(e.starts_with("bad.urdf:6:") && e.contains("`m` (revolute) mimics `p` (planar)"), "{e}");
 }
 
 #[test]

@@ -14,7 +14,7 @@ import multibody
 FOLDER = Path(__file__).resolve().parents[2] / "multibody-dyad" / "tests" / "urdf"
 GOLDENS = json.loads((FOLDER / "goldens.json").read_text())
 # The files' joint and link names are Dyad names as they are.
-ROOTS = {"arm6.urdf": "base", "damped.urdf": "base"}
+ROOTS = {"arm6.urdf": "base", "damped.urdf": "base", "free_joints.urdf": "table"}
 
 
 def ours(space, golden):
@@ -31,7 +31,9 @@ def ours(space, golden):
 
 # The damped variant's values have the file's damping (which the import
 # keeps by default) as joint torques.
-@pytest.mark.parametrize("variant", ["arm6.urdf", "arm6.urdf floating", "damped.urdf damped"])
+@pytest.mark.parametrize(
+    "variant", ["arm6.urdf", "arm6.urdf floating", "damped.urdf damped", "free_joints.urdf", "free_joints.urdf floating"]
+)
 def test_joint_space_equals_pinocchio(variant):
     golden = dict(GOLDENS[variant], file=variant.split(" ")[0])
     model = multibody.load(FOLDER / golden["file"], floating=golden["floating"])
