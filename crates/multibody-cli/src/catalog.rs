@@ -19,6 +19,13 @@ pub fn list() -> Result<(), Failure> {
 }
 
 pub fn describe(kind: &str) -> Result<(), Failure> {
+    let path = std::path::Path::new(kind);
+    if lookup(kind).is_none() && (path.is_file() || path.extension().is_some_and(|e| e == "dyad" || e == "urdf")) {
+        return Err(Failure::Usage(format!(
+            "`describe` shows a library component kind; `multibody check {kind}` describes a model file (its \
+             states, loops and free parts)"
+        )));
+    }
     if lookup(kind).is_none() {
         // A kind written in Dyad may be named without its library when only one library has it.
         let suffix = format!(".{kind}");

@@ -50,6 +50,10 @@ fn import_refuses_bad_files_and_outputs() {
     // The output may not be the input.
     let out = multibody(&dir, &["import", "two_parents.urdf", "-o", "two_parents.urdf"]);
     assert_eq!(code(&out), 2, "{}", stderr(&out));
+    // `describe` is for library kinds: it points at `check` for a file.
+    let out = multibody(&dir, &["describe", "two_parents.urdf"]);
+    assert_eq!(code(&out), 2, "{}", stderr(&out));
+    assert!(stderr(&out).contains("`multibody check two_parents.urdf` describes a model file"), "{}", stderr(&out));
     // `run` reads the same messages.
     let out = multibody(&dir, &["run", "two_parents.urdf"]);
     assert_eq!(code(&out), 1, "{}", stderr(&out));
