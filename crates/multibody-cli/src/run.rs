@@ -245,7 +245,7 @@ fn write_views(
         let options = multibody_view::AnimationOptions {
             signals: args.signals.clone(),
             mesh_folder: Some(model_folder.to_path_buf()),
-            up: multibody_view::AnimationOptions::up_of(&mechanism),
+            up: multibody_view::AnimationOptions::up_of(mechanism),
             ..Default::default()
         };
         let page =
