@@ -157,6 +157,35 @@ end
     assert!(drift <= 1e-8, "energy drifts by {drift} of m g l");
 }
 
+/// A long cable (200 segments, issue 26: "loop cannot close ... check the
+/// lengths" although 100 closed) between mounts closer than its length
+/// closes at assembly: the rod that closes it keeps one segment's length
+/// and ends at the mount.
+#[test]
+fn a_long_cable_between_two_mounts_closes() {
+    for n in [100, 200] {
+        let text = format!(
+            "
+example component Hang
+  world = MultibodyComponents.World()
+  mount = MultibodyComponents.Fixed(r = [2, 0, 0])
+  cable = MultibodyComponents.Cable(n = {n}, iscut = true, l = 2.4, m = 6, dir = [1, 0, 0])
+relations
+  connect(world.frame_b, cable.frame_a)
+  connect(cable.frame_b, mount.frame_b)
+end
+"
+        );
+        let s = simulate(&text, "Hang", 1e-3);
+        let (a, b) = (vector(&s, "cable.rod.frame_a.r_0", 0), vector(&s, "cable.rod.frame_b.r_0", 0));
+        let length = ((0..3).map(|i| (b[i] - a[i]).powi(2)).sum::<f64>()).sqrt();
+        let error = (length - 2.4 / n as f64).abs();
+        println!("cable of {n}: rod length error {error:.1e} m, rod ends at {b:?}");
+        assert!(error <= 1e-9, "n = {n}: the rod is {length} m long, not {}", 2.4 / n as f64);
+        assert!((b[0] - 2.0).abs() < 1e-9 && b[1].abs() < 1e-9 && b[2].abs() < 1e-9, "n = {n}: the rod ends at {b:?}");
+    }
+}
+
 /// The planar Cable (PlanarMechanics) with damped joints against the same
 /// chain of planar revolutes, rods and rotational dampers written out.
 #[test]

@@ -14,9 +14,13 @@ const CLOSED: f64 = 1e-10;
 const NEWTON_ITERATIONS: usize = 60;
 /// Newton steps that hardly shrink the residual before the start is bent.
 const STALLED: usize = 4;
-/// How often, and by how much (rad per free coordinate, growing), it is bent.
+/// How often, and by how much (rad per free coordinate, growing), it is
+/// bent; a loop of many joints is bent by as much in all (a bend per joint
+/// that does not shrink with their number curls a long cable into rings it
+/// cannot unwind from).
 const BENDS: usize = 3;
 const BEND: f64 = 0.05;
+const BEND_IN_ALL: f64 = 3.0;
 
 /// The constraints, in the order of `tree.cuts`, and each cut joint's place
 /// in its component's joint list.
@@ -230,8 +234,10 @@ fn newton(
             // than its length) is a singular point: no first-order motion
             // shortens it. Bend every free joint a little and start again.
             bends += 1;
+            let count = free[..nv].iter().filter(|&&f| f).count().max(1) as f64;
+            let bend = BEND.min(BEND_IN_ALL / count) * bends as f64;
             for (du, &is_free) in ws.du.iter_mut().zip(&free[..nv]) {
-                *du = if is_free { BEND * bends as f64 } else { 0.0 };
+                *du = if is_free { bend } else { 0.0 };
             }
             mechanism.system.retract(y, ws);
             (previous, stalled) = (f64::INFINITY, 0);
