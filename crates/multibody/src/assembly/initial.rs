@@ -93,7 +93,8 @@ fn relative(variable: &str) -> Option<(bool, usize)> {
         (false, variable.strip_prefix("v_rel_a_")?)
     };
     let k: usize = k.parse().ok()?;
-    (1..=3).contains(&k).then_some((position, k - 1))
+    // `then`, not `then_some`: `k - 1` must not be computed for k = 0.
+    (1..=3).contains(&k).then(|| (position, k - 1))
 }
 
 /// Every component's initial equations.
@@ -366,5 +367,19 @@ fn cannot(mechanism: &Mechanism, equations: &[InitialMotion], res: &DVector<f64>
         component: names.join(", "),
         what: "initial values of relative motion that keep a kinematic loop open".into(),
         fix: "check that the values are reachable, give guesses closer to them, or fix fewer start values".into(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::relative;
+
+    #[test]
+    fn relative_components_are_numbered_from_one() {
+        assert_eq!(relative("r_rel_a_1"), Some((true, 0)));
+        assert_eq!(relative("v_rel_a_3"), Some((false, 2)));
+        // Found by fuzzing `check_file`: index 0 overflowed in debug builds.
+        assert_eq!(relative("r_rel_a_0"), None);
+        assert_eq!(relative("v_rel_a_4"), None);
     }
 }
