@@ -105,6 +105,60 @@ end
     assert!(worst <= 1e-9, "the cable and the chain differ by {worst} m");
 }
 
+/// The joint space of the Cable (its joints named by their place in the
+/// array, `cable.joints[2]`, each once) has the mass matrix of the same
+/// chain written out joint by joint.
+#[test]
+fn a_cables_joint_space_is_the_chains() {
+    let text = "
+example component WithCable
+  world = MultibodyComponents.World()
+  cable = MultibodyComponents.Cable(n = 3, l = 1.2, m = 0.6, dir = [1, 0, 0])
+  load = MultibodyComponents.Body(m = 0.5, r_cm = [0, 0, 0])
+relations
+  connect(world.frame_b, cable.frame_a)
+  connect(cable.frame_b, load.frame_a)
+end
+example component ByHand
+  world = MultibodyComponents.World()
+  link1 = MultibodyComponents.BodyShape(r = [0.4, 0, 0], r_cm = [0.2, 0, 0], m = 0.2, radius = 0.05)
+  link2 = MultibodyComponents.BodyShape(r = [0.4, 0, 0], r_cm = [0.2, 0, 0], m = 0.2, radius = 0.05)
+  link3 = MultibodyComponents.BodyShape(r = [0.4, 0, 0], r_cm = [0.2, 0, 0], m = 0.2, radius = 0.05)
+  ball1 = MultibodyComponents.Spherical(orientation_state = OrientationState.Quaternion())
+  ball2 = MultibodyComponents.Spherical(orientation_state = OrientationState.Quaternion())
+  ball3 = MultibodyComponents.Spherical(orientation_state = OrientationState.Quaternion())
+  ball4 = MultibodyComponents.Spherical(orientation_state = OrientationState.Quaternion())
+  load = MultibodyComponents.Body(m = 0.5, r_cm = [0, 0, 0])
+relations
+  connect(world.frame_b, ball1.frame_a)
+  connect(ball1.frame_b, link1.frame_a)
+  connect(link1.frame_b, ball2.frame_a)
+  connect(ball2.frame_b, link2.frame_a)
+  connect(link2.frame_b, ball3.frame_a)
+  connect(ball3.frame_b, link3.frame_a)
+  connect(link3.frame_b, ball4.frame_a)
+  connect(ball4.frame_b, load.frame_a)
+end
+";
+    let mut package = Package::new();
+    package.add_source("cable.dyad", text.to_string()).unwrap();
+    let mut spaces = Vec::new();
+    for model in ["WithCable", "ByHand"] {
+        let mechanism = package.lower_component(model).unwrap().assemble().unwrap();
+        spaces.push(multibody::JointSpace::new(std::sync::Arc::new(mechanism)).unwrap());
+    }
+    let joints = spaces[0].joints().to_vec();
+    assert_eq!(joints, ["cable.joints[1]", "cable.joints[2]", "cable.joints[3]", "cable.joints[4]"], "{joints:?}");
+    assert_eq!(spaces[1].joints(), ["ball1", "ball2", "ball3", "ball4"]);
+    let q: Vec<f64> = (0..spaces[0].coordinates().len()).map(|k| [0.9, 0.1, -0.3, 0.2][k % 4]).collect();
+    let n = spaces[0].velocities().len();
+    let (mut a, mut b) = (vec![0.0; n * n], vec![0.0; n * n]);
+    spaces[0].mass_matrix(&q, &mut a).unwrap();
+    spaces[1].mass_matrix(&q, &mut b).unwrap();
+    let worst = a.iter().zip(&b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-14, "the mass matrices differ by {worst}");
+}
+
 /// A cable 2 m long between the world's origin and a mount 1.5 m away,
 /// closed by the cut rod: assembly bends it from its straight start until
 /// the rod spans the rest; it then swings with the rod's length held and

@@ -71,7 +71,6 @@ impl JointSpace {
             }
             let name = &states.names[link.q_offset];
             let joint = name.rsplit_once('.').map_or(name.as_str(), |(owner, _)| owner);
-            let joint = joint.split('[').next().unwrap_or(joint);
             joints.push((joint.to_string(), link.q_offset..link.q_offset + nq, link.v_offset..link.v_offset + nv));
         }
         joints.sort_by_key(|(_, q, _)| q.start);
