@@ -49,12 +49,9 @@ fn point_velocity(s: &Solution, body: &str, at: [f64; 3], k: usize) -> [f64; 3] 
     ]
 }
 
-/// A load hanging from the world on a three-segment cable, started
-/// horizontal: the Cable and the same chain of Spherical joints and
-/// BodyShapes move the same.
-#[test]
-fn a_cable_moves_as_the_chain_it_is_made_of() {
-    let text = "
+/// A Cable of three segments with a load, and the same chain written out
+/// joint by joint.
+const CABLE_AND_CHAIN: &str = "
 example component WithCable
   world = MultibodyComponents.World()
   cable = MultibodyComponents.Cable(n = 3, l = 1.2, m = 0.6, dir = [1, 0, 0])
@@ -84,6 +81,13 @@ relations
   connect(ball4.frame_b, load.frame_a)
 end
 ";
+
+/// A load hanging from the world on a three-segment cable, started
+/// horizontal: the Cable and the same chain of Spherical joints and
+/// BodyShapes move the same.
+#[test]
+fn a_cable_moves_as_the_chain_it_is_made_of() {
+    let text = CABLE_AND_CHAIN;
     let cable = simulate(text, "WithCable", 2.0);
     let by_hand = simulate(text, "ByHand", 2.0);
     assert_eq!(cable.time().len(), by_hand.time().len());
@@ -110,36 +114,7 @@ end
 /// chain written out joint by joint.
 #[test]
 fn a_cables_joint_space_is_the_chains() {
-    let text = "
-example component WithCable
-  world = MultibodyComponents.World()
-  cable = MultibodyComponents.Cable(n = 3, l = 1.2, m = 0.6, dir = [1, 0, 0])
-  load = MultibodyComponents.Body(m = 0.5, r_cm = [0, 0, 0])
-relations
-  connect(world.frame_b, cable.frame_a)
-  connect(cable.frame_b, load.frame_a)
-end
-example component ByHand
-  world = MultibodyComponents.World()
-  link1 = MultibodyComponents.BodyShape(r = [0.4, 0, 0], r_cm = [0.2, 0, 0], m = 0.2, radius = 0.05)
-  link2 = MultibodyComponents.BodyShape(r = [0.4, 0, 0], r_cm = [0.2, 0, 0], m = 0.2, radius = 0.05)
-  link3 = MultibodyComponents.BodyShape(r = [0.4, 0, 0], r_cm = [0.2, 0, 0], m = 0.2, radius = 0.05)
-  ball1 = MultibodyComponents.Spherical(orientation_state = OrientationState.Quaternion())
-  ball2 = MultibodyComponents.Spherical(orientation_state = OrientationState.Quaternion())
-  ball3 = MultibodyComponents.Spherical(orientation_state = OrientationState.Quaternion())
-  ball4 = MultibodyComponents.Spherical(orientation_state = OrientationState.Quaternion())
-  load = MultibodyComponents.Body(m = 0.5, r_cm = [0, 0, 0])
-relations
-  connect(world.frame_b, ball1.frame_a)
-  connect(ball1.frame_b, link1.frame_a)
-  connect(link1.frame_b, ball2.frame_a)
-  connect(ball2.frame_b, link2.frame_a)
-  connect(link2.frame_b, ball3.frame_a)
-  connect(ball3.frame_b, link3.frame_a)
-  connect(link3.frame_b, ball4.frame_a)
-  connect(ball4.frame_b, load.frame_a)
-end
-";
+    let text = CABLE_AND_CHAIN;
     let mut package = Package::new();
     package.add_source("cable.dyad", text.to_string()).unwrap();
     let mut spaces = Vec::new();
