@@ -6,14 +6,12 @@
 //! and a robot's joint space. Nothing may panic, overflow or hang.
 #![no_main]
 
+mod front_end;
+
 use libfuzzer_sys::fuzz_target;
 use multibody::JointSpace;
 use multibody_dyad::urdf::{self, ImportOptions};
-use multibody_dyad::{DefinitionKind, Package};
 use std::sync::Arc;
-
-/// Enough definitions to exercise several models per input, few enough to stay fast.
-const MAX_DEFINITIONS: usize = 8;
 
 fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else { return };
@@ -34,28 +32,12 @@ fuzz_target!(|data: &[u8]| {
     } else {
         text
     };
-    let mut package = Package::new();
-    if let Err(d) = package.add_source("fuzz.dyad", text) {
-        let _ = d.render(package.sources(), false);
-        return;
-    }
-    for definition in package.definitions().into_iter().take(MAX_DEFINITIONS) {
-        let lowered = match definition.kind {
-            DefinitionKind::Analysis => package.lower_analysis(&definition.name),
-            DefinitionKind::Component(_) => package.lower_component(&definition.name),
-        };
-        let lowered = match lowered {
-            Ok(lowered) => lowered,
-            Err(d) => {
-                let _ = d.render(package.sources(), false);
-                continue;
-            }
-        };
+    front_end::each_lowered(text, |package, lowered| {
         let mechanism = match lowered.assemble() {
             Ok(mechanism) => mechanism,
             Err(d) => {
                 let _ = d.render(package.sources(), false);
-                continue;
+                return;
             }
         };
         let y = mechanism.states().start.clone();
@@ -65,8 +47,7 @@ fuzz_target!(|data: &[u8]| {
         }
         let _ = (mechanism.loops().len(), mechanism.orientation_owners(), mechanism.warnings().len());
         let names: Vec<String> = mechanism.signals().into_iter().map(|s| s.name).collect();
-        let mechanism = Arc::new(mechanism);
-        if let Ok(mut space) = JointSpace::new(mechanism.clone()) {
+        if let Ok(mut space) = JointSpace::new(Arc::new(mechanism)) {
             let nq = space.coordinates().len();
             let nv = space.velocities().len();
             let q = y[..nq].to_vec();
@@ -76,5 +57,5 @@ fuzz_target!(|data: &[u8]| {
                 let _ = space.frame_pose(name.split('.').next().unwrap_or(""), &q);
             }
         }
-    }
+    });
 });
