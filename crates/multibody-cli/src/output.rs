@@ -212,7 +212,9 @@ impl StreamingCsv {
         let io = |e: std::io::Error| Failure::Io(format!("cannot write {}: {e}", path.display()));
         let all = mechanism.signals();
         let names: Vec<String> = all.iter().map(|s| s.name.clone()).collect();
-        let picks: Vec<usize> = signals.iter().filter_map(|s| names.iter().position(|n| n == s)).collect();
+        let index: std::collections::HashMap<&str, usize> =
+            names.iter().enumerate().map(|(k, n)| (n.as_str(), k)).collect();
+        let picks: Vec<usize> = signals.iter().filter_map(|s| index.get(s.as_str()).copied()).collect();
         let header: Vec<&str> = picks.iter().map(|&k| names[k].as_str()).collect();
         let file = temporary_beside(path).map_err(io)?;
         let csv = TableWriter::new(Format::of(path), file, &[], &header).map_err(io)?;

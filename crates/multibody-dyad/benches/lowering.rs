@@ -1,8 +1,9 @@
 //! How lowering grows with the size of a model: from file text to a
-//! compiled mechanism for long chains of parameters and long `for` loops
-//! (issue 26: both grew quadratically and hung at 250,000 parameters and
-//! 50,000 elements). Linear cost means the time per element stays put as
-//! the size grows by ten.
+//! compiled mechanism and one evaluation of its right-hand side, for long
+//! chains of parameters, long `for` loops and one long algebraic loop
+//! (issue 26: they grew quadratically or worse, and hung at 250,000
+//! parameters, 50,000 elements and 5,000 equations in one loop). Linear
+//! cost means the time per element stays put as the size grows by ten.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use multibody_dyad::Package;
@@ -24,15 +25,27 @@ fn for_loop(n: usize) -> String {
     )
 }
 
+/// One algebraic loop of `n` equations: `x[1] = x[n]/2 + t`, `x[i] = x[i-1]/2 + 1`.
+fn algebraic_loop(n: usize) -> String {
+    format!(
+        "example component Chain\n  variable x::Real[{n}]\nrelations\n  x[1] = 0.5 * x[{n}] + time\n  for i in 2:{n}\n    x[i] = 0.5 * x[i - 1] + 1\n  end\nend\n"
+    )
+}
+
 fn check(text: &str) -> usize {
     let mut package = Package::new();
     package.add_source("model.dyad", text).unwrap();
-    package.lower_component("Chain").unwrap().assemble().unwrap().signals().len()
+    let mechanism = package.lower_component("Chain").unwrap().assemble().unwrap();
+    let y = mechanism.states().start.clone();
+    let mut dy = vec![0.0; y.len()];
+    mechanism.rhs(&mut mechanism.workspace(), 0.0, &y, &mut dy).unwrap();
+    mechanism.signals().len()
 }
 
 fn sizes(c: &mut Criterion) {
     type Model = fn(usize) -> String;
-    let cases: [(&str, Model); 2] = [("chained_parameters", chained_parameters), ("for_loop", for_loop)];
+    let cases: [(&str, Model); 3] =
+        [("chained_parameters", chained_parameters), ("for_loop", for_loop), ("algebraic_loop", algebraic_loop)];
     for (name, model) in cases {
         let mut group = c.benchmark_group(name);
         group.sample_size(10);

@@ -6,9 +6,10 @@
 use super::{DynamicsError, Workspace};
 use crate::math::dense::{lu, lu_solve};
 use crate::math::expr::Cmp;
+use crate::math::sparse::SparseLu;
 use crate::math::{skew, Vec3};
 use crate::system::equations::{
-    EquationProgram, FrameQuantity, Gather, Op, Sample, Solve, NEWTON_ITERATIONS, NEWTON_TOLERANCE, TIME,
+    EquationProgram, FrameQuantity, Gather, Jacobian, Op, Sample, Solve, NEWTON_ITERATIONS, NEWTON_TOLERANCE, TIME,
 };
 use crate::system::System;
 
@@ -194,18 +195,13 @@ impl System {
             for iteration in 0..NEWTON_ITERATIONS {
                 run_ops(&program.ops[residual_ops.clone()], &program.samples, ws);
                 run_ops(&program.ops[jacobian_ops.clone()], &program.samples, ws);
-                let (matrix, rest) = ws.newton.split_at_mut(n * n);
-                let (step, work) = rest.split_at_mut(n);
-                for (m, &reg) in matrix.iter_mut().zip(jacobian) {
-                    *m = ws.registers[reg as usize];
-                }
-                for (s, &reg) in step.iter_mut().zip(residuals) {
+                for (s, &reg) in ws.newton_step.iter_mut().zip(residuals) {
                     *s = -ws.registers[reg as usize];
                 }
-                if !lu(matrix, n, &mut ws.newton_pivots[..n]) {
+                if !newton_step(jacobian, b, n, ws) {
                     return Err(DynamicsError::EquationsSingular { block: b });
                 }
-                lu_solve(matrix, n, &ws.newton_pivots[..n], step, &mut work[..n]);
+                let step = &ws.newton_step[..n];
                 let mut largest = 0.0f64;
                 for (&reg, &dx) in unknowns.iter().zip(step.iter()) {
                     let x = &mut ws.registers[reg as usize];
@@ -263,6 +259,52 @@ impl System {
     pub(crate) fn equation_rates(&self, ws: &Workspace, dx: &mut [f64]) {
         for (d, &reg) in dx.iter_mut().zip(&self.equations.rates) {
             *d = ws.registers[reg as usize];
+        }
+    }
+}
+
+/// Solves `J dx = newton_step` for the Newton step of block `b`, in
+/// place, with the Jacobian's values in the registers. False when `J` is
+/// singular.
+fn newton_step(jacobian: &Jacobian, b: usize, n: usize, ws: &mut Workspace) -> bool {
+    let registers = &ws.registers;
+    match jacobian {
+        Jacobian::Dense(regs) => {
+            let matrix = &mut ws.newton_factors[..n * n];
+            for (m, &reg) in matrix.iter_mut().zip(regs) {
+                *m = registers[reg as usize];
+            }
+            if !lu(matrix, n, &mut ws.newton_pivots[..n]) {
+                return false;
+            }
+            lu_solve(matrix, n, &ws.newton_pivots[..n], &mut ws.newton_step[..n], &mut ws.newton_work[..n]);
+            true
+        }
+        Jacobian::Sparse { entries, lu: compiled } => {
+            let values = || entries.iter().map(|&reg| registers[reg as usize]);
+            let layout = ws.newton_layouts[b].as_ref().unwrap_or(compiled);
+            let factors = &mut ws.newton_factors[..layout.stored()];
+            layout.load(values(), factors);
+            if !layout.factor(factors) {
+                // The pivots do not suit these values: choose them again
+                // from the values, and keep that choice.
+                let now: Vec<f64> = values().collect();
+                let Some(chosen) = SparseLu::analyse(n, compiled.pattern(), Some(&now)) else {
+                    return false;
+                };
+                if ws.newton_factors.len() < chosen.stored() {
+                    ws.newton_factors.resize(chosen.stored(), 0.0);
+                }
+                let factors = &mut ws.newton_factors[..chosen.stored()];
+                chosen.load(now.iter().copied(), factors);
+                if !chosen.factor(factors) {
+                    return false;
+                }
+                ws.newton_layouts[b] = Some(chosen);
+            }
+            let layout = ws.newton_layouts[b].as_ref().unwrap_or(compiled);
+            layout.solve(&ws.newton_factors[..layout.stored()], &mut ws.newton_step[..n], &mut ws.newton_work[..n]);
+            true
         }
     }
 }

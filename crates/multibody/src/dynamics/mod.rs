@@ -88,8 +88,14 @@ pub struct Workspace {
     /// Registers of the model's own equations (see `system::equations`),
     /// holding their last solution (Newton's next start).
     pub(crate) registers: Vec<f64>,
-    /// Newton's scratch: the Jacobian, the step and LU work; and pivots.
-    pub(crate) newton: Vec<f64>,
+    /// Newton's scratch: the Jacobian's factors, the step, LU work; and
+    /// pivots.
+    pub(crate) newton_factors: Vec<f64>,
+    /// For each block, the sparse layout chosen again at run time when
+    /// the compiled pivots did not suit the values (rare: it allocates).
+    pub(crate) newton_layouts: Vec<Option<crate::math::sparse::SparseLu>>,
+    pub(crate) newton_step: Vec<f64>,
+    pub(crate) newton_work: Vec<f64>,
     pub(crate) newton_pivots: Vec<usize>,
     /// The values of the model's inputs, as the host set them.
     pub(crate) inputs: Vec<f64>,
@@ -188,7 +194,10 @@ impl Workspace {
             composite: vec![crate::math::RigidInertia::ZERO; n],
             bias_acc: vec![Motion::ZERO; n],
             registers: system.equation_registers(),
-            newton: vec![0.0; system.equations.largest_block * (system.equations.largest_block + 2)],
+            newton_factors: vec![0.0; system.equations.largest_factors],
+            newton_layouts: vec![None; system.equations.blocks.len()],
+            newton_step: vec![0.0; system.equations.largest_block],
+            newton_work: vec![0.0; system.equations.largest_block],
             newton_pivots: vec![0; system.equations.largest_block],
             inputs: system.events.inputs.iter().map(|i| i.1).collect(),
             indicators: vec![0.0; system.events.indicators.len()],

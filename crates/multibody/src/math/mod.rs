@@ -1,10 +1,11 @@
 //! Fixed-size math: the library's rotation conventions, spatial algebra,
-//! small dense factorizations, geometry helpers and a union-find.
+//! small dense and sparse factorizations, geometry helpers and a union-find.
 
 pub mod dense;
 pub mod expr;
 pub mod graph;
 pub mod rotation;
+pub mod sparse;
 pub mod spatial;
 pub mod surface;
 pub mod symbolic;

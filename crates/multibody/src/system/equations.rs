@@ -10,6 +10,7 @@
 
 use super::{Attachment, FlangeRef};
 use crate::math::expr::{Cmp, Func, Func2};
+use crate::math::sparse::SparseLu;
 use std::ops::Range;
 
 /// A register number.
@@ -134,16 +135,27 @@ pub enum Solve {
     /// Each unknown in closed form: the ops assign them in order.
     Explicit,
     /// Newton's method on `unknowns` (registers): `residual_ops` fill
-    /// `residuals`, `jacobian_ops` fill `jacobian` (row-major, by
-    /// residual then unknown). A linear block converges in one step.
+    /// `residuals`, `jacobian_ops` fill `jacobian`. A linear block
+    /// converges in one step.
     Newton {
         unknowns: Vec<Reg>,
         residuals: Vec<Reg>,
-        jacobian: Vec<Reg>,
+        jacobian: Jacobian,
         residual_ops: Range<usize>,
         jacobian_ops: Range<usize>,
         linear: bool,
     },
+}
+
+/// Where a Newton block's Jacobian is and how it is factored.
+#[derive(Clone, Debug)]
+pub enum Jacobian {
+    /// Every entry, row-major by residual then unknown: a small block,
+    /// factored with partial pivoting.
+    Dense(Vec<Reg>),
+    /// The entries that are not always zero, in the order `lu` analysed
+    /// them: a large block with a few unknowns an equation.
+    Sparse { entries: Vec<Reg>, lu: Box<SparseLu> },
 }
 
 /// A block of equations that are solved together, with the ops that
@@ -181,6 +193,8 @@ pub struct EquationProgram {
     pub positions: Vec<usize>,
     /// The largest Newton block, for scratch space.
     pub largest_block: usize,
+    /// The most values a block's Jacobian factors into (dense: n^2).
+    pub largest_factors: usize,
     /// Every variable of the equations with its register, for outputs.
     pub outputs: Vec<(String, Reg)>,
     /// Whether a gather reads frames (the kinematics then computes world poses).

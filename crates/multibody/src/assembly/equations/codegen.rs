@@ -7,8 +7,9 @@ use super::sort::{is_unknown, Sorted};
 use super::{problem, Context, Pending, PendingAction, Read, Role, Source};
 use crate::assembly::signals::Signals;
 use crate::math::expr::Cmp;
+use crate::math::sparse::SparseLu;
 use crate::math::symbolic::{self as sym, Sym, S};
-use crate::system::equations::{EquationBlock, EquationProgram, Gather, Op, Reg, Solve, TIME};
+use crate::system::equations::{EquationBlock, EquationProgram, Gather, Jacobian, Op, Reg, Solve, TIME};
 use crate::system::{Attachment, EventLayout, SignalLaw, StateLayout};
 use crate::Error;
 use std::collections::{BinaryHeap, HashMap, HashSet};
@@ -366,6 +367,7 @@ pub(super) fn generate(
     let mut block_deps: Vec<Vec<usize>> = Vec::with_capacity(sorted.blocks.len());
     let mut reads_reaction = Vec::with_capacity(sorted.blocks.len());
     let mut largest_block = 0;
+    let mut largest_factors = 0;
     for (b, (rows, unknowns)) in sorted.blocks.iter().enumerate() {
         em.new_block();
         for &u in unknowns {
@@ -415,7 +417,7 @@ pub(super) fn generate(
                 // a few per row, and compiles in about its size, not k^3.
                 let column: HashMap<usize, usize> = unknowns.iter().enumerate().map(|(j, &x)| (x, j)).collect();
                 let mut linear = true;
-                let mut jacobian = vec![sym::constant(0.0); k * k];
+                let mut entries: Vec<(usize, usize, S)> = Vec::new();
                 for (i, r) in residuals.iter().enumerate() {
                     let mut own = Vec::new();
                     r.each_var(&mut |v| {
@@ -428,12 +430,28 @@ pub(super) fn generate(
                         let mut on_unknowns = false;
                         d.each_var(&mut |y| on_unknowns |= column.contains_key(&y));
                         linear &= !on_unknowns && sym::affine_in(r, x).is_some();
-                        jacobian[i * k + column[&x]] = d;
+                        if d.as_const() != Some(0.0) {
+                            entries.push((i, column[&x], d));
+                        }
                     }
                 }
-                refuse_constant_singular(&jacobian, rows, unknowns, pending, sorted)?;
+                let layout = JacobianLayout::of(k, &entries);
+                refuse_constant_singular(&layout, &entries, rows, unknowns, pending, sorted)?;
                 let jacobian_start = em.ops.len();
-                let jacobian: Vec<Reg> = jacobian.iter().map(|d| em.emit(d, &reg)).collect();
+                let jacobian = match layout {
+                    JacobianLayout::Dense => {
+                        let mut dense = vec![sym::constant(0.0); k * k];
+                        for (i, j, d) in entries {
+                            dense[i * k + j] = d;
+                        }
+                        largest_factors = largest_factors.max(k * k);
+                        Jacobian::Dense(dense.iter().map(|d| em.emit(d, &reg)).collect())
+                    }
+                    JacobianLayout::Sparse(lu) => {
+                        largest_factors = largest_factors.max(lu.stored());
+                        Jacobian::Sparse { entries: entries.iter().map(|(_, _, d)| em.emit(d, &reg)).collect(), lu }
+                    }
+                };
                 Solve::Newton {
                     unknowns: unknowns.iter().map(|&x| reg[x]).collect(),
                     residuals: residual_regs,
@@ -509,6 +527,7 @@ pub(super) fn generate(
         blocks,
         positions,
         largest_block,
+        largest_factors,
         outputs,
         reads_frames,
         reactions,
@@ -768,21 +787,61 @@ fn place(
     Ok(positions)
 }
 
+/// How a Newton block's Jacobian is stored and factored.
+enum JacobianLayout {
+    Dense,
+    Sparse(Box<SparseLu>),
+}
+
+/// Blocks above this size with few entries a row are factored sparse.
+const DENSE_UP_TO: usize = 16;
+
+impl JacobianLayout {
+    /// Dense for a small block or one with many entries a row; otherwise
+    /// sparse, with its pivots and fill chosen now: from the values when
+    /// they are constants, else from the pattern (and again at run time
+    /// if the values then make a pivot too small).
+    fn of(k: usize, entries: &[(usize, usize, S)]) -> JacobianLayout {
+        if k <= DENSE_UP_TO || entries.len() * 4 > k * k {
+            return JacobianLayout::Dense;
+        }
+        let pattern: Vec<(usize, usize)> = entries.iter().map(|&(i, j, _)| (i, j)).collect();
+        let constants: Option<Vec<f64>> = entries.iter().map(|(_, _, d)| d.as_const()).collect();
+        SparseLu::analyse(k, &pattern, constants.as_deref())
+            .or_else(|| SparseLu::analyse(k, &pattern, None))
+            .map_or(JacobianLayout::Dense, |lu| JacobianLayout::Sparse(Box::new(lu)))
+    }
+}
+
 /// A block whose Jacobian is constant and singular never determines its
 /// unknowns: its equations repeat or contradict each other (`x + y = 1`,
 /// `x + y = 2`; `x = x + 1`). Refused here, with the equations, rather than
 /// when the run starts.
 fn refuse_constant_singular(
-    jacobian: &[S],
+    layout: &JacobianLayout,
+    entries: &[(usize, usize, S)],
     rows: &[usize],
     unknowns: &[usize],
     pending: &Pending,
     sorted: &Sorted,
 ) -> Result<(), Error> {
-    let Some(mut matrix) = jacobian.iter().map(|d| d.as_const()).collect::<Option<Vec<f64>>>() else {
+    let Some(values) = entries.iter().map(|(_, _, d)| d.as_const()).collect::<Option<Vec<f64>>>() else {
         return Ok(());
     };
     let n = unknowns.len();
+    if let JacobianLayout::Sparse(lu) = layout {
+        let mut factors = vec![0.0; lu.stored()];
+        lu.load(values.iter().copied(), &mut factors);
+        // A failed static pivot proves nothing; partial pivoting decides,
+        // where n^2 memory is affordable.
+        if lu.factor(&mut factors) || n > DENSE_CHECK_UP_TO {
+            return Ok(());
+        }
+    }
+    let mut matrix = vec![0.0; n * n];
+    for ((i, j, _), x) in entries.iter().zip(&values) {
+        matrix[i * n + j] = *x;
+    }
     if crate::math::dense::lu(&mut matrix, n, &mut vec![0; n]) {
         return Ok(());
     }
@@ -798,6 +857,9 @@ fn refuse_constant_singular(
         "remove the equation that repeats another, or give one of these variables another equation",
     ))
 }
+
+/// The largest constant block checked for singularity with a dense LU.
+const DENSE_CHECK_UP_TO: usize = 2000;
 
 /// The place of the blocks that run after the accelerations.
 const AFTER_DYNAMICS: usize = usize::MAX;
