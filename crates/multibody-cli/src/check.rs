@@ -1,6 +1,6 @@
 //! `multibody check`: assemble and describe the mechanism without simulating.
 
-use crate::exit::{error_word, Failure};
+use crate::exit::Failure;
 use crate::load::{choose, file_of, lower, print_diagnostics, read_package, Target};
 use crate::run::number;
 use crate::Selection;
@@ -20,8 +20,8 @@ pub fn check(selection: &Selection) -> Result<(), Failure> {
     let y = &mechanism.states().start;
     let mut dy = vec![0.0; y.len()];
     if let Err(e) = mechanism.rhs(&mut mechanism.workspace(), start, y, &mut dy) {
-        let reason = lowered.with_places(package.sources(), &mechanism.describe(&e));
-        say!("{}: the model cannot start at t = {}: {reason}", error_word(), number(start));
+        let title = format!("the model cannot start at t = {}: ", number(start));
+        print_diagnostics(&package, &[lowered.start_failure(package.sources(), &title, &mechanism.describe(&e))]);
         return Err(Failure::Model);
     }
     let what = match &target {

@@ -1,7 +1,7 @@
 //! `multibody run`: simulate and write a CSV.
 
-use crate::exit::{error_word, Failure};
-use crate::load::{assemble, choose, file_of, lower, overrides, read_package, Target};
+use crate::exit::Failure;
+use crate::load::{assemble, choose, file_of, lower, overrides, print_diagnostics, read_package, Target};
 use crate::output::{self, Budget, ResultFiles, StreamingCsv};
 use crate::progress::Progress;
 use crate::{OptionArgs, RunArgs};
@@ -117,8 +117,8 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         }
         Err(stopped) => {
             let partial_csv = output::partial_path(&out);
-            let reason = lowered.with_places(package.sources(), &stopped.reason);
-            say!("{}: the simulation stopped at t = {}: {reason}", error_word(), number(stopped.time));
+            let title = format!("the simulation stopped at t = {}: ", number(stopped.time));
+            print_diagnostics(&package, &[lowered.start_failure(package.sources(), &title, &stopped.reason)]);
             let kept = csv.finish(&partial_csv)?;
             if let Some(solution) = kept.solution.as_ref().filter(|s| !s.is_empty()) {
                 write_views(

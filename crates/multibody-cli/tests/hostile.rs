@@ -182,12 +182,15 @@ fn tolerances_that_spoil_the_result_are_warned_about() {
     let err = stderr(&o);
     assert!(err.contains("warning: --reltol 1: `reltol` = 1 lets each step err by 100% of the state"), "{err}");
     assert!(err.contains("far from the true motion"), "{err}");
+    let warnings = |err: &str| err.lines().filter(|l| l.starts_with("warning:")).collect::<Vec<_>>().join("\n");
+    insta::assert_snapshot!("reltol_one", warnings(&err));
     let o = multibody(&dir, &["run", &pendulum, "--stop", "0.2", "--abstol", "1e-300", "--reltol", "1e-14"]);
     let err = stderr(&o);
     assert!(
         err.contains("warning: --abstol 1e-300: `abstol` = 1e-300 is below what double precision resolves"),
         "{err}"
     );
+    insta::assert_snapshot!("abstol_below_precision", warnings(&err));
     if code(&o) == 3 {
         assert!(err.contains("the tolerances warned about above may be why"), "{err}");
         // The reason blames the tolerances, not the motion.
@@ -368,8 +371,10 @@ fn a_bad_command_line_value_is_blamed_on_its_option() {
 #[test]
 fn a_centre_of_mass_that_overflows_the_inertia_is_named() {
     let dir = scratch("far-centre");
+    // In a named folder, so that the message shows the path as typed.
+    std::fs::create_dir_all(dir.join("models")).unwrap();
     std::fs::write(
-        dir.join("far.dyad"),
+        dir.join("models/far.dyad"),
         "example component Far
   world = MultibodyComponents.World()
   rev = MultibodyComponents.Revolute()
@@ -381,11 +386,29 @@ end
 ",
     )
     .unwrap();
-    let o = multibody(&dir, &["check", "far.dyad"]);
+    let o = multibody(&dir, &["check", "models/far.dyad"]);
     assert_eq!(code(&o), 1, "{}", stderr(&o));
     let err = stderr(&o);
     assert!(err.contains("`body.r_cm` = [1e300, 0, 0] is not allowed: the inertia about frame_a overflows"), "{err}");
     assert!(err.contains("far.dyad:4:"), "the caret is on the parameter: {err}");
+    insta::assert_snapshot!("centre_of_mass_overflows", err);
+}
+
+/// A loop that cannot close (the four-bar's ground link 9 m long, its bars
+/// 4.2 m together): the message names the loop's joints, the violation
+/// left, the start value that was held fixed, and points at the joints.
+#[test]
+fn a_loop_that_cannot_close_names_its_joints_where_they_are_declared() {
+    let dir = scratch("loop-cannot-close");
+    std::fs::create_dir_all(dir.join("models")).unwrap();
+    let four_bar = std::fs::read_to_string(example("four_bar.dyad")).unwrap();
+    let short = "FixedTranslation(r = [2, 0, 0])";
+    assert!(four_bar.contains(short), "the example's ground link");
+    std::fs::write(dir.join("models/far_ground.dyad"), four_bar.replace(short, "FixedTranslation(r = [9, 0, 0])"))
+        .unwrap();
+    let o = multibody(&dir, &["check", "models/far_ground.dyad"]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    insta::assert_snapshot!("loop_cannot_close", stderr(&o));
 }
 
 /// A library component written in Dyad that fails on a value the model
@@ -422,12 +445,13 @@ end
 #[test]
 fn equations_that_determine_nothing_are_named_where_they_are_written() {
     let dir = scratch("singular-equations");
+    std::fs::create_dir_all(dir.join("models")).unwrap();
     let write = |name: &str, equations: &str| {
         let text = format!(
             "example component Sing\n  variable x::Real\n  variable y::Real\nrelations\n{equations}\nend\n\
              analysis R\n  extends TransientAnalysis(stop = 1)\n  model = Sing()\nend\n"
         );
-        std::fs::write(dir.join(name), text).unwrap();
+        std::fs::write(dir.join("models").join(name), text).unwrap();
     };
     write("repeated.dyad", "  x + y = 1\n  x + y = 2");
     write("circular.dyad", "  x = x + 1\n  y = 0");
@@ -437,15 +461,16 @@ fn equations_that_determine_nothing_are_named_where_they_are_written() {
         ("circular.dyad", ["do not determine `x`", "circular.dyad:5:3"]),
         ("complex.dyad", ["cannot start at t = 0", "complex.dyad:5:3)"]),
     ] {
-        let o = multibody(&dir, &["check", file]);
-        println!("{}", stderr(&o));
+        let o = multibody(&dir, &["check", &format!("models/{file}")]);
         assert_eq!(code(&o), 1, "{file}: {}", stderr(&o));
         for e in expected {
             assert!(stderr(&o).contains(e), "{file}: `{e}` missing from {}", stderr(&o));
         }
+        insta::assert_snapshot!(format!("check_{}", file.trim_end_matches(".dyad")), stderr(&o));
     }
-    let o = multibody(&dir, &["run", "complex.dyad", "--out", "r.csv"]);
+    let o = multibody(&dir, &["run", "models/complex.dyad", "--out", "r.csv"]);
     assert_eq!(code(&o), 3, "{}", stderr(&o));
     assert!(stderr(&o).contains("the equations `x * x = -1 - time` ("), "{}", stderr(&o));
     assert!(stderr(&o).contains("complex.dyad:5:3)"), "{}", stderr(&o));
+    insta::assert_snapshot!("run_complex", stderr(&o));
 }

@@ -110,22 +110,42 @@ impl Lowered {
     /// "`x * x = -1 - time` (model.dyad:4:3)".
     pub fn with_places(&self, sources: &Sources, message: &str) -> String {
         let mut out = String::with_capacity(message.len());
-        let mut rest = message;
-        while let Some(at) = rest.find('#') {
-            out.push_str(&rest[..at]);
-            let digits = rest[at + 1..].bytes().take_while(u8::is_ascii_digit).count();
-            let token = &rest[at..at + 1 + digits];
-            match self.source_map.origin(token) {
-                Some(span) if digits > 0 => {
-                    let text = sources.slice(span).split_whitespace().collect::<Vec<_>>().join(" ");
-                    out.push_str(&format!("`{text}` ({})", sources.location(span)));
-                }
-                _ => out.push_str(token),
-            }
-            rest = &rest[at + token.len()..];
+        let mut copied = 0;
+        for (token, span) in self.origins_in(message) {
+            out.push_str(&message[copied..token.start]);
+            let text = sources.slice(span).split_whitespace().collect::<Vec<_>>().join(" ");
+            out.push_str(&format!("`{text}` ({})", sources.location(span)));
+            copied = token.end;
         }
-        out.push_str(rest);
+        out.push_str(&message[copied..]);
         out
+    }
+
+    /// A failure of the run's first evaluation (`check`, or a run that
+    /// stops where it starts) as a diagnostic: the message with its
+    /// places, and the equations it names under carets.
+    pub fn start_failure(&self, sources: &Sources, title: &str, message: &str) -> Diagnostic {
+        let mut d = Diagnostic::error(format!("{title}{}", self.with_places(sources, message)));
+        for (k, (_, span)) in self.origins_in(message).into_iter().enumerate() {
+            d = if k == 0 { d.primary(span, "this equation") } else { d.secondary(span, "and this one") };
+        }
+        d
+    }
+
+    /// The origins `#k` that `message` names, in order: where each is in
+    /// the message, and its span in the sources.
+    fn origins_in(&self, message: &str) -> Vec<(std::ops::Range<usize>, Span)> {
+        let mut found = Vec::new();
+        let mut from = 0;
+        while let Some(at) = message[from..].find('#').map(|at| from + at) {
+            let digits = message[at + 1..].bytes().take_while(u8::is_ascii_digit).count();
+            let token = at..at + 1 + digits;
+            if let Some(span) = self.source_map.origin(&message[token.clone()]).filter(|_| digits > 0) {
+                found.push((token.clone(), span));
+            }
+            from = token.end;
+        }
+        found
     }
 }
 

@@ -366,7 +366,9 @@ impl Mechanism {
                 self.system.massless[group].components.iter().map(|c| format!("`{c}`")).collect::<Vec<_>>().join(", ")
             ),
             DynamicsError::EquationsSingular { block } => format!(
-                "the equations {} have a singular Jacobian here: they do not determine their unknowns at this state",
+                "the equations {} have a singular Jacobian here: they do not determine their unknowns at this state \
+                 (no solution near it, or their derivative vanishes there); give their variables start values \
+                 (`guess`) near a solution, or reformulate them",
                 self.system.equations.blocks[block].label
             ),
             DynamicsError::EquationsDiverged { block } => format!(
