@@ -457,7 +457,7 @@ fn equations_that_determine_nothing_are_named_where_they_are_written() {
     write("circular.dyad", "  x = x + 1\n  y = 0");
     write("complex.dyad", "  x * x = -1 - time\n  y = 0");
     for (file, expected) in [
-        ("repeated.dyad", ["do not determine `x`, `y`", "repeated.dyad:5:3"]),
+        ("repeated.dyad", ["do not determine `x` and `y`", "repeated.dyad:5:3"]),
         ("circular.dyad", ["do not determine `x`", "circular.dyad:5:3"]),
         ("complex.dyad", ["cannot start at t = 0", "complex.dyad:5:3)"]),
     ] {
@@ -473,4 +473,27 @@ fn equations_that_determine_nothing_are_named_where_they_are_written() {
     assert!(stderr(&o).contains("the equations `x * x = -1 - time` ("), "{}", stderr(&o));
     assert!(stderr(&o).contains("complex.dyad:5:3)"), "{}", stderr(&o));
     insta::assert_snapshot!("run_complex", stderr(&o));
+}
+
+/// Found by the `check_file` fuzzer: a 1-D inertia with J = 0 that only a
+/// sensor's constraint holds made the mass matrix singular, and `check`
+/// panicked naming it (the coordinate belongs to no joint). It is now
+/// refused as a motion without inertia.
+#[test]
+fn a_massless_inertia_held_only_by_a_constraint_is_refused_without_a_panic() {
+    let dir = scratch("massless-housing");
+    std::fs::create_dir_all(dir.join("models")).unwrap();
+    let bearing = std::fs::read_to_string(example("msl/ElasticBearing.dyad")).unwrap();
+    let housing = "housing = RotationalComponents.Inertia(J = 5)";
+    assert!(bearing.contains(housing), "the example's housing");
+    // The fuzzer's input also made the shaft heavier, which the singular case needs.
+    let shaft = "shaft = RotationalComponents.Inertia(J = 1,";
+    assert!(bearing.contains(shaft), "the example's shaft");
+    let text = bearing
+        .replace(housing, "housing = RotationalComponents.Inertia(J = 0)")
+        .replace(shaft, "shaft = RotationalComponents.Inertia(J = 5,");
+    std::fs::write(dir.join("models/bearing.dyad"), text).unwrap();
+    let o = multibody(&dir, &["check", "models/bearing.dyad"]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(stderr(&o).contains("has no inertia behind it"), "{}", stderr(&o));
 }

@@ -87,6 +87,24 @@ fn memory_stays_bounded_and_ctrl_c_keeps_the_results() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("11 samples × 99018 signals"));
     assert!(peak < 300e6, "peak memory {peak} bytes");
 
+    // The same table over 1001 samples, where the process may have 1 GB of
+    // address space (`ulimit -v`): the footer the writer keeps grows with
+    // every row group, and the run was killed halfway (issue 26, a 2000-body
+    // chain under 2 GB). It is refused before it starts, with the estimate
+    // and the budget, which counts the limit.
+    let o = Command::new("sh")
+        .args(["-c", "ulimit -v 1000000 && exec \"$0\" \"$@\"", env!("CARGO_BIN_EXE_multibody")])
+        .args(["run", &wide, "--stop", "0.1", "--saveat", "1e-4", "--out", "limited.parquet"])
+        .current_dir(&dir)
+        .env("NO_COLOR", "1")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("writing Parquet of 99019 columns would hold about 1.0 GB in memory (1001 samples)"), "{err}");
+    assert!(err.contains("more than the 512.0 MB this run may use"), "{err}");
+    assert!(!dir.join("limited.parquet").exists());
+
     // A run the views cannot hold is refused before it starts, naming the budget.
     let o = Command::new(env!("CARGO_BIN_EXE_multibody"))
         .args(["run", &model, "--stop", "1", "--saveat", "1e-9", "--animate", "chain.html", "--out", "never.csv"])

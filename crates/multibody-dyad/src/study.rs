@@ -348,14 +348,29 @@ pub fn threads_for(runs: usize, asked: Option<usize>) -> usize {
 const DEFAULT_MEMORY: f64 = 4e9;
 
 /// The memory one command or Python call may fill with samples: half of
-/// what this machine has available now.
+/// what this process may still get: the machine's available memory, and
+/// below it an address-space limit (`ulimit -v`) or the memory left in its
+/// control group (a container's limit), where they are set.
 pub fn memory_budget() -> f64 {
     let available = std::fs::read_to_string("/proc/meminfo").ok().and_then(|info| {
         let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
         let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
         Some(kib * 1024.0)
     });
-    available.map_or(DEFAULT_MEMORY, |bytes| 0.5 * bytes)
+    // "Max address space   <soft>   <hard>   bytes", or "unlimited".
+    let address_space = std::fs::read_to_string("/proc/self/limits").ok().and_then(|limits| {
+        let line = limits.lines().find(|l| l.starts_with("Max address space"))?;
+        line["Max address space".len()..].split_whitespace().next()?.parse::<f64>().ok()
+    });
+    let group = |name: &str| {
+        std::fs::read_to_string(format!("/sys/fs/cgroup/{name}")).ok().and_then(|v| v.trim().parse::<f64>().ok())
+    };
+    let group_left = group("memory.max").map(|max| max - group("memory.current").unwrap_or(0.0));
+    [available, address_space, group_left]
+        .into_iter()
+        .flatten()
+        .reduce(f64::min)
+        .map_or(DEFAULT_MEMORY, |bytes| 0.5 * bytes.max(0.0))
 }
 
 /// The samples of `options`' output grid, when it is known (`saveat > 0`).

@@ -323,3 +323,22 @@ def test_runs_that_cannot_fit_in_memory_are_refused_before_they_start():
     with pytest.raises(ValueError, match=r"100 runs × 1000001 samples"):
         model.sweep([{"body.m": 1 + k} for k in range(100)], stop=10, saveat=1e-5, signals="all")
     assert time.monotonic() - started < 5.0
+
+
+def test_the_memory_budget_counts_an_address_space_limit():
+    """Under `ulimit -v` (2 GB) a run of 3.5 GB was not refused: the budget
+    was half the machine's free memory, and the interpreter aborted on the
+    allocation. The limit now bounds the budget, so it is a ValueError."""
+    script = (
+        "import multibody\n"
+        "try:\n"
+        f"    multibody.load({str(EXAMPLES / 'pendulum.dyad')!r}).simulate(stop=40, saveat=1e-5, signals='all')\n"
+        "except ValueError as e:\n"
+        "    print('refused:', e)\n"
+    )
+    done = subprocess.run(
+        ["sh", "-c", 'ulimit -v 2000000 && exec "$0" -c "$1"', sys.executable, script],
+        capture_output=True, text=True, timeout=120,
+    )
+    assert done.returncode == 0, done.stderr
+    assert "refused:" in done.stdout and "more than the 1.0 GB allowed" in done.stdout, done.stdout

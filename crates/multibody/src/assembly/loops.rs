@@ -194,8 +194,18 @@ pub fn close(mechanism: &mut Mechanism) -> Result<(), Error> {
     mechanism.system.constraint_state(&mut ws, &y).map_err(as_error)?;
     // What has no inertia must be determined by the constraints.
     let mut dy = vec![0.0; y.len()];
-    if let Err(crate::DynamicsError::SingularInertia { link }) = mechanism.rhs(&mut ws, 0.0, &y, &mut dy) {
-        let joint = mechanism.components[mechanism.system.links[link].source.0].name.clone();
+    let weak = match mechanism.rhs(&mut ws, 0.0, &y, &mut dy) {
+        Err(crate::DynamicsError::SingularInertia { link }) => {
+            Some(mechanism.owner_of_link(link).unwrap_or("the mechanism").to_string())
+        }
+        // A velocity coordinate (`housing.w`, `sensor.spline_1.w`) belongs
+        // to the component its name starts with.
+        Err(crate::DynamicsError::SingularMotion { dof }) => {
+            Some(mechanism.velocity_name(dof).split('.').next().unwrap_or("the mechanism").to_string())
+        }
+        _ => None,
+    };
+    if let Some(joint) = weak {
         return Err(Error::NoInertia {
             joint,
             dof: "motion".into(),

@@ -333,9 +333,20 @@ impl Mechanism {
         }
     }
 
+    /// The component that owns link `link`; none for the ground.
+    pub(crate) fn owner_of_link(&self, link: usize) -> Option<&str> {
+        let source = self.system.links.get(link)?.source.0;
+        self.components.get(source).map(|c| c.name.as_str())
+    }
+
+    /// The name of velocity coordinate `dof` (`housing.w`).
+    pub(crate) fn velocity_name(&self, dof: usize) -> &str {
+        self.system.states.names.get(self.system.states.nq + dof).map_or("?", String::as_str)
+    }
+
     /// Explains a dynamics error in the model's terms.
     pub fn describe(&self, error: &DynamicsError) -> String {
-        let name = |link: usize| self.components[self.system.links[link].source.0].name.clone();
+        let name = |link: usize| self.owner_of_link(link).unwrap_or("a 1-D part").to_string();
         match *error {
             DynamicsError::EulerSingularity { link, .. } => {
                 let seq = match self.system.links[link].joint.rotation_coordinates() {
@@ -353,6 +364,11 @@ impl Mechanism {
             DynamicsError::SingularInertia { link } => format!(
                 "the inertia moved by `{}` became singular: a degree of freedom lost all inertia behind it",
                 name(link)
+            ),
+            DynamicsError::SingularMotion { dof } => format!(
+                "the motion `{}` has no inertia behind it: with the constraints, nothing it moves has mass or \
+                 inertia (an inertia with J = 0 that only a constraint holds, or a body without mass)",
+                self.velocity_name(dof)
             ),
             DynamicsError::NotFinite => "a value became infinite or NaN (the motion blew up)".into(),
             DynamicsError::ContactIndeterminate { link } => format!(

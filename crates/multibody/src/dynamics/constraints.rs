@@ -450,7 +450,7 @@ impl System {
         if !definite {
             self.augmented_mass_matrix(ws);
             if !lu(&mut ws.mass, nv, &mut ws.pivots) {
-                return Err(DynamicsError::SingularInertia { link: self.massless_link(ws) });
+                return Err(DynamicsError::SingularMotion { dof: self.weakest_dof(ws) });
             }
         }
         let solve = |ws: &mut Workspace, b: &mut [f64]| {
@@ -607,9 +607,14 @@ impl System {
 
     /// The link of the coordinate with the least inertia, for a message.
     fn massless_link(&self, ws: &Workspace) -> usize {
-        let nv = self.states.nv;
-        let i = (0..nv).min_by(|&a, &b| ws.mass[a * nv + a].total_cmp(&ws.mass[b * nv + b])).unwrap_or(0);
+        let i = self.weakest_dof(ws);
         self.links.iter().position(|l| l.v_offset <= i && i < l.v_offset + l.joint.nv()).unwrap_or(1)
+    }
+
+    /// The velocity coordinate with the least inertia (the smallest diagonal of `ws.mass`).
+    fn weakest_dof(&self, ws: &Workspace) -> usize {
+        let nv = self.states.nv;
+        (0..nv).min_by(|&a, &b| ws.mass[a * nv + a].total_cmp(&ws.mass[b * nv + b])).unwrap_or(0)
     }
 
     /// Moves `y` onto the constraints: positions by Newton steps of least

@@ -29,6 +29,9 @@ pub enum DynamicsError {
     EulerSingularity { link: usize, time: f64 },
     /// The articulated inertia seen by a joint is not positive definite.
     SingularInertia { link: usize },
+    /// The mass matrix of a mechanism with constraints is singular; `dof`
+    /// (a velocity coordinate) is the one with the least inertia.
+    SingularMotion { dof: usize },
     /// A value became infinite or NaN.
     NotFinite,
     /// No position of a massless group balances the forces on it.

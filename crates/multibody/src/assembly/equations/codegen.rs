@@ -397,7 +397,15 @@ pub(super) fn generate(
                 deps.push(other);
             }
         }
-        let label: Vec<&str> = rows.iter().map(|&r| pending.origins[sorted.source[r]].as_str()).collect();
+        // Each equation once: the rows of a `for` share their origin.
+        let mut label: Vec<&str> = Vec::new();
+        let mut labelled = HashSet::new();
+        for &r in rows {
+            let origin = pending.origins[sorted.source[r]].as_str();
+            if labelled.insert(origin) {
+                label.push(origin);
+            }
+        }
         let label = label.join("; ");
         em.label.clone_from(&label);
         let solve = match (residuals.as_slice(), unknowns.as_slice()) {
@@ -848,9 +856,9 @@ fn refuse_constant_singular(
     let names: Vec<String> = unknowns.iter().map(|&v| pending.vars[v].name.clone()).collect();
     Err(problem(
         format!(
-            "these equations do not determine `{}`: they repeat or contradict each other (with the others fixed, \
+            "these equations do not determine {}: they repeat or contradict each other (with the others fixed, \
              no unique value satisfies them)",
-            names.join("`, `")
+            crate::error::list(&names)
         ),
         rows.iter().map(|&r| pending.origins[sorted.source[r]].clone()).collect(),
         names,
