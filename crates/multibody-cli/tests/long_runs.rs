@@ -68,6 +68,22 @@ fn memory_stays_bounded_and_ctrl_c_keeps_the_results() {
     );
     assert!(long - short < 0.25 * held, "memory grew with the run: {short} -> {long} bytes");
 
+    // A sweep streams its table run by run (issue 26: a sweep of 1000 runs
+    // kept every run's samples and died under 2 GB). 100 runs of 100001
+    // samples of the states, held, would take 240 MB.
+    let o = run(
+        &dir,
+        &["sweep", &pendulum, "--param", "body.m=0.1:0.1:10", "--stop", "10", "--saveat", "1e-4", "--out", "sweep.csv"],
+    );
+    let peak = children_peak_memory();
+    println!("sweep of 100 runs × 100001 samples: peak {:.1} MB", peak / 1e6);
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("100 runs of 100 ran"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(peak < 100e6, "peak memory {peak} bytes");
+
     // The hostile review's run: 2000 bodies, 1 s, 10001 samples of one signal.
     let model = chain(&dir, 2000);
     let o = run(&dir, &["run", &model, "--stop", "1", "--saveat", "1e-4", "--signals", "j0.phi", "--out", "chain.csv"]);
