@@ -26,6 +26,15 @@ fn run(dir: &Path, args: &[&str]) -> std::process::Output {
     o
 }
 
+/// Runs `command` in `dir`, expecting it to refuse before it starts
+/// (exit 2); what it said.
+fn refused(dir: &Path, mut command: Command) -> String {
+    let o = command.current_dir(dir).env("NO_COLOR", "1").output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    err
+}
+
 /// A chain of `n` revolute links with small bodies, written as a model file.
 fn chain(dir: &Path, n: usize) -> String {
     let mut text = String::from("component Chain\n  world = World()\n");
@@ -108,28 +117,26 @@ fn memory_stays_bounded_and_ctrl_c_keeps_the_results() {
     // every row group, and the run was killed halfway (issue 26, a 2000-body
     // chain under 2 GB). It is refused before it starts, with the estimate
     // and the budget, which counts the limit.
-    let o = Command::new("sh")
-        .args(["-c", "ulimit -v 1000000 && exec \"$0\" \"$@\"", env!("CARGO_BIN_EXE_multibody")])
-        .args(["run", &wide, "--stop", "0.1", "--saveat", "1e-4", "--out", "limited.parquet"])
-        .current_dir(&dir)
-        .env("NO_COLOR", "1")
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{err}");
+    let mut limited = Command::new("sh");
+    limited.args(["-c", "ulimit -v 1000000 && exec \"$0\" \"$@\"", env!("CARGO_BIN_EXE_multibody")]).args([
+        "run",
+        &wide,
+        "--stop",
+        "0.1",
+        "--saveat",
+        "1e-4",
+        "--out",
+        "limited.parquet",
+    ]);
+    let err = refused(&dir, limited);
     assert!(err.contains("writing Parquet of 99019 columns would hold about 1.0 GB in memory (1001 samples)"), "{err}");
     assert!(err.contains("more than the 512.0 MB this run may use"), "{err}");
     assert!(!dir.join("limited.parquet").exists());
 
     // A run the views cannot hold is refused before it starts, naming the budget.
-    let o = Command::new(env!("CARGO_BIN_EXE_multibody"))
-        .args(["run", &model, "--stop", "1", "--saveat", "1e-9", "--animate", "chain.html", "--out", "never.csv"])
-        .current_dir(&dir)
-        .env("NO_COLOR", "1")
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{err}");
+    let mut views = Command::new(env!("CARGO_BIN_EXE_multibody"));
+    views.args(["run", &model, "--stop", "1", "--saveat", "1e-9", "--animate", "chain.html", "--out", "never.csv"]);
+    let err = refused(&dir, views);
     assert!(err.contains("the animation and plot need every signal in memory"), "{err}");
     assert!(!dir.join("never.csv").exists());
 
