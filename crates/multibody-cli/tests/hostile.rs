@@ -497,3 +497,31 @@ fn a_massless_inertia_held_only_by_a_constraint_is_refused_without_a_panic() {
     assert_eq!(code(&o), 1, "{}", stderr(&o));
     assert!(stderr(&o).contains("has no inertia behind it"), "{}", stderr(&o));
 }
+
+/// Sizes that hung `check` (issue 26), through the command: 250,000
+/// chained parameters, a `for` over 50,000 elements, and a cable of 200
+/// segments between two mounts (it reported "loop cannot close" though
+/// 100 closed). The library's own tests time the first two and check the
+/// cable's geometry; here the command finishes with exit 0.
+#[test]
+fn large_models_pass_check_through_the_command() {
+    let dir = scratch("large-models");
+    std::fs::create_dir_all(dir.join("models")).unwrap();
+    let mut parameters = String::from("example component Params\n  parameter p_0::Real = 0\n");
+    for k in 1..250_000 {
+        parameters.push_str(&format!("  parameter p_{k}::Real = p_{} + 1\n", k - 1));
+    }
+    parameters.push_str("end\n");
+    let elements = "example component Elements\n  variable x::Real[50000]\nrelations\n  for i in 1:50000\n    \
+                    x[i] = i * time\n  end\nend\n";
+    let cable = "example component Hang\n  world = MultibodyComponents.World()\n  \
+                 mount = MultibodyComponents.Fixed(r = [2, 0, 0])\n  \
+                 cable = MultibodyComponents.Cable(n = 200, iscut = true, l = 2.4, m = 6, dir = [1, 0, 0])\n\
+                 relations\n  connect(world.frame_b, cable.frame_a)\n  connect(cable.frame_b, mount.frame_b)\nend\n";
+    for (name, text) in [("params", parameters.as_str()), ("elements", elements), ("cable", cable)] {
+        let file = format!("models/{name}.dyad");
+        std::fs::write(dir.join(&file), text).unwrap();
+        let o = multibody(&dir, &["check", &file]);
+        assert_eq!(code(&o), 0, "{name}: {}", stderr(&o));
+    }
+}
