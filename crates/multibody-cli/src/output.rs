@@ -353,7 +353,7 @@ fn not_a_special_file(option: &str, given: &Path, name: &Path, how: &str) -> Res
     }
     let kind = special_kind(&meta);
     Err(Failure::Usage(format!(
-        "`{option} {}`: {how} is {kind}, not a regular file; results are written as new files and renamed into          place, which would replace it; give the path of a file (new or earlier results)",
+        "`{option} {}`: {how} is {kind}, not a regular file; results are written as new files and renamed into place, which would replace it; give the path of a file (new or earlier results)",
         given.display()
     )))
 }
