@@ -371,10 +371,9 @@ fn a_bad_command_line_value_is_blamed_on_its_option() {
 #[test]
 fn a_centre_of_mass_that_overflows_the_inertia_is_named() {
     let dir = scratch("far-centre");
-    // In a named folder, so that the message shows the path as typed.
-    std::fs::create_dir_all(dir.join("models")).unwrap();
-    std::fs::write(
-        dir.join("models/far.dyad"),
+    let far = write_model(
+        &dir,
+        "far.dyad",
         "example component Far
   world = MultibodyComponents.World()
   rev = MultibodyComponents.Revolute()
@@ -384,9 +383,8 @@ relations
   connect(rev.frame_b, body.frame_a)
 end
 ",
-    )
-    .unwrap();
-    let o = multibody(&dir, &["check", "models/far.dyad"]);
+    );
+    let o = multibody(&dir, &["check", &far]);
     assert_eq!(code(&o), 1, "{}", stderr(&o));
     let err = stderr(&o);
     assert!(err.contains("`body.r_cm` = [1e300, 0, 0] is not allowed: the inertia about frame_a overflows"), "{err}");
@@ -400,13 +398,10 @@ end
 #[test]
 fn a_loop_that_cannot_close_names_its_joints_where_they_are_declared() {
     let dir = scratch("loop-cannot-close");
-    std::fs::create_dir_all(dir.join("models")).unwrap();
-    let four_bar = std::fs::read_to_string(example("four_bar.dyad")).unwrap();
-    let short = "FixedTranslation(r = [2, 0, 0])";
-    assert!(four_bar.contains(short), "the example's ground link");
-    std::fs::write(dir.join("models/far_ground.dyad"), four_bar.replace(short, "FixedTranslation(r = [9, 0, 0])"))
-        .unwrap();
-    let o = multibody(&dir, &["check", "models/far_ground.dyad"]);
+    let text =
+        example_changed("four_bar.dyad", &[("FixedTranslation(r = [2, 0, 0])", "FixedTranslation(r = [9, 0, 0])")]);
+    let far_ground = write_model(&dir, "far_ground.dyad", &text);
+    let o = multibody(&dir, &["check", &far_ground]);
     assert_eq!(code(&o), 1, "{}", stderr(&o));
     insta::assert_snapshot!("loop_cannot_close", stderr(&o));
 }
@@ -417,10 +412,9 @@ fn a_loop_that_cannot_close_names_its_joints_where_they_are_declared() {
 #[test]
 fn a_value_that_breaks_a_library_component_is_shown_where_the_user_gave_it() {
     let dir = scratch("cable-zero");
-    // In a named folder, so that the message shows the path as typed.
-    std::fs::create_dir_all(dir.join("models")).unwrap();
-    std::fs::write(
-        dir.join("models/bridge.dyad"),
+    let bridge = write_model(
+        &dir,
+        "bridge.dyad",
         "example component Bridge
   world = MultibodyComponents.World()
   post = MultibodyComponents.Fixed(r = [2, 0, 0])
@@ -430,9 +424,8 @@ relations
   connect(cable.frame_b, post.frame_b)
 end
 ",
-    )
-    .unwrap();
-    let o = multibody(&dir, &["check", "models/bridge.dyad"]);
+    );
+    let o = multibody(&dir, &["check", &bridge]);
     assert_eq!(code(&o), 1, "{}", stderr(&o));
     insta::assert_snapshot!("cable_n_zero", stderr(&o));
 }
@@ -445,13 +438,12 @@ end
 #[test]
 fn equations_that_determine_nothing_are_named_where_they_are_written() {
     let dir = scratch("singular-equations");
-    std::fs::create_dir_all(dir.join("models")).unwrap();
     let write = |name: &str, equations: &str| {
         let text = format!(
             "example component Sing\n  variable x::Real\n  variable y::Real\nrelations\n{equations}\nend\n\
              analysis R\n  extends TransientAnalysis(stop = 1)\n  model = Sing()\nend\n"
         );
-        std::fs::write(dir.join("models").join(name), text).unwrap();
+        write_model(&dir, name, &text);
     };
     write("repeated.dyad", "  x + y = 1\n  x + y = 2");
     write("circular.dyad", "  x = x + 1\n  y = 0");
@@ -482,18 +474,16 @@ fn equations_that_determine_nothing_are_named_where_they_are_written() {
 #[test]
 fn a_massless_inertia_held_only_by_a_constraint_is_refused_without_a_panic() {
     let dir = scratch("massless-housing");
-    std::fs::create_dir_all(dir.join("models")).unwrap();
-    let bearing = std::fs::read_to_string(example("msl/ElasticBearing.dyad")).unwrap();
-    let housing = "housing = RotationalComponents.Inertia(J = 5)";
-    assert!(bearing.contains(housing), "the example's housing");
     // The fuzzer's input also made the shaft heavier, which the singular case needs.
-    let shaft = "shaft = RotationalComponents.Inertia(J = 1,";
-    assert!(bearing.contains(shaft), "the example's shaft");
-    let text = bearing
-        .replace(housing, "housing = RotationalComponents.Inertia(J = 0)")
-        .replace(shaft, "shaft = RotationalComponents.Inertia(J = 5,");
-    std::fs::write(dir.join("models/bearing.dyad"), text).unwrap();
-    let o = multibody(&dir, &["check", "models/bearing.dyad"]);
+    let text = example_changed(
+        "msl/ElasticBearing.dyad",
+        &[
+            ("housing = RotationalComponents.Inertia(J = 5)", "housing = RotationalComponents.Inertia(J = 0)"),
+            ("shaft = RotationalComponents.Inertia(J = 1,", "shaft = RotationalComponents.Inertia(J = 5,"),
+        ],
+    );
+    let bearing = write_model(&dir, "bearing.dyad", &text);
+    let o = multibody(&dir, &["check", &bearing]);
     assert_eq!(code(&o), 1, "{}", stderr(&o));
     assert!(stderr(&o).contains("has no inertia behind it"), "{}", stderr(&o));
 }
@@ -506,7 +496,6 @@ fn a_massless_inertia_held_only_by_a_constraint_is_refused_without_a_panic() {
 #[test]
 fn large_models_pass_check_through_the_command() {
     let dir = scratch("large-models");
-    std::fs::create_dir_all(dir.join("models")).unwrap();
     let mut parameters = String::from("example component Params\n  parameter p_0::Real = 0\n");
     for k in 1..250_000 {
         parameters.push_str(&format!("  parameter p_{k}::Real = p_{} + 1\n", k - 1));
@@ -519,9 +508,27 @@ fn large_models_pass_check_through_the_command() {
                  cable = MultibodyComponents.Cable(n = 200, iscut = true, l = 2.4, m = 6, dir = [1, 0, 0])\n\
                  relations\n  connect(world.frame_b, cable.frame_a)\n  connect(cable.frame_b, mount.frame_b)\nend\n";
     for (name, text) in [("params", parameters.as_str()), ("elements", elements), ("cable", cable)] {
-        let file = format!("models/{name}.dyad");
-        std::fs::write(dir.join(&file), text).unwrap();
+        let file = write_model(&dir, &format!("{name}.dyad"), text);
         let o = multibody(&dir, &["check", &file]);
         assert_eq!(code(&o), 0, "{name}: {}", stderr(&o));
     }
+}
+
+/// Writes `text` as `models/NAME` in `dir` and gives that path as typed:
+/// in a named folder, messages show the path as the user gave it.
+fn write_model(dir: &Path, name: &str, text: &str) -> String {
+    std::fs::create_dir_all(dir.join("models")).unwrap();
+    std::fs::write(dir.join("models").join(name), text).unwrap();
+    format!("models/{name}")
+}
+
+/// An example model's text with each `(from, to)` replaced; each `from`
+/// must be in it, so that a changed example fails here, not later.
+fn example_changed(name: &str, changes: &[(&str, &str)]) -> String {
+    let mut text = std::fs::read_to_string(example(name)).unwrap();
+    for (from, to) in changes {
+        assert!(text.contains(from), "{name} no longer holds `{from}`");
+        text = text.replace(from, to);
+    }
+    text
 }
