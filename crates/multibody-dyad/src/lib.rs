@@ -263,7 +263,7 @@ impl Package {
                     doc: a.doc.clone(),
                     span: a.header,
                 }),
-                Item::TypeAlias(_) => {}
+                Item::TypeAlias(_) | Item::Connector(_) => {}
             }
         }
         out
@@ -285,7 +285,7 @@ impl Package {
                         _ => None,
                     })
                     .collect(),
-                Item::Analysis(_) | Item::TypeAlias(_) => Vec::new(),
+                Item::Analysis(_) | Item::TypeAlias(_) | Item::Connector(_) => Vec::new(),
             })
             .collect();
         self.definitions()

@@ -9,7 +9,10 @@ use std::sync::OnceLock;
 
 /// Each library: its name, the file's name in messages, and its text.
 const LIBRARIES: &[(&str, &str, &str)] = &[
+    ("Dyad", "<stdlib>/Dyad.dyad", include_str!("../stdlib/Dyad.dyad")),
     ("BlockComponents", "<stdlib>/BlockComponents.dyad", include_str!("../stdlib/BlockComponents.dyad")),
+    ("ElectricalComponents", "<stdlib>/ElectricalComponents.dyad", include_str!("../stdlib/ElectricalComponents.dyad")),
+    ("ThermalComponents", "<stdlib>/ThermalComponents.dyad", include_str!("../stdlib/ThermalComponents.dyad")),
     ("MultibodyComponents", "<stdlib>/MultibodyComponents.dyad", include_str!("../stdlib/MultibodyComponents.dyad")),
     ("PlanarMechanics", "<stdlib>/PlanarMechanics.dyad", include_str!("../stdlib/PlanarMechanics.dyad")),
     ("RotationalComponents", "<stdlib>/RotationalComponents.dyad", include_str!("../stdlib/RotationalComponents.dyad")),
@@ -45,8 +48,8 @@ pub fn files() -> &'static [(&'static str, File)] {
             .map(|(id, (library, _, text))| {
                 let mut file = parse(id, text)
                     .unwrap_or_else(|d| panic!("the standard library {library} does not parse: {}", d.message));
-                // Short names inside the planar library are its components.
-                file.package = (*library == "PlanarMechanics").then(|| library.to_string());
+                // Short names inside a library are its components first.
+                file.package = (*library != "Dyad").then(|| library.to_string());
                 (*library, file)
             })
             .collect()

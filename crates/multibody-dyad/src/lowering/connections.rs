@@ -6,8 +6,10 @@
 
 use crate::reports::diagnostics::Diagnostic;
 use crate::reports::source_map::SourceMap;
+use crate::semantics::connectors::Connector;
 use crate::syntax::source::Span;
 use multibody::components::ConnectorType;
+use multibody::math::union_find::UnionFind;
 use multibody::Model;
 use std::collections::HashMap;
 
@@ -16,7 +18,7 @@ enum NodeKind {
     /// A connector of an engine component; its type if the kind has it.
     Leaf(Option<ConnectorType>),
     /// A connector a user component declares.
-    Declared { ty: ConnectorType, declaration: Span, owner: String },
+    Declared { ty: Connector, declaration: Span, owner: String },
 }
 
 #[derive(Clone, Debug)]
@@ -28,6 +30,8 @@ struct Node {
 #[derive(Clone, Debug)]
 struct Statement {
     ends: Vec<(usize, Span)>,
+    /// The instance whose relations hold the `connect` (`""` for the model).
+    within: String,
 }
 
 /// The connectors met so far and the `connect` relations between them.
@@ -59,12 +63,21 @@ impl Sets {
 /// What a connect end names, resolved by the lowering.
 pub enum End {
     Leaf { name: String, ty: Option<ConnectorType> },
-    Declared { name: String, ty: ConnectorType, declaration: Span, owner: String },
+    Declared { name: String, ty: Connector, declaration: Span, owner: String },
+}
+
+/// One set of connectors joined by the `connect`s of one level of the
+/// hierarchy: a connector is in it from inside (a connector of a
+/// sub-component) or from outside (a connector of the component that
+/// holds the `connect`), as Modelica counts flows.
+pub struct FlowSet {
+    pub inside: Vec<String>,
+    pub outside: Vec<String>,
 }
 
 impl ConnectionGraph {
     /// Registers a connector a user component declares (even if never connected).
-    pub fn declare(&mut self, name: String, ty: ConnectorType, declaration: Span, owner: String) {
+    pub fn declare(&mut self, name: String, ty: Connector, declaration: Span, owner: String) {
         self.node(End::Declared { name, ty, declaration, owner });
     }
 
@@ -97,24 +110,13 @@ impl ConnectionGraph {
 
     /// The classes of connected connectors.
     fn classes(&self) -> Vec<usize> {
-        let n = self.nodes.len();
-        let mut parent: Vec<usize> = (0..n).collect();
-        fn find(parent: &mut [usize], mut i: usize) -> usize {
-            while parent[i] != i {
-                parent[i] = parent[parent[i]];
-                i = parent[i];
-            }
-            i
-        }
+        let mut sets = UnionFind::new(self.nodes.len());
         for s in &self.statements {
             for w in s.ends.windows(2) {
-                let (a, b) = (find(&mut parent, w[0].0), find(&mut parent, w[1].0));
-                if a != b {
-                    parent[b.max(a)] = a.min(b);
-                }
+                sets.union(w[0].0, w[1].0);
             }
         }
-        (0..n).map(|i| find(&mut parent, i)).collect()
+        (0..self.nodes.len()).map(|i| sets.find(i)).collect()
     }
 
     /// The connection sets, numbered by their first connector.
@@ -136,37 +138,96 @@ impl ConnectionGraph {
         Sets { set_of, library }
     }
 
-    fn ty(&self, node: usize) -> Option<ConnectorType> {
-        match self.nodes[node].kind {
-            NodeKind::Leaf(ty) => ty,
-            NodeKind::Declared { ty, .. } => Some(ty),
+    /// The name of a node's connector type, if known.
+    fn type_name(&self, node: usize) -> Option<&str> {
+        match &self.nodes[node].kind {
+            NodeKind::Leaf(ty) => ty.map(|t| t.name()),
+            NodeKind::Declared { ty, .. } => Some(ty.name.as_str()),
         }
     }
 
-    /// Adds one `connect`. Checks the types of declared connectors against
-    /// what they meet; the engine checks connections between its own.
-    pub fn connect(&mut self, ends: Vec<(End, Span)>) -> Result<(), Diagnostic> {
+    /// Whether the connectors of nodes `a` and `b` may be connected; the
+    /// engine checks connections between its own.
+    fn compatible(&self, a: usize, b: usize) -> bool {
+        match (&self.nodes[a].kind, &self.nodes[b].kind) {
+            (NodeKind::Declared { ty: ta, .. }, NodeKind::Declared { ty: tb, .. }) => ta.connects_to(tb),
+            (NodeKind::Declared { ty, .. }, NodeKind::Leaf(Some(leaf)))
+            | (NodeKind::Leaf(Some(leaf)), NodeKind::Declared { ty, .. }) => ty.meets_engine(*leaf),
+            _ => true,
+        }
+    }
+
+    /// Adds one `connect`, written in the relations of the instance
+    /// `within`. Checks the types of declared connectors against what
+    /// they meet.
+    pub fn connect(&mut self, ends: Vec<(End, Span)>, within: &str) -> Result<(), Diagnostic> {
         let ends: Vec<(usize, Span)> = ends.into_iter().map(|(e, s)| (self.node(e), s)).collect();
-        let declared = |g: &Self, n: usize| matches!(g.nodes[n].kind, NodeKind::Declared { .. });
         for &(a, a_span) in &ends {
             for &(b, b_span) in &ends {
-                let (Some(ta), Some(tb)) = (self.ty(a), self.ty(b)) else { continue };
-                if !ta.connects_to(&tb) && (declared(self, a) || declared(self, b)) {
-                    return Err(Diagnostic::error(format!(
-                        "`{}` ({}) cannot be connected to `{}` ({})",
-                        self.nodes[a].name,
-                        ta.name(),
-                        self.nodes[b].name,
-                        tb.name()
-                    ))
-                    .primary(b_span, format!("a {} connector", tb.name()))
-                    .secondary(a_span, format!("a {} connector", ta.name()))
-                    .help("only connectors of the same type connect: frames to frames, splines to splines, flanges to flanges, signals to signals"));
+                if self.compatible(a, b) {
+                    continue;
+                }
+                let (ta, tb) = (self.type_name(a).unwrap_or("?"), self.type_name(b).unwrap_or("?"));
+                return Err(Diagnostic::error(format!(
+                    "`{}` ({ta}) cannot be connected to `{}` ({tb})",
+                    self.nodes[a].name, self.nodes[b].name,
+                ))
+                .primary(b_span, format!("a {tb} connector"))
+                .secondary(a_span, format!("a {ta} connector"))
+                .help("only connectors of the same type connect (pins to pins, frames to frames, splines to splines), and signals to signals"));
+            }
+        }
+        self.statements.push(Statement { ends, within: within.to_string() });
+        Ok(())
+    }
+
+    /// The connectors a user component declares, by name, with their types.
+    pub fn declared(&self) -> impl Iterator<Item = (&str, &Connector)> {
+        self.nodes.iter().filter_map(|n| match &n.kind {
+            NodeKind::Declared { ty, .. } => Some((n.name.as_str(), ty)),
+            NodeKind::Leaf(_) => None,
+        })
+    }
+
+    /// The sets of Modelica's flow rule over the connectors `members`
+    /// (declared connectors, joined to no engine connector): the
+    /// `connect`s of one level join a connector's outside side (in the
+    /// component that declares it) or its inside side (in the component
+    /// around); each side of each connector is in exactly one set, alone
+    /// if nothing joins it.
+    pub fn flow_sets(&self, members: &[&str]) -> Vec<FlowSet> {
+        // Element 2k is member k from inside, 2k + 1 from outside.
+        let position: HashMap<&str, usize> = members.iter().enumerate().map(|(k, m)| (*m, k)).collect();
+        let mut sets = UnionFind::new(2 * members.len());
+        for s in &self.statements {
+            let mut first: Option<usize> = None;
+            for &(node, _) in &s.ends {
+                let name = self.nodes[node].name.as_str();
+                let Some(&k) = position.get(name) else { continue };
+                let parent = name.rsplit_once('.').map_or("", |(parent, _)| parent);
+                let element = 2 * k + usize::from(parent == s.within);
+                match first {
+                    None => first = Some(element),
+                    Some(f) => sets.union(f, element),
                 }
             }
         }
-        self.statements.push(Statement { ends });
-        Ok(())
+        let mut out: Vec<FlowSet> = Vec::new();
+        let mut number: HashMap<usize, usize> = HashMap::new();
+        for element in 0..2 * members.len() {
+            let root = sets.find(element);
+            let k = *number.entry(root).or_insert_with(|| {
+                out.push(FlowSet { inside: Vec::new(), outside: Vec::new() });
+                out.len() - 1
+            });
+            let name = members[element / 2].to_string();
+            if element % 2 == 0 {
+                out[k].inside.push(name);
+            } else {
+                out[k].outside.push(name);
+            }
+        }
+        out
     }
 
     /// Adds the connections between engine connectors to `model`, records

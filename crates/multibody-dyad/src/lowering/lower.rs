@@ -8,13 +8,14 @@
 
 use crate::lowering::analysis::{analysis_options, Study};
 use crate::lowering::connections::{ConnectionGraph, End};
-use crate::lowering::relations::{self, Entity, Flat, RelationsOut, WithEnv};
+use crate::lowering::relations::{self, EngineShapes, Entity, Flat, RelationsOut, WithEnv};
 use crate::lowering::tunables::{in_model_files, type_facts, Tunable, TunableKind};
 use crate::reports::diagnostics::{did_you_mean, Diagnostic};
 use crate::reports::source_map::{ComponentSite, MemberSite, Shadowing, SourceMap};
+use crate::semantics::connectors::Connector;
 use crate::semantics::eval::{eval, Scope, Val};
 use crate::semantics::extends::{effective, Effective};
-use crate::semantics::index::{Index, CONNECTOR_TYPES};
+use crate::semantics::index::Index;
 use crate::semantics::modifiers::{apply_overrides, eval_modifiers, merge_outer, merge_same_level, Mod, Override};
 use crate::semantics::scope::ParamScope;
 use crate::syntax::ast::*;
@@ -29,15 +30,15 @@ const MAX_NESTING: usize = 32;
 /// How many library components one model may have.
 const MAX_COMPONENTS: usize = 20_000;
 /// What a declaration's kind names.
-#[derive(Clone, Copy)]
+#[derive(Clone)]
 enum Kind<'a> {
     Library(&'static ComponentSpec),
     User(&'a ComponentDef),
-    Connector(ConnectorType),
+    Connector(Connector),
 }
 
 /// A connector that equations read: its name, type and the quantities used.
-type UsedConnector = (String, ConnectorType, Vec<&'static str>);
+type UsedConnector = (String, Connector, Vec<String>);
 
 /// One instance of a declaration: an element of an array has its index
 /// in `env`.
@@ -77,7 +78,7 @@ struct Declarations<'d, 'a> {
 impl<'d, 'a> Declarations<'d, 'a> {
     /// The component or connector declared as `name`.
     fn component(&self, name: &str) -> Option<(&'d ComponentDecl, Kind<'a>)> {
-        self.components.iter().find(|(c, _)| c.name.name == name).map(|(c, k)| (*c, *k))
+        self.components.iter().find(|(c, _)| c.name.name == name).map(|(c, k)| (*c, k.clone()))
     }
 }
 
@@ -97,8 +98,11 @@ pub struct Lowerer<'a, 'i> {
     used_index: HashMap<String, usize>,
     /// Each definition with what it extends merged in, made once.
     effective: HashMap<*const ComponentDef, std::rc::Rc<Effective>>,
-    /// The simulated component's own `RealOutput`s, with their declarations.
-    outputs: Vec<(String, Span)>,
+    /// The simulated component's own output signals, with their
+    /// declarations and types.
+    outputs: Vec<(String, Span, Connector)>,
+    /// The declared shapes of the engine's connectors.
+    engine: EngineShapes,
     /// Inputs of sub-components that an enclosing component's equations
     /// name: those equations decide them (`smoother.u = sin(time)`).
     set_from_outside: std::collections::HashSet<String>,
@@ -130,6 +134,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             used_index: HashMap::new(),
             effective: HashMap::new(),
             outputs: Vec::new(),
+            engine: index.engine_shapes(),
             set_from_outside: Default::default(),
             tunables: Vec::new(),
         }
@@ -161,11 +166,11 @@ impl<'a, 'i> Lowerer<'a, 'i> {
     }
 
     /// Notes that equations read `connector` (a quantity `field` of it).
-    fn use_connector(&mut self, connector: &str, ty: ConnectorType, field: Option<&'static str>) {
+    fn use_connector(&mut self, connector: &str, ty: &Connector, field: Option<String>) {
         let k = match self.used_index.get(connector) {
             Some(&k) => k,
             None => {
-                self.used.push((connector.to_string(), ty, Vec::new()));
+                self.used.push((connector.to_string(), ty.clone(), Vec::new()));
                 self.used_index.insert(connector.to_string(), self.used.len() - 1);
                 self.used.len() - 1
             }
@@ -183,13 +188,13 @@ impl<'a, 'i> Lowerer<'a, 'i> {
     /// results (one that nothing drives keeps its warning).
     fn model_outputs(&mut self) {
         let sets = self.graph.sets();
-        for (name, _) in std::mem::take(&mut self.outputs) {
+        for (name, _, ty) in std::mem::take(&mut self.outputs) {
             let driven = self.used_index.contains_key(&name)
                 || sets
                     .set_of(&name)
                     .is_some_and(|set| sets.library(set).iter().any(|(_, t)| *t == Some(ConnectorType::RealOutput)));
             if driven {
-                self.use_connector(&name, ConnectorType::RealOutput, None);
+                self.use_connector(&name, &ty, None);
                 self.model.outputs.push(name);
             }
         }
@@ -197,15 +202,21 @@ impl<'a, 'i> Lowerer<'a, 'i> {
 
     /// The equations connections imply for connectors that equations read:
     /// a signal equals its source; a frame's or flange's potentials equal
-    /// the library connector's it is joined to, and its flows load that
-    /// connector; connectors joined to none share potentials and their
-    /// flows sum to zero.
+    /// the engine connector's it is joined to, and its flows load that
+    /// connector; connectors joined to none make a network of equations
+    /// ([`Self::network_equations`]).
     fn connector_equations(&mut self) -> Result<(), Diagnostic> {
         let sets = self.graph.sets();
         let used = self.used.clone();
         // The used connectors of each set, sets in the order first used.
         let mut order: Vec<usize> = Vec::new();
         let mut by_set: HashMap<usize, Vec<&UsedConnector>> = HashMap::new();
+        let mut declared_by_set: HashMap<usize, Vec<String>> = HashMap::new();
+        for (name, _) in self.graph.declared() {
+            if let Some(set) = sets.set_of(name) {
+                declared_by_set.entry(set).or_default().push(name.to_string());
+            }
+        }
         for u in &used {
             let Some(set) = sets.set_of(&u.0) else { continue };
             let list = by_set.entry(set).or_insert_with(|| {
@@ -217,7 +228,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         for set in order {
             let members = by_set.remove(&set).expect("each set once");
             let library = sets.library(set);
-            let ty = members[0].1;
+            let ty = members[0].1.clone();
             // Connection equations point at a `connect` of the first member.
             let root = self.map.root.as_ref().map(|(_, s)| *s);
             let declared = self.graph.declaration_of(&members[0].0);
@@ -243,7 +254,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 }
                 let rep = members
                     .iter()
-                    .find(|(_, t, _)| *t == ConnectorType::RealOutput)
+                    .find(|(_, t, _)| t.is_output())
                     .or_else(|| members.iter().find(|(m, _, _)| self.set_from_outside.contains(m)))
                     .map(|m| m.0.clone());
                 let Some(rep) = rep else {
@@ -270,21 +281,20 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 }
                 continue;
             }
-            let fields = relations::connector_fields(ty);
             let same: Vec<&(String, Option<ConnectorType>)> =
-                library.iter().filter(|(_, t)| t.is_none_or(|t| t.connects_to(&ty))).collect();
+                library.iter().filter(|(_, t)| t.is_none_or(|t| ty.meets_engine(t))).collect();
             if let Some((anchor, _)) = same.first() {
                 // Joined to the mechanics: potentials are its, flows load it.
                 for (m, _, quantities) in &members {
-                    let flows = quantities.iter().any(|q| fields.iter().any(|f| f.0 == *q && f.2));
-                    for &(field, dims, flow) in fields {
-                        let names = relations::scalar_names(&format!("{m}.{field}"), dims);
-                        if flow && flows {
+                    let flows = quantities.iter().any(|q| ty.field(q).is_some_and(|f| f.flow));
+                    for field in &ty.fields {
+                        let names = relations::scalar_names(&format!("{m}.{}", field.name), &field.dims);
+                        if field.flow && flows {
                             for n in &names {
                                 self.connector_variable(n.clone(), &origin, span);
                             }
-                        } else if !flow && quantities.contains(&field) {
-                            let theirs = relations::scalar_names(&format!("{anchor}.{field}"), dims);
+                        } else if !field.flow && quantities.contains(&field.name) {
+                            let theirs = relations::scalar_names(&format!("{anchor}.{}", field.name), &field.dims);
                             for (n, t) in names.iter().zip(&theirs) {
                                 self.connector_variable(n.clone(), &origin, span);
                                 eq(&mut self.model, n, t);
@@ -293,13 +303,13 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                     }
                     if flows {
                         let flow_names = |field: &str| relations::scalar_names(&format!("{m}.{field}"), &[3]);
-                        let flow = match ty {
-                            ConnectorType::Frame2D => multibody::Flow::Frame2D {
+                        let flow = match ty.engine {
+                            Some(ConnectorType::Frame2D) => multibody::Flow::Frame2D {
                                 connector: anchor.clone(),
                                 force: [format!("{m}.fx"), format!("{m}.fy")],
                                 torque: format!("{m}.tau"),
                             },
-                            ConnectorType::Frame => {
+                            Some(ConnectorType::Frame) => {
                                 let (f, t) = (flow_names("f"), flow_names("tau"));
                                 multibody::Flow::Frame {
                                     connector: anchor.clone(),
@@ -308,8 +318,11 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                                 }
                             }
                             _ => {
-                                let field = fields.iter().find(|f| f.2).expect("a 1-D connector has a flow").0;
-                                multibody::Flow::Flange { connector: anchor.clone(), value: format!("{m}.{field}") }
+                                let field = ty.fields.iter().find(|f| f.flow).expect("a 1-D connector has a flow");
+                                multibody::Flow::Flange {
+                                    connector: anchor.clone(),
+                                    value: format!("{m}.{}", field.name),
+                                }
                             }
                         };
                         self.model.equations.flows.push(flow);
@@ -325,27 +338,57 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 .primary(span, "its motion comes from nothing")
                 .help("connect it to a library component (a Body, a joint, the World's frame_b); equations give frames forces, not motion"));
             }
-            // 1-D connectors of equations alone: shared potential, flows sum to zero.
-            let (potential, flow) = (fields[0].0, fields[1].0);
-            let first = format!("{}.{potential}", members[0].0);
-            let mut flows = Vec::new();
-            for (m, _, _) in &members {
-                let p = format!("{m}.{potential}");
-                self.connector_variable(p.clone(), &origin, span);
-                self.connector_variable(format!("{m}.{flow}"), &origin, span);
-                if p != first {
-                    eq(&mut self.model, &p, &first);
-                }
-                flows.push(multibody::Expr::var(format!("{m}.{flow}")));
-            }
-            let total = flows.into_iter().reduce(|a, b| a + b).expect("members");
-            self.model.equations.equations.push(multibody::Equation {
-                lhs: total,
-                rhs: multibody::Expr::Const(0.0),
-                origin: origin.clone(),
-            });
+            let declared = declared_by_set.remove(&set).unwrap_or_default();
+            self.network_equations(&declared, &ty, &origin, span);
         }
         Ok(())
+    }
+
+    /// The connection equations of a set of declared connectors that no
+    /// engine component joins (pins, heat ports, and flanges between
+    /// components written in equations): potentials equal, and at each
+    /// level of the hierarchy the flows into the sub-components' connectors
+    /// equal what enters through the component's own (Modelica's rule: a
+    /// connector connected from nowhere takes no flow).
+    fn network_equations(&mut self, members: &[String], ty: &Connector, origin: &str, span: Span) {
+        let equation =
+            |lhs: multibody::Expr, rhs: multibody::Expr| multibody::Equation { lhs, rhs, origin: origin.to_string() };
+        for field in &ty.fields {
+            let first = relations::scalar_names(&format!("{}.{}", members[0], field.name), &field.dims);
+            for m in members {
+                let names = relations::scalar_names(&format!("{m}.{}", field.name), &field.dims);
+                for (n, f) in names.iter().zip(&first) {
+                    self.connector_variable(n.clone(), origin, span);
+                    if !field.flow && n != f {
+                        self.model.equations.equations.push(equation(multibody::Expr::var(n), multibody::Expr::var(f)));
+                    }
+                }
+            }
+        }
+        let names: Vec<&str> = members.iter().map(String::as_str).collect();
+        for flow_set in self.graph.flow_sets(&names) {
+            if flow_set.inside.is_empty() && flow_set.outside.len() == 1 {
+                // What enters from outside is decided there.
+                continue;
+            }
+            for field in ty.fields.iter().filter(|f| f.flow) {
+                let scalars = |m: &String| relations::scalar_names(&format!("{m}.{}", field.name), &field.dims);
+                let inside: Vec<Vec<String>> = flow_set.inside.iter().map(scalars).collect();
+                let outside: Vec<Vec<String>> = flow_set.outside.iter().map(scalars).collect();
+                for k in 0..field.dims.iter().product::<usize>() {
+                    let sum = |list: &[Vec<String>]| {
+                        list.iter().map(|names| multibody::Expr::var(names[k].as_str())).reduce(|a, b| a + b)
+                    };
+                    let (lhs, rhs) = match (sum(&inside), sum(&outside)) {
+                        (Some(a), Some(b)) => (a, b),
+                        (Some(a), None) => (a, multibody::Expr::Const(0.0)),
+                        (None, Some(b)) => (b, multibody::Expr::Const(0.0)),
+                        (None, None) => continue,
+                    };
+                    self.model.equations.equations.push(equation(lhs, rhs));
+                }
+            }
+        }
     }
 
     /// Lowers a component as the whole model, with default options.
@@ -538,7 +581,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         for d in &effective.declarations {
             if let Declaration::Component(c) = d {
                 let kind = resolve_kind(self.index, &c.kind)?;
-                if let (Kind::User(user), Some(spec)) = (kind, lookup(&c.kind.text())) {
+                if let (Kind::User(user), Some(spec)) = (&kind, lookup(&c.kind.text())) {
                     self.map.shadowing.push(Shadowing {
                         library_kind: spec.kind.to_string(),
                         used: c.span,
@@ -566,7 +609,8 @@ impl<'a, 'i> Lowerer<'a, 'i> {
     ) -> Result<(Vec<Instance<'d, 'a>>, Vec<String>), Diagnostic> {
         let mut subs: Vec<Instance<'d, 'a>> = Vec::new();
         let mut absent: Vec<String> = Vec::new();
-        for &(decl, kind) in &decls.components {
+        for (decl, kind) in &decls.components {
+            let (decl, kind) = (*decl, kind.clone());
             if let Some(condition) = &decl.condition {
                 let v = eval(condition, scope)?;
                 let present = match v {
@@ -593,7 +637,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                         subs.push(Instance {
                             local: format!("{}[{}]", decl.name.name, k + 1),
                             decl,
-                            kind,
+                            kind: kind.clone(),
                             env: vec![(var.name.clone(), value)],
                         });
                     }
@@ -629,7 +673,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 Some(element) => merge_outer(element, merged)?,
                 None => merged,
             };
-            match instance.kind {
+            match instance.kind.clone() {
                 Kind::Library(spec) => {
                     self.entities.insert(child.clone(), Entity::Library(spec));
                     self.library_component(spec, &child, decl, merged, within)?
@@ -649,10 +693,10 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                                 .primary(m.span, "ignored"),
                         );
                     }
-                    self.entities.insert(child.clone(), Entity::Connector(ty));
-                    self.graph.declare(child.clone(), ty, decl.span, name.to_string());
+                    self.entities.insert(child.clone(), Entity::Connector(ty.clone()));
+                    self.graph.declare(child.clone(), ty.clone(), decl.span, name.to_string());
                     if prefix.is_empty() && ty.is_signal() {
-                        self.boundary_signal(&child, ty, decl.span, 0.0)?;
+                        self.boundary_signal(&child, &ty, decl.span, 0.0)?;
                     }
                 }
             }
@@ -724,7 +768,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 resolved.push((self.connect_end(&path, prefix, def, subs, &by_local)?, end.span));
             }
             if !skip {
-                self.graph.connect(resolved)?;
+                self.graph.connect(resolved, prefix)?;
             }
         }
         Ok(())
@@ -744,6 +788,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         let mut context = relations::Context {
             entities: &self.entities,
             variables: &self.model.equations.variables,
+            engine: &self.engine,
             prefix,
             scope,
             runtime: &decls.runtime,
@@ -790,9 +835,11 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                     .primary(v.ty.span, "not supported yet")
                     .help("declare one signal per element"));
             }
-            let ty = if v.causality == Causality::Input { ConnectorType::RealInput } else { ConnectorType::RealOutput };
-            self.entities.insert(full.clone(), Entity::Connector(ty));
-            self.graph.declare(full.clone(), ty, v.span, owner.to_string());
+            let signal =
+                if v.causality == Causality::Input { ConnectorType::RealInput } else { ConnectorType::RealOutput };
+            let ty = relations::engine_shape(&self.engine, signal);
+            self.entities.insert(full.clone(), Entity::Connector(ty.clone()));
+            self.graph.declare(full.clone(), ty.clone(), v.span, owner.to_string());
             if prefix.is_empty() {
                 let start = match &v.initial {
                     Some(e) => match eval(e, scope)? {
@@ -807,7 +854,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                     },
                     None => 0.0,
                 };
-                self.boundary_signal(&full, ty, v.span, start)?;
+                self.boundary_signal(&full, &ty, v.span, start)?;
             }
         } else {
             self.entities.insert(full.clone(), Entity::Variable(dims.clone()));
@@ -889,17 +936,18 @@ impl<'a, 'i> Lowerer<'a, 'i> {
     /// becomes an `Input` component of the same name, which the host sets
     /// while the model runs (its start value, if declared, until then); an
     /// output is one of the model's outputs.
-    fn boundary_signal(&mut self, name: &str, ty: ConnectorType, span: Span, start: f64) -> Result<(), Diagnostic> {
-        if ty == ConnectorType::RealOutput {
-            self.outputs.push((name.to_string(), span));
+    fn boundary_signal(&mut self, name: &str, ty: &Connector, span: Span, start: f64) -> Result<(), Diagnostic> {
+        if ty.is_output() {
+            self.outputs.push((name.to_string(), span, ty.clone()));
             return Ok(());
         }
         self.model.add(name, "Input").set("start", start);
         self.map.add_component(name, ComponentSite { declaration: span, within: Vec::new() });
         // The input's signal is the library source the connector joins.
         let source = End::Leaf { name: format!("{name}.y"), ty: Some(ConnectorType::RealOutput) };
-        let declared = End::Declared { name: name.to_string(), ty, declaration: span, owner: String::new() };
-        self.graph.connect(vec![(declared, span), (source, span)])
+        let declared =
+            End::Declared { name: name.to_string(), ty: ty.clone(), declaration: span, owner: String::new() };
+        self.graph.connect(vec![(declared, span), (source, span)], "")
     }
 
     /// A name for `span` that engine messages carry back.
@@ -921,7 +969,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             }
         }
         for u in out.uses {
-            self.use_connector(&u.connector, u.ty, u.field);
+            self.use_connector(&u.connector, &u.ty, u.field);
             if u.set_from_outside {
                 self.set_from_outside.insert(u.connector);
             }
@@ -938,14 +986,14 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         by_local: &HashMap<&str, usize>,
     ) -> Result<End, Diagnostic> {
         let owner = def.name.name.as_str();
-        let sub = |n: &str| by_local.get(n).map(|&k| (subs[k].decl, subs[k].kind));
+        let sub = |n: &str| by_local.get(n).map(|&k| (subs[k].decl, subs[k].kind.clone()));
         let first = &end.parts[0];
         let declared = |name: String, owner: String| -> Option<End> {
             match self.entities.get(&name) {
                 Some(Entity::Connector(ty)) => Some(End::Declared {
                     declaration: self.graph.declaration_of(&name).unwrap_or(end.span),
                     name,
-                    ty: *ty,
+                    ty: ty.clone(),
                     owner,
                 }),
                 _ => None,
@@ -962,7 +1010,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 Ok(declared(flat(prefix, &first.name), owner.to_string()).expect("checked"))
             }
             (1, Some((_, kind))) => {
-                let connectors = connector_names(kind);
+                let connectors = connector_names(self.index, kind);
                 let mut d = Diagnostic::error(format!("`{}` is a component, not a connector", first.name))
                     .primary(end.span, "a component");
                 if let Some(c) = connectors.first() {
@@ -997,7 +1045,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                         d.name.name, connector.name
                     )));
                 }
-                let connectors = connector_names(Kind::User(d));
+                let connectors = connector_names(self.index, Kind::User(d));
                 let mut diag = Diagnostic::error(format!("`{}` has no connector `{}`", d.name.name, connector.name))
                     .primary(connector.span, "unknown connector")
                     .secondary(d.header, format!("`{}` is defined here", d.name.name));
@@ -1401,8 +1449,8 @@ fn resolve_kind<'a>(index: &Index<'a>, kind: &Path) -> Result<Kind<'a>, Diagnost
     if let (Some(def), None) = (index.component(&text), lookup(&text)) {
         return Ok(Kind::User(def));
     }
-    if let Some(ty) = CONNECTOR_TYPES.iter().find(|t| t.name() == kind.last().name) {
-        return Ok(Kind::Connector(*ty));
+    if let Some(ty) = index.connector(&text) {
+        return Ok(Kind::Connector(ty.clone()));
     }
     if let Some(spec) = lookup(&text) {
         return Ok(Kind::Library(spec));
@@ -1417,7 +1465,7 @@ fn resolve_kind<'a>(index: &Index<'a>, kind: &Path) -> Result<Kind<'a>, Diagnost
         .iter()
         .map(|s| s.kind)
         .chain(index.components.keys().map(String::as_str))
-        .chain(CONNECTOR_TYPES.iter().map(|t| t.name()))
+        .chain(index.connectors.keys().map(String::as_str))
         .collect();
     let mut d = Diagnostic::error(format!("unknown component kind `{text}`"))
         .primary(kind.span, "not a library component or a component of these files");
@@ -1427,16 +1475,14 @@ fn resolve_kind<'a>(index: &Index<'a>, kind: &Path) -> Result<Kind<'a>, Diagnost
     Err(d.note("`multibody list` shows every library component"))
 }
 
-fn connector_names(kind: Kind) -> Vec<String> {
+fn connector_names(index: &Index, kind: Kind) -> Vec<String> {
     match kind {
         Kind::Library(spec) => spec.public_connectors().map(|c| c.name.to_string()).collect(),
         Kind::User(def) => def
             .declarations
             .iter()
             .filter_map(|d| match d {
-                Declaration::Component(c) if CONNECTOR_TYPES.iter().any(|t| t.name() == c.kind.last().name) => {
-                    Some(c.name.name.clone())
-                }
+                Declaration::Component(c) if index.is_connector(&c.kind) => Some(c.name.name.clone()),
                 Declaration::Variable(v) if v.causality != Causality::Internal => Some(v.name.name.clone()),
                 _ => None,
             })

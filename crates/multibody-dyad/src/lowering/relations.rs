@@ -6,6 +6,7 @@
 use crate::lowering::symbolic::{self, Names, Sym};
 use crate::reports::diagnostics::{did_you_mean, Diagnostic};
 use crate::reports::source_map::SourceMap;
+use crate::semantics::connectors::Connector;
 use crate::semantics::eval::{eval, Scope, Val};
 use crate::semantics::scope::ParamScope;
 use crate::syntax::ast::*;
@@ -540,22 +541,16 @@ fn select(value: Sym, index: &[usize], span: Span, what: &str) -> Result<Sym, Di
     Ok(v)
 }
 
-/// The fields of a connector, their sizes, and whether each is a flow.
-pub fn connector_fields(ty: ConnectorType) -> &'static [(&'static str, &'static [usize], bool)] {
-    match ty {
-        ConnectorType::Frame => &[("r_0", &[3], false), ("R", &[3, 3], false), ("f", &[3], true), ("tau", &[3], true)],
-        ConnectorType::Frame2D => &[
-            ("x", &[], false),
-            ("y", &[], false),
-            ("phi", &[], false),
-            ("fx", &[], true),
-            ("fy", &[], true),
-            ("tau", &[], true),
-        ],
-        ConnectorType::Spline => &[("phi", &[], false), ("tau", &[], true)],
-        ConnectorType::Flange => &[("s", &[], false), ("f", &[], true)],
-        _ => &[],
-    }
+/// The declared shape of each engine connector type (its Dyad declaration).
+pub type EngineShapes = Vec<(ConnectorType, Connector)>;
+
+/// The shape of the engine's connector `ty`.
+pub fn engine_shape(shapes: &EngineShapes, ty: ConnectorType) -> Connector {
+    shapes
+        .iter()
+        .find(|(t, _)| *t == ty)
+        .map(|(_, c)| c.clone())
+        .expect("the standard library declares every engine connector")
 }
 
 /// What a flattened name is, for resolving names in equations.
@@ -568,15 +563,15 @@ pub enum Entity {
     /// A variable of these sizes.
     Variable(Vec<usize>),
     /// A connector a user component declares.
-    Connector(ConnectorType),
+    Connector(Connector),
 }
 
 /// A connector that equations read.
 pub struct ConnectorUse {
     pub connector: String,
-    pub ty: ConnectorType,
+    pub ty: Connector,
     /// The quantity read (`f`, `phi`); none for a signal.
-    pub field: Option<&'static str>,
+    pub field: Option<String>,
     /// An input of a sub-component that the enclosing component's
     /// equations name: those equations decide it (`smoother.u = sin(time)`).
     pub set_from_outside: bool,
@@ -628,6 +623,8 @@ pub struct Context<'c, 's, 'e, 'j> {
     pub entities: &'c HashMap<String, Entity>,
     /// The variables of the model's equations so far (guesses name them).
     pub variables: &'c [multibody::Variable],
+    /// The shapes of the engine's connectors.
+    pub engine: &'c EngineShapes,
     pub prefix: &'c str,
     pub scope: &'s mut ParamScope<'e, 'j>,
     pub runtime: &'c [String],
@@ -697,7 +694,7 @@ impl Names for Resolver<'_, '_, '_, '_, '_> {
                     }
                     return Ok(Some(selected_variables(&name, &dims, &index, expr.span, &name)?));
                 }
-                Entity::Connector(ty) => return connector_quantity(ctx, &name, ty, rest, expr.span, true).map(Some),
+                Entity::Connector(ty) => return connector_quantity(ctx, &name, &ty, rest, expr.span, true).map(Some),
                 Entity::Library(spec) => {
                     let Some(((member, member_index), tail)) = rest.split_first() else {
                         return Err(Diagnostic::error(format!("`{name}` is a component, not a value"))
@@ -711,7 +708,8 @@ impl Names for Resolver<'_, '_, '_, '_, '_> {
                                 Diagnostic::error("a connector cannot be indexed").primary(expr.span, "an index")
                             );
                         }
-                        return connector_quantity(ctx, &full, c.ty, tail, expr.span, false).map(Some);
+                        let shape = engine_shape(ctx.engine, c.ty);
+                        return connector_quantity(ctx, &full, &shape, tail, expr.span, false).map(Some);
                     }
                     if let Some(v) = spec.variables.iter().find(|v| v.name == member.name) {
                         if !tail.is_empty() {
@@ -754,7 +752,7 @@ impl Names for Resolver<'_, '_, '_, '_, '_> {
 fn connector_quantity(
     ctx: &mut Context<'_, '_, '_, '_>,
     connector: &str,
-    ty: ConnectorType,
+    ty: &Connector,
     rest: &[(Ident, Vec<usize>)],
     span: Span,
     declared: bool,
@@ -767,42 +765,40 @@ fn connector_quantity(
             let owner = connector.rsplit_once('.').map_or("", |(owner, _)| owner);
             ctx.out.uses.push(ConnectorUse {
                 connector: connector.to_string(),
-                ty,
+                ty: ty.clone(),
                 field: None,
-                set_from_outside: ty == ConnectorType::RealInput && owner != ctx.prefix,
+                set_from_outside: ty.is_input() && owner != ctx.prefix,
             });
         }
         return Ok(Sym::Scalar(E::var(connector)));
     }
-    let fields = connector_fields(ty);
+    let names = || ty.fields.iter().map(|f| f.name.as_str()).collect::<Vec<_>>().join(", ");
     let Some(((field, index), tail)) = rest.split_first() else {
-        let names: Vec<&str> = fields.iter().map(|f| f.0).collect();
         return Err(Diagnostic::error(format!("`{connector}` is a connector; name one of its quantities"))
             .primary(span, "a connector")
-            .help(format!("its quantities are: {}", names.join(", "))));
+            .help(format!("its quantities are: {}", names())));
     };
-    let Some(&(name, dims, _)) = fields.iter().find(|f| f.0 == field.name) else {
-        let names: Vec<&str> = fields.iter().map(|f| f.0).collect();
-        let mut d = Diagnostic::error(format!("a {} connector has no `{}`", ty.name(), field.name))
+    let Some(found) = ty.field(&field.name) else {
+        let mut d = Diagnostic::error(format!("a {} connector has no `{}`", ty.name, field.name))
             .primary(field.span, "unknown quantity");
-        if let Some(s) = did_you_mean(&field.name, names.iter().copied()) {
+        if let Some(s) = did_you_mean(&field.name, ty.fields.iter().map(|f| f.name.as_str())) {
             d = d.help(s);
         }
-        return Err(d.note(format!("its quantities are: {}", names.join(", "))));
+        return Err(d.note(format!("its quantities are: {}", names())));
     };
     if !tail.is_empty() {
-        return Err(Diagnostic::error(format!("`{connector}.{name}` has no fields")).primary(span, "no fields"));
+        return Err(Diagnostic::error(format!("`{connector}.{}` has no fields", found.name)).primary(span, "no fields"));
     }
     if declared {
         ctx.out.uses.push(ConnectorUse {
             connector: connector.to_string(),
-            ty,
-            field: Some(name),
+            ty: ty.clone(),
+            field: Some(found.name.clone()),
             set_from_outside: false,
         });
     }
-    let full = format!("{connector}.{name}");
-    selected_variables(&full, dims, index, span, &full)
+    let full = format!("{connector}.{}", found.name);
+    selected_variables(&full, &found.dims, index, span, &full)
 }
 
 impl Context<'_, '_, '_, '_> {

@@ -4,7 +4,7 @@
 //! included).
 
 use crate::semantics::extends::effective;
-use crate::semantics::index::{Index, CONNECTOR_TYPES};
+use crate::semantics::index::Index;
 use crate::stdlib;
 use crate::syntax::ast::{Causality, ComponentKind, Declaration, Item};
 
@@ -61,7 +61,7 @@ pub fn describe(name: &str) -> Option<Description> {
                 source(p.ty.span),
                 p.doc.clone().unwrap_or_default(),
             ]),
-            Declaration::Component(c) if CONNECTOR_TYPES.iter().any(|t| t.name() == c.kind.last().name) => {
+            Declaration::Component(c) if index.is_connector(&c.kind) => {
                 connectors.push([c.name.name.clone(), c.kind.text()])
             }
             Declaration::Component(c) => parts.push([c.name.name.clone(), c.kind.text()]),

@@ -26,7 +26,7 @@ pub fn effective(index: &Index, def: &ComponentDef, depth: usize) -> Result<Effe
                 .primary(e.span, "too deep")
                 .help("check for components that extend each other"));
         }
-        let Some(base) = index.component(&e.base.text()) else {
+        let Some(base) = index.component_at(&e.base) else {
             let mut d = Diagnostic::error(format!("`{}` is not a component of these files", e.base.text()))
                 .primary(e.base.span, "cannot extend it");
             if let Some(s) = did_you_mean(&e.base.text(), index.components.keys().map(String::as_str)) {

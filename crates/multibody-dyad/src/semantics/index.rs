@@ -1,22 +1,16 @@
-//! Every definition of a package by name: the components, analyses and
-//! type aliases of the files and the standard library, and the connector
-//! types users can declare.
+//! Every definition of a package by name: the components, analyses,
+//! type aliases and connectors of the files and the standard library.
 
 use crate::reports::diagnostics::Diagnostic;
+use crate::semantics::connectors::{Connector, ConnectorShape};
 use crate::syntax::ast::*;
 use crate::syntax::source::Span;
-use multibody::components::ConnectorType;
 use std::collections::HashMap;
+use std::rc::Rc;
 
-/// The connector types users can declare, by the names the library gives them.
-pub const CONNECTOR_TYPES: [ConnectorType; 6] = [
-    ConnectorType::Frame,
-    ConnectorType::Frame2D,
-    ConnectorType::Spline,
-    ConnectorType::Flange,
-    ConnectorType::RealInput,
-    ConnectorType::RealOutput,
-];
+/// The sub-packages of Dyad's libraries that name no component of their own.
+const SUBPACKAGES: &[&str] =
+    &["Continuous", "Sources", "Math", "Nonlinear", "Interfaces", "Components", "Sensors", "Analog", "Basic", "Ideal"];
 
 /// Every definition of the package, by name (the standard library's with
 /// their library's name first: `BlockComponents.Integrator`).
@@ -24,6 +18,10 @@ pub struct Index<'a> {
     pub components: HashMap<String, &'a ComponentDef>,
     pub analyses: HashMap<&'a str, &'a AnalysisDef>,
     pub aliases: HashMap<&'a str, &'a TypeAlias>,
+    /// The connector types: the standard library's by their short names
+    /// and with their library's (`Pin`, `Dyad.Pin`), the files' by theirs
+    /// (a file's connector hides the library's of the same name).
+    pub connectors: HashMap<String, Connector>,
     /// The library package of each file inside one (see `File::package`).
     pub packages: HashMap<crate::syntax::source::FileId, &'a str>,
 }
@@ -39,12 +37,21 @@ impl<'a> Index<'a> {
             components: HashMap::new(),
             analyses: HashMap::new(),
             aliases: HashMap::new(),
+            connectors: HashMap::new(),
             packages: HashMap::new(),
         };
         for (library, file) in libraries {
             for item in &file.items {
-                if let Item::Component(c) = item {
-                    index.components.insert(format!("{library}.{}", c.name.name), c);
+                match item {
+                    Item::Component(c) => {
+                        index.components.insert(format!("{library}.{}", c.name.name), c);
+                    }
+                    Item::Connector(c) => {
+                        let shape = Rc::new(ConnectorShape::of(c)?);
+                        index.connectors.insert(format!("{library}.{}", c.name.name), shape.clone());
+                        index.connectors.insert(c.name.name.clone(), shape);
+                    }
+                    _ => {}
                 }
             }
         }
@@ -60,6 +67,7 @@ impl<'a> Index<'a> {
                     Item::Component(c) => (&c.name, c.header),
                     Item::Analysis(a) => (&a.name, a.header),
                     Item::TypeAlias(t) => (&t.name, t.span),
+                    Item::Connector(c) => (&c.name, c.header),
                 };
                 if let Some(package) = &file.package {
                     index.packages.insert(span.file, package.as_str());
@@ -74,10 +82,49 @@ impl<'a> Index<'a> {
                     Item::Component(c) => index.components.insert(c.name.name.clone(), c).map(|_| ()),
                     Item::Analysis(a) => index.analyses.insert(&a.name.name, a).map(|_| ()),
                     Item::TypeAlias(t) => index.aliases.insert(&t.name.name, t).map(|_| ()),
+                    Item::Connector(c) => {
+                        index.connectors.insert(c.name.name.clone(), Rc::new(ConnectorShape::of(c)?));
+                        Some(())
+                    }
                 };
             }
         }
         Ok(index)
+    }
+
+    /// The connector type `name` (`Pin`, `Dyad.Pin`).
+    pub fn connector(&self, name: &str) -> Option<&Connector> {
+        self.connectors.get(name)
+    }
+
+    /// The declared shape of each engine connector (`Dyad.Frame3D` is
+    /// the engine's Frame3D).
+    pub fn engine_shapes(&self) -> Vec<(multibody::components::ConnectorType, Connector)> {
+        use multibody::components::ConnectorType as T;
+        [T::Frame, T::Frame2D, T::Spline, T::Flange, T::RealInput, T::RealOutput]
+            .into_iter()
+            .filter_map(|t| {
+                let c = self.connectors.get(&format!("Dyad.{}", t.name()))?;
+                (c.engine == Some(t)).then(|| (t, c.clone()))
+            })
+            .collect()
+    }
+
+    /// Whether a declaration of kind `kind` is a connector.
+    pub fn is_connector(&self, kind: &Path) -> bool {
+        !self.components.contains_key(&kind.text()) && self.connectors.contains_key(&kind.text())
+    }
+
+    /// The component a path names where it is written: inside a library,
+    /// a short name is that library's component first.
+    pub fn component_at(&self, path: &Path) -> Option<&'a ComponentDef> {
+        let text = path.text();
+        if let Some(package) = self.packages.get(&path.span.file).filter(|_| !text.contains('.')) {
+            if let Some(def) = self.components.get(&format!("{package}.{text}")) {
+                return Some(def);
+            }
+        }
+        self.component(&text)
     }
 
     /// The component `name`, also by the library's longer names
@@ -89,9 +136,11 @@ impl<'a> Index<'a> {
         if let Some(planar) = name.strip_prefix("MultibodyComponents.").filter(|n| n.starts_with("PlanarMechanics.")) {
             return self.components.get(planar).copied();
         }
+        // Dyad's libraries file components in sub-packages
+        // (`ElectricalComponents.Analog.Basic.Resistor`); ours keep them flat.
         let parts: Vec<&str> = name.split('.').collect();
         match parts.as_slice() {
-            [library, "Continuous" | "Sources" | "Math" | "Nonlinear" | "Interfaces" | "Components" | "Sensors", rest] => {
+            [library, middle @ .., rest] if !middle.is_empty() && middle.iter().all(|p| SUBPACKAGES.contains(p)) => {
                 self.components.get(&format!("{library}.{rest}")).copied()
             }
             _ => None,

@@ -4,6 +4,7 @@
 //! combine.
 
 pub mod catalog;
+pub mod connectors;
 pub mod eval;
 pub(crate) mod extends;
 pub(crate) mod index;

@@ -41,6 +41,58 @@ pub enum Item {
     Analysis(Box<AnalysisDef>),
     /// `type Stiffness = Real(units = "N/m")`: a new name for a type.
     TypeAlias(TypeAlias),
+    /// `connector Pin potential v::Voltage flow i::Current end`.
+    Connector(ConnectorDef),
+}
+
+/// A connector type: what two connected components share. Its potentials
+/// are equal across a connection and its flows sum to zero there; a
+/// signal connector (`connector RealInput = input Real`) is the signal
+/// itself.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConnectorDef {
+    pub name: Ident,
+    pub doc: Option<String>,
+    /// From `connector` to the name.
+    pub header: Span,
+    pub fields: Vec<ConnectorField>,
+    /// Parameters (of rendering, say): accepted, and not part of a connection.
+    pub parameters: Vec<ParameterDecl>,
+    /// `= input Real`: a signal connector, with its causality and type.
+    pub signal: Option<(Causality, TypeRef)>,
+    /// The metadata's `"Multibody": {"engine": "Frame3D"}`: the engine's
+    /// connector the standard library maps this one onto, where it was written.
+    pub engine: Option<(String, Span)>,
+}
+
+/// What a field of a connector is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FieldKind {
+    Potential,
+    Flow,
+    Input,
+    Output,
+}
+
+impl FieldKind {
+    pub fn keyword(&self) -> &'static str {
+        match self {
+            FieldKind::Potential => "potential",
+            FieldKind::Flow => "flow",
+            FieldKind::Input => "input",
+            FieldKind::Output => "output",
+        }
+    }
+}
+
+/// `potential v::Voltage`, `flow f::Force[3]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConnectorField {
+    pub doc: Option<String>,
+    pub kind: FieldKind,
+    pub name: Ident,
+    pub ty: TypeRef,
+    pub span: Span,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -225,7 +225,7 @@ impl<'a> Parser<'a> {
             self.expect(TokenKind::RBrace, "`}` after the link")?;
             Ok(())
         } else if self.at(&TokenKind::LBrace) {
-            self.json_object()
+            self.json_object().map(|_| ())
         } else if self.at(&TokenKind::LBracket) && self.nth(1) == &TokenKind::LBrace {
             self.bump();
             self.json_object()?;
@@ -236,8 +236,9 @@ impl<'a> Parser<'a> {
         }
     }
 
-    /// A JSON object: skipped by matching brackets, then checked as JSON.
-    fn json_object(&mut self) -> PResult<()> {
+    /// A JSON object: skipped by matching brackets, then checked as JSON;
+    /// its span.
+    fn json_object(&mut self) -> PResult<Span> {
         let open = self.expect(TokenKind::LBrace, "`{`")?.span;
         let mut stack = vec![TokenKind::RBrace];
         while let Some(closer) = stack.last().cloned() {
@@ -289,18 +290,26 @@ impl<'a> Parser<'a> {
                 .secondary(open, "in this metadata")
                 .help("metadata is JSON: keys in double quotes, no trailing commas, e.g. {\"Dyad\": {\"tags\": []}}"));
         }
-        Ok(())
+        Ok(span)
     }
 
     /// `metadata { json }` before `end`.
-    fn metadata_section(&mut self) -> PResult<()> {
+    fn metadata_section(&mut self) -> PResult<Span> {
         self.expect_word("metadata")?;
         if !self.at(&TokenKind::LBrace) {
             return Err(self.expected("`{` to start the metadata object"));
         }
-        self.json_object()?;
+        let span = self.json_object()?;
         self.skip_semicolons();
-        Ok(())
+        Ok(span)
+    }
+
+    /// The engine connector a connector's metadata names
+    /// (`{"Multibody": {"engine": "Frame3D"}}`), if any.
+    fn engine_of(&self, metadata: Span) -> Option<(String, Span)> {
+        let json: serde_json::Value = serde_json::from_str(&self.text[metadata.range()]).ok()?;
+        let name = json.get("Multibody")?.get("engine")?.as_str()?;
+        Some((name.to_string(), metadata))
     }
 
     // ---- definitions ---------------------------------------------------
@@ -353,16 +362,111 @@ impl<'a> Parser<'a> {
         }
         match word.as_str() {
             "type" => self.type_alias().map(Item::TypeAlias),
-            "connector" => Err(unsupported("`connector` definitions are", start)
-                .help("use the library's connectors in components: `frame_a = Frame3D()`, `axis = Spline()`, `flange = Flange()`")),
+            "connector" => self.connector(doc, start).map(Item::Connector),
             "enum" => Err(unsupported("`enum` definitions are", start)
                 .help("use the library's enumerations, e.g. `orientation_state = OrientationState.Quaternion()`")),
-            "using" | "import" => Err(unsupported(&format!("`{word}` is"), start)
-                .help("write library names in full, e.g. `MultibodyComponents.Body()`, or without the library: `Body()`")),
+            "using" | "import" => Err(unsupported(&format!("`{word}` is"), start).help(
+                "write library names in full, e.g. `MultibodyComponents.Body()`, or without the library: `Body()`",
+            )),
             "struct" => Err(unsupported("`struct` definitions are", start)),
             "function" | "func" => Err(unsupported("function definitions are", start)),
             _ => Err(self.expected("a definition (`component`, `example component` or `analysis`)")),
         }
+    }
+
+    /// `connector Name potential v::Voltage flow i::Current [metadata {...}] end`,
+    /// or a signal connector `connector Name = input Real [metadata {...}]`.
+    fn connector(&mut self, doc: Option<String>, start: Span) -> PResult<ConnectorDef> {
+        self.expect_word("connector")?;
+        let name = self.ident("the name of the connector")?;
+        let header = start.to(name.span);
+        let mut def =
+            ConnectorDef { name, doc, header, fields: Vec::new(), parameters: Vec::new(), signal: None, engine: None };
+        if self.eat(&TokenKind::Eq) {
+            let causality = match self.word() {
+                Some("input") => Causality::Input,
+                Some("output") => Causality::Output,
+                _ => {
+                    return Err(self
+                        .expected("`input` or `output`")
+                        .help(format!("a signal connector is written `connector {} = input Real`", def.name.name)))
+                }
+            };
+            self.bump();
+            def.signal = Some((causality, self.type_ref()?));
+            if self.at_word("metadata") {
+                let metadata = self.metadata_section()?;
+                def.engine = self.engine_of(metadata);
+            } else {
+                self.optional_annotation()?;
+            }
+            self.skip_semicolons();
+            return Ok(def);
+        }
+        loop {
+            self.skip_semicolons();
+            let doc_span = self.span();
+            let doc = self.doc();
+            if self.word().is_some_and(|w| SECTION_WORDS.contains(&w)) || self.at(&TokenKind::Eof) {
+                if doc.is_some() {
+                    return Err(Diagnostic::error("a doc string must be followed by what it documents")
+                        .primary(doc_span, "documents nothing")
+                        .help("put the doc string right before a field, or remove it"));
+                }
+                break;
+            }
+            let field_start = self.span();
+            let kind = match self.word() {
+                Some("potential") => FieldKind::Potential,
+                Some("flow") => FieldKind::Flow,
+                Some("input") => FieldKind::Input,
+                Some("output") => FieldKind::Output,
+                Some("parameter" | "structural" | "final" | "constant") => {
+                    def.parameters.push(self.parameter(doc)?);
+                    continue;
+                }
+                Some(w @ ("stream" | "path")) => {
+                    return Err(unsupported(&format!("`{w}` fields of connectors are"), field_start)
+                        .help("declare the connector's quantities as `potential` or `flow`"))
+                }
+                _ => {
+                    return Err(self
+                        .expected("a field of the connector (`potential v::Voltage`, `flow i::Current`) or `end`")
+                        .secondary(header, "in this connector"))
+                }
+            };
+            self.bump();
+            let name = self.ident("the field's name")?;
+            if !self.at(&TokenKind::ColonColon) {
+                return Err(self.expected("`::` and a type").help(format!(
+                    "fields have a type: `{} {}::Real`",
+                    kind.keyword(),
+                    name.name
+                )));
+            }
+            self.bump();
+            let ty = self.type_ref()?;
+            let span = field_start.to(self.prev_span());
+            self.optional_annotation()?;
+            self.skip_semicolons();
+            def.fields.push(ConnectorField { doc, kind, name, ty, span });
+        }
+        if self.at_word("relations") {
+            return Err(Diagnostic::error("a connector has no relations")
+                .primary(self.span(), "relations in a connector")
+                .secondary(header, "in this connector")
+                .help("connectors declare only fields; write the equations in the components that use them"));
+        }
+        if self.at_word("metadata") {
+            let metadata = self.metadata_section()?;
+            def.engine = self.engine_of(metadata);
+        }
+        if !self.at_word("end") {
+            return Err(self.expected("`end`").secondary(header, "this connector is not closed"));
+        }
+        self.bump();
+        self.skip_semicolons();
+        Ok(def)
     }
 
     fn component(&mut self, kind: ComponentKind, doc: Option<String>, start: Span) -> PResult<ComponentDef> {
