@@ -272,6 +272,49 @@ fn a_start_value_on_a_computed_stretch_is_reported_not_dropped() {
     assert!(message.contains("variable s_rel::Length"), "the message points at the variable: {message}");
 }
 
+/// A start value on a variable the equations compute, with the masses'
+/// starts left free: the stretch holds at the start (the masses move apart
+/// as little as they can), and the masses oscillate about each other as
+/// `s_rel = 1.5 cos(w t)`, `w = sqrt(c (1/m_a + 1/m_b))`.
+#[test]
+fn a_start_stretch_moves_the_free_masses_at_its_ends() {
+    let solution = simulate(
+        r#"
+component Coil
+  flange_a = Flange()
+  flange_b = Flange()
+  parameter c::Real
+  variable s_rel::Length
+relations
+  s_rel = flange_b.s - flange_a.s
+  flange_b.f = c * s_rel
+  flange_a.f = -c * s_rel
+end
+
+example component Pair
+  coil = Coil(c = 12, s_rel(initial = 1.5))
+  a = TranslationalComponents.Mass(m = 1)
+  b = TranslationalComponents.Mass(m = 3)
+relations
+  connect(a.flange_b, coil.flange_a)
+  connect(coil.flange_b, b.flange_a)
+end
+
+analysis PairRun
+  extends TransientAnalysis(stop = 3, saveat = 0.01, abstol = 1e-10, reltol = 1e-10)
+  model = Pair()
+end
+"#,
+    );
+    let w = (12.0f64 * (1.0 + 1.0 / 3.0)).sqrt();
+    let (time, stretch) = (solution.time(), solution.get("coil.s_rel").unwrap());
+    let worst = time.iter().zip(stretch).map(|(&t, s)| (s - 1.5 * (w * t).cos()).abs()).fold(0.0, f64::max);
+    report("a start stretch on two free masses, s_rel = 1.5 cos(w t)", worst, 1e-6);
+    // Least change: the masses' starts move by opposite amounts.
+    let (a, b) = (solution.get("a.s").unwrap()[0], solution.get("b.s").unwrap()[0]);
+    report("the masses start symmetric about 0", (a + b).abs(), 1e-9);
+}
+
 /// A library spring's stretch given at the start, with both ends' start
 /// values fixed otherwise: no free start value can meet it, and the message
 /// says where, what it reaches, and which start values held.
@@ -387,4 +430,102 @@ end"
     println!("{message}");
     assert!(message.contains("`joint.phi` is not a state here: it sits at a node without mass"), "{message}");
     assert!(message.contains("phi(initial = 0.3)"), "{message}");
+}
+
+/// The library's partial components extended as Dyad's own files extend
+/// them: a torque source on `PartialTorque` (its support held by a Fixed)
+/// spins an inertia up, `phi = tau t² / 2J`, with the angles of the start
+/// in degrees through `deg2rad`; a spring on `PartialCompliant` between a
+/// wall and a mass oscillates as `s = s0 cos(sqrt(c/m) t)`.
+#[test]
+fn the_library_partial_components_can_be_extended() {
+    let solution = simulate(
+        r#"
+component Push
+  extends RotationalComponents.Interfaces.PartialTorque()
+  tau = RealInput()
+relations
+  spline.tau = -tau
+end
+
+component Coil
+  extends TranslationalComponents.PartialCompliant()
+  parameter c::Real
+relations
+  f = c * s_rel
+end
+
+example component Spin
+  parameter start_angle::Real = deg2rad(90)
+  parameter angles::Real[2] = deg2rad([30, -45])
+  push = Push()
+  level = BlockComponents.Constant(k = 3)
+  ground = RotationalComponents.Fixed()
+  wheel = RotationalComponents.Inertia(J = 2, phi(initial = start_angle), w(initial = 0))
+  coil = Coil(c = 50)
+  wall = TranslationalComponents.Fixed()
+  block = TranslationalComponents.Mass(m = 2, s(initial = 0.3), v(initial = 0))
+  variable degrees::Real
+relations
+  connect(level.y, push.tau)
+  connect(push.support, ground.spline)
+  connect(push.spline, wheel.spline_a)
+  connect(wall.flange, coil.flange_a)
+  connect(coil.flange_b, block.flange_a)
+  degrees = rad2deg(wheel.phi) + 0 * angles[1]
+end
+
+analysis SpinRun
+  extends TransientAnalysis(stop = 2, saveat = 0.01, abstol = 1e-10, reltol = 1e-10)
+  model = Spin()
+end
+"#,
+    );
+    let time = solution.time();
+    let phi = solution.get("wheel.phi").unwrap();
+    let worst = time
+        .iter()
+        .zip(phi)
+        .map(|(&t, p)| (p - (std::f64::consts::FRAC_PI_2 + 3.0 * t * t / 4.0)).abs())
+        .fold(0.0, f64::max);
+    report("a torque source on PartialTorque, phi = pi/2 + tau t^2 / 2J", worst, 1e-8);
+    let degrees = solution.get("degrees").unwrap();
+    let worst = degrees.iter().zip(phi).map(|(d, p)| (d - p.to_degrees()).abs()).fold(0.0, f64::max);
+    report("rad2deg of an angle", worst, 1e-10);
+    let s = solution.get("block.s").unwrap();
+    let w = (50.0f64 / 2.0).sqrt();
+    let worst = time.iter().zip(s).map(|(&t, s)| (s - 0.3 * (w * t).cos()).abs()).fold(0.0, f64::max);
+    report("a spring on PartialCompliant, s = s0 cos(w t)", worst, 1e-6);
+    // The support takes the opposite of the spline's torque.
+    let support = solution.get("push.support.tau").unwrap();
+    report("the support's reaction", support.iter().map(|x| (x - 3.0).abs()).fold(0.0, f64::max), 1e-12);
+}
+
+/// An input of the simulated component that its own equations give is
+/// decided by them, not left to the host: a filter fed `u = sin(t)` at the
+/// top level follows the driven first-order lag's closed form.
+#[test]
+fn a_top_level_input_given_by_an_equation_is_not_a_host_input() {
+    let solution = simulate(
+        r#"
+example component Fed
+  u = RealInput()
+  lag = BlockComponents.FirstOrder(T = 0.5, k = 1)
+relations
+  u = sin(time)
+  connect(u, lag.u)
+end
+
+analysis FedRun
+  extends TransientAnalysis(stop = 4, saveat = 0.01, abstol = 1e-10, reltol = 1e-10)
+  model = Fed()
+end
+"#,
+    );
+    // T y' + y = sin t, y(0) = 0.
+    let t_c: f64 = 0.5;
+    let exact = |t: f64| (t.sin() - t_c * t.cos() + t_c * (-t / t_c).exp()) / (1.0 + t_c * t_c);
+    let (time, y) = (solution.time(), solution.get("lag.y").unwrap());
+    let worst = time.iter().zip(y).map(|(&t, y)| (y - exact(t)).abs()).fold(0.0, f64::max);
+    report("a top-level input given by an equation", worst, 1e-7);
 }

@@ -475,6 +475,19 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         let initial = start_modifiers(&flats, &decls, &subs, &absent, &mut scope, &mut variable_mods, &mut consumed)?;
         let surfaces = surfaces(prefix, &flats, &subs, &mut scope, &mut consumed)?;
 
+        if prefix.is_empty() {
+            // An input of the model that its own equations give (`u =
+            // sin(time)`) is decided there, not by the host.
+            for f in &flats {
+                if let Flat::Equation { lhs, rhs, .. } = f {
+                    for side in [lhs, rhs] {
+                        if let Some(path) = side.as_path().filter(|p| p.parts.len() == 1) {
+                            self.set_from_outside.insert(path.parts[0].name.clone());
+                        }
+                    }
+                }
+            }
+        }
         let level = Level { def, prefix, site, within };
         self.subcomponents(&level, &subs, &mut scope, initial, forwarded)?;
         for (component, road) in surfaces {
@@ -695,7 +708,8 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                     }
                     self.entities.insert(child.clone(), Entity::Connector(ty.clone()));
                     self.graph.declare(child.clone(), ty.clone(), decl.span, name.to_string());
-                    if prefix.is_empty() && ty.is_signal() {
+                    if prefix.is_empty() && ty.is_signal() && !(ty.is_input() && self.set_from_outside.contains(&child))
+                    {
                         self.boundary_signal(&child, &ty, decl.span, 0.0)?;
                     }
                 }
@@ -840,7 +854,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             let ty = relations::engine_shape(&self.engine, signal);
             self.entities.insert(full.clone(), Entity::Connector(ty.clone()));
             self.graph.declare(full.clone(), ty.clone(), v.span, owner.to_string());
-            if prefix.is_empty() {
+            if prefix.is_empty() && !(ty.is_input() && self.set_from_outside.contains(&full)) {
                 let start = match &v.initial {
                     Some(e) => match eval(e, scope)? {
                         Val::Number(x) => x,

@@ -454,6 +454,8 @@ pub const FUNCTIONS: &[&str] = &[
     "sign",
     "floor",
     "ceil",
+    "deg2rad",
+    "rad2deg",
     "atan2",
     "min",
     "max",
@@ -556,6 +558,11 @@ fn function(callee: &Path, args: &[Expr], span: Span, names: &mut dyn Names) -> 
         }
     };
     match bare {
+        "deg2rad" | "rad2deg" => {
+            arity(1)?;
+            let k = if bare == "deg2rad" { std::f64::consts::PI / 180.0 } else { 180.0 / std::f64::consts::PI };
+            Ok(arg(0, names)?.map(&|e| mul(e.clone(), E::Const(k))))
+        }
         "noEvent" => {
             arity(1)?;
             Ok(arg(0, names)?.map(&|e| match e {

@@ -120,6 +120,8 @@ const FUNCTIONS: &[(&str, usize)] = &[
     ("exp", 1),
     ("log", 1),
     ("abs", 1),
+    ("deg2rad", 1),
+    ("rad2deg", 1),
     ("norm", 1),
     ("min", 2),
     ("max", 2),
@@ -403,6 +405,18 @@ fn call(callee: &Path, args: &[Expr], span: Span, scope: &mut dyn Scope) -> ERes
             other => Err(wrong_argument(fname, "a vector of numbers", other, args[0].span)),
         };
     }
+    if let ("deg2rad" | "rad2deg", Val::Array(_)) = (fname, &values[0]) {
+        // Angles convert element by element: `deg2rad([90, 45])`.
+        let k = if fname == "deg2rad" { std::f64::consts::PI / 180.0 } else { 180.0 / std::f64::consts::PI };
+        fn scale(v: &Val, k: f64) -> Option<Val> {
+            match v {
+                Val::Number(x) => Some(Val::Number(x * k)),
+                Val::Array(items) => items.iter().map(|i| scale(i, k)).collect::<Option<_>>().map(Val::Array),
+                _ => None,
+            }
+        }
+        return scale(&values[0], k).ok_or_else(|| wrong_argument(fname, "numbers", &values[0], args[0].span));
+    }
     let mut xs = Vec::with_capacity(values.len());
     for (v, a) in values.iter().zip(args) {
         match v {
@@ -443,6 +457,8 @@ fn call(callee: &Path, args: &[Expr], span: Span, scope: &mut dyn Scope) -> ERes
         "atan2" => x.atan2(xs[1]),
         "exp" => x.exp(),
         "abs" => x.abs(),
+        "deg2rad" => x.to_radians(),
+        "rad2deg" => x.to_degrees(),
         "min" => x.min(xs[1]),
         _ => x.max(xs[1]),
     };

@@ -27,6 +27,17 @@ pub fn effective(index: &Index, def: &ComponentDef, depth: usize) -> Result<Effe
                 .help("check for components that extend each other"));
         }
         let Some(base) = index.component_at(&e.base) else {
+            if multibody::components::lookup(&e.base.text()).is_some() {
+                return Err(Diagnostic::error(format!(
+                    "`{}` is built into the engine and cannot be extended",
+                    e.base.text()
+                ))
+                .primary(e.base.span, "built in")
+                .help(format!(
+                    "use it as a sub-component (`part = {}(...)`) and connect to its connectors, or extend a partial component of the library (`MultibodyComponents.PartialTwoFrames`, `RotationalComponents.PartialTorque`, `ElectricalComponents.OnePort`)",
+                    e.base.text()
+                )));
+            }
             let mut d = Diagnostic::error(format!("`{}` is not a component of these files", e.base.text()))
                 .primary(e.base.span, "cannot extend it");
             if let Some(s) = did_you_mean(&e.base.text(), index.components.keys().map(String::as_str)) {

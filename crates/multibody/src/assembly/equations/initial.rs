@@ -48,31 +48,86 @@ fn residuals(m: &Mechanism, ws: &mut Workspace, init: &Initial, y: &[f64], out: 
     Ok(())
 }
 
-/// Moves the free start values until the initial equations hold.
+/// Moves the free start values until the initial equations hold: first
+/// those of the equations' own states; if they cannot (too few, or the
+/// equations do not reach them), also the start values of the mechanism's
+/// one-coordinate joints that the model left free (a spring's stretch given
+/// at the start moves the masses at its ends).
 pub(crate) fn solve(mechanism: &mut Mechanism, init: &Initial) -> Result<(), Error> {
-    let (m, k) = (init.residuals.len(), init.free.len());
-    if m == 0 {
+    if init.residuals.is_empty() {
         return Ok(());
     }
-    if m > k {
-        return Err(problem(
-            format!(
-                "{m} initial equation{} but {k} state{} free to satisfy them{}",
-                if m == 1 { "" } else { "s" },
-                if k == 1 { "" } else { "s" },
-                if init.free_names.is_empty() { String::new() } else { format!(" ({})", init.free_names.join(", ")) }
-            ),
-            init.origins.clone(),
-            init.free_names.clone(),
-            if k == 0 {
-                "the start of the mechanism comes from its joints' and masses' start values (`initial`), which \
-                 initial equations and start values of computed variables do not move yet: give the start there, \
-                 or make this value a `guess`"
-            } else {
-                "remove initial equations, or leave more start values free (a `guess` instead of an `initial` value)"
-            },
-        ));
+    let first = if init.residuals.len() <= init.free.len() {
+        newton(mechanism, init, &init.free, &init.free_names)
+    } else {
+        Err(too_many(init, &init.free_names))
+    };
+    let Err(first) = first else { return Ok(()) };
+    let more = mechanical_free(mechanism);
+    if more.is_empty() {
+        return Err(first);
     }
+    let mut free = init.free.clone();
+    let mut names = init.free_names.clone();
+    for (i, name) in more {
+        free.push(i);
+        names.push(name);
+    }
+    if init.residuals.len() > free.len() {
+        return Err(too_many(init, &names));
+    }
+    newton(mechanism, init, &free, &names)
+}
+
+/// The start values of the mechanism that the initial equations may move:
+/// positions and velocities of joints with one coordinate (revolute,
+/// prismatic, 1-D inertias and masses) that the model did not fix and that
+/// no motion drives; none while loops are closed (moving one joint would
+/// open them).
+fn mechanical_free(mechanism: &Mechanism) -> Vec<(usize, String)> {
+    let system = &mechanism.system;
+    if system.constraint_rows > 0 {
+        return Vec::new();
+    }
+    let states = &system.states;
+    let mut out = Vec::new();
+    for link in system.links.iter().skip(1) {
+        if link.joint.nq() != 1 || link.joint.nv() != 1 || !system.free_coordinates[link.v_offset] {
+            continue;
+        }
+        for i in [link.q_offset, states.nq + link.v_offset] {
+            if !states.fixed[i] {
+                out.push((i, states.names[i].clone()));
+            }
+        }
+    }
+    out
+}
+
+/// More initial equations than start values free to meet them.
+fn too_many(init: &Initial, names: &[String]) -> Error {
+    let (m, k) = (init.residuals.len(), names.len());
+    problem(
+        format!(
+            "{m} initial equation{} but {k} state{} free to satisfy them{}",
+            if m == 1 { "" } else { "s" },
+            if k == 1 { "" } else { "s" },
+            if names.is_empty() { String::new() } else { format!(" ({})", names.join(", ")) }
+        ),
+        init.origins.clone(),
+        names.to_vec(),
+        if k == 0 {
+            "the start of the mechanism comes from its joints' and masses' start values (`initial`): leave some of \
+             them free (a `guess` instead of an `initial` value), or give the start there"
+        } else {
+            "remove initial equations, or leave more start values free (a `guess` instead of an `initial` value)"
+        },
+    )
+}
+
+/// Newton's method with least-norm steps over the start values `free`.
+fn newton(mechanism: &mut Mechanism, init: &Initial, free: &[usize], free_names: &[String]) -> Result<(), Error> {
+    let (m, k) = (init.residuals.len(), free.len());
     let mut ws = mechanism.workspace();
     let mut y = mechanism.system.states.start.clone();
     let (mut r, mut trial) = (vec![0.0; m], vec![0.0; m]);
@@ -83,7 +138,7 @@ pub(crate) fn solve(mechanism: &mut Mechanism, init: &Initial) -> Result<(), Err
             mechanism.system.states.start = y;
             return Ok(());
         }
-        for (j, &i) in init.free.iter().enumerate() {
+        for (j, &i) in free.iter().enumerate() {
             let h = 1e-7 * (1.0 + y[i].abs());
             let keep = y[i];
             y[i] += h;
@@ -104,20 +159,20 @@ pub(crate) fn solve(mechanism: &mut Mechanism, init: &Initial) -> Result<(), Err
             return Err(problem(
                 "the initial equations do not determine the free start values (their Jacobian is singular)",
                 init.origins.clone(),
-                init.free_names.clone(),
+                free_names.to_vec(),
                 "check that each initial equation involves a state whose start value is free",
             ));
         }
         let mut w = r.clone();
         cholesky_solve(&jjt, m, &mut w);
-        for (j, &i) in init.free.iter().enumerate() {
+        for (j, &i) in free.iter().enumerate() {
             y[i] -= (0..m).map(|a| jac[a * k + j] * w[a]).sum::<f64>();
         }
     }
     Err(problem(
         "Newton's method found no start that satisfies the initial equations",
         init.origins.clone(),
-        init.free_names.clone(),
+        free_names.to_vec(),
         "give the states better start values (`guess`), or check the initial equations",
     ))
 }

@@ -772,8 +772,10 @@ impl Plan {
         let Some(pending) = self.equations else {
             return Ok((EquationProgram::default(), None));
         };
+        let mut pending = pending;
         let reads = resolve_reads(&pending, ctx, signals, states)?;
         let sorted = sort::sort(&pending, &reads)?;
+        starts_of_computed_variables(&mut pending, &sorted.states);
         let (nq, nv) = (states.nq, states.nv);
         let (program, registers) = codegen::generate(&pending, &reads, &sorted, ctx, signals, states, events)?;
         let free: Vec<(usize, String)> = sorted
@@ -791,6 +793,25 @@ impl Plan {
             free_names: free.into_iter().map(|(_, n)| n).collect(),
         });
         Ok((program, initial))
+    }
+}
+
+/// A start value given (`initial`) to a variable the equations compute is
+/// an initial equation, `v = start`: it holds at the start by moving the
+/// start values left free, and is never dropped. (States take theirs
+/// directly; variables index reduction made dummies have theirs already;
+/// discrete variables start at theirs.)
+fn starts_of_computed_variables(pending: &mut Pending, states: &[usize]) {
+    for v in 0..pending.vars.len() {
+        let Role::Declared(d) = pending.vars[v].role else { continue };
+        let declared = &pending.declared[d];
+        let (Some(start), true) = (declared.start, declared.fixed) else { continue };
+        if states.contains(&v) || pending.dummy[v] || pending.discrete_slot(v).is_some() {
+            continue;
+        }
+        let origin = if declared.origin.is_empty() { pending.vars[v].name.clone() } else { declared.origin.clone() };
+        pending.initial.push(sym::sub(sym::var(v), sym::constant(start)));
+        pending.initial_origins.push(origin);
     }
 }
 
