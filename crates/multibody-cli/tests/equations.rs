@@ -288,6 +288,41 @@ fn massless_library_parts_are_held_by_the_forces_on_them() {
     check(&table, "joint.a", 1e-7, move |t| (20.0 * phi_dd(t) - 18.0 * (3.0 * t).sin()) / 50.0);
 }
 
+/// The DC motor on a turntable: a circuit of the electrical library turns
+/// the mechanism through `RotationalEMF`. With x = [i, w], `x' = A x + b`;
+/// its closed form `x = x_ss + exp(A t) (x_0 - x_ss)`, with exp(A t) of
+/// the 2x2 matrix by Cayley-Hamilton.
+#[test]
+fn a_dc_motor_circuit_turns_the_table_as_its_linear_closed_form() {
+    let table = run("dc_motor_turntable.dyad", None);
+    let (r, l, k, v) = (2.0, 0.05, 0.8, 24.0);
+    let (radius, length, density) = (0.4, 0.05, 500.0);
+    let m = density * std::f64::consts::PI * radius * radius * length;
+    let j = m * radius * radius / 2.0;
+    let a = [[-r / l, -k / l], [k / j, 0.0]];
+    let s = (a[0][0] + a[1][1]) / 2.0;
+    let q2 = s * s - (a[0][0] * a[1][1] - a[0][1] * a[1][0]);
+    let expm = move |t: f64| {
+        let (c, g) = if q2 >= 0.0 {
+            let q = q2.sqrt();
+            ((q * t).cosh(), (q * t).sinh() / q)
+        } else {
+            let q = (-q2).sqrt();
+            ((q * t).cos(), (q * t).sin() / q)
+        };
+        let e = (s * t).exp();
+        [[e * (c + g * (a[0][0] - s)), e * g * a[0][1]], [e * g * a[1][0], e * (c + g * (a[1][1] - s))]]
+    };
+    // Steady: no current, w = V / k; start from rest.
+    let w_ss = v / k;
+    let current = move |t: f64| -expm(t)[0][1] * w_ss;
+    let speed = move |t: f64| w_ss - expm(t)[1][1] * w_ss;
+    check(&table, "coil.i", 1e-7 * v / r, current);
+    check(&table, "ammeter.i", 1e-7 * v / r, current);
+    check(&table, "bearing.w", 1e-7 * w_ss, speed);
+    check(&table, "tachometer.w", 1e-7 * w_ss, speed);
+}
+
 #[test]
 fn every_model_with_equations_is_checked() {
     let source = std::fs::read_to_string(crate_path("tests/equations.rs")).unwrap();

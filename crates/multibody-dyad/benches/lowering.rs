@@ -32,6 +32,18 @@ fn algebraic_loop(n: usize) -> String {
     )
 }
 
+/// An RC ladder of `n` sections from the electrical library written in
+/// Dyad (a resistor and a capacitor to ground each), fed by a voltage
+/// source: about 20 equations per section with the connection equations.
+fn rc_ladder(n: usize) -> String {
+    let mut text = format!(
+        "example component Chain\n  source = ElectricalComponents.VoltageSource()\n  level = BlockComponents.Constant(k = 1)\n  ground = ElectricalComponents.Ground()\n  r = [ElectricalComponents.Resistor(R = 1) for i in 1:{n}]\n  c = [ElectricalComponents.Capacitor(C = 1e-3) for i in 1:{n}]\nrelations\n  connect(level.y, source.V)\n  connect(source.n, ground.g)\n  connect(source.p, r[1].p)\n"
+    );
+    text.push_str(&format!("  for i in 1:{n}\n    connect(r[i].n, c[i].p)\n    connect(c[i].n, ground.g)\n  end\n"));
+    text.push_str(&format!("  for i in 1:{}\n    connect(r[i].n, r[i + 1].p)\n  end\nend\n", n - 1));
+    text
+}
+
 fn check(text: &str) -> usize {
     let mut package = Package::new();
     package.add_source("model.dyad", text).unwrap();
@@ -56,6 +68,15 @@ fn sizes(c: &mut Criterion) {
         }
         group.finish();
     }
+    // Issue 42's goal: a model of 2,000 user equations compiles in under 50 ms.
+    let mut group = c.benchmark_group("rc_ladder");
+    group.sample_size(10);
+    for n in [150, 1500] {
+        let text = rc_ladder(n);
+        group.throughput(Throughput::Elements(n as u64));
+        group.bench_with_input(BenchmarkId::from_parameter(n), &text, |b, text| b.iter(|| check(text)));
+    }
+    group.finish();
 }
 
 criterion_group!(benches, sizes);

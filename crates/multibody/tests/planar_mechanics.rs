@@ -541,7 +541,7 @@ fn a_planar_world_placed_in_3d_is_accepted_and_keeps_the_planar_motion() {
 }
 
 /// A planar Prismatic with `axisflange`: a translational spring between
-/// its support and flange_a holds a 1 kg body sliding along x, which then
+/// its support and axis holds a 1 kg body sliding along x, which then
 /// oscillates as `s0 cos(sqrt(c / m) t)`, and the joint's force is the
 /// spring's.
 #[test]
@@ -559,7 +559,7 @@ fn a_planar_prismatic_driven_through_its_axis_flange_oscillates_at_sqrt_c_over_m
     m.connect(["world.frame_b", "slide.frame_a"]);
     m.connect(["slide.frame_b", "body.frame_a"]);
     m.connect(["spring.flange_a", "slide.support"]);
-    m.connect(["spring.flange_b", "slide.flange_a"]);
+    m.connect(["spring.flange_b", "slide.axis"]);
     let s = run(&m, 3.0);
     let omega = (c / mass).sqrt();
     let worst = s

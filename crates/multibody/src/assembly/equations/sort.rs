@@ -138,6 +138,26 @@ pub(super) fn sort(pending: &Pending, reads: &[Option<Source>]) -> Result<Sorted
                 }
             }
         }
+        if !free.is_empty() {
+            // Equations that fix what is decided already, beside unknowns
+            // that nothing decides: the unknowns act only through what the
+            // equations fix (a motion prescribed with its forces unknown),
+            // a problem of higher index, not one of too many equations.
+            let undecided: Vec<String> = free.iter().map(|&c| pending.vars[unknowns[c]].name.clone()).collect();
+            return Err(problem(
+                format!(
+                    "these equations fix {} that the other equations decide already, while nothing decides `{}`: \
+                     the unknowns act on what the equations fix only through the motion (through its derivatives), \
+                     a problem of higher index (a motion prescribed with unknown forces), which is not solved yet",
+                    vars.join(", "),
+                    undecided.join("`, `")
+                ),
+                involved.iter().map(|&r| pending.origins[kept[r]].clone()).collect(),
+                undecided,
+                "prescribe the motion on the joints instead (RotationalComponents.Position or Prismatic's axis driven \
+                 by a source, from the inverse kinematics), or give the unknown forces by equations of their own",
+            ));
+        }
         return Err(problem(
             format!(
                 "too many equations: {} equation{} for {} unknown{} ({})",

@@ -63,7 +63,7 @@ const PRISMATIC_VARIABLES: &[VarSpec] = &[
     VarSpec::scalar("s", "m", "Distance from frame_a to frame_b along the axis"),
     VarSpec::scalar("v", "m/s", "Relative speed (= der(s))"),
     VarSpec::scalar("a", "m/s2", "Relative acceleration (= der(v))"),
-    VarSpec::scalar("f", "N", "Force along the axis at frame_a (what drives the joint through flange_a)"),
+    VarSpec::scalar("f", "N", "Force along the axis at frame_a (what drives the joint through axis)"),
     VarSpec::vector("e0", 2, "", "The unit axis, world coordinates"),
     VarSpec::vector("r0", 2, "m", "From frame_a to frame_b, world coordinates"),
 ];
@@ -71,12 +71,12 @@ const PRISMATIC_VARIABLES: &[VarSpec] = &[
 pub static PRISMATIC: ComponentSpec = ComponentSpec {
     kind: "PlanarMechanics.Prismatic",
     doc: "A planar prismatic joint: frame_b slides by s along r (resolved in frame_a, so it turns with frame_a), \
-          with frame_a's angle. Translational elements between flange_a (which moves with s) and support (fixed \
+          with frame_a's angle. Translational elements between axis (which moves with s) and support (fixed \
           to frame_a) drive it; left unconnected, it slides freely (f = 0).",
     params: &[
         ISCUT,
         ParamSpec::vector("r", &[1.0, 0.0], "", "Direction of sliding, resolved in frame_a"),
-        ParamSpec::boolean("axisflange", false, "Use flange_a and support (they are always available here)"),
+        ParamSpec::boolean("axisflange", false, "Use axis and support (they are always available here)"),
         ParamSpec::integer("statePriority", 2.0, "State priority of s and v (kept for compatibility)"),
         ParamSpec::world("box_width", ParamType::Real, "default_joint_width", 1.0, "m", "Width of the box drawn"),
         ParamSpec::world("box_height", ParamType::Real, "default_joint_width", 1.0, "m", "Height of the box drawn"),
@@ -88,7 +88,7 @@ pub static PRISMATIC: ComponentSpec = ComponentSpec {
     connectors: &[
         FRAME_A,
         FRAME_B,
-        ConnectorSpec::flange("flange_a", ConnectorType::Flange, "Moves with s; what acts on it drives the joint"),
+        ConnectorSpec::flange("axis", ConnectorType::Flange, "Moves with s; what acts on it drives the joint"),
         ConnectorSpec::flange("support", ConnectorType::Flange, "Fixed to frame_a (the reaction side)"),
     ],
     variables: PRISMATIC_VARIABLES,
