@@ -294,6 +294,8 @@ pub(super) fn generate(
             Source::State(index) => gathers.push(Gather::State { index: *index, register: reg[v] }),
             Source::Discrete(k) => gathers.push(Gather::Discrete { slot: em.first_discrete + k, register: reg[v] }),
             Source::Reaction(row) => reactions.push((*row, reg[v])),
+            // Filled by the initialization from the accelerations.
+            Source::Rate(_) => {}
         }
     }
     let reads_frames = !frames.is_empty();
@@ -652,7 +654,7 @@ fn reinit_target(
         Role::Declared(_) => "a variable the equations solve for, not a state (its `der` appears nowhere)",
         Role::Derivative { .. } | Role::Read(Read::State { rate: true, .. }) => "a derivative",
         Role::Read(Read::Signal { .. }) | Role::Written { .. } => "a signal",
-        Role::Read(Read::Frame { .. } | Read::Axis { .. } | Read::Reaction { .. }) => {
+        Role::Read(Read::Frame { .. } | Read::Axis { .. } | Read::AxisAcceleration { .. } | Read::Reaction { .. }) => {
             "a quantity of a connector that the mechanics decides"
         }
         Role::Read(Read::State { .. }) => "not a state",

@@ -20,6 +20,9 @@ pub(crate) struct Initial {
     pub origins: Vec<String>,
     /// The register of each variable.
     pub registers: Vec<Reg>,
+    /// Registers that hold accelerations, `sum c dy[i]` of the evaluated
+    /// derivatives: filled before the residuals are evaluated.
+    pub rates: Vec<(Reg, Vec<(usize, f64)>)>,
     /// Indices in the state of the equations' states not fixed at the start.
     pub free: Vec<usize>,
     pub free_names: Vec<String>,
@@ -42,6 +45,9 @@ fn residuals(m: &Mechanism, ws: &mut Workspace, init: &Initial, y: &[f64], out: 
             "check the start values",
         )
     })?;
+    for (reg, terms) in &init.rates {
+        ws.registers[*reg as usize] = terms.iter().map(|&(i, c)| c * dy[i]).sum();
+    }
     for (r, e) in out.iter_mut().zip(&init.residuals) {
         *r = evaluate(e, t0, &|v| ws.registers[init.registers[v] as usize]);
     }

@@ -83,6 +83,10 @@ enum Read {
         connector: String,
         speed: bool,
     },
+    /// The acceleration of a 1-D connector: only initial equations read it.
+    AxisAcceleration {
+        connector: String,
+    },
     /// A state of the mechanics by name (`rev.phi`), or its rate.
     State {
         name: String,
@@ -346,9 +350,15 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
     }
     let mut initial = Vec::new();
     let mut initial_origins = Vec::new();
+    // At the start, a variable the equations make equal to a quantity of
+    // the mechanics is that quantity: its `der` of any order reads the
+    // mechanics (`initial der(der(flange.phi)) = 0` of a connector).
+    let same = mechanical_aliases(&general, &declared);
+    let mut classify_initial =
+        |name: &str, t: &mut Table, x: &mut Vec<Extra>| classify(same.get(name).map_or(name, String::as_str), t, x);
     for e in &eqs.initial {
-        let lhs = to_sym(&e.lhs, &mut table, &mut classify, &mut extras, &e.origin)?;
-        let rhs = to_sym(&e.rhs, &mut table, &mut classify, &mut extras, &e.origin)?;
+        let lhs = to_sym(&e.lhs, &mut table, &mut classify_initial, &mut extras, &e.origin)?;
+        let rhs = to_sym(&e.rhs, &mut table, &mut classify_initial, &mut extras, &e.origin)?;
         initial.push(sym::sub(lhs, rhs));
         initial_origins.push(e.origin.clone());
     }
@@ -495,6 +505,38 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
     Ok(Plan { extras, equations: Some(pending) })
 }
 
+/// The declared variables that equations `a = b` make equal to a quantity
+/// of the mechanics (directly or through other such variables), with it.
+fn mechanical_aliases(equations: &[&crate::Equation], declared: &HashMap<&str, usize>) -> HashMap<String, String> {
+    let mut next: HashMap<&str, &str> = HashMap::new();
+    for e in equations {
+        if let (Expr::Var(a), Expr::Var(b)) = (&e.lhs, &e.rhs) {
+            match (declared.contains_key(a.as_str()), declared.contains_key(b.as_str())) {
+                (true, false) => {
+                    next.insert(a.as_str(), b.as_str());
+                }
+                (false, true) => {
+                    next.insert(b.as_str(), a.as_str());
+                }
+                _ => {}
+            }
+        }
+    }
+    // Chains through declared variables: `outer.phi = inner.phi = rev.phi`.
+    for e in equations {
+        if let (Expr::Var(a), Expr::Var(b)) = (&e.lhs, &e.rhs) {
+            if declared.contains_key(a.as_str()) && declared.contains_key(b.as_str()) {
+                if let (None, Some(&end)) = (next.get(a.as_str()), next.get(b.as_str())) {
+                    next.insert(a.as_str(), end);
+                } else if let (None, Some(&end)) = (next.get(b.as_str()), next.get(a.as_str())) {
+                    next.insert(b.as_str(), end);
+                }
+            }
+        }
+    }
+    next.into_iter().map(|(a, b)| (a.to_string(), b.to_string())).collect()
+}
+
 /// A variable that `pre` is taken of in `e` and that is not discrete.
 fn pre_of_continuous(e: &S, discrete: &[usize]) -> Option<usize> {
     e.find(&mut |node| match node {
@@ -532,8 +574,11 @@ impl Table {
             Role::Read(Read::Axis { connector, speed: false }) => {
                 Role::Read(Read::Axis { connector: connector.clone(), speed: true })
             }
+            Role::Read(Read::Axis { connector, speed: true }) => {
+                Role::Read(Read::AxisAcceleration { connector: connector.clone() })
+            }
             Role::Read(Read::State { name, rate: false }) => Role::Read(Read::State { name: name.clone(), rate: true }),
-            Role::Derivative { .. } | Role::Read(Read::Axis { speed: true, .. } | Read::State { rate: true, .. }) => {
+            Role::Derivative { .. } | Role::Read(Read::AxisAcceleration { .. } | Read::State { rate: true, .. }) => {
                 return Err(second_derivative(&self.vars[v].name, origin))
             }
             Role::Read(Read::Reaction { .. }) => {
@@ -785,10 +830,19 @@ impl Plan {
             .filter(|&(k, _)| !states.fixed[nq + nv + k])
             .map(|(k, &s)| (nq + nv + k, pending.vars[s].name.clone()))
             .collect();
+        let rates = reads
+            .iter()
+            .enumerate()
+            .filter_map(|(v, source)| match source {
+                Some(Source::Rate(terms)) => Some((registers[v], terms.clone())),
+                _ => None,
+            })
+            .collect();
         let initial = (!pending.initial.is_empty()).then(|| Initial {
             residuals: pending.initial,
             origins: pending.initial_origins,
             registers,
+            rates,
             free: free.iter().map(|(i, _)| *i).collect(),
             free_names: free.into_iter().map(|(_, n)| n).collect(),
         });
@@ -829,6 +883,10 @@ enum Source {
     },
     /// An index into the state `y` (coordinates then rates).
     State(usize),
+    /// A sum of rates of states, `sum c dy[i]`, known once the
+    /// accelerations are: only initial equations read it (`initial
+    /// der(joint.w) = 0`).
+    Rate(Vec<(usize, f64)>),
     /// A discrete variable, by its number among them.
     Discrete(usize),
     /// The multiplier of a constraint row, after the accelerations.
@@ -873,7 +931,37 @@ fn resolve_reads(
                 let id = connector_id(ctx, connector).ok_or_else(missing)?;
                 Source::Axis { flange: axis::flange(ctx.components, ctx.conn, ctx.places, id)?, speed: *speed }
             }
-            Read::State { name, rate } => Source::State(state_index(name, *rate, ctx, states)?),
+            Read::AxisAcceleration { connector } => {
+                let id = connector_id(ctx, connector).ok_or_else(missing)?;
+                let at = axis::flange(ctx.components, ctx.conn, ctx.places, id)?;
+                let refused = || second_derivative(&var.name, "");
+                if let Some(origin) = used_outside_initial(pending, v) {
+                    return Err(with_origin(refused(), &origin));
+                }
+                let nq = states.nq;
+                let mut terms = match at.mover {
+                    None => Vec::new(),
+                    Some(crate::system::Mover::State { v: k, .. }) => vec![(nq + k, at.scale)],
+                    Some(crate::system::Mover::Line(_)) => return Err(refused()),
+                };
+                if let Some((_, k, c)) = at.second {
+                    terms.push((nq + k as usize, c));
+                }
+                Source::Rate(terms)
+            }
+            Read::State { name, rate } => match state_index(name, *rate, ctx, states) {
+                Ok(i) => Source::State(i),
+                Err(e) => {
+                    // A velocity's rate, an acceleration: the start may
+                    // ask for it; the equations cannot read it.
+                    let velocity = states.names[states.nq..states.nq + states.nv].iter().position(|n| n == name);
+                    match (velocity, used_outside_initial(pending, v)) {
+                        (Some(k), None) if *rate => Source::Rate(vec![(states.nq + k, 1.0)]),
+                        (_, Some(origin)) => return Err(with_origin(e, &origin)),
+                        _ => return Err(e),
+                    }
+                }
+            },
             Read::Reaction { coupling } => {
                 let ci = ctx.components.iter().position(|c| &c.name == coupling);
                 let row = ctx.couplings.iter().find(|c| Some(c.component) == ci).map(|c| c.row);
@@ -882,6 +970,23 @@ fn resolve_reads(
         }));
     }
     Ok(out)
+}
+
+/// The origin of an equation or `when` clause that reads variable `v`,
+/// if any does (besides the initial equations).
+fn used_outside_initial(pending: &Pending, v: usize) -> Option<String> {
+    if let Some(k) = pending.residuals.iter().position(|r| r.depends_on(v)) {
+        return Some(pending.origins[k].clone());
+    }
+    let reads = |w: &&PendingWhen| {
+        w.branches.iter().any(|(c, actions)| {
+            c.depends_on(v)
+                || actions.iter().any(|a| match a {
+                    PendingAction::Assign { value, .. } | PendingAction::Reinit { value, .. } => value.depends_on(v),
+                })
+        })
+    };
+    pending.whens.iter().find(reads).map(|w| w.origin.clone())
 }
 
 /// The index in `y` of the state `name` (or of its rate).

@@ -242,11 +242,10 @@ fn no_unknown(pending: &Pending, reads: &[Option<Source>], r: &Sym, origin: &str
     r.each_var(&mut |v| {
         let name = pending.vars[v].name.clone();
         match (&pending.vars[v].role, &reads[v]) {
-            (Role::Read(Read::Frame { .. } | Read::Axis { .. } | Read::State { .. }), _)
-                if !mechanics.contains(&name) =>
-            {
-                mechanics.push(name)
-            }
+            (
+                Role::Read(Read::Frame { .. } | Read::Axis { .. } | Read::AxisAcceleration { .. } | Read::State { .. }),
+                _,
+            ) if !mechanics.contains(&name) => mechanics.push(name),
             (Role::Declared(_), _) if !own_states.contains(&name) => own_states.push(name),
             _ => {}
         }
