@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{error_of, example, report, simulate, worst_difference};
+use common::{error_of, example, report, simulate, worst_against, worst_difference};
 use multibody_dyad::Package;
 
 /// A rotational spring-damper in the library's form, `w_rel = der(phi_rel)`,
@@ -307,8 +307,7 @@ end
 "#,
     );
     let w = (12.0f64 * (1.0 + 1.0 / 3.0)).sqrt();
-    let (time, stretch) = (solution.time(), solution.get("coil.s_rel").unwrap());
-    let worst = time.iter().zip(stretch).map(|(&t, s)| (s - 1.5 * (w * t).cos()).abs()).fold(0.0, f64::max);
+    let worst = worst_against(&solution, "coil.s_rel", |t| 1.5 * (w * t).cos());
     report("a start stretch on two free masses, s_rel = 1.5 cos(w t)", worst, 1e-6);
     // Least change: the masses' starts move by opposite amounts.
     let (a, b) = (solution.get("a.s").unwrap()[0], solution.get("b.s").unwrap()[0]);
@@ -481,20 +480,14 @@ analysis SpinRun
 end
 "#,
     );
-    let time = solution.time();
     let phi = solution.get("wheel.phi").unwrap();
-    let worst = time
-        .iter()
-        .zip(phi)
-        .map(|(&t, p)| (p - (std::f64::consts::FRAC_PI_2 + 3.0 * t * t / 4.0)).abs())
-        .fold(0.0, f64::max);
+    let worst = worst_against(&solution, "wheel.phi", |t| std::f64::consts::FRAC_PI_2 + 3.0 * t * t / 4.0);
     report("a torque source on PartialTorque, phi = pi/2 + tau t^2 / 2J", worst, 1e-8);
     let degrees = solution.get("degrees").unwrap();
     let worst = degrees.iter().zip(phi).map(|(d, p)| (d - p.to_degrees()).abs()).fold(0.0, f64::max);
     report("rad2deg of an angle", worst, 1e-10);
-    let s = solution.get("block.s").unwrap();
     let w = (50.0f64 / 2.0).sqrt();
-    let worst = time.iter().zip(s).map(|(&t, s)| (s - 0.3 * (w * t).cos()).abs()).fold(0.0, f64::max);
+    let worst = worst_against(&solution, "block.s", |t| 0.3 * (w * t).cos());
     report("a spring on PartialCompliant, s = s0 cos(w t)", worst, 1e-6);
     // The support takes the opposite of the spline's torque.
     let support = solution.get("push.support.tau").unwrap();
@@ -525,8 +518,7 @@ end
     // T y' + y = sin t, y(0) = 0.
     let t_c: f64 = 0.5;
     let exact = |t: f64| (t.sin() - t_c * t.cos() + t_c * (-t / t_c).exp()) / (1.0 + t_c * t_c);
-    let (time, y) = (solution.time(), solution.get("lag.y").unwrap());
-    let worst = time.iter().zip(y).map(|(&t, y)| (y - exact(t)).abs()).fold(0.0, f64::max);
+    let worst = worst_against(&solution, "lag.y", exact);
     report("a top-level input given by an equation", worst, 1e-7);
 }
 
@@ -611,8 +603,7 @@ analysis StartedRun
 end
 "#,
     );
-    let (time, phi) = (solution.time(), solution.get("inertia.phi").unwrap());
-    let worst = time.iter().zip(phi).map(|(&t, p)| (p - (0.4 + 2.0 * t)).abs()).fold(0.0, f64::max);
+    let worst = worst_against(&solution, "inertia.phi", |t| 0.4 + 2.0 * t);
     report("initial flange.phi inside a component: phi = 0.4 + 2 t", worst, 1e-9);
 }
 
@@ -656,8 +647,7 @@ end
             lo = mid;
         }
     }
-    let phi = solution.get("j.phi").unwrap();
-    report("equilibrium angle from initial der(j.w) = 0", phi.iter().map(|p| (p - lo).abs()).fold(0.0, f64::max), 1e-8);
+    report("equilibrium angle from initial der(j.w) = 0", worst_against(&solution, "j.phi", |_| lo), 1e-8);
 
     let solution = simulate(
         r#"
@@ -688,10 +678,9 @@ end
 "#,
     );
     // The torque turns the wheel forward until the spring holds it: c phi = tau.
-    let phi = solution.get("wheel.phi").unwrap();
     report(
         "a flange started at rest with no acceleration sits where the torque and the spring balance",
-        phi.iter().map(|p| (p - 2.0 / 8.0).abs()).fold(0.0, f64::max),
+        worst_against(&solution, "wheel.phi", |_| 2.0 / 8.0),
         1e-8,
     );
 }

@@ -6,13 +6,7 @@
 
 mod common;
 
-use common::{error_of, report, simulate};
-
-/// The largest |column - f(t)| over the run.
-fn worst_against(solution: &multibody::Solution, column: &str, f: impl Fn(f64) -> f64) -> f64 {
-    let values = solution.get(column).unwrap_or_else(|| panic!("no column `{column}`"));
-    solution.time().iter().zip(values).map(|(&t, &x)| (x - f(t)).abs()).fold(0.0, f64::max)
-}
+use common::{error_of, report, simulate, worst_against};
 
 /// `exp(A t)` of a real 2x2 matrix, by Cayley-Hamilton: with `s` half the
 /// trace and `q² = s² - det`, `exp(A t) = exp(s t) (c I + g (A - s I))`,

@@ -241,7 +241,7 @@ fn interface(
     let mut input_vr = vec![usize::MAX; input_names.len()];
     for (k, s) in signals.iter().enumerate() {
         let unit = (!s.unit.is_empty()).then(|| s.unit.to_string());
-        let input = input_names.iter().position(|n| format!("{n}.y") == s.name);
+        let input = input_names.iter().position(|n| *n == s.name);
         let state = start_of(&s.name);
         let mut v = Variable {
             name: s.name.clone(),

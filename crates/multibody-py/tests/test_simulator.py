@@ -68,7 +68,7 @@ def test_a_pd_law_in_python_closes_the_loop_as_scipy_integrates_it():
     result = sim.result()
     assert len(result) == steps + 1
     assert np.array_equal(result["rev.phi"], ours[:, 0])
-    assert np.allclose(sim.result("tau.y")["tau.y"][1:], [pd(a, w) for a, w in ours[:-1]], rtol=0, atol=1e-12)
+    assert np.allclose(sim.result("tau")["tau"][1:], [pd(a, w) for a, w in ours[:-1]], rtol=0, atol=1e-12)
 
 
 def test_inputs_outputs_state_and_reset():
@@ -79,7 +79,7 @@ def test_inputs_outputs_state_and_reset():
     sim.step_until(0.5)
     assert sim.time == 0.5
     assert sim.outputs["angle"] == pytest.approx(sim.get("rev.phi"), abs=1e-15)
-    assert sim.get("tau.y") == 2.0
+    assert sim.get("tau") == 2.0
     # Set the state, by array and by name.
     sim.set_state(np.array([0.1, 0.0]))
     assert list(sim.state) == [0.1, 0.0]

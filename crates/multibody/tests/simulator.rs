@@ -95,7 +95,7 @@ fn a_torque_set_by_the_host_turns_a_free_inertia_as_the_closed_form_says() {
         };
         assert!((x - exact).abs() < 1e-10, "phi({t}) = {x}, closed form {exact}");
     }
-    assert_eq!(solution.get("tau.y").unwrap().last(), Some(&-tau));
+    assert_eq!(solution.get("tau").unwrap().last(), Some(&-tau));
     println!("free inertia under a host's torque: phi(1) off by {err1:.1e}, phi(2) by {err2:.1e} (tolerance 1e-10)");
 }
 

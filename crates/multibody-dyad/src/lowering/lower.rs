@@ -108,6 +108,9 @@ pub struct Lowerer<'a, 'i> {
     set_from_outside: std::collections::HashSet<String>,
     /// What a user may want to change, as met.
     tunables: Vec<Tunable>,
+    /// The inputs of the model that the host sets: equations read each as
+    /// the value of its `Input` component (`u`, one column).
+    host_inputs: std::collections::HashSet<String>,
 }
 
 fn flat(prefix: &str, name: &str) -> String {
@@ -137,6 +140,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             engine: index.engine_shapes(),
             set_from_outside: Default::default(),
             tunables: Vec::new(),
+            host_inputs: Default::default(),
         }
     }
 
@@ -803,6 +807,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             entities: &self.entities,
             variables: &self.model.equations.variables,
             engine: &self.engine,
+            host_inputs: &self.host_inputs,
             prefix,
             scope,
             runtime: &decls.runtime,
@@ -956,6 +961,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             return Ok(());
         }
         self.model.add(name, "Input").set("start", start);
+        self.host_inputs.insert(name.to_string());
         self.map.add_component(name, ComponentSite { declaration: span, within: Vec::new() });
         // The input's signal is the library source the connector joins.
         let source = End::Leaf { name: format!("{name}.y"), ty: Some(ConnectorType::RealOutput) };

@@ -625,6 +625,8 @@ pub struct Context<'c, 's, 'e, 'j> {
     pub variables: &'c [multibody::Variable],
     /// The shapes of the engine's connectors.
     pub engine: &'c EngineShapes,
+    /// The model's inputs that the host sets (their `Input` component's value).
+    pub host_inputs: &'c std::collections::HashSet<String>,
     pub prefix: &'c str,
     pub scope: &'s mut ParamScope<'e, 'j>,
     pub runtime: &'c [String],
@@ -760,6 +762,9 @@ fn connector_quantity(
     if ty.is_signal() {
         if !rest.is_empty() {
             return Err(Diagnostic::error(format!("the signal `{connector}` has no fields")).primary(span, "no fields"));
+        }
+        if declared && ctx.host_inputs.contains(connector) {
+            return Ok(Sym::Scalar(E::var(format!("{connector}.y"))));
         }
         if declared {
             let owner = connector.rsplit_once('.').map_or("", |(owner, _)| owner);

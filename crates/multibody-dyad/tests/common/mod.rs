@@ -49,6 +49,12 @@ pub fn worst_difference(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
 }
 
+/// The largest |column - f(t)| over the run.
+pub fn worst_against(solution: &Solution, column: &str, f: impl Fn(f64) -> f64) -> f64 {
+    let values = solution.get(column).unwrap_or_else(|| panic!("no column `{column}`"));
+    solution.time().iter().zip(values).map(|(&t, &x)| (x - f(t)).abs()).fold(0.0, f64::max)
+}
+
 /// Prints `worst` as a fraction of `tolerance` and holds it to it.
 pub fn report(what: &str, worst: f64, tolerance: f64) {
     println!("{what}: worst {worst:.2e} ({:.3} of the tolerance {tolerance:e})", worst / tolerance);

@@ -75,7 +75,13 @@ impl Mechanism {
         for (k, c) in self.components.iter().enumerate().filter(|(_, c)| !c.hidden) {
             for v in &c.variables {
                 for suffix in v.shape.suffixes() {
-                    out.push(Signal { name: format!("{}.{}{}", c.name, v.name, suffix), unit: v.unit });
+                    // A variable without a name is the component's own value.
+                    let name = if v.name.is_empty() {
+                        format!("{}{}", c.name, suffix)
+                    } else {
+                        format!("{}.{}{}", c.name, v.name, suffix)
+                    };
+                    out.push(Signal { name, unit: v.unit });
                 }
             }
             for conn in c.spec.public_connectors().filter(|k| k.ty == ConnectorType::Frame2D) {

@@ -304,6 +304,14 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
     for (i, v) in eqs.variables.iter().enumerate() {
         table.add(v.name.clone(), Role::Declared(i));
     }
+    // At the start, a variable the equations make equal to a quantity of
+    // the mechanics is that quantity: its `der` of any order reads the
+    // mechanics (`initial der(der(flange.phi)) = 0` of a connector).
+    let mut same = mechanical_aliases(&general, &declared);
+    same.retain(|_, quantity| {
+        let connector = quantity.rsplit_once('.').map_or("", |(c, _)| c);
+        net.connector_type(connector).is_some_and(|t| !t.is_signal())
+    });
     let mut written_sets: HashMap<usize, usize> = HashMap::new();
     let mut classify = |name: &str, table: &mut Table, extras: &mut Vec<Extra>| -> Result<usize, Error> {
         if let Some(&v) = table.by_name.get(name) {
@@ -350,10 +358,6 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
     }
     let mut initial = Vec::new();
     let mut initial_origins = Vec::new();
-    // At the start, a variable the equations make equal to a quantity of
-    // the mechanics is that quantity: its `der` of any order reads the
-    // mechanics (`initial der(der(flange.phi)) = 0` of a connector).
-    let same = mechanical_aliases(&general, &declared);
     let mut classify_initial =
         |name: &str, t: &mut Table, x: &mut Vec<Extra>| classify(same.get(name).map_or(name, String::as_str), t, x);
     for e in &eqs.initial {
@@ -506,7 +510,7 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
 }
 
 /// The declared variables that equations `a = b` make equal to a quantity
-/// of the mechanics (directly or through other such variables), with it.
+/// of a library component (directly or through other such variables), with it.
 fn mechanical_aliases(equations: &[&crate::Equation], declared: &HashMap<&str, usize>) -> HashMap<String, String> {
     let mut next: HashMap<&str, &str> = HashMap::new();
     for e in equations {

@@ -2,7 +2,8 @@
 //! controller, a table given on the command line, an FMU's importer). A
 //! model file's top-level `RealInput` becomes one, named like it.
 
-use super::{OUTPUT, VARIABLES};
+use super::OUTPUT;
+use crate::components::spec::VarSpec;
 use crate::components::spec::{ComponentSpec, ParamSpec};
 use crate::components::{Component, EvalContext, ParamSet, Part, SignalLaw};
 use crate::Error;
@@ -13,10 +14,14 @@ pub static SPEC: ComponentSpec = ComponentSpec {
           --input NAME=table.csv); it holds `start` until set.",
     params: &[ParamSpec::real("start", 0.0, "", "The value before the host sets one")],
     connectors: &OUTPUT,
-    variables: &VARIABLES,
+    variables: &VALUE,
     build,
     shapes: crate::components::shapes::none,
 };
+
+/// The input's value, named as the input itself (`u`, not `u.y`): the
+/// variable without a name is the component's own value.
+const VALUE: [VarSpec; 1] = [VarSpec::scalar("", "", "The input's value")];
 
 #[derive(Debug)]
 struct Input {
@@ -40,7 +45,7 @@ impl Component for Input {
     }
 
     fn variables(&self) -> Vec<crate::components::spec::VarSpec> {
-        VARIABLES.to_vec()
+        VALUE.to_vec()
     }
 
     fn evaluate(&self, ctx: &EvalContext, out: &mut Vec<f64>) {
