@@ -40,6 +40,8 @@ pub struct ConnectionGraph {
     nodes: Vec<Node>,
     by_name: HashMap<String, usize>,
     statements: Vec<Statement>,
+    /// Where each node was first named in a `connect`.
+    first_connect: HashMap<usize, Span>,
 }
 
 /// The connection sets: which set each connector is in, and the library
@@ -96,8 +98,7 @@ impl ConnectionGraph {
 
     /// Where the first `connect` naming the connector `name` was written.
     pub fn connect_of(&self, name: &str) -> Option<Span> {
-        let node = *self.by_name.get(name)?;
-        self.statements.iter().flat_map(|s| s.ends.iter()).find(|(n, _)| *n == node).map(|(_, span)| *span)
+        self.first_connect.get(self.by_name.get(name)?).copied()
     }
 
     /// Where the connector `name` was declared, if a user component declares it.
@@ -176,6 +177,9 @@ impl ConnectionGraph {
                 .secondary(a_span, format!("a {ta} connector"))
                 .help("only connectors of the same type connect (pins to pins, frames to frames, splines to splines), and signals to signals"));
             }
+        }
+        for &(node, span) in &ends {
+            self.first_connect.entry(node).or_insert(span);
         }
         self.statements.push(Statement { ends, within: within.to_string() });
         Ok(())

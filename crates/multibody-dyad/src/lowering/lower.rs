@@ -208,7 +208,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
     /// a signal equals its source; a frame's or flange's potentials equal
     /// the engine connector's it is joined to, and its flows load that
     /// connector; connectors joined to none make a network of equations
-    /// ([`Self::network_equations`]).
+    /// ([`Self::network_potentials`], [`Self::network_flows`]).
     fn connector_equations(&mut self) -> Result<(), Diagnostic> {
         let sets = self.graph.sets();
         let used = self.used.clone();
@@ -229,6 +229,8 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             });
             list.push(u);
         }
+        // The sets of declared connectors alone: their members, type and origin.
+        let mut networks: Vec<(Vec<String>, Connector, String)> = Vec::new();
         for set in order {
             let members = by_set.remove(&set).expect("each set once");
             let library = sets.library(set);
@@ -343,20 +345,17 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 .help("connect it to a library component (a Body, a joint, the World's frame_b); equations give frames forces, not motion"));
             }
             let declared = declared_by_set.remove(&set).unwrap_or_default();
-            self.network_equations(&declared, &ty, &origin, span);
+            self.network_potentials(&declared, &ty, &origin, span);
+            networks.push((declared, ty, origin));
         }
+        self.network_flows(&networks);
         Ok(())
     }
 
-    /// The connection equations of a set of declared connectors that no
-    /// engine component joins (pins, heat ports, and flanges between
-    /// components written in equations): potentials equal, and at each
-    /// level of the hierarchy the flows into the sub-components' connectors
-    /// equal what enters through the component's own (Modelica's rule: a
-    /// connector connected from nowhere takes no flow).
-    fn network_equations(&mut self, members: &[String], ty: &Connector, origin: &str, span: Span) {
-        let equation =
-            |lhs: multibody::Expr, rhs: multibody::Expr| multibody::Equation { lhs, rhs, origin: origin.to_string() };
+    /// The variables of a set of declared connectors that no engine
+    /// component joins (pins, heat ports, and flanges between components
+    /// written in equations), and their potentials made equal.
+    fn network_potentials(&mut self, members: &[String], ty: &Connector, origin: &str, span: Span) {
         for field in &ty.fields {
             let first = relations::scalar_names(&format!("{}.{}", members[0], field.name), &field.dims);
             for m in members {
@@ -364,17 +363,35 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 for (n, f) in names.iter().zip(&first) {
                     self.connector_variable(n.clone(), origin, span);
                     if !field.flow && n != f {
-                        self.model.equations.equations.push(equation(multibody::Expr::var(n), multibody::Expr::var(f)));
+                        self.model.equations.equations.push(multibody::Equation {
+                            lhs: multibody::Expr::var(n),
+                            rhs: multibody::Expr::var(f),
+                            origin: origin.to_string(),
+                        });
                     }
                 }
             }
         }
-        let names: Vec<&str> = members.iter().map(String::as_str).collect();
+    }
+
+    /// The flow equations of the sets of declared connectors alone
+    /// (`networks`: members, type, origin), all sets at once: at each level
+    /// of the hierarchy the flows into the sub-components' connectors equal
+    /// what enters through the component's own (Modelica's rule: a
+    /// connector connected from nowhere takes no flow).
+    fn network_flows(&mut self, networks: &[(Vec<String>, Connector, String)]) {
+        let mut network_of: HashMap<&str, usize> = HashMap::new();
+        for (k, (members, _, _)) in networks.iter().enumerate() {
+            network_of.extend(members.iter().map(|m| (m.as_str(), k)));
+        }
+        let names: Vec<&str> = networks.iter().flat_map(|(members, _, _)| members.iter().map(String::as_str)).collect();
         for flow_set in self.graph.flow_sets(&names) {
             if flow_set.inside.is_empty() && flow_set.outside.len() == 1 {
                 // What enters from outside is decided there.
                 continue;
             }
+            let any = flow_set.inside.first().or(flow_set.outside.first()).expect("a set has a member");
+            let (_, ty, origin) = &networks[network_of[any.as_str()]];
             for field in ty.fields.iter().filter(|f| f.flow) {
                 let scalars = |m: &String| relations::scalar_names(&format!("{m}.{}", field.name), &field.dims);
                 let inside: Vec<Vec<String>> = flow_set.inside.iter().map(scalars).collect();
@@ -389,7 +406,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                         (None, Some(b)) => (b, multibody::Expr::Const(0.0)),
                         (None, None) => continue,
                     };
-                    self.model.equations.equations.push(equation(lhs, rhs));
+                    self.model.equations.equations.push(multibody::Equation { lhs, rhs, origin: origin.clone() });
                 }
             }
         }
