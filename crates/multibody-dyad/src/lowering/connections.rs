@@ -237,7 +237,12 @@ impl ConnectionGraph {
     /// Adds the connections between engine connectors to `model`, records
     /// where their ends were written, and warns about declared connectors
     /// that reach no component (unless equations use them: `used`).
-    pub fn finish(self, model: &mut Model, map: &mut SourceMap, used: &[String]) -> Vec<Diagnostic> {
+    pub fn finish(
+        self,
+        model: &mut Model,
+        map: &mut SourceMap,
+        used: &std::collections::HashSet<&str>,
+    ) -> Vec<Diagnostic> {
         let class = self.classes();
         // Each class is represented by its first engine connector.
         let mut representative: HashMap<usize, usize> = HashMap::new();
@@ -267,26 +272,27 @@ impl ConnectionGraph {
                 map.add_connection(written);
             }
         }
-        // A declared connector must reach a component inside its owner;
-        // otherwise connections to it from outside have no effect.
-        let mut leaves_of: HashMap<usize, Vec<&str>> = HashMap::new();
+        // A declared connector must reach something inside its owner (a
+        // component's connector, or one that a component written in Dyad
+        // declares); otherwise connections to it have no effect. Per class,
+        // how many connectors lie inside each instance.
+        let mut inside_count: HashMap<(usize, &str), usize> = HashMap::new();
         for (node, &root) in self.nodes.iter().zip(&class) {
-            if matches!(node.kind, NodeKind::Leaf(_)) {
-                leaves_of.entry(root).or_default().push(&node.name);
+            *inside_count.entry((root, "")).or_default() += 1;
+            for (k, _) in node.name.match_indices('.') {
+                *inside_count.entry((root, &node.name[..k])).or_default() += 1;
             }
         }
         let mut warnings = Vec::new();
         let mut warned: Vec<Span> = Vec::new();
         for (i, &root) in class.iter().enumerate() {
             if let NodeKind::Declared { declaration, owner, .. } = &self.nodes[i].kind {
-                if used.contains(&self.nodes[i].name) {
+                if used.contains(self.nodes[i].name.as_str()) {
                     continue;
                 }
-                let inside = match self.nodes[i].name.rsplit_once('.') {
-                    Some((instance, _)) => format!("{instance}."),
-                    None => String::new(),
-                };
-                let reaches = leaves_of.get(&root).is_some_and(|l| l.iter().any(|name| name.starts_with(&inside)));
+                let instance = self.nodes[i].name.rsplit_once('.').map_or("", |(instance, _)| instance);
+                // Itself, and at least one more.
+                let reaches = inside_count.get(&(root, instance)).is_some_and(|&n| n > 1);
                 if !reaches && !warned.contains(declaration) {
                     warned.push(*declaration);
                     let local = self.nodes[i].name.rsplit('.').next().unwrap_or_default();

@@ -147,7 +147,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
     fn finish(mut self, name: &str, options: SimulationOptions, study: Option<Study>) -> Result<Lowered, Diagnostic> {
         self.model_outputs();
         self.connector_equations()?;
-        let used: Vec<String> = self.used.iter().map(|(n, _, _)| n.clone()).collect();
+        let used: std::collections::HashSet<&str> = self.used.iter().map(|(n, _, _)| n.as_str()).collect();
         let warnings = self.graph.finish(&mut self.model, &mut self.map, &used);
         self.warnings.extend(warnings);
         Ok(Lowered {
