@@ -76,7 +76,9 @@ fn description(spec: &ComponentSpec) -> String {
                 Shape::Vector(n) => format!("[{n}]"),
                 Shape::Matrix(r, c) => format!("[{r}, {c}]"),
             };
-            vec![format!("{}{shape}", v.name), unit(v.unit), v.doc.to_string()]
+            // A variable without a name is the component's own value (an Input's).
+            let name = if v.name.is_empty() { "(its name)" } else { v.name };
+            vec![format!("{name}{shape}"), unit(v.unit), v.doc.to_string()]
         })
         .collect();
     table(&mut out, "Variables (name, unit, description)", variables);
