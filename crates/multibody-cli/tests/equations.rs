@@ -290,8 +290,7 @@ fn massless_library_parts_are_held_by_the_forces_on_them() {
 
 /// The DC motor on a turntable: a circuit of the electrical library turns
 /// the mechanism through `RotationalEMF`. With x = [i, w], `x' = A x + b`;
-/// its closed form `x = x_ss + exp(A t) (x_0 - x_ss)`, with exp(A t) of
-/// the 2x2 matrix by Cayley-Hamilton.
+/// its closed form `x = x_ss + exp(A t) (x_0 - x_ss)`.
 #[test]
 fn a_dc_motor_circuit_turns_the_table_as_its_linear_closed_form() {
     let table = run("dc_motor_turntable.dyad", None);
@@ -300,19 +299,7 @@ fn a_dc_motor_circuit_turns_the_table_as_its_linear_closed_form() {
     let m = density * std::f64::consts::PI * radius * radius * length;
     let j = m * radius * radius / 2.0;
     let a = [[-r / l, -k / l], [k / j, 0.0]];
-    let s = (a[0][0] + a[1][1]) / 2.0;
-    let q2 = s * s - (a[0][0] * a[1][1] - a[0][1] * a[1][0]);
-    let expm = move |t: f64| {
-        let (c, g) = if q2 >= 0.0 {
-            let q = q2.sqrt();
-            ((q * t).cosh(), (q * t).sinh() / q)
-        } else {
-            let q = (-q2).sqrt();
-            ((q * t).cos(), (q * t).sin() / q)
-        };
-        let e = (s * t).exp();
-        [[e * (c + g * (a[0][0] - s)), e * g * a[0][1]], [e * g * a[1][0], e * (c + g * (a[1][1] - s))]]
-    };
+    let expm = move |t: f64| multibody_reference::expm2(a, t);
     // Steady: no current, w = V / k; start from rest.
     let w_ss = v / k;
     let current = move |t: f64| -expm(t)[0][1] * w_ss;

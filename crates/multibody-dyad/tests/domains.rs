@@ -7,26 +7,7 @@
 mod common;
 
 use common::{error_of, report, simulate, worst_against};
-
-/// `exp(A t)` of a real 2x2 matrix, by Cayley-Hamilton: with `s` half the
-/// trace and `q² = s² - det`, `exp(A t) = exp(s t) (c I + g (A - s I))`,
-/// `c = cosh(q t)`, `g = sinh(q t) / q` (cos and sin for q² < 0).
-fn expm2(a: [[f64; 2]; 2], t: f64) -> [[f64; 2]; 2] {
-    let s = (a[0][0] + a[1][1]) / 2.0;
-    let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
-    let q2 = s * s - det;
-    let (c, g) = if q2 > 0.0 {
-        let q = q2.sqrt();
-        ((q * t).cosh(), (q * t).sinh() / q)
-    } else if q2 < 0.0 {
-        let q = (-q2).sqrt();
-        ((q * t).cos(), (q * t).sin() / q)
-    } else {
-        (1.0, t)
-    };
-    let e = (s * t).exp();
-    [[e * (c + g * (a[0][0] - s)), e * g * a[0][1]], [e * g * a[1][0], e * (c + g * (a[1][1] - s))]]
-}
+use multibody_reference::expm2;
 
 /// A capacitor charged through a resistor from a constant voltage:
 /// `v = V (1 - exp(-t / (R C)))`.

@@ -237,3 +237,24 @@ pub fn vector_pairs(theirs: &str, ours: &str, names: &[&str]) -> Vec<(String, St
 pub fn as_pairs(pairs: &[(String, String)]) -> Vec<(&str, &str)> {
     pairs.iter().map(|(a, b)| (a.as_str(), b.as_str())).collect()
 }
+
+/// `exp(A t)` of a real 2x2 matrix, in closed form (Cayley-Hamilton): with
+/// `s` half the trace and `q² = s² - det`, `exp(A t) = exp(s t) (c I + g
+/// (A - s I))`, where `c = cosh(q t)` and `g = sinh(q t) / q` (cos and sin
+/// for `q² < 0`; `c = 1`, `g = t` for `q = 0`). The closed form of linear
+/// models of two states (a DC motor's current and speed).
+pub fn expm2(a: [[f64; 2]; 2], t: f64) -> [[f64; 2]; 2] {
+    let s = (a[0][0] + a[1][1]) / 2.0;
+    let q2 = s * s - (a[0][0] * a[1][1] - a[0][1] * a[1][0]);
+    let (c, g) = if q2 > 0.0 {
+        let q = q2.sqrt();
+        ((q * t).cosh(), (q * t).sinh() / q)
+    } else if q2 < 0.0 {
+        let q = (-q2).sqrt();
+        ((q * t).cos(), (q * t).sin() / q)
+    } else {
+        (1.0, t)
+    };
+    let e = (s * t).exp();
+    [[e * (c + g * (a[0][0] - s)), e * g * a[0][1]], [e * g * a[1][0], e * (c + g * (a[1][1] - s))]]
+}
