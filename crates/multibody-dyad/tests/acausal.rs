@@ -725,3 +725,33 @@ end
     let x = solution.get("x").unwrap();
     report("the PI loop settles at the set point", (x.last().unwrap() - 1.0).abs(), 1e-4);
 }
+
+/// A parameter with only a guess passed on to a component's parameter
+/// (Modelica's InitSpringConstant) is not supported yet: the message says
+/// why, at the place, instead of calling the parameter a component.
+#[test]
+fn a_guess_only_parameter_passed_to_a_component_is_refused_clearly() {
+    let message = error_of(
+        r#"
+example component InitSpring
+  parameter c::Real(guess = 100)
+  wall = TranslationalComponents.Fixed()
+  spring = TranslationalComponents.Spring(c = c)
+  block = TranslationalComponents.Mass(m = 1, s(initial = 0.5), v(initial = 0))
+relations
+  connect(wall.flange, spring.flange_a)
+  connect(spring.flange_b, block.flange_a)
+  initial der(block.v) = 0
+end
+
+analysis InitSpringRun
+  extends TransientAnalysis(stop = 1)
+  model = InitSpring()
+end
+"#,
+    );
+    println!("{message}");
+    assert!(message.contains("`c` is not a constant"), "{message}");
+    assert!(message.contains("a parameter with only a guess"), "{message}");
+    assert!(message.contains("spring = TranslationalComponents.Spring(c = c)"), "{message}");
+}

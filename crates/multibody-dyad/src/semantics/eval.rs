@@ -243,11 +243,16 @@ fn name(path: &Path, scope: &mut dyn Scope) -> EResult {
             "time" => Err(Diagnostic::error("`time` cannot be used here")
                 .primary(first.span, "varies during the simulation")
                 .help("parameter values and start values are constants")),
-            _ if scope.is_component(&first.name) => {
-                Err(Diagnostic::error(format!("`{}` is a component, not a value", first.name))
-                    .primary(first.span, "a component")
-                    .help("only parameters of this component can be used in expressions"))
-            }
+            _ if scope.is_component(&first.name) => Err(Diagnostic::error(format!(
+                "`{}` is not a constant: it is a component, a connector or a variable",
+                first.name
+            ))
+            .primary(first.span, "not a constant")
+            .help("parameter values and start values are computed from parameters")
+            .note(
+                "a parameter with only a guess is a variable that the initialization decides: it can be used in \
+                 equations, not passed on to a component's parameter (not supported yet)",
+            )),
             _ => {
                 let names = scope.parameter_names();
                 let mut d = Diagnostic::error(format!("unknown name `{}`", first.name))
