@@ -1,8 +1,10 @@
 //! Connections through user components. A user component may declare
-//! connectors (`frame_a = Frame3D()`) and connect them inside and outside;
-//! the engine only knows the library's components, so connectors are
-//! merged here (union-find) and each `connect` becomes a connection between
-//! the library components' connectors it reaches.
+//! connectors (`frame_a = Frame3D()`, `p = Pin()`) and connect them inside
+//! and outside; the engine only knows the library's components, so
+//! connectors are merged here (union-find) and each `connect` becomes a
+//! connection between the library components' connectors it reaches.
+//! Connectors that reach none (pins, heat ports) become equations; their
+//! flows count by the level of each `connect` ([`ConnectionGraph::flow_sets`]).
 
 use crate::reports::diagnostics::Diagnostic;
 use crate::reports::source_map::SourceMap;
