@@ -96,6 +96,33 @@ impl ConnectorShape {
             }
             fields.push(Field { name: f.name.name.clone(), dims, flow: f.kind == FieldKind::Flow });
         }
+        if let (Some(ty), Some((_, span))) = (engine, &def.engine) {
+            // The engine's connector has these quantities; a declaration
+            // mapped onto it must have them, or what it reads would be wrong.
+            let expected = engine_fields(ty);
+            let matches = expected.len() == fields.len()
+                && expected.iter().zip(&fields).all(|((n, d, f), g)| g.name == *n && g.dims == *d && g.flow == *f);
+            if !matches {
+                let list = expected
+                    .iter()
+                    .map(|(n, d, f)| format!("{} {n}{d:?}", if *f { "flow" } else { "potential" }))
+                    .collect::<Vec<_>>()
+                    .join(", ");
+                return Err(Diagnostic::error(format!(
+                    "`{}` is mapped onto the engine's {} but its fields differ",
+                    def.name.name,
+                    ty.name()
+                ))
+                .primary(*span, "mapped here")
+                .secondary(def.header, "this connector")
+                .note(format!(
+                    "the engine's {} has: {}",
+                    ty.name(),
+                    if list.is_empty() { "one signal".into() } else { list }
+                ))
+                .help("declare the same fields in that order, or leave the engine out of the metadata"));
+            }
+        }
         let signal = def.signal.as_ref().map(|(c, ty)| (*c, ty.name.last().name.clone()));
         if signal.is_none() && !fields.is_empty() && fields.iter().all(|f| f.flow) {
             return Err(Diagnostic::error(format!("the connector `{}` has flows but no potential", def.name.name))
@@ -142,6 +169,25 @@ impl ConnectorShape {
 
     pub fn field(&self, name: &str) -> Option<&Field> {
         self.fields.iter().find(|f| f.name == name)
+    }
+}
+
+/// The quantities of each engine connector: name, sizes, whether a flow
+/// (none for a signal, which is its value).
+fn engine_fields(ty: ConnectorType) -> &'static [(&'static str, &'static [usize], bool)] {
+    match ty {
+        ConnectorType::Frame => &[("r_0", &[3], false), ("R", &[3, 3], false), ("f", &[3], true), ("tau", &[3], true)],
+        ConnectorType::Frame2D => &[
+            ("x", &[], false),
+            ("y", &[], false),
+            ("phi", &[], false),
+            ("fx", &[], true),
+            ("fy", &[], true),
+            ("tau", &[], true),
+        ],
+        ConnectorType::Spline => &[("phi", &[], false), ("tau", &[], true)],
+        ConnectorType::Flange => &[("s", &[], false), ("f", &[], true)],
+        ConnectorType::RealInput | ConnectorType::RealOutput => &[],
     }
 }
 
