@@ -36,7 +36,7 @@ pub struct ConnectorShape {
 pub type Connector = Rc<ConnectorShape>;
 
 /// The engine's connectors that a declaration may name, by their names.
-const ENGINE: [ConnectorType; 6] = [
+pub const ENGINE: [ConnectorType; 6] = [
     ConnectorType::Frame,
     ConnectorType::Frame2D,
     ConnectorType::Spline,

@@ -100,8 +100,7 @@ impl<'a> Index<'a> {
     /// The declared shape of each engine connector (`Dyad.Frame3D` is
     /// the engine's Frame3D).
     pub fn engine_shapes(&self) -> Vec<(multibody::components::ConnectorType, Connector)> {
-        use multibody::components::ConnectorType as T;
-        [T::Frame, T::Frame2D, T::Spline, T::Flange, T::RealInput, T::RealOutput]
+        crate::semantics::connectors::ENGINE
             .into_iter()
             .filter_map(|t| {
                 let c = self.connectors.get(&format!("Dyad.{}", t.name()))?;

@@ -860,11 +860,15 @@ impl Plan {
 /// directly; variables index reduction made dummies have theirs already;
 /// discrete variables start at theirs.)
 fn starts_of_computed_variables(pending: &mut Pending, states: &[usize]) {
+    let mut is_state = vec![false; pending.vars.len()];
+    for &s in states {
+        is_state[s] = true;
+    }
     for v in 0..pending.vars.len() {
         let Role::Declared(d) = pending.vars[v].role else { continue };
         let declared = &pending.declared[d];
         let (Some(start), true) = (declared.start, declared.fixed) else { continue };
-        if states.contains(&v) || pending.dummy[v] || pending.discrete_slot(v).is_some() {
+        if is_state[v] || pending.dummy[v] || pending.discrete_slot(v).is_some() {
             continue;
         }
         let origin = if declared.origin.is_empty() { pending.vars[v].name.clone() } else { declared.origin.clone() };
