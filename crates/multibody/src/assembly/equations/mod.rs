@@ -864,11 +864,11 @@ fn starts_of_computed_variables(pending: &mut Pending, states: &[usize]) {
     for &s in states {
         is_state[s] = true;
     }
-    for v in 0..pending.vars.len() {
+    for (v, &state) in is_state.iter().enumerate() {
         let Role::Declared(d) = pending.vars[v].role else { continue };
         let declared = &pending.declared[d];
         let (Some(start), true) = (declared.start, declared.fixed) else { continue };
-        if is_state[v] || pending.dummy[v] || pending.discrete_slot(v).is_some() {
+        if state || pending.dummy[v] || pending.discrete_slot(v).is_some() {
             continue;
         }
         let origin = if declared.origin.is_empty() { pending.vars[v].name.clone() } else { declared.origin.clone() };
