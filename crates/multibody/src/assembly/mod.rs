@@ -27,6 +27,7 @@ mod instances;
 mod links;
 mod loops;
 mod mechanism;
+mod servos;
 mod signals;
 mod states;
 
@@ -131,6 +132,15 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     let zero_slot = signals.slots - 1;
     let force_elements =
         forces::elements(&components, &conn, &mut tree, &drive.places, &signals.of_connector, zero_slot)?;
+    let servos = servos::attach(
+        &components,
+        &constraints,
+        &axis_elements,
+        &force_elements,
+        &signals.blocks,
+        &signals.of_connector,
+        tree.links.iter().skip(1).map(|l| l.v_offset + l.joint.nv()).max().unwrap_or(0),
+    )?;
     let (mut drives, drive_starts, source_states) =
         drives::attach(&components, &conn, &mut tree, &drive.places, &signals)?;
     let (balances, balance_drives) =
@@ -148,6 +158,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         places: &drive.places,
         links: &tree.links,
         couplings: &couplings,
+        constraints: &constraints,
     };
     let (program, initial_of_equations) = plan.compile(&context, &mut signals, &mut states, &mut events)?;
     checks::inertia_behind_every_joint(&components, &conn, &tree, &couplings, &states.start[..states.nq])?;
@@ -187,6 +198,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         force_elements,
         massless: tree.massless,
         constraints,
+        servos,
         roads: components
             .iter()
             .flat_map(|c| c.parts.iter())

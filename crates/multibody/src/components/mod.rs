@@ -495,6 +495,11 @@ pub enum Part {
     /// (a housing) from the signal at the input connector `input`: on a
     /// joint's axis it makes the joint rheonomic.
     AxisDrive { flange: usize, support: usize, input: usize, level: DriveLevel },
+    /// The rows of this component's constraint (its one `Constraint`
+    /// part) follow `targets`, and their multipliers are the signals at
+    /// the output connectors `efforts`, which drive 1-D sources: see
+    /// [`crate::system::Servo`].
+    Servo { targets: Vec<crate::math::expr::TimeFunction>, efforts: Vec<usize> },
 }
 
 impl Part {

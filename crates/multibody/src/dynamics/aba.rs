@@ -54,6 +54,9 @@ impl System {
         if !self.drives.is_empty() {
             self.evaluate_time_jets(ws, t);
         }
+        if !self.servos.is_empty() {
+            self.servo_targets(ws, t);
+        }
         self.evaluate_signals(ws, t, q, u)?;
         if !self.drives.is_empty() {
             self.drive_accelerations(ws, q, u);
@@ -132,6 +135,12 @@ impl System {
     /// (point gravity), subtracted from the bias forces.
     fn apply_forces(&self, ws: &mut Workspace, q: &[f64], u: &[f64]) {
         ws.tau.fill(0.0);
+        // A servo's efforts come out of the accelerations: none before.
+        for s in &self.servos {
+            for &slot in &s.slots {
+                ws.signals[slot] = 0.0;
+            }
+        }
         for line in ws.lines.iter_mut() {
             line.force = 0.0;
         }

@@ -249,9 +249,42 @@ impl System {
                 }
             }
         }
+        self.servo_terms(ws, with_jacobian);
         self.coupling_terms(ws, q, with_jacobian);
         if !self.frictions.is_empty() {
             self.friction_terms(ws, with_jacobian);
+        }
+    }
+
+    /// The formulas of time of the servos' rows at `t`, with their first
+    /// two derivatives (see [`Workspace::targets`]).
+    pub(crate) fn servo_targets(&self, ws: &mut Workspace, t: f64) {
+        for s in &self.servos {
+            let row = self.constraints[s.constraint].row;
+            for (i, target) in s.targets.iter().enumerate() {
+                ws.targets[row + i] = target.jet(t);
+            }
+        }
+    }
+
+    /// A servo's rows keep `g(q) - p(t)`, accelerate as `p''`, and act
+    /// through the efforts' generalised forces `B`, not through `J'`.
+    fn servo_terms(&self, ws: &mut Workspace, with_jacobian: bool) {
+        let nv = self.states.nv;
+        for s in &self.servos {
+            let row = self.constraints[s.constraint].row;
+            for i in 0..s.targets.len() {
+                let r = row + i;
+                let [value, _, acceleration] = ws.targets[r];
+                ws.residual[r] -= value;
+                if with_jacobian {
+                    ws.bias[r] -= acceleration;
+                    let (jac, force) = (&ws.jac[r * nv..(r + 1) * nv], &mut ws.jac_force[r * nv..(r + 1) * nv]);
+                    for ((g, j), b) in force.iter_mut().zip(jac).zip(&s.forces[i * nv..(i + 1) * nv]) {
+                        *g = b - j;
+                    }
+                }
+            }
         }
     }
 
@@ -431,10 +464,11 @@ impl System {
         }
         let w = self.augmented_mass_matrix(ws);
         // A slipping wheel's friction is its normal force times a
-        // coefficient: generalised forces `G' lambda` beside `J' lambda`.
+        // coefficient, and a servo's multipliers act through the sources
+        // they drive: generalised forces `G' lambda` beside `J' lambda`.
         // Then `M_a ud = f - w G' gamma + (J + G)' lambda'`, and the
         // multipliers solve an unsymmetric system.
-        let friction = self.has_friction();
+        let friction = self.has_friction() || !self.servos.is_empty();
         if friction {
             for r in 0..m {
                 // gamma = -Jdot u = -bias.
@@ -501,6 +535,13 @@ impl System {
             }
             // The physical multiplier: lambda = lambda' - w gamma, gamma = -Jdot u.
             ws.lambda[r] = l + w * ws.bias[r];
+        }
+        // A servo's efforts are its multipliers: the signals its sources read.
+        for s in &self.servos {
+            let row = self.constraints[s.constraint].row;
+            for (i, &slot) in s.slots.iter().enumerate() {
+                ws.signals[slot] = ws.lambda[row + i];
+            }
         }
         // What the couplings apply to their coordinates counts as the joints' drive torques.
         for c in &self.couplings {
@@ -626,6 +667,7 @@ impl System {
         }
         let (nq, nv) = (self.states.nq, self.states.nv);
         let mut changed = false;
+        self.servo_targets(ws, t);
         let free = if self.drives.is_empty() {
             None
         } else {
@@ -668,7 +710,7 @@ impl System {
         self.constraint_state(ws, y)?;
         let (nq, nv, m) = (self.states.nq, self.states.nv, self.constraint_rows);
         for r in 0..m {
-            ws.lambda[r] = (0..nv).map(|i| ws.jac[r * nv + i] * y[nq + i]).sum();
+            ws.lambda[r] = (0..nv).map(|i| ws.jac[r * nv + i] * y[nq + i]).sum::<f64>() - ws.targets[r][1];
         }
         Ok(())
     }

@@ -72,9 +72,13 @@ pub struct Workspace {
     // Constraint buffers: rows x nv Jacobian, nv x nv mass matrix (and its
     // factor), rows x nv rows of M^-1 J', rows x rows Schur complement.
     pub(crate) jac: Vec<f64>,
-    /// Rows x nv: the generalised friction forces of slipping wheels per
-    /// unit multiplier of their contact rows (zero for other rows).
+    /// Rows x nv: what a row's multiplier applies beyond `J'`: the
+    /// generalised friction forces of slipping wheels per unit multiplier
+    /// of their contact rows, `B - J` on a servo's rows, zero elsewhere.
     pub(crate) jac_force: Vec<f64>,
+    /// Per constraint row: the value, rate and acceleration it must have
+    /// (a servo's formulas of time; zero for every other row).
+    pub(crate) targets: Vec<[f64; 3]>,
     pub(crate) mass: Vec<f64>,
     pub(crate) y_rows: Vec<f64>,
     pub(crate) schur: Vec<f64>,
@@ -167,7 +171,7 @@ impl Workspace {
         let ground = LinkWork { rot: Mat3::identity(), ..LinkWork::default() };
         let (m, nv) = (system.constraint_rows, system.states.nv);
         let full = system.uses_mass_matrix();
-        Self {
+        let mut ws = Self {
             links: vec![ground; n],
             multi,
             multi_index,
@@ -184,6 +188,7 @@ impl Workspace {
             massless_vel: vec![Vec3::zeros(); system.massless.len()],
             jac: vec![0.0; m * nv],
             jac_force: vec![0.0; m * nv],
+            targets: vec![[0.0; 3]; m],
             mass: vec![0.0; if full { nv * nv } else { 0 }],
             y_rows: vec![0.0; m * nv],
             schur: vec![0.0; m * m],
@@ -211,7 +216,10 @@ impl Workspace {
             reinits: Vec::with_capacity(system.states.start.len() + system.equations.reinits),
             left_limit_at: f64::NAN,
             friction: vec![Default::default(); system.frictions.len()],
-        }
+        };
+        // Assembly closes a servo's rows at t = 0 before any evaluation.
+        system.servo_targets(&mut ws, 0.0);
+        ws
     }
 }
 

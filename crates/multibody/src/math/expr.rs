@@ -294,6 +294,32 @@ impl Expr {
         found
     }
 
+    /// The nodes right below this one, to rewrite them.
+    pub fn children_mut(&mut self) -> Vec<&mut Expr> {
+        match self {
+            Expr::Const(_) | Expr::Time | Expr::Var(_) | Expr::Initial | Expr::Pre(_) | Expr::Sample { .. } => {
+                Vec::new()
+            }
+            Expr::Der(a)
+            | Expr::Neg(a)
+            | Expr::Call(_, a)
+            | Expr::Not(a)
+            | Expr::NoEvent(a)
+            | Expr::Edge(a)
+            | Expr::Change(a) => vec![a],
+            Expr::Add(x, y)
+            | Expr::Sub(x, y)
+            | Expr::Mul(x, y)
+            | Expr::Div(x, y)
+            | Expr::Pow(x, y)
+            | Expr::Call2(_, x, y)
+            | Expr::Compare(_, x, y)
+            | Expr::And(x, y)
+            | Expr::Or(x, y) => vec![x, y],
+            Expr::If(c, x, y) => vec![c, x, y],
+        }
+    }
+
     /// Calls `f` on this node and every node below it.
     pub fn visit<'a>(&'a self, f: &mut impl FnMut(&'a Expr)) {
         f(self);

@@ -486,7 +486,10 @@ impl Mechanism {
                 self.system
                     .constraints
                     .iter()
-                    .map(|c| (Some(c.connectors.0), c.connectors.1, self.system.constraint_wrenches(ws, c))),
+                    .enumerate()
+                    // A servo's multipliers act through the sources it drives, not at its frame.
+                    .filter(|(i, _)| !self.system.servos.iter().any(|s| s.constraint == *i))
+                    .map(|(_, c)| (Some(c.connectors.0), c.connectors.1, self.system.constraint_wrenches(ws, c))),
             )
             .chain(
                 self.system

@@ -69,6 +69,10 @@ pub struct System {
     pub(crate) massless: Vec<MasslessGroup>,
     /// Constraints: cut joints of loops and constraint components.
     pub(crate) constraints: Vec<Constraint>,
+    /// Constraints whose rows follow formulas of time and whose forces
+    /// are signals driving 1-D sources (motions prescribed with unknown
+    /// efforts).
+    pub(crate) servos: Vec<Servo>,
     /// The roads wheels roll on (other than the plane y = 0).
     pub(crate) roads: Vec<crate::math::surface::Surface>,
     /// Total number of constraint rows, couplings included.
@@ -158,9 +162,6 @@ pub(crate) struct LineMass {
 }
 
 impl System {
-    /// Whether accelerations come from the mass matrix (constraints, or
-    /// inertia shared between links) rather than the articulated-body
-    /// recursion.
     /// Whether loads other than inertia and gravity change with the state
     /// (1-D elements, forces between frames, point gravity, signals that
     /// read the motion): where they do not, they add nothing to a
@@ -174,6 +175,9 @@ impl System {
             && self.signals.is_empty())
     }
 
+    /// Whether accelerations come from the mass matrix (constraints, or
+    /// inertia shared between links) rather than the articulated-body
+    /// recursion.
     pub(crate) fn uses_mass_matrix(&self) -> bool {
         self.constraint_rows > 0 || !self.line_masses.is_empty()
     }
@@ -487,6 +491,25 @@ pub struct StateLayout {
     /// Which start values the model fixed (`initial`), as opposed to
     /// defaults and guesses that closing a loop may change.
     pub fixed: Vec<bool>,
+}
+
+/// A servo constraint (Blajer's term): the rows of constraint
+/// `constraint` follow formulas of time, `g_i(q) = p_i(t)`, and their
+/// multipliers are not forces along the rows but the values of signals
+/// that drive 1-D sources (the unknown joint torques of a hand led along
+/// a path): `M ud = f + B' lambda`, `J ud = p'' - Jdot u`. This is index
+/// reduction done by the mechanism: the rows are differentiated twice
+/// exactly (the formulas' jets and the constraint's `Jdot u`), and
+/// projection after each step keeps the positions and velocities on them.
+#[derive(Debug, Clone)]
+pub(crate) struct Servo {
+    pub constraint: usize,
+    /// Per row: the prescribed value.
+    pub targets: Vec<crate::math::expr::TimeFunction>,
+    /// Per row: the signal slot that holds its effort (its multiplier).
+    pub slots: Vec<usize>,
+    /// Per row: the generalised forces of a unit effort (`nv` each): `B`.
+    pub forces: Vec<f64>,
 }
 
 /// A linear relation between joint coordinates, `sum c_k q_k = 0`, on

@@ -654,9 +654,13 @@ fn reinit_target(
         Role::Declared(_) => "a variable the equations solve for, not a state (its `der` appears nowhere)",
         Role::Derivative { .. } | Role::Read(Read::State { rate: true, .. }) => "a derivative",
         Role::Read(Read::Signal { .. }) | Role::Written { .. } => "a signal",
-        Role::Read(Read::Frame { .. } | Read::Axis { .. } | Read::AxisAcceleration { .. } | Read::Reaction { .. }) => {
-            "a quantity of a connector that the mechanics decides"
-        }
+        Role::Read(
+            Read::Frame { .. }
+            | Read::Axis { .. }
+            | Read::AxisAcceleration { .. }
+            | Read::Reaction { .. }
+            | Read::Effort { .. },
+        ) => "a quantity of a connector that the mechanics decides",
         Role::Read(Read::State { .. }) => "not a state",
     };
     let mut names: Vec<&str> = sorted.states.iter().map(|&s| pending.vars[s].name.as_str()).collect();

@@ -18,6 +18,7 @@ mod codegen;
 mod couplings;
 mod initial;
 mod reduce;
+mod servo;
 mod sort;
 
 pub(crate) use initial::{solve as initialize, Initial};
@@ -96,6 +97,12 @@ enum Read {
     /// `coupling`), known once the accelerations are.
     Reaction {
         coupling: String,
+    },
+    /// Effort number `row` of the hidden servo `servo`: its multiplier,
+    /// known once the accelerations are.
+    Effort {
+        servo: String,
+        row: usize,
     },
 }
 
@@ -250,6 +257,8 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
     // Equations between positions become couplings of the drive train.
     let mut eqs = model.equations.clone();
     let mut extras = couplings::extract(&mut eqs, &mut net, model)?;
+    // Positions prescribed with unknown efforts become a servo constraint.
+    extras.extend(servo::extract(&mut eqs, &mut net)?);
     let eqs = &eqs;
     let declared: HashMap<&str, usize> = eqs.variables.iter().enumerate().map(|(i, v)| (v.name.as_str(), i)).collect();
     if declared.len() != eqs.variables.len() {
@@ -307,6 +316,8 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
     // At the start, a variable the equations make equal to a quantity of
     // the mechanics is that quantity: its `der` of any order reads the
     // mechanics (`initial der(der(flange.phi)) = 0` of a connector).
+    let mut initial_equations = eqs.initial.clone();
+    expand_initial_derivatives(&mut initial_equations, &general, &declared);
     let mut same = mechanical_aliases(&general, &declared);
     same.retain(|_, quantity| {
         let connector = quantity.rsplit_once('.').map_or("", |(c, _)| c);
@@ -317,9 +328,10 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
         if let Some(&v) = table.by_name.get(name) {
             return Ok(v);
         }
-        let role = match name.strip_suffix(couplings::REACTION) {
-            Some(coupling) => Some(Role::Read(Read::Reaction { coupling: coupling.to_string() })),
-            None => classify_library(name, &mut net, &formulas, &declared, model)?,
+        let role = match (name.strip_suffix(couplings::REACTION), servo::effort_of(name)) {
+            (Some(coupling), _) => Some(Role::Read(Read::Reaction { coupling: coupling.to_string() })),
+            (_, Some((servo, row))) => Some(Role::Read(Read::Effort { servo: servo.to_string(), row })),
+            _ => classify_library(name, &mut net, &formulas, &declared, model)?,
         };
         let role = match role {
             Some(r) => r,
@@ -360,7 +372,7 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
     let mut initial_origins = Vec::new();
     let mut classify_initial =
         |name: &str, t: &mut Table, x: &mut Vec<Extra>| classify(same.get(name).map_or(name, String::as_str), t, x);
-    for e in &eqs.initial {
+    for e in &initial_equations {
         let lhs = to_sym(&e.lhs, &mut table, &mut classify_initial, &mut extras, &e.origin)?;
         let rhs = to_sym(&e.rhs, &mut table, &mut classify_initial, &mut extras, &e.origin)?;
         initial.push(sym::sub(lhs, rhs));
@@ -509,6 +521,66 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
     Ok(Plan { extras, equations: Some(pending) })
 }
 
+/// In initial equations, `der` of a variable that the equations do not
+/// differentiate themselves (`initial der(w_rel) = 0` of a spring written
+/// with `w_rel = der(phi_rel)`) is the derivative of what defines it:
+/// under a `der`, such a variable is replaced by the other side of its
+/// explicit equation (`x = e`), down to states and quantities of the
+/// mechanics, whose rates the start reads (accelerations included).
+fn expand_initial_derivatives(
+    initial: &mut [crate::Equation],
+    regular: &[&crate::Equation],
+    declared: &HashMap<&str, usize>,
+) {
+    let mut differentiated = std::collections::HashSet::new();
+    let mut definitions: HashMap<&str, &Expr> = HashMap::new();
+    for e in regular {
+        for side in [&e.lhs, &e.rhs] {
+            side.visit(&mut |node| {
+                if let Expr::Der(inner) = node {
+                    if let Expr::Var(x) = &**inner {
+                        differentiated.insert(x.as_str());
+                    }
+                }
+            });
+        }
+        for (x, other) in [(&e.lhs, &e.rhs), (&e.rhs, &e.lhs)] {
+            if let Expr::Var(x) = x {
+                let mut names = Vec::new();
+                other.variables(&mut names);
+                if declared.contains_key(x.as_str()) && !names.contains(&x.as_str()) {
+                    definitions.entry(x.as_str()).or_insert(other);
+                }
+            }
+        }
+    }
+    // `depth`: how many `der` enclose the node; `budget` ends a cycle of definitions.
+    fn expand(
+        e: &mut Expr,
+        depth: usize,
+        rules: (&HashMap<&str, &Expr>, &std::collections::HashSet<&str>),
+        budget: &mut usize,
+    ) {
+        let (definitions, differentiated) = rules;
+        match e {
+            Expr::Der(inner) => expand(inner, depth + 1, rules, budget),
+            Expr::Var(x) if depth > 0 && (depth > 1 || !differentiated.contains(x.as_str())) => {
+                if let (Some(definition), true) = (definitions.get(x.as_str()), *budget > 0) {
+                    *budget -= 1;
+                    *e = (*definition).clone();
+                    expand(e, depth, rules, budget);
+                }
+            }
+            _ => e.children_mut().into_iter().for_each(|c| expand(c, depth, rules, budget)),
+        }
+    }
+    for e in initial {
+        let mut budget = 64;
+        expand(&mut e.lhs, 0, (&definitions, &differentiated), &mut budget);
+        expand(&mut e.rhs, 0, (&definitions, &differentiated), &mut budget);
+    }
+}
+
 /// The declared variables that equations `a = b` make equal to a quantity
 /// of a library component (directly or through other such variables), with it.
 fn mechanical_aliases(equations: &[&crate::Equation], declared: &HashMap<&str, usize>) -> HashMap<String, String> {
@@ -585,7 +657,7 @@ impl Table {
             Role::Derivative { .. } | Role::Read(Read::AxisAcceleration { .. } | Read::State { rate: true, .. }) => {
                 return Err(second_derivative(&self.vars[v].name, origin))
             }
-            Role::Read(Read::Reaction { .. }) => {
+            Role::Read(Read::Reaction { .. } | Read::Effort { .. }) => {
                 return Err(problem(
                     format!("`der` of `{}`, a flow measured through a rigid part, is not available", self.vars[v].name),
                     vec![origin.to_string()],
@@ -806,6 +878,8 @@ pub(crate) struct Context<'a> {
     pub links: &'a [Link],
     /// The couplings left as constraint rows (measured ones among them).
     pub couplings: &'a [crate::system::Coupling],
+    /// The constraints (a servo's among them).
+    pub constraints: &'a [crate::system::Constraint],
 }
 
 impl Plan {
@@ -974,6 +1048,11 @@ fn resolve_reads(
                 let ci = ctx.components.iter().position(|c| &c.name == coupling);
                 let row = ctx.couplings.iter().find(|c| Some(c.component) == ci).map(|c| c.row);
                 Source::Reaction(row.expect("a measured coupling stays a constraint row"))
+            }
+            Read::Effort { servo, row } => {
+                let ci = ctx.components.iter().position(|c| &c.name == servo);
+                let constraint = ctx.constraints.iter().find(|c| Some(c.component) == ci);
+                Source::Reaction(constraint.expect("a servo holds a constraint").row + row)
             }
         }));
     }

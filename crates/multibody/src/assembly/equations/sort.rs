@@ -148,14 +148,17 @@ pub(super) fn sort(pending: &Pending, reads: &[Option<Source>]) -> Result<Sorted
                 format!(
                     "these equations fix {} that the other equations decide already, while nothing decides `{}`: \
                      the unknowns act on what the equations fix only through the motion (through its derivatives), \
-                     a problem of higher index (a motion prescribed with unknown forces), which is not solved yet",
+                     a problem of higher index (a motion prescribed with unknown forces); it is solved where the \
+                     equations set coordinates of one frame's position to formulas of time and as many unknowns \
+                     drive 1-D sources on the joints, which is not the case here",
                     vars.join(", "),
                     undecided.join("`, `")
                 ),
                 involved.iter().map(|&r| pending.origins[kept[r]].clone()).collect(),
                 undecided,
-                "prescribe the motion on the joints instead (RotationalComponents.Position or Prismatic's axis driven \
-                 by a source, from the inverse kinematics), or give the unknown forces by equations of their own",
+                "prescribe as many coordinates of the frame's position as there are unknown efforts, each a formula \
+                 of time, or prescribe the motion on the joints (RotationalComponents.Position), or give the unknown \
+                 forces by equations of their own",
             ));
         }
         return Err(problem(

@@ -138,6 +138,28 @@ pub static COUPLING: ComponentSpec = ComponentSpec {
     shapes: crate::components::shapes::none,
 };
 
+/// Positions of a frame that equations prescribe as formulas of time,
+/// held by efforts that nothing else decides (a servo constraint): the
+/// frame, the world (internal), and one effort per row.
+pub static SERVO: ComponentSpec = ComponentSpec {
+    kind: "EquationServo",
+    doc: "Positions of a frame prescribed by the model's equations, held by the efforts they leave unknown.",
+    params: &[],
+    connectors: &[
+        ConnectorSpec::frame("frame", "The frame whose position is prescribed"),
+        ConnectorSpec::internal("world", ConnectorType::Frame),
+        ConnectorSpec::output("effort_1", "The effort of the first row"),
+        ConnectorSpec::output("effort_2", "The effort of the second row"),
+        ConnectorSpec::output("effort_3", "The effort of the third row"),
+    ],
+    variables: &[],
+    build: not_by_name,
+    shapes: crate::components::shapes::none,
+};
+
+/// The most rows a servo of the equations holds (a frame's position).
+pub const SERVO_ROWS: usize = 3;
+
 /// How many connectors of each kind a coupling of the equations holds.
 pub const COUPLING_CONNECTORS: usize = 4;
 
@@ -157,6 +179,9 @@ pub enum EquationPart {
     /// `sum c_k x_k + constant = 0` over the connectors of [`COUPLING`]
     /// (by local number); `measured` when the equations read its reaction.
     Coupling { terms: Vec<(usize, f64)>, constant: f64, measured: bool },
+    /// The world position components `axes` (0 = x) of the frame follow
+    /// `targets`; the efforts (outputs `effort_1`, ...) are what holds them.
+    Servo { axes: Vec<usize>, targets: Vec<TimeFunction> },
 }
 
 impl EquationPart {
@@ -169,6 +194,7 @@ impl EquationPart {
             EquationPart::AxisFlow if rotational => &SPLINE_FLOW,
             EquationPart::AxisFlow => &FLANGE_FLOW,
             EquationPart::Coupling { .. } => &COUPLING,
+            EquationPart::Servo { .. } => &SERVO,
         }
     }
 }
@@ -213,6 +239,24 @@ impl Component for EquationPart {
             ],
             EquationPart::Coupling { terms, constant, measured } => {
                 vec![Part::Coupling { terms: terms.clone(), constant: *constant, measured: *measured }]
+            }
+            EquationPart::Servo { axes, targets } => {
+                // Connectors: frame 0, world 1, efforts from 2.
+                let mut locked = [false; 3];
+                axes.iter().for_each(|&k| locked[k] = true);
+                let efforts: Vec<usize> = (2..2 + axes.len()).collect();
+                let mut parts = vec![
+                    Part::Ground { frame: 1, pose: crate::math::Transform::IDENTITY },
+                    Part::Constraint {
+                        a: 1,
+                        b: 0,
+                        kind: crate::system::ConstraintKind::locking_axes(crate::system::RotationLock::Free, locked),
+                    },
+                ];
+                parts.extend(efforts.iter().map(|&k| written(k)));
+                parts.extend((2 + efforts.len()..2 + SERVO_ROWS).map(Part::zero_signal));
+                parts.push(Part::Servo { targets: targets.clone(), efforts });
+                parts
             }
         }
     }
