@@ -145,15 +145,18 @@ impl System {
             line.force = 0.0;
         }
         for e in &self.axis_elements {
-            let (s_a, v_a) = e.a.motion(q, u, &ws.lines);
-            let (s_b, v_b) = e.b.motion(q, u, &ws.lines);
-            let force = e.law.force(s_b - s_a, v_b - v_a, &ws.signals);
+            // Sources (the flows equations give among them) need no motion.
+            let force = e.law.source_force(&ws.signals).unwrap_or_else(|| {
+                let (s_a, v_a) = e.a.motion(q, u, &ws.lines);
+                let (s_b, v_b) = e.b.motion(q, u, &ws.lines);
+                let watched = e.law.indicator_count();
+                if watched > 0 {
+                    e.law.indicators(s_b - s_a, &mut ws.indicators[e.indicator..e.indicator + watched]);
+                }
+                e.law.force(s_b - s_a, v_b - v_a, &ws.signals)
+            });
             e.b.push(&mut ws.tau, &mut ws.lines, -force);
             e.a.push(&mut ws.tau, &mut ws.lines, force);
-            let watched = e.law.indicator_count();
-            if watched > 0 {
-                e.law.indicators(s_b - s_a, &mut ws.indicators[e.indicator..e.indicator + watched]);
-            }
         }
         for &(v, force) in &self.axis_forces {
             ws.tau[v] += force;

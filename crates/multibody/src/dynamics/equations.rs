@@ -171,9 +171,13 @@ impl System {
                         };
                     }
                 }
-                Gather::Flange { at, speed, register } => {
+                Gather::Flange { at, position, speed } => {
                     let (s, v) = at.motion(q, u, &ws.lines);
-                    ws.registers[*register as usize] = if *speed { v } else { s };
+                    for (register, value) in [(position, s), (speed, v)] {
+                        if let Some(r) = register {
+                            ws.registers[*r as usize] = value;
+                        }
+                    }
                 }
                 Gather::State { index, register } => {
                     let nq = q.len();

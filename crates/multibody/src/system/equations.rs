@@ -121,8 +121,9 @@ pub enum FrameQuantity {
 pub enum Gather {
     /// Quantities of the frame at `at` (one motion computed for all).
     Frame { at: Attachment, reads: Vec<(FrameQuantity, Reg)> },
-    /// The position (or, with `speed`, the speed) of a 1-D connector.
-    Flange { at: FlangeRef, speed: bool, register: Reg },
+    /// The position and the speed of a 1-D connector (into the registers
+    /// given; one motion computed for both).
+    Flange { at: FlangeRef, position: Option<Reg>, speed: Option<Reg> },
     /// `y[index]`: a joint coordinate or rate of the mechanics.
     State { index: usize, register: Reg },
     /// A discrete variable (assigned in `when` clauses): `discrete[slot]`.

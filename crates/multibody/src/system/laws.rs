@@ -52,6 +52,18 @@ impl Law1D {
         }
     }
 
+    /// The force of a law that does not depend on the motion (a source),
+    /// without computing the motion; `None` for the others.
+    #[inline]
+    pub fn source_force(&self, signals: &[f64]) -> Option<f64> {
+        match *self {
+            Law1D::Source { value } => Some(-value),
+            Law1D::Input { signal } => Some(-signals[signal]),
+            Law1D::Flow { signal } => Some(signals[signal]),
+            _ => None,
+        }
+    }
+
     /// A contact law's spring force and its bounded damping force (zero
     /// out of contact and for the other laws).
     #[inline]

@@ -278,6 +278,7 @@ pub(super) fn generate(
     let mut slot_reads: Vec<Option<usize>> = vec![None; n];
     let mut frames: Vec<(usize, Vec<_>)> = Vec::new();
     let mut gathers = Vec::new();
+    let mut flange_gathers: HashMap<String, usize> = HashMap::new();
     let mut reactions = Vec::new();
     for (v, source) in reads.iter().enumerate() {
         let Some(source) = source else { continue };
@@ -289,7 +290,15 @@ pub(super) fn generate(
                 None => frames.push((*node, vec![(*quantity, reg[v])])),
             },
             Source::Axis { flange, speed } => {
-                gathers.push(Gather::Flange { at: *flange, speed: *speed, register: reg[v] })
+                // A connector's position and speed come from one motion.
+                let k = *flange_gathers.entry(format!("{flange:?}")).or_insert_with(|| {
+                    gathers.push(Gather::Flange { at: *flange, position: None, speed: None });
+                    gathers.len() - 1
+                });
+                if let Gather::Flange { position, speed: rate, .. } = &mut gathers[k] {
+                    // Two names of one quantity share its register.
+                    reg[v] = *if *speed { rate } else { position }.get_or_insert(reg[v]);
+                }
             }
             Source::State(index) => gathers.push(Gather::State { index: *index, register: reg[v] }),
             Source::Discrete(k) => gathers.push(Gather::Discrete { slot: em.first_discrete + k, register: reg[v] }),
@@ -413,7 +422,20 @@ pub(super) fn generate(
         let solve = match (residuals.as_slice(), unknowns.as_slice()) {
             ([r], [x]) if explicit(r, *x).is_some() => {
                 let value = explicit(r, *x).expect("checked");
-                em.emit_into(&value, &reg, reg[*x]);
+                match &*value {
+                    // `x` is what the mechanics gives (a connector's position
+                    // written as its own variable): it reads the same register,
+                    // and so do its aliases, rather than copying it.
+                    Sym::Var(w) if reads[*w].is_some() => {
+                        let (from, to) = (reg[*x], reg[*w]);
+                        for &v in &members[*x] {
+                            if reg[v] == from {
+                                reg[v] = to;
+                            }
+                        }
+                    }
+                    _ => em.emit_into(&value, &reg, reg[*x]),
+                }
                 Solve::Explicit
             }
             _ => {
@@ -796,6 +818,15 @@ fn place(
     for node in after {
         positions.push(AFTER_DYNAMICS);
         blocks.push(old[node - nl].take().expect("each node once"));
+    }
+    // A written block does nothing when evaluated (the equations fill its
+    // slot): the equation blocks before it may as well run after it, so
+    // that the runs between written inputs and flows sit at one place and
+    // fuse (a chain of written elements is one run, not one per element).
+    for p in positions.iter_mut().filter(|p| **p != AFTER_DYNAMICS) {
+        while *p < kept.len() && matches!(kept[*p].law, SignalLaw::Written) {
+            *p += 1;
+        }
     }
     signals.blocks = kept;
     Ok(positions)
