@@ -441,3 +441,34 @@ end
     let twice = error(&text.replace("  der(z) = -z", "  initial z = 4\n  der(z) = -z"), "Two");
     assert!(twice.contains("the start value is given twice"), "{twice}");
 }
+
+/// Parameters and equations call the same functions of numbers (one
+/// table): a parameter may use every function an equation may, and gets
+/// the same value.
+#[test]
+fn parameters_call_the_functions_equations_call() {
+    let lowered = component(
+        r#"
+component Functions
+  parameter a::Real = log10(1000) + sinh(0.5) + sign(-2) + floor(2.7) + ceil(0.2) + tanh(0.3)
+  variable x::Real
+  variable y::Real
+relations
+  x = a
+  y = log10(1000) + sinh(0.5) + sign(-2) + floor(2.7) + ceil(0.2) + tanh(0.3)
+end"#,
+        "Functions",
+    );
+    let expected = 3.0 + 0.5f64.sinh() - 1.0 + 2.0 + 1.0 + 0.3f64.tanh();
+    let mechanism = lowered.assemble().unwrap();
+    let options = multibody::SimulationOptions { stop: 0.1, saveat: 0.1, ..Default::default() };
+    let solution = mechanism.simulate(&options).unwrap();
+    for name in ["x", "y"] {
+        let value = solution.get(name).unwrap()[0];
+        assert!((value - expected).abs() < 1e-14, "{name} = {value}, expected {expected}");
+    }
+    // Outside its domain a function of a parameter is an error at its place.
+    let message =
+        error("component Bad\n  parameter a::Real = log10(-1)\n  variable x::Real\nrelations\n  x = a\nend", "Bad");
+    assert!(message.contains("`log10` of -1 is not defined") && message.contains("positive"), "{message}");
+}

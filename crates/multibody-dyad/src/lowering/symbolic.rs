@@ -435,30 +435,12 @@ fn matmul(a: &[Vec<E>], b: &[Vec<E>]) -> Vec<Vec<E>> {
         .collect()
 }
 
-/// The functions equations may call: name and what it takes.
-pub const FUNCTIONS: &[&str] = &[
-    "sin",
-    "cos",
-    "tan",
-    "asin",
-    "acos",
-    "atan",
-    "sinh",
-    "cosh",
-    "tanh",
-    "exp",
-    "log",
-    "log10",
-    "sqrt",
-    "abs",
-    "sign",
-    "floor",
-    "ceil",
+/// The functions equations may call besides the engine's functions of
+/// numbers (`Func`, `Func2`: one table for parameters and equations, so a
+/// new function of numbers is an entry there and its derivative).
+const FORMS: &[&str] = &[
     "deg2rad",
     "rad2deg",
-    "atan2",
-    "min",
-    "max",
     "clamp",
     "ifelse",
     "der",
@@ -490,6 +472,11 @@ pub const FUNCTIONS: &[&str] = &[
     "world_default_joint_color",
     "world_default_rod_color",
 ];
+
+/// Every function equations may call.
+pub fn function_names() -> Vec<&'static str> {
+    Func::NAMES.iter().chain(Func2::NAMES).chain(FORMS).copied().collect()
+}
 
 fn function(callee: &Path, args: &[Expr], span: Span, names: &mut dyn Names) -> SResult {
     let fname = callee.last().name.as_str();
@@ -802,10 +789,11 @@ fn function(callee: &Path, args: &[Expr], span: Span, names: &mut dyn Names) -> 
         _ => {
             let mut d = Diagnostic::error(format!("unknown function `{}`", callee.text()))
                 .primary(callee.span, "not a function equations can call");
-            if let Some(s) = did_you_mean(fname, FUNCTIONS.iter().copied()) {
+            let all = function_names();
+            if let Some(s) = did_you_mean(fname, all.iter().copied()) {
                 d = d.help(s);
             }
-            Err(d.note(format!("the functions are: {}", FUNCTIONS.join(", "))))
+            Err(d.note(format!("the functions are: {}", all.join(", "))))
         }
     }
 }

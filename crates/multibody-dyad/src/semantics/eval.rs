@@ -4,6 +4,7 @@
 use crate::reports::diagnostics::{did_you_mean, Diagnostic};
 use crate::syntax::ast::{BinaryOp, Expr, ExprKind, Ident, Path, UnaryOp};
 use crate::syntax::source::Span;
+use multibody::math::expr::{Func, Func2};
 
 /// A value of an expression.
 #[derive(Clone, Debug, PartialEq)]
@@ -107,25 +108,12 @@ pub trait Scope {
     }
 }
 
-/// Functions of numbers: name, number of arguments, function.
-const FUNCTIONS: &[(&str, usize)] = &[
-    ("sqrt", 1),
-    ("sin", 1),
-    ("cos", 1),
-    ("tan", 1),
-    ("asin", 1),
-    ("acos", 1),
-    ("atan", 1),
-    ("atan2", 2),
-    ("exp", 1),
-    ("log", 1),
-    ("abs", 1),
-    ("deg2rad", 1),
-    ("rad2deg", 1),
-    ("norm", 1),
-    ("min", 2),
-    ("max", 2),
-];
+/// The functions parameter values may call: the engine's functions of
+/// numbers (one table for parameters and equations: a new function is an
+/// entry there) and those of arrays.
+fn function_names() -> Vec<&'static str> {
+    Func::NAMES.iter().chain(Func2::NAMES).chain(&["deg2rad", "rad2deg", "norm"]).copied().collect()
+}
 
 /// Arrays may nest this deep and hold this many numbers in all: parameters
 /// built from parameters could otherwise grow without bound.
@@ -384,14 +372,19 @@ fn call(callee: &Path, args: &[Expr], span: Span, scope: &mut dyn Scope) -> ERes
         return name(callee, scope);
     }
     let fname = callee.parts[0].name.as_str();
-    let Some(&(_, arity)) = FUNCTIONS.iter().find(|(n, _)| *n == fname) else {
-        let mut d =
-            Diagnostic::error(format!("unknown function `{fname}`")).primary(callee.span, "not a known function");
-        if let Some(s) = did_you_mean(fname, FUNCTIONS.iter().map(|(n, _)| *n)) {
-            d = d.help(s);
+    let (one, two) = (Func::from_name(fname), Func2::from_name(fname));
+    let arity = match (one, two, fname) {
+        (Some(_), ..) | (_, _, "deg2rad" | "rad2deg" | "norm") => 1,
+        (_, Some(_), _) => 2,
+        _ => {
+            let all = function_names();
+            let mut d =
+                Diagnostic::error(format!("unknown function `{fname}`")).primary(callee.span, "not a known function");
+            if let Some(s) = did_you_mean(fname, all.iter().copied()) {
+                d = d.help(s);
+            }
+            return Err(d.note(format!("the functions are: {}", all.join(", "))));
         }
-        let all: Vec<&str> = FUNCTIONS.iter().map(|(n, _)| *n).collect();
-        return Err(d.note(format!("the functions are: {}", all.join(", "))));
     };
     if args.len() != arity {
         return Err(Diagnostic::error(format!(
@@ -429,43 +422,18 @@ fn call(callee: &Path, args: &[Expr], span: Span, scope: &mut dyn Scope) -> ERes
             other => return Err(wrong_argument(fname, "a number", other, a.span)),
         }
     }
-    let domain = |ok: bool, what: &str| -> Result<(), Diagnostic> {
-        if ok {
-            Ok(())
-        } else {
-            Err(Diagnostic::error(format!("`{fname}` of {} is not defined", xs[0]))
-                .primary(span, format!("the argument must be {what}")))
-        }
-    };
     let x = xs[0];
-    let y = match fname {
-        "sqrt" => {
-            domain(x >= 0.0, "zero or positive")?;
-            x.sqrt()
-        }
-        "log" => {
-            domain(x > 0.0, "positive")?;
-            x.ln()
-        }
-        "asin" | "acos" => {
-            domain((-1.0..=1.0).contains(&x), "between -1 and 1")?;
-            if fname == "asin" {
-                x.asin()
-            } else {
-                x.acos()
+    let y = match (one, two) {
+        (Some(f), _) => {
+            if let Some(what) = f.outside_domain(x) {
+                return Err(Diagnostic::error(format!("`{fname}` of {x} is not defined"))
+                    .primary(span, format!("the argument must be {what}")));
             }
+            f.apply(x)
         }
-        "sin" => x.sin(),
-        "cos" => x.cos(),
-        "tan" => x.tan(),
-        "atan" => x.atan(),
-        "atan2" => x.atan2(xs[1]),
-        "exp" => x.exp(),
-        "abs" => x.abs(),
-        "deg2rad" => x.to_radians(),
-        "rad2deg" => x.to_degrees(),
-        "min" => x.min(xs[1]),
-        _ => x.max(xs[1]),
+        (_, Some(f)) => f.apply(x, xs[1]),
+        _ if fname == "deg2rad" => x.to_radians(),
+        _ => x.to_degrees(),
     };
     Ok(Val::Number(y))
 }

@@ -158,6 +158,16 @@ impl Func {
         }
     }
 
+    /// Where the function is defined, in words, when `x` is outside it.
+    pub fn outside_domain(self, x: f64) -> Option<&'static str> {
+        match self {
+            Func::Sqrt if x < 0.0 => Some("zero or positive"),
+            Func::Log | Func::Log10 if x <= 0.0 => Some("positive"),
+            Func::Asin | Func::Acos if !(-1.0..=1.0).contains(&x) => Some("between -1 and 1"),
+            _ => None,
+        }
+    }
+
     /// `f(x), f'(x), f''(x)`.
     pub fn derivatives(self, x: f64) -> [f64; 3] {
         match self {
