@@ -178,13 +178,46 @@ pub(super) fn sort(pending: &Pending, reads: &[Option<Source>]) -> Result<Sorted
     if !free.is_empty() {
         let names: Vec<String> = free.iter().map(|&c| pending.vars[unknowns[c]].name.clone()).collect();
         let written = free.iter().any(|&c| matches!(pending.vars[unknowns[c]].role, Role::Written { .. }));
+        // The under-determined part (Dulmage-Mendelsohn): the equations
+        // that could decide an undecided unknown, were their own unknown
+        // decided elsewhere (alternating paths from the free columns).
+        let mut rows_of: Vec<Vec<usize>> = vec![Vec::new(); unknowns.len()];
+        for (r, cols) in adjacency.iter().enumerate() {
+            for &c in cols {
+                rows_of[c].push(r);
+            }
+        }
+        let (mut seen, mut stack, mut part) = (vec![false; unknowns.len()], free.clone(), Vec::new());
+        while let Some(c) = stack.pop() {
+            if std::mem::replace(&mut seen[c], true) {
+                continue;
+            }
+            for &r in &rows_of[c] {
+                if !part.contains(&r) {
+                    part.push(r);
+                    stack.push(col_of[r]);
+                }
+            }
+        }
+        part.sort_unstable();
+        let mut also: Vec<String> = part.iter().map(|&r| pending.vars[unknowns[col_of[r]]].name.clone()).collect();
+        also.dedup();
         return Err(problem(
             format!(
-                "too few equations: nothing decides {} `{}`",
+                "too few equations: nothing decides {} `{}`{}",
                 if names.len() == 1 { "the unknown" } else { "the unknowns" },
-                names.join("`, `")
+                names.join("`, `"),
+                if also.is_empty() {
+                    String::new()
+                } else {
+                    format!(
+                        "; the equations that name {} decide `{}` already",
+                        if names.len() == 1 { "it" } else { "them" },
+                        also.join("`, `")
+                    )
+                }
             ),
-            vec![],
+            part.iter().map(|&r| pending.origins[kept[r]].clone()).collect(),
             names.iter().map(|n| declaration_of(pending, n)).collect(),
             if written {
                 "give each an equation; a signal input needs a source or an equation that gives its value"
