@@ -310,6 +310,24 @@ fn a_dc_motor_circuit_turns_the_table_as_its_linear_closed_form() {
     check(&table, "tachometer.w", 1e-7 * w_ss, speed);
 }
 
+/// The drawing arm: its hand on the circle by equations, its torques
+/// unknown (index 3). The angles are the closed-form inverse kinematics of
+/// two unit links, elbow below (the torques are checked against inverse
+/// dynamics in the language crate's tests).
+#[test]
+fn a_hand_drawing_a_circle_puts_the_joints_at_the_inverse_kinematics() {
+    let table = run("prescribed_hand.dyad", None);
+    let angles = |t: f64| {
+        let (x, y) = (1.2 + 0.2 * t.cos(), 0.2 * t.sin());
+        let elbow = -((x * x + y * y - 2.0) / 2.0).acos();
+        (y.atan2(x) - elbow.sin().atan2(1.0 + elbow.cos()), elbow)
+    };
+    check(&table, "shoulder.phi", 1e-6, move |t| angles(t).0);
+    check(&table, "elbow.phi", 1e-6, move |t| angles(t).1);
+    // The motors hold the hand: the pen's frame feels no force.
+    check(&table, "forearm.frame_b.f[1]", 1e-9, |_| 0.0);
+}
+
 #[test]
 fn every_model_with_equations_is_checked() {
     let source = std::fs::read_to_string(crate_path("tests/equations.rs")).unwrap();
