@@ -258,6 +258,35 @@ fn b(e: Expr) -> Box<Expr> {
     Box::new(e)
 }
 
+/// The nodes right below `$node`, a `&Expr` or a `&mut Expr`: one list of
+/// the variants for reading and for rewriting.
+macro_rules! children_of {
+    ($node:expr) => {
+        match $node {
+            Expr::Const(_) | Expr::Time | Expr::Var(_) | Expr::Initial | Expr::Pre(_) | Expr::Sample { .. } => {
+                Vec::new()
+            }
+            Expr::Der(a)
+            | Expr::Neg(a)
+            | Expr::Call(_, a)
+            | Expr::Not(a)
+            | Expr::NoEvent(a)
+            | Expr::Edge(a)
+            | Expr::Change(a) => vec![a],
+            Expr::Add(x, y)
+            | Expr::Sub(x, y)
+            | Expr::Mul(x, y)
+            | Expr::Div(x, y)
+            | Expr::Pow(x, y)
+            | Expr::Call2(_, x, y)
+            | Expr::Compare(_, x, y)
+            | Expr::And(x, y)
+            | Expr::Or(x, y) => vec![x, y],
+            Expr::If(c, x, y) => vec![c, x, y],
+        }
+    };
+}
+
 impl Expr {
     pub fn var(name: impl Into<String>) -> Expr {
         Expr::Var(name.into())
@@ -304,61 +333,21 @@ impl Expr {
         found
     }
 
+    /// The nodes right below this one.
+    pub fn children(&self) -> Vec<&Expr> {
+        children_of!(self)
+    }
+
     /// The nodes right below this one, to rewrite them.
     pub fn children_mut(&mut self) -> Vec<&mut Expr> {
-        match self {
-            Expr::Const(_) | Expr::Time | Expr::Var(_) | Expr::Initial | Expr::Pre(_) | Expr::Sample { .. } => {
-                Vec::new()
-            }
-            Expr::Der(a)
-            | Expr::Neg(a)
-            | Expr::Call(_, a)
-            | Expr::Not(a)
-            | Expr::NoEvent(a)
-            | Expr::Edge(a)
-            | Expr::Change(a) => vec![a],
-            Expr::Add(x, y)
-            | Expr::Sub(x, y)
-            | Expr::Mul(x, y)
-            | Expr::Div(x, y)
-            | Expr::Pow(x, y)
-            | Expr::Call2(_, x, y)
-            | Expr::Compare(_, x, y)
-            | Expr::And(x, y)
-            | Expr::Or(x, y) => vec![x, y],
-            Expr::If(c, x, y) => vec![c, x, y],
-        }
+        children_of!(self)
     }
 
     /// Calls `f` on this node and every node below it.
     pub fn visit<'a>(&'a self, f: &mut impl FnMut(&'a Expr)) {
         f(self);
-        match self {
-            Expr::Const(_) | Expr::Time | Expr::Var(_) | Expr::Initial | Expr::Pre(_) | Expr::Sample { .. } => {}
-            Expr::Der(a)
-            | Expr::Neg(a)
-            | Expr::Call(_, a)
-            | Expr::Not(a)
-            | Expr::NoEvent(a)
-            | Expr::Edge(a)
-            | Expr::Change(a) => a.visit(f),
-            Expr::Add(x, y)
-            | Expr::Sub(x, y)
-            | Expr::Mul(x, y)
-            | Expr::Div(x, y)
-            | Expr::Pow(x, y)
-            | Expr::Call2(_, x, y)
-            | Expr::Compare(_, x, y)
-            | Expr::And(x, y)
-            | Expr::Or(x, y) => {
-                x.visit(f);
-                y.visit(f);
-            }
-            Expr::If(c, x, y) => {
-                c.visit(f);
-                x.visit(f);
-                y.visit(f);
-            }
+        for child in self.children() {
+            child.visit(f);
         }
     }
 }
