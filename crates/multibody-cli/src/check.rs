@@ -46,10 +46,11 @@ pub fn check(selection: &Selection) -> Result<(), Failure> {
     let loops = mechanism.loops();
     if !loops.is_empty() {
         let contacts = loops.iter().filter(|l| l.wheel_contact.is_some()).count();
-        if contacts < loops.len() {
-            put!(out, "  kinematic loops: {}", loops.len() - contacts);
+        let prescribed = loops.iter().filter(|l| l.prescribed).count();
+        if contacts + prescribed < loops.len() {
+            put!(out, "  kinematic loops: {}", loops.len() - contacts - prescribed);
         }
-        for l in loops.iter().filter(|l| l.wheel_contact.is_none()) {
+        for l in loops.iter().filter(|l| l.wheel_contact.is_none() && !l.prescribed) {
             put!(
                 out,
                 "    through {}: cut at {}, {} constraint equations, {} of them redundant",
@@ -57,6 +58,17 @@ pub fn check(selection: &Selection) -> Result<(), Failure> {
                 l.cut,
                 l.equations,
                 l.redundant
+            );
+        }
+        for l in loops.iter().filter(|l| l.prescribed) {
+            put!(
+                out,
+                "  motion prescribed by equations: {} ({} position coordinates, {} of them redundant), held by the \
+                 unknown efforts on {}",
+                l.cut.trim_end_matches(" (servo)"),
+                l.equations,
+                l.redundant,
+                l.joints.join(", ")
             );
         }
         if contacts > 0 {

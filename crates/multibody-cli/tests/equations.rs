@@ -326,6 +326,12 @@ fn a_hand_drawing_a_circle_puts_the_joints_at_the_inverse_kinematics() {
     check(&table, "elbow.phi", 1e-6, move |t| angles(t).1);
     // The motors hold the hand: the pen's frame feels no force.
     check(&table, "forearm.frame_b.f[1]", 1e-9, |_| 0.0);
+    // `check` says what holds the hand: not a loop of joints.
+    let path = crate_path("../../examples/equations/prescribed_hand.dyad");
+    let output = multibody(&scratch("equations-prescribed-hand-check"), &["check", path.as_str()]);
+    let report = String::from_utf8_lossy(&output.stdout);
+    assert!(report.contains("motion prescribed by equations: forearm.frame_b (2 position coordinates"), "{report}");
+    assert!(report.contains("held by the unknown efforts on elbow, shoulder") && !report.contains("kinematic loops"));
 }
 
 #[test]

@@ -75,7 +75,7 @@ pub fn constraints(components: &mut [CompiledComponent], tree: &Tree) -> (Vec<Co
 pub fn loop_reports(mechanism: &Mechanism, ws: &mut Workspace) -> Vec<LoopInfo> {
     let nv = mechanism.system.states.nv;
     let mut reports = Vec::new();
-    for c in &mechanism.system.constraints {
+    for (index, c) in mechanism.system.constraints.iter().enumerate() {
         let ends = [c.a.anchor, c.b.anchor].map(|a| match a {
             crate::system::Anchor::Link(k) => k,
             crate::system::Anchor::Massless(_) => GROUND,
@@ -112,7 +112,8 @@ pub fn loop_reports(mechanism: &Mechanism, ws: &mut Workspace) -> Vec<LoopInfo> 
         let rank = crate::math::dense::ldlt_pivoted(&mut gram, c.rows, &mut perm, 1e-10);
         let wheel_contact = matches!(c.kind, crate::system::ConstraintKind::Wheel { .. })
             .then(|| (0..c.rows).filter(|&i| c.kind.is_velocity_row(i)).count());
-        reports.push(LoopInfo { cut, joints, equations: c.rows, redundant: c.rows - rank, wheel_contact });
+        let prescribed = mechanism.system.servos.iter().any(|s| s.constraint == index);
+        reports.push(LoopInfo { cut, joints, equations: c.rows, redundant: c.rows - rank, wheel_contact, prescribed });
     }
     reports
 }

@@ -134,6 +134,9 @@ pub struct LoopInfo {
     /// A wheel's contact with the ground (not a loop of joints), and how many
     /// of its equations are on velocities only (rolling without slipping).
     pub wheel_contact: Option<usize>,
+    /// A motion the model's equations prescribe (not a loop of joints): the
+    /// cut is the frame, the joints are those its unknown efforts move.
+    pub prescribed: bool,
 }
 
 /// A set of connected frames, fixed in a link (or in a massless group).
