@@ -540,6 +540,23 @@ fn a_planar_world_placed_in_3d_is_accepted_and_keeps_the_planar_motion() {
     assert!(worst < 1e-9, "free fall in a placed plane differs by {worst:e}");
 }
 
+/// Beside 3-D parts, a plane placed in 3-D would move them (the library's
+/// PlanarToMultiBodyEmbeddedTest): not done yet, so refused, not ignored.
+#[test]
+fn a_plane_placed_in_3d_beside_3d_parts_is_refused_not_ignored() {
+    let mut m = Model::new("embedded");
+    m.add("world", "PlanarMechanics.World").set("r_0_3d", [1.0, 2.0, 3.0]);
+    m.add("body", "PlanarMechanics.Body").set("m", 1.0).set("I", 1.0);
+    m.add("adapter", "PlanarMechanics.PlanarToMultiBody").set("z_position", 0.5);
+    m.add("sensor", "AbsoluteAngles");
+    m.connect(["body.frame_a", "adapter.frame_a"]);
+    m.connect(["adapter.frame_b", "sensor.frame_a"]);
+    let message = m.assemble().unwrap_err().to_string();
+    for expected in ["world", "r_0_3d", "not applied to 3-D parts yet", "leave"] {
+        assert!(message.contains(expected), "`{expected}` missing from: {message}");
+    }
+}
+
 /// A planar Prismatic with `axisflange`: a translational spring between
 /// its support and axis holds a 1 kg body sliding along x, which then
 /// oscillates as `s0 cos(sqrt(c / m) t)`, and the joint's force is the

@@ -36,14 +36,15 @@ pub static SPEC: ComponentSpec = ComponentSpec {
             "r_0_3d",
             &[0.0, 0.0, 0.0],
             "m",
-            "Where the plane sits in 3-D, for drawing it; the planar motion does not depend on it (the animation \
-             here still draws the plane as the world's x-y plane)",
+            "Where the plane sits in 3-D; the planar motion does not depend on it. Not applied yet: the \
+             animation draws the plane as the world's x-y plane, and beside 3-D parts (PlanarToMultiBody) a \
+             value other than zero is refused",
         ),
         ParamSpec::vector(
             "rot_3d",
             &[0.0, 0.0, 0.0],
             "rad",
-            "How the plane is turned in 3-D, for drawing it, like r_0_3d (not applied to the animation here yet)",
+            "How the plane is turned in 3-D (rotation angles about x, y, z); not applied yet, like r_0_3d",
         ),
     ],
     connectors: &[ConnectorSpec::frame_2d("frame_b", "The world frame: x = y = phi = 0")],
@@ -69,10 +70,10 @@ fn shapes(p: &ParamSet) -> Vec<LocalShape> {
 }
 
 /// The library's planar World fixes frame_b at x = y = phi = 0 whatever
-/// `r_0_3d` and `rot_3d` say: they place the plane for showing it in 3-D,
-/// and change neither the planar motion nor gravity in the plane (nor
-/// where `PlanarToMultiBody` puts its 3-D frame). They are checked here,
-/// and accepted.
+/// `r_0_3d` and `rot_3d` say: they place the plane in 3-D, which changes
+/// neither the planar motion nor gravity in the plane. They are checked
+/// here; beside 3-D parts, where they would move those, assembly refuses
+/// them (not applied yet).
 fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
     for name in ["r_0_3d", "rot_3d"] {
         if p.vector(name).iter().any(|x| !x.is_finite()) {
