@@ -532,6 +532,14 @@ fn expand_initial_derivatives(
     regular: &[&crate::Equation],
     declared: &HashMap<&str, usize>,
 ) {
+    let mut any = false;
+    for e in initial.iter() {
+        e.lhs.visit(&mut |n| any |= matches!(n, Expr::Der(_)));
+        e.rhs.visit(&mut |n| any |= matches!(n, Expr::Der(_)));
+    }
+    if !any {
+        return;
+    }
     let mut differentiated = std::collections::HashSet::new();
     let mut definitions: HashMap<&str, &Expr> = HashMap::new();
     for e in regular {

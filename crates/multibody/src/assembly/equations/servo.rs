@@ -48,6 +48,15 @@ fn frame_position(name: &str, net: &Connectivity) -> Option<(String, usize)> {
 /// equations have no such pair (other mismatches are the sorting's to
 /// explain).
 pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity) -> Result<Vec<Extra>, Error> {
+    // Most models prescribe no frame position: say so before any work.
+    let mut names = Vec::new();
+    for e in &eqs.equations {
+        e.lhs.variables(&mut names);
+        e.rhs.variables(&mut names);
+    }
+    if !names.iter().any(|n| n.contains(".r_0[")) {
+        return Ok(Vec::new());
+    }
     // Names made equal by `a = b`, in classes.
     let mut number: HashMap<String, usize> = HashMap::new();
     let id = |name: &str, number: &mut HashMap<String, usize>| {
