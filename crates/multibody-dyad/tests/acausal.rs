@@ -9,13 +9,9 @@ mod common;
 use common::{error_of, example, report, simulate, worst_against, worst_difference};
 use multibody_dyad::Package;
 
-/// A rotational spring-damper in the library's form, `w_rel = der(phi_rel)`,
-/// between two inertias, beside the built-in one: the same motion.
-#[test]
-fn a_rotational_spring_damper_in_the_library_form_equals_the_built_in_one() {
-    let solution = simulate(
-        r#"
-component TorsionSpringDamper
+/// A rotational spring-damper as the library writes its own: `w_rel` is
+/// `der` of the stretch (the component's relations, without `end`).
+const LIBRARY_FORM_SPRING: &str = r#"component TorsionSpringDamper
   parameter c::Real
   parameter d::Real
   spline_a = Spline()
@@ -29,7 +25,15 @@ relations
   tau = c * phi_rel + d * w_rel
   spline_b.tau = tau
   spline_a.tau = -tau
-end
+"#;
+
+/// A rotational spring-damper in the library's form, `w_rel = der(phi_rel)`,
+/// between two inertias, beside the built-in one: the same motion.
+#[test]
+fn a_rotational_spring_damper_in_the_library_form_equals_the_built_in_one() {
+    let solution = simulate(&format!(
+        r#"
+{LIBRARY_FORM_SPRING}end
 
 example component Shafts
   written = TorsionSpringDamper(c = 300, d = 2)
@@ -49,8 +53,8 @@ analysis ShaftsRun
   extends TransientAnalysis(stop = 2, saveat = 0.01, abstol = 1e-10, reltol = 1e-10)
   model = Shafts()
 end
-"#,
-    );
+"#
+    ));
     let mut worst = 0.0f64;
     for (x, y) in [("a1.phi", "a2.phi"), ("a1.w", "a2.w"), ("b1.phi", "b2.phi"), ("b1.w", "b2.w")] {
         worst = worst.max(worst_difference(solution.get(x).unwrap(), solution.get(y).unwrap()));
@@ -529,23 +533,9 @@ end
 /// `0.5 * 1.5 = 300 phi_rel + 2 * (0 - 4)`.
 #[test]
 fn a_library_form_spring_starts_with_no_relative_acceleration() {
-    let solution = simulate(
+    let solution = simulate(&format!(
         r#"
-component TorsionSpringDamper
-  parameter c::Real
-  parameter d::Real
-  spline_a = Spline()
-  spline_b = Spline()
-  variable phi_rel::Angle
-  variable w_rel::AngularVelocity
-  variable tau::Torque
-relations
-  phi_rel = spline_b.phi - spline_a.phi
-  w_rel = der(phi_rel)
-  tau = c * phi_rel + d * w_rel
-  spline_b.tau = tau
-  spline_a.tau = -tau
-  initial der(w_rel) = 0
+{LIBRARY_FORM_SPRING}  initial der(w_rel) = 0
 end
 
 example component Shafts
@@ -563,8 +553,8 @@ analysis ShaftsRun
   extends TransientAnalysis(stop = 0.1, saveat = 0.01, abstol = 1e-10, reltol = 1e-10)
   model = Shafts()
 end
-"#,
-    );
+"#
+    ));
     let first = |name: &str| solution.get(name).unwrap()[0];
     let worst = (first("a1.a") - 1.5).abs().max((first("b1.a") - 1.5).abs());
     report("library-form spring, start accelerations against 1.5 rad/s2", worst, 1e-9);
