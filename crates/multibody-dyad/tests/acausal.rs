@@ -633,6 +633,19 @@ fn a_hand_prescribed_along_one_axis_with_two_unknown_torques_is_named_an_index_p
     }
 }
 
+/// An effort that a signal block also reads would be read before the
+/// motion decides it: refused, naming the input.
+#[test]
+fn an_effort_read_by_a_block_is_refused_with_its_name() {
+    let text = prescribed_hand("stop = 1")
+        .replace("  variable tau1::Real\n", "  gain = BlockComponents.Gain(k = 2)\n  variable tau1::Real\n")
+        .replace("  motor2.tau = tau2\n", "  motor2.tau = tau2\n  connect(motor1.tau, gain.u)\n");
+    let message = error_of(&text);
+    for expected in ["`lower.frame_b`", "`motor1.tau` is read by a signal block", "1-D sources"] {
+        assert!(message.contains(expected), "`{expected}` missing from: {message}");
+    }
+}
+
 /// The prescribed hand with its analysis options.
 fn prescribed_hand(options: &str) -> String {
     format!(

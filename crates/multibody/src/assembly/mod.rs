@@ -134,11 +134,11 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         forces::elements(&components, &conn, &mut tree, &drive.places, &signals.of_connector, zero_slot)?;
     let servos = servos::attach(
         &components,
+        &conn,
         &constraints,
         &axis_elements,
         &force_elements,
-        &signals.blocks,
-        &signals.of_connector,
+        &signals,
         tree.links.iter().skip(1).map(|l| l.v_offset + l.joint.nv()).max().unwrap_or(0),
     )?;
     let (mut drives, drive_starts, source_states) =

@@ -5,21 +5,25 @@
 //! unit effort applies (constant: a 1-D source pushes its flanges'
 //! coordinates by a fixed ratio).
 
+use super::connections::Connectors;
 use super::mechanism::CompiledComponent;
+use super::signals::Signals;
+use crate::components::ConnectorType;
 use crate::components::Part;
 use crate::system::Law1D;
-use crate::system::{AxisElement, Constraint, ForceElement, LineState, Mover, Servo, SignalBlock};
+use crate::system::{AxisElement, Constraint, ForceElement, LineState, Mover, Servo};
 use crate::Error;
 
 pub(crate) fn attach(
     components: &[CompiledComponent],
+    conn: &Connectors,
     constraints: &[Constraint],
     axis_elements: &[AxisElement],
     force_elements: &[ForceElement],
-    blocks: &[SignalBlock],
-    of_connector: &[usize],
+    signals: &Signals,
     nv: usize,
 ) -> Result<Vec<Servo>, Error> {
+    let (blocks, of_connector) = (&signals.blocks, &signals.of_connector);
     let mut servos = Vec::new();
     for (ci, c) in components.iter().enumerate() {
         for part in &c.parts {
@@ -31,12 +35,15 @@ pub(crate) fn attach(
             let mut lines: Vec<LineState> = Vec::new();
             for (i, &slot) in slots.iter().enumerate() {
                 let refuse = |what: &str| {
+                    // The effort by the input it drives (`motor.tau`).
+                    let input = (0..conn.types.len())
+                        .find(|&k| conn.types[k] == ConnectorType::RealInput && of_connector[k] == slot)
+                        .map_or(format!("number {}", i + 1), |k| format!("`{}`", conn.name(components, k)));
                     Err(Error::Equations {
                         problem: format!(
-                            "the motion that equations prescribe at `{}` is held by unknown efforts, and effort {} \
-                             {what}",
+                            "the motion that equations prescribe at `{}` is held by unknown efforts, and the effort \
+                             {input} {what}",
                             c.name.trim_end_matches(" (servo)"),
-                            i + 1
                         ),
                         equations: Vec::new(),
                         variables: Vec::new(),

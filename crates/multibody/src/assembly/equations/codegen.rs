@@ -819,15 +819,6 @@ fn place(
         positions.push(AFTER_DYNAMICS);
         blocks.push(old[node - nl].take().expect("each node once"));
     }
-    // A written block does nothing when evaluated (the equations fill its
-    // slot): the equation blocks before it may as well run after it, so
-    // that the runs between written inputs and flows sit at one place and
-    // fuse (a chain of written elements is one run, not one per element).
-    for p in positions.iter_mut().filter(|p| **p != AFTER_DYNAMICS) {
-        while *p < kept.len() && matches!(kept[*p].law, SignalLaw::Written) {
-            *p += 1;
-        }
-    }
     signals.blocks = kept;
     Ok(positions)
 }

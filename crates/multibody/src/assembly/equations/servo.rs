@@ -59,27 +59,15 @@ pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity) -> Result<Vec
     }
     // Names made equal by `a = b`, in classes.
     let mut number: HashMap<String, usize> = HashMap::new();
-    let id = |name: &str, number: &mut HashMap<String, usize>| {
+    for n in names {
         let next = number.len();
-        *number.entry(name.to_string()).or_insert(next)
-    };
-    let mut pairs = Vec::new();
-    for e in &eqs.equations {
-        if let (Expr::Var(a), Expr::Var(b)) = (&e.lhs, &e.rhs) {
-            pairs.push((id(a, &mut number), id(b, &mut number)));
-        }
-    }
-    for e in &eqs.equations {
-        let mut names = Vec::new();
-        e.lhs.variables(&mut names);
-        e.rhs.variables(&mut names);
-        for n in names {
-            id(n, &mut number);
-        }
+        number.entry(n.to_string()).or_insert(next);
     }
     let mut classes = UnionFind::new(number.len());
-    for &(a, b) in &pairs {
-        classes.union(a, b);
+    for e in &eqs.equations {
+        if let (Expr::Var(a), Expr::Var(b)) = (&e.lhs, &e.rhs) {
+            classes.union(number[a.as_str()], number[b.as_str()]);
+        }
     }
     let mut members: HashMap<usize, Vec<&str>> = HashMap::new();
     for (name, &i) in &number {
@@ -140,6 +128,19 @@ pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity) -> Result<Vec
     for e in &eqs.initial {
         e.lhs.variables(&mut other_uses);
         e.rhs.variables(&mut other_uses);
+    }
+    // A variable a flow is given by decides that flow: not an effort.
+    for f in &eqs.flows {
+        match f {
+            crate::model::Flow::Frame { force, torque, .. } => {
+                other_uses.extend(force.iter().chain(torque).map(String::as_str))
+            }
+            crate::model::Flow::Frame2D { force, torque, .. } => {
+                other_uses.extend(force.iter().map(String::as_str));
+                other_uses.push(torque);
+            }
+            crate::model::Flow::Flange { value, .. } => other_uses.push(value),
+        }
     }
     for n in other_uses {
         if let Some(&i) = number.get(n) {
