@@ -362,7 +362,7 @@ fn sensors() {
 #[test]
 fn prescribed_motion() {
     use multibody::{Func, TimeExpr as T};
-    let b = Box::new;
+    let b = std::sync::Arc::new;
     let mut m = Model::new("PrescribedMotion");
     m.add("world", "World");
     m.add("carrier", "PrescribedPosition");
@@ -398,7 +398,7 @@ fn prescribed_motion() {
 #[test]
 fn wheeled_cart() {
     use multibody::{Func, TimeExpr as T};
-    let b = Box::new;
+    let b = std::sync::Arc::new;
     let mut m = Model::new("WheeledCart");
     m.add("world", "World");
     let wheels = |m: &mut Model, name: &str| {
@@ -480,7 +480,7 @@ fn slipping_wheels() {
     m.component_mut("pacejka").unwrap().set("elastic_contact", true).set("color", [0.0, 0.0, 1.0, 1.0]);
     {
         use multibody::{Expr as S, Func};
-        let b = Box::new;
+        let b = std::sync::Arc::new;
         m.add("wavy", "SlippingWheel")
             .set("radius", 0.3)
             .set("m", 1.0)

@@ -328,7 +328,7 @@ fn a_road_is_a_formula_of_x_and_z() {
     let text = "component Road\n  parameter k::Real = 0.5\n  world = MultibodyComponents.World()\n  wheel = MultibodyComponents.SlippingWheel()\nrelations\n  wheel.surface = 0.1 * sin(k * x) - z / 4\nend\n";
     let lowered = component(text, "Road");
     let wheel = lowered.model.components.iter().find(|c| c.name == "wheel").unwrap();
-    let b = Box::new;
+    let b = std::sync::Arc::new;
     let expected = S::Sub(
         b(S::Mul(
             b(S::Const(0.1)),

@@ -397,7 +397,7 @@ fn a_wheel_rolls_down_a_sloping_road() {
     let angle = slope.atan();
     let expected = G * angle.sin() / (1.0 + I_AXIS / (M * R * R));
     for elastic in [false, true] {
-        let road = S::Mul(Box::new(S::Const(-slope)), Box::new(S::Var("x".into())));
+        let road = -slope * S::var("x");
         let mut model = wheel_on_road(road, 0.0);
         if elastic {
             model.component_mut("wheel").unwrap().set("elastic_contact", true);
@@ -434,8 +434,7 @@ fn a_wheel_rolls_down_a_sloping_road() {
 fn a_wheel_swings_in_a_bowl_with_the_period_of_rolling() {
     use multibody::Expr as S;
     let rho = 3.0;
-    let b = Box::new;
-    let road = S::Div(b(S::Mul(b(S::Var("x".into())), b(S::Var("x".into())))), b(S::Const(2.0 * rho)));
+    let road = S::var("x") * S::var("x") / (2.0 * rho);
     let amplitude = 0.01;
     let mechanism = wheel_on_road(road, amplitude).assemble().unwrap();
     let expected = 2.0 * std::f64::consts::PI * ((rho - R) * (1.0 + I_AXIS / (M * R * R)) / G).sqrt();

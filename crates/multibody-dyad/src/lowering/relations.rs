@@ -3,7 +3,7 @@
 //! equations of the model, their names resolved to the flattened variables
 //! and connector quantities.
 
-use crate::lowering::symbolic::{self, Names, Sym};
+use crate::lowering::symbolic::{self, ArrayExpr, Names};
 use crate::reports::diagnostics::{did_you_mean, Diagnostic};
 use crate::reports::source_map::SourceMap;
 use crate::semantics::connectors::Connector;
@@ -14,6 +14,7 @@ use crate::syntax::source::Span;
 use multibody::components::{ComponentSpec, ConnectorType};
 use multibody::Expr as E;
 use std::collections::HashMap;
+use std::sync::Arc;
 
 /// Loop variables in scope, innermost last.
 pub type Env = Vec<(String, f64)>;
@@ -489,11 +490,17 @@ pub fn flatten_val(v: &Val, out: &mut Vec<f64>) {
 /// variable. Only the selected ones are built, so a reference costs the
 /// same whatever the size of the array (a `for` over n elements stays
 /// linear in n). Errors as [`select`] gives them.
-fn selected_variables(base: &str, dims: &[usize], index: &[usize], span: Span, what: &str) -> Result<Sym, Diagnostic> {
-    fn build(base: &str, dims: &[usize], index: &mut Vec<usize>) -> Sym {
+fn selected_variables(
+    base: &str,
+    dims: &[usize],
+    index: &[usize],
+    span: Span,
+    what: &str,
+) -> Result<ArrayExpr, Diagnostic> {
+    fn build(base: &str, dims: &[usize], index: &mut Vec<usize>) -> ArrayExpr {
         match dims.split_first() {
-            None => Sym::Scalar(E::var(with_index(base, index))),
-            Some((&n, rest)) => Sym::Array(
+            None => ArrayExpr::Scalar(Arc::new(E::var(with_index(base, index)))),
+            Some((&n, rest)) => ArrayExpr::Array(
                 (1..=n)
                     .map(|k| {
                         index.push(k);
@@ -523,16 +530,16 @@ fn selected_variables(base: &str, dims: &[usize], index: &[usize], span: Span, w
 }
 
 /// Selects elements of `value` by 1-based `index`.
-fn select(value: Sym, index: &[usize], span: Span, what: &str) -> Result<Sym, Diagnostic> {
+fn select(value: ArrayExpr, index: &[usize], span: Span, what: &str) -> Result<ArrayExpr, Diagnostic> {
     let mut v = value;
     for &k in index {
         v = match v {
-            Sym::Array(mut items) if (1..=items.len()).contains(&k) => items.swap_remove(k - 1),
-            Sym::Array(items) => {
+            ArrayExpr::Array(mut items) if (1..=items.len()).contains(&k) => items.swap_remove(k - 1),
+            ArrayExpr::Array(items) => {
                 return Err(Diagnostic::error(format!("index {k} is out of range for `{what}`"))
                     .primary(span, format!("must be from 1 to {}", items.len())))
             }
-            Sym::Scalar(_) => {
+            ArrayExpr::Scalar(_) => {
                 return Err(Diagnostic::error(format!("`{what}` is a scalar and cannot be indexed"))
                     .primary(span, "not an array"))
             }
@@ -640,14 +647,14 @@ struct Resolver<'r, 'c, 's, 'e, 'j> {
 }
 
 impl Names for Resolver<'_, '_, '_, '_, '_> {
-    fn reference(&mut self, expr: &Expr) -> Result<Option<Sym>, Diagnostic> {
+    fn reference(&mut self, expr: &Expr) -> Result<Option<ArrayExpr>, Diagnostic> {
         let env = self.env;
         let ctx = &mut *self.context;
         let Some(parts) = segments(expr, ctx.scope, env)? else { return Ok(None) };
         let (first, first_index) = &parts[0];
         if parts.len() == 1 {
             if let Some((_, v)) = env.iter().rev().find(|(n, _)| *n == first.name) {
-                return Ok(Some(select(Sym::scalar(*v), first_index, expr.span, &first.name)?));
+                return Ok(Some(select(ArrayExpr::scalar(*v), first_index, expr.span, &first.name)?));
             }
             if !ctx.runtime.contains(&first.name) {
                 if let Some(v) = ctx.scope.parameter(first)? {
@@ -758,13 +765,13 @@ fn connector_quantity(
     rest: &[(Ident, Vec<usize>)],
     span: Span,
     declared: bool,
-) -> Result<Sym, Diagnostic> {
+) -> Result<ArrayExpr, Diagnostic> {
     if ty.is_signal() {
         if !rest.is_empty() {
             return Err(Diagnostic::error(format!("the signal `{connector}` has no fields")).primary(span, "no fields"));
         }
         if declared && ctx.host_inputs.contains(connector) {
-            return Ok(Sym::Scalar(E::var(format!("{connector}.y"))));
+            return Ok(ArrayExpr::Scalar(Arc::new(E::var(format!("{connector}.y")))));
         }
         if declared {
             let owner = connector.rsplit_once('.').map_or("", |(owner, _)| owner);
@@ -775,7 +782,7 @@ fn connector_quantity(
                 set_from_outside: ty.is_input() && owner != ctx.prefix,
             });
         }
-        return Ok(Sym::Scalar(E::var(connector)));
+        return Ok(ArrayExpr::Scalar(Arc::new(E::var(connector))));
     }
     let names = || ty.fields.iter().map(|f| f.name.as_str()).collect::<Vec<_>>().join(", ");
     let Some(((field, index), tail)) = rest.split_first() else {
@@ -807,7 +814,7 @@ fn connector_quantity(
 }
 
 impl Context<'_, '_, '_, '_> {
-    fn eval(&mut self, e: &Expr, env: &[(String, f64)]) -> Result<Sym, Diagnostic> {
+    fn eval(&mut self, e: &Expr, env: &[(String, f64)]) -> Result<ArrayExpr, Diagnostic> {
         let mut r = Resolver { context: self, env };
         symbolic::eval(e, &mut r)
     }
@@ -836,7 +843,7 @@ impl Context<'_, '_, '_, '_> {
         let (mut xs, mut ys) = (Vec::new(), Vec::new());
         a.flatten(&mut xs);
         b.flatten(&mut ys);
-        Ok(xs.into_iter().zip(ys).collect())
+        Ok(xs.into_iter().map(Arc::unwrap_or_clone).zip(ys.into_iter().map(Arc::unwrap_or_clone)).collect())
     }
 
     /// Adds `lhs = rhs` to the equations.
@@ -906,7 +913,7 @@ impl Context<'_, '_, '_, '_> {
                 let mut when = multibody::When { branches: Vec::new(), origin: self.out.origin(*span) };
                 for (condition, body) in branches {
                     let c = self.eval(condition, env)?;
-                    let Sym::Scalar(c) = c else {
+                    let ArrayExpr::Scalar(c) = c else {
                         return Err(
                             Diagnostic::error("a condition must be a scalar").primary(condition.span, "not a scalar")
                         );
@@ -915,7 +922,7 @@ impl Context<'_, '_, '_, '_> {
                     for r in body {
                         self.when_action(r, env, &mut actions)?;
                     }
-                    when.branches.push((c, actions));
+                    when.branches.push((Arc::unwrap_or_clone(c), actions));
                 }
                 self.out.whens.push(when);
                 Ok(())
@@ -929,10 +936,10 @@ impl Context<'_, '_, '_, '_> {
                 let mut cases: Vec<(Option<E>, Vec<E>)> = Vec::new();
                 for (c, body) in branches {
                     let cond = self.eval(c, env)?;
-                    let Sym::Scalar(cond) = cond else {
+                    let ArrayExpr::Scalar(cond) = cond else {
                         return Err(Diagnostic::error("a condition must be a scalar").primary(c.span, "not a scalar"));
                     };
-                    cases.push((Some(cond), self.branch(body)?));
+                    cases.push((Some(Arc::unwrap_or_clone(cond)), self.branch(body)?));
                 }
                 cases.push((None, self.branch(otherwise)?));
                 let n = cases[0].1.len();

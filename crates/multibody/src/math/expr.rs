@@ -1,50 +1,62 @@
-//! Scalar expressions of time and named variables: what a model's
-//! equations are made of (`ctrl.y = -kp * (sensor.phi - ref)`), plain data.
+//! The one expression tree of the library, from a model file's equations
+//! to the compiled code: scalar expressions of time and variables
+//! (`ctrl.y = -kp * (sensor.phi - ref)`), plain data. `Expr` (variables
+//! by name) is what a model states; after assembly resolves the names,
+//! the same tree with numbered variables, [`Sym`](super::symbolic::Sym),
+//! is what the equation compiler sorts, differentiates and compiles
+//! ([`symbolic`](super::symbolic) holds the algebra, written once for
+//! both). Subtrees are shared (`Arc`), so copies and derivatives are cheap.
 //!
 //! A formula of time alone (no variables) also compiles into a
 //! [`TimeFunction`], evaluated with its first two time derivatives, which
 //! prescribed motion needs; evaluating it allocates nothing.
 
 use std::ops;
+use std::sync::Arc;
 
-/// A scalar expression. Booleans are numbers: a comparison gives 1 or 0,
-/// and a condition holds when it is not 0.
+/// A shared subtree.
+pub type Node<V = String> = Arc<Expr<V>>;
+
+/// A scalar expression over variables `V` (names by default). Booleans are
+/// numbers: a comparison gives 1 or 0, and a condition holds when it is
+/// not 0.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Expr {
+pub enum Expr<V = String> {
     Const(f64),
     Time,
-    /// A variable by name: a variable of the model's equations, or a
+    /// A variable: by name, a variable of the model's equations or a
     /// quantity of a library component (`body.frame_a.r_0[2]`, `rev.phi`,
-    /// `sensor.phi`).
-    Var(String),
-    /// The time derivative of an expression.
-    Der(Box<Expr>),
-    Neg(Box<Expr>),
-    Add(Box<Expr>, Box<Expr>),
-    Sub(Box<Expr>, Box<Expr>),
-    Mul(Box<Expr>, Box<Expr>),
-    Div(Box<Expr>, Box<Expr>),
-    Pow(Box<Expr>, Box<Expr>),
-    Call(Func, Box<Expr>),
-    Call2(Func2, Box<Expr>, Box<Expr>),
-    Compare(Cmp, Box<Expr>, Box<Expr>),
-    And(Box<Expr>, Box<Expr>),
-    Or(Box<Expr>, Box<Expr>),
-    Not(Box<Expr>),
+    /// `sensor.phi`); by number after assembly.
+    Var(V),
+    /// The time derivative of an expression (gone after assembly, which
+    /// gives each derivative a variable of its own).
+    Der(Node<V>),
+    Neg(Node<V>),
+    Add(Node<V>, Node<V>),
+    Sub(Node<V>, Node<V>),
+    Mul(Node<V>, Node<V>),
+    Div(Node<V>, Node<V>),
+    Pow(Node<V>, Node<V>),
+    Call(Func, Node<V>),
+    Call2(Func2, Node<V>, Node<V>),
+    Compare(Cmp, Node<V>, Node<V>),
+    And(Node<V>, Node<V>),
+    Or(Node<V>, Node<V>),
+    Not(Node<V>),
     /// `if condition then a else b`.
-    If(Box<Expr>, Box<Expr>, Box<Expr>),
+    If(Node<V>, Node<V>, Node<V>),
     /// `noEvent(e)`: the relations inside are evaluated as they are,
     /// without events.
-    NoEvent(Box<Expr>),
+    NoEvent(Node<V>),
     /// `pre(x)`: the value of the variable `x` before the current event
     /// (its left limit); only in `when` clauses.
-    Pre(String),
+    Pre(V),
     /// `initial()`: true during the event iteration at the start.
     Initial,
     /// `edge(b)`: true at the event where `b` became true.
-    Edge(Box<Expr>),
+    Edge(Node<V>),
     /// `change(v)`: true at the event where `v` changed.
-    Change(Box<Expr>),
+    Change(Node<V>),
     /// `sample(start, interval)`: true at the time events `start + k
     /// interval` (k = 0, 1, ...), false between them.
     Sample {
@@ -254,17 +266,47 @@ impl Cmp {
     }
 }
 
-fn b(e: Expr) -> Box<Expr> {
-    Box::new(e)
+fn b<V>(e: Expr<V>) -> Node<V> {
+    Arc::new(e)
 }
 
-/// The nodes right below `$node`, a `&Expr` or a `&mut Expr`: one list of
-/// the variants for reading and for rewriting.
-macro_rules! children_of {
-    ($node:expr) => {
-        match $node {
+impl<V> Expr<V> {
+    pub fn der(e: Expr<V>) -> Self {
+        Expr::Der(b(e))
+    }
+
+    pub fn call(f: Func, e: Expr<V>) -> Self {
+        Expr::Call(f, b(e))
+    }
+
+    pub fn call2(f: Func2, x: Expr<V>, y: Expr<V>) -> Self {
+        Expr::Call2(f, b(x), b(y))
+    }
+
+    pub fn compare(op: Cmp, x: Expr<V>, y: Expr<V>) -> Self {
+        Expr::Compare(op, b(x), b(y))
+    }
+
+    pub fn if_else(condition: Expr<V>, then: Expr<V>, otherwise: Expr<V>) -> Self {
+        Expr::If(b(condition), b(then), b(otherwise))
+    }
+
+    pub fn pow(self, e: Expr<V>) -> Self {
+        Expr::Pow(b(self), b(e))
+    }
+
+    pub fn as_const(&self) -> Option<f64> {
+        match self {
+            Expr::Const(x) => Some(*x),
+            _ => None,
+        }
+    }
+
+    /// The nodes right below this one (up to three), in order.
+    pub fn children(&self) -> [Option<&Node<V>>; 3] {
+        match self {
             Expr::Const(_) | Expr::Time | Expr::Var(_) | Expr::Initial | Expr::Pre(_) | Expr::Sample { .. } => {
-                Vec::new()
+                [None; 3]
             }
             Expr::Der(a)
             | Expr::Neg(a)
@@ -272,7 +314,7 @@ macro_rules! children_of {
             | Expr::Not(a)
             | Expr::NoEvent(a)
             | Expr::Edge(a)
-            | Expr::Change(a) => vec![a],
+            | Expr::Change(a) => [Some(a), None, None],
             Expr::Add(x, y)
             | Expr::Sub(x, y)
             | Expr::Mul(x, y)
@@ -281,78 +323,80 @@ macro_rules! children_of {
             | Expr::Call2(_, x, y)
             | Expr::Compare(_, x, y)
             | Expr::And(x, y)
-            | Expr::Or(x, y) => vec![x, y],
-            Expr::If(c, x, y) => vec![c, x, y],
+            | Expr::Or(x, y) => [Some(x), Some(y), None],
+            Expr::If(c, x, y) => [Some(c), Some(x), Some(y)],
         }
-    };
-}
-
-impl Expr {
-    pub fn var(name: impl Into<String>) -> Expr {
-        Expr::Var(name.into())
     }
 
-    pub fn der(e: Expr) -> Expr {
-        Expr::Der(b(e))
+    /// Calls `f` on this node and every node below it, in pre-order.
+    pub fn visit<'a>(&'a self, f: &mut impl FnMut(&'a Expr<V>)) {
+        f(self);
+        for child in self.children().into_iter().flatten() {
+            child.visit(f);
+        }
     }
 
-    pub fn call(f: Func, e: Expr) -> Expr {
-        Expr::Call(f, b(e))
+    /// The first `Some` that `f` gives on the nodes, in pre-order.
+    pub fn find<T>(&self, f: &mut impl FnMut(&Expr<V>) -> Option<T>) -> Option<T> {
+        f(self).or_else(|| self.children().into_iter().flatten().find_map(|c| c.find(f)))
     }
 
-    pub fn call2(f: Func2, x: Expr, y: Expr) -> Expr {
-        Expr::Call2(f, b(x), b(y))
-    }
-
-    pub fn compare(op: Cmp, x: Expr, y: Expr) -> Expr {
-        Expr::Compare(op, b(x), b(y))
-    }
-
-    pub fn if_else(condition: Expr, then: Expr, otherwise: Expr) -> Expr {
-        Expr::If(b(condition), b(then), b(otherwise))
-    }
-
-    pub fn pow(self, e: Expr) -> Expr {
-        Expr::Pow(b(self), b(e))
-    }
-
-    /// Every variable the expression names, in order of appearance (with
-    /// repeats), into `out`.
-    pub fn variables<'a>(&'a self, out: &mut Vec<&'a str>) {
+    /// Every variable the expression names (not under `pre`), in order of
+    /// appearance (with repeats), into `out`.
+    pub fn variables<'a>(&'a self, out: &mut Vec<&'a V>) {
         self.visit(&mut |e| {
-            if let Expr::Var(n) = e {
-                out.push(n);
+            if let Expr::Var(v) = e {
+                out.push(v);
             }
         });
     }
 
     /// Whether the expression names a variable.
     pub fn has_variables(&self) -> bool {
-        let mut found = false;
-        self.visit(&mut |e| found |= matches!(e, Expr::Var(_)));
-        found
+        self.find(&mut |e| matches!(e, Expr::Var(_)).then_some(())).is_some()
     }
 
-    /// The nodes right below this one.
-    pub fn children(&self) -> Vec<&Expr> {
-        children_of!(self)
+    /// Whether the expression mentions time.
+    pub fn mentions_time(&self) -> bool {
+        self.find(&mut |e| matches!(e, Expr::Time).then_some(())).is_some()
     }
+}
 
-    /// The nodes right below this one, to rewrite them.
-    pub fn children_mut(&mut self) -> Vec<&mut Expr> {
-        children_of!(self)
-    }
-
-    /// Calls `f` on this node and every node below it.
-    pub fn visit<'a>(&'a self, f: &mut impl FnMut(&'a Expr)) {
-        f(self);
-        for child in self.children() {
-            child.visit(f);
+impl<V: Clone> Expr<V> {
+    /// This node with each operand replaced by `f` of it (no folding).
+    pub fn map_children(&self, mut f: impl FnMut(&Node<V>) -> Node<V>) -> Expr<V> {
+        match self {
+            Expr::Const(_) | Expr::Time | Expr::Var(_) | Expr::Initial | Expr::Pre(_) | Expr::Sample { .. } => {
+                self.clone()
+            }
+            Expr::Der(a) => Expr::Der(f(a)),
+            Expr::Neg(a) => Expr::Neg(f(a)),
+            Expr::Call(g, a) => Expr::Call(*g, f(a)),
+            Expr::Not(a) => Expr::Not(f(a)),
+            Expr::NoEvent(a) => Expr::NoEvent(f(a)),
+            Expr::Edge(a) => Expr::Edge(f(a)),
+            Expr::Change(a) => Expr::Change(f(a)),
+            Expr::Add(x, y) => Expr::Add(f(x), f(y)),
+            Expr::Sub(x, y) => Expr::Sub(f(x), f(y)),
+            Expr::Mul(x, y) => Expr::Mul(f(x), f(y)),
+            Expr::Div(x, y) => Expr::Div(f(x), f(y)),
+            Expr::Pow(x, y) => Expr::Pow(f(x), f(y)),
+            Expr::Call2(g, x, y) => Expr::Call2(*g, f(x), f(y)),
+            Expr::Compare(c, x, y) => Expr::Compare(*c, f(x), f(y)),
+            Expr::And(x, y) => Expr::And(f(x), f(y)),
+            Expr::Or(x, y) => Expr::Or(f(x), f(y)),
+            Expr::If(c, x, y) => Expr::If(f(c), f(x), f(y)),
         }
     }
 }
 
-impl From<f64> for Expr {
+impl Expr {
+    pub fn var(name: impl Into<String>) -> Expr {
+        Expr::Var(name.into())
+    }
+}
+
+impl<V> From<f64> for Expr<V> {
     fn from(x: f64) -> Self {
         Expr::Const(x)
     }
@@ -360,21 +404,21 @@ impl From<f64> for Expr {
 
 macro_rules! binary_operator {
     ($trait:ident, $method:ident, $variant:ident) => {
-        impl ops::$trait for Expr {
-            type Output = Expr;
-            fn $method(self, rhs: Expr) -> Expr {
+        impl<V> ops::$trait for Expr<V> {
+            type Output = Expr<V>;
+            fn $method(self, rhs: Expr<V>) -> Expr<V> {
                 Expr::$variant(b(self), b(rhs))
             }
         }
-        impl ops::$trait<f64> for Expr {
-            type Output = Expr;
-            fn $method(self, rhs: f64) -> Expr {
+        impl<V> ops::$trait<f64> for Expr<V> {
+            type Output = Expr<V>;
+            fn $method(self, rhs: f64) -> Expr<V> {
                 Expr::$variant(b(self), b(Expr::Const(rhs)))
             }
         }
-        impl ops::$trait<Expr> for f64 {
-            type Output = Expr;
-            fn $method(self, rhs: Expr) -> Expr {
+        impl<V> ops::$trait<Expr<V>> for f64 {
+            type Output = Expr<V>;
+            fn $method(self, rhs: Expr<V>) -> Expr<V> {
                 Expr::$variant(b(Expr::Const(self)), b(rhs))
             }
         }
@@ -385,9 +429,9 @@ binary_operator!(Sub, sub, Sub);
 binary_operator!(Mul, mul, Mul);
 binary_operator!(Div, div, Div);
 
-impl ops::Neg for Expr {
-    type Output = Expr;
-    fn neg(self) -> Expr {
+impl<V> ops::Neg for Expr<V> {
+    type Output = Expr<V>;
+    fn neg(self) -> Expr<V> {
         Expr::Neg(b(self))
     }
 }

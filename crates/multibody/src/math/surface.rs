@@ -206,7 +206,7 @@ mod tests {
     #[test]
     fn heights_come_with_their_derivatives() {
         use Expr as S;
-        let b = Box::new;
+        let b = std::sync::Arc::new;
         let (x, z) = (|| S::Var("x".into()), || S::Var("z".into()));
         // h = 0.3 sin(2x) z^2 / (1 + x^2) + 0.1 x, checked against central differences
         // (step 1e-4: truncation ~1e-8, rounding ~1e-12 / 1e-8 on second derivatives).
@@ -242,7 +242,7 @@ mod tests {
     fn long_formulas_are_refused() {
         let mut e = Expr::Var("x".into());
         for _ in 0..40 {
-            e = Expr::Add(Box::new(e), Box::new(Expr::Const(1.0)));
+            e = e + 1.0;
         }
         assert!(Surface::new(&e).unwrap_err().contains("too long"));
     }

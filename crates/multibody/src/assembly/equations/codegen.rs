@@ -61,13 +61,14 @@ impl Emitter {
 
     /// Code that leaves the value of `e` in a register, which it returns.
     fn emit(&mut self, e: &S, vars: &[Reg]) -> Reg {
-        if let Some(&r) = self.memo.get(&Rc_ptr(e)) {
+        if let Some(&r) = self.memo.get(&arc_ptr(e)) {
             return r;
         }
         let r = match &**e {
             Sym::Const(x) => return self.constant(*x),
             Sym::Time => return TIME,
             Sym::Var(v) => return vars[*v],
+            Sym::Der(_) => unreachable!("assembly gives every derivative a variable of its own"),
             // Before the event: a discrete variable's value at the start
             // of the pass; any other's is its left limit, the value now.
             Sym::Pre(v) => match self.discrete_of[*v] {
@@ -83,7 +84,7 @@ impl Emitter {
                 self.ops.push(Op::Initial(d));
                 d
             }
-            &Sym::Sample(start, interval) => {
+            &Sym::Sample { start, interval } => {
                 let sample = crate::system::equations::Sample { start, interval };
                 let index = match self.samples.iter().position(|s| *s == sample) {
                     Some(k) => k,
@@ -166,7 +167,7 @@ impl Emitter {
             }
         };
         self.keep.push(e.clone());
-        self.memo.insert(Rc_ptr(e), r);
+        self.memo.insert(arc_ptr(e), r);
         r
     }
 
@@ -180,7 +181,7 @@ impl Emitter {
             Some(d) => {
                 *d = target;
                 // The temporary is never written now: later uses read the target.
-                self.memo.insert(Rc_ptr(e), target);
+                self.memo.insert(arc_ptr(e), target);
             }
             None => self.ops.push(Op::Copy(target, r)),
         }
@@ -198,9 +199,8 @@ impl Emitter {
     }
 }
 
-#[allow(non_snake_case)]
-fn Rc_ptr(e: &S) -> *const Sym {
-    std::rc::Rc::as_ptr(e)
+fn arc_ptr(e: &S) -> *const Sym {
+    std::sync::Arc::as_ptr(e)
 }
 
 /// The register an operation writes (a store writes a slot, not a register).
@@ -388,7 +388,7 @@ pub(super) fn generate(
         let mut mentioned = Vec::new();
         let mut seen = HashSet::new();
         for r in &residuals {
-            r.each_var(&mut |v| {
+            r.each_var(&mut |&v| {
                 if seen.insert(v) {
                     mentioned.push(v);
                 }
@@ -452,16 +452,16 @@ pub(super) fn generate(
                 let mut entries: Vec<(usize, usize, S)> = Vec::new();
                 for (i, r) in residuals.iter().enumerate() {
                     let mut own = Vec::new();
-                    r.each_var(&mut |v| {
+                    r.each_var(&mut |&v| {
                         if column.contains_key(&v) && !own.contains(&v) {
                             own.push(v);
                         }
                     });
                     for x in own {
-                        let d = sym::derivative(r, x);
+                        let d = sym::derivative(r, &x);
                         let mut on_unknowns = false;
-                        d.each_var(&mut |y| on_unknowns |= column.contains_key(&y));
-                        linear &= !on_unknowns && sym::affine_in(r, x).is_some();
+                        d.each_var(&mut |&y| on_unknowns |= column.contains_key(&y));
+                        linear &= !on_unknowns && sym::affine_in(r, &x).is_some();
                         if d.as_const() != Some(0.0) {
                             entries.push((i, column[&x], d));
                         }
@@ -640,7 +640,7 @@ fn when_clauses(
 
 /// Whether `e` holds `sample`, true only at its own events.
 fn mentions_sample(e: &S) -> bool {
-    e.find(&mut |node| matches!(node, Sym::Sample(..)).then_some(())).is_some()
+    e.find(&mut |node| matches!(node, Sym::Sample { .. }).then_some(())).is_some()
 }
 
 fn mentions_initial(e: &S) -> bool {
@@ -701,7 +701,7 @@ fn reinit_target(
 /// The closed form of unknown `x` from residual `r = 0`, if `r` is
 /// linear in it with a slope that cannot vanish structurally.
 fn explicit(r: &S, x: usize) -> Option<S> {
-    let (slope, rest) = sym::affine_in(r, x)?;
+    let (slope, rest) = sym::affine_in(r, &x)?;
     match slope.as_const() {
         Some(0.0) => None,
         Some(1.0) => Some(sym::neg(rest)),
@@ -942,7 +942,7 @@ fn after_the_accelerations(
 fn refuse_events_on_reactions(pending: &Pending, post_decided: &[bool]) -> Result<(), Error> {
     for w in &pending.whens {
         let mut names = Vec::new();
-        let mut note = |v: usize| {
+        let mut note = |&v: &usize| {
             if post_decided[v] && !names.contains(&pending.vars[v].name) {
                 names.push(pending.vars[v].name.clone());
             }

@@ -132,7 +132,7 @@ pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity, model: &Model
     let (mut own, mut positions) = (Numbered::default(), Numbered::default());
     let mut rows = Vec::new();
     'equations: for (i, e) in eqs.equations.iter().enumerate() {
-        let Some(form) = linear(&Expr::Sub(Box::new(e.lhs.clone()), Box::new(e.rhs.clone()))) else { continue };
+        let Some(form) = linear(&(e.lhs.clone() - e.rhs.clone())) else { continue };
         let mut row = Row { equation: i, own: Vec::new(), positions: Vec::new(), constant: form.constant };
         for (name, c) in form.terms.into_iter().filter(|t| t.1 != 0.0) {
             if declared.contains(name.as_str()) {
@@ -228,10 +228,10 @@ pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity, model: &Model
             let mut names = Vec::new();
             e.lhs.variables(&mut names);
             e.rhs.variables(&mut names);
-            if !names.iter().any(|n| held_names.contains(n)) {
+            if !names.iter().any(|n| held_names.contains(n.as_str())) {
                 continue;
             }
-            let balance = linear(&Expr::Sub(Box::new(e.lhs.clone()), Box::new(e.rhs.clone())))
+            let balance = linear(&(e.lhs.clone() - e.rhs.clone()))
                 .filter(|f| f.terms.iter().all(|t| held_names.contains(t.0.as_str())) && f.constant == 0.0);
             let Some(balance) = balance else {
                 reader.get_or_insert_with(|| e.origin.clone());
@@ -307,8 +307,7 @@ pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity, model: &Model
                 for (reaction, coupling) in constraints.iter().zip(couplings) {
                     if reaction[*p] != 0.0 {
                         let multiplier = Expr::Var(format!("{}{REACTION}", coupling.name));
-                        let term = Expr::Mul(Box::new(Expr::Const(-reaction[*p])), Box::new(multiplier));
-                        value = Expr::Add(Box::new(value), Box::new(term));
+                        value = value + -reaction[*p] * multiplier;
                     }
                 }
                 measured_flows.push(Equation { lhs: Expr::Var(flow.clone()), rhs: value, origin: origin.clone() });

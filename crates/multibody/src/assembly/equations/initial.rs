@@ -49,7 +49,7 @@ fn residuals(m: &Mechanism, ws: &mut Workspace, init: &Initial, y: &[f64], out: 
         ws.registers[*reg as usize] = terms.iter().map(|&(i, c)| c * dy[i]).sum();
     }
     for (r, e) in out.iter_mut().zip(&init.residuals) {
-        *r = evaluate(e, t0, &|v| ws.registers[init.registers[v] as usize]);
+        *r = evaluate(e, t0, &|&v| ws.registers[init.registers[v] as usize]);
     }
     Ok(())
 }

@@ -39,6 +39,7 @@ use crate::system::equations::{EquationProgram, FrameQuantity};
 use crate::system::{EventLayout, Link, StateLayout};
 use crate::{Error, Model};
 use std::collections::HashMap;
+use std::sync::Arc;
 
 /// A hidden component the equations need, connected to `connector`.
 pub(crate) struct Extra {
@@ -556,7 +557,7 @@ fn expand_initial_derivatives(
             if let Expr::Var(x) = x {
                 let mut names = Vec::new();
                 other.variables(&mut names);
-                if declared.contains_key(x.as_str()) && !names.contains(&x.as_str()) {
+                if declared.contains_key(x.as_str()) && !names.contains(&x) {
                     definitions.entry(x.as_str()).or_insert(other);
                 }
             }
@@ -564,28 +565,30 @@ fn expand_initial_derivatives(
     }
     // `depth`: how many `der` enclose the node; `budget` ends a cycle of definitions.
     fn expand(
-        e: &mut Expr,
+        e: &Expr,
         depth: usize,
         rules: (&HashMap<&str, &Expr>, &std::collections::HashSet<&str>),
         budget: &mut usize,
-    ) {
+    ) -> Expr {
         let (definitions, differentiated) = rules;
         match e {
-            Expr::Der(inner) => expand(inner, depth + 1, rules, budget),
+            Expr::Der(inner) => Expr::Der(Arc::new(expand(inner, depth + 1, rules, budget))),
             Expr::Var(x) if depth > 0 && (depth > 1 || !differentiated.contains(x.as_str())) => {
-                if let (Some(definition), true) = (definitions.get(x.as_str()), *budget > 0) {
-                    *budget -= 1;
-                    *e = (*definition).clone();
-                    expand(e, depth, rules, budget);
+                match (definitions.get(x.as_str()), *budget > 0) {
+                    (Some(definition), true) => {
+                        *budget -= 1;
+                        expand(definition, depth, rules, budget)
+                    }
+                    _ => e.clone(),
                 }
             }
-            _ => e.children_mut().into_iter().for_each(|c| expand(c, depth, rules, budget)),
+            _ => e.map_children(|c| Arc::new(expand(c, depth, rules, budget))),
         }
     }
     for e in initial {
         let mut budget = 64;
-        expand(&mut e.lhs, 0, (&definitions, &differentiated), &mut budget);
-        expand(&mut e.rhs, 0, (&definitions, &differentiated), &mut budget);
+        e.lhs = expand(&e.lhs, 0, (&definitions, &differentiated), &mut budget);
+        e.rhs = expand(&e.rhs, 0, (&definitions, &differentiated), &mut budget);
     }
 }
 
@@ -815,55 +818,38 @@ fn classify_library(
     }))
 }
 
-/// `expr` as a symbolic expression, interning its names.
-fn to_sym(
+/// `expr` as a symbolic expression, interning its names; `der(e)` becomes
+/// the time derivative of `e` over the derivatives' variables.
+fn to_sym<F: FnMut(&str, &mut Table, &mut Vec<Extra>) -> Result<usize, Error>>(
     expr: &Expr,
     table: &mut Table,
-    classify: &mut impl FnMut(&str, &mut Table, &mut Vec<Extra>) -> Result<usize, Error>,
+    classify: &mut F,
     extras: &mut Vec<Extra>,
     origin: &str,
 ) -> Result<S, Error> {
-    let mut go = |e: &Expr, table: &mut Table| to_sym(e, table, classify, extras, origin);
-    Ok(match expr {
-        Expr::Const(x) => sym::constant(*x),
-        Expr::Time => std::rc::Rc::new(sym::Sym::Time),
-        Expr::Var(name) => sym::var(classify(name, table, extras).map_err(|e| with_origin(e, origin))?),
-        Expr::Der(inner) => {
-            let s = go(inner, table)?;
-            let mut failure = None;
-            let d = sym::time_derivative(&s, &mut |v| match table.derivative(v, origin) {
-                Ok(d) => Some(d),
-                Err(e) => {
-                    failure.get_or_insert(e);
-                    None
-                }
-            });
-            if let Some(e) = failure {
-                return Err(e);
+    sym::rewrite(expr, &mut |node| {
+        Ok(match node {
+            Expr::Var(name) => Some(sym::var(classify(name, table, extras).map_err(|e| with_origin(e, origin))?)),
+            Expr::Pre(name) => {
+                Some(Arc::new(Sym::Pre(classify(name, table, extras).map_err(|e| with_origin(e, origin))?)))
             }
-            d
-        }
-        Expr::Neg(a) => sym::neg(go(a, table)?),
-        Expr::Add(a, b) => sym::add(go(a, table)?, go(b, table)?),
-        Expr::Sub(a, b) => sym::sub(go(a, table)?, go(b, table)?),
-        Expr::Mul(a, b) => sym::mul(go(a, table)?, go(b, table)?),
-        Expr::Div(a, b) => sym::div(go(a, table)?, go(b, table)?),
-        Expr::Pow(a, b) => sym::pow(go(a, table)?, go(b, table)?),
-        Expr::Call(f, a) => sym::call(*f, go(a, table)?),
-        Expr::Call2(f, a, b) => sym::call2(*f, go(a, table)?, go(b, table)?),
-        Expr::Compare(c, a, b) => sym::compare(*c, go(a, table)?, go(b, table)?),
-        Expr::And(a, b) => sym::and(go(a, table)?, go(b, table)?),
-        Expr::Or(a, b) => sym::or(go(a, table)?, go(b, table)?),
-        Expr::Not(a) => sym::not(go(a, table)?),
-        Expr::If(c, a, b) => sym::if_else(go(c, table)?, go(a, table)?, go(b, table)?),
-        Expr::NoEvent(a) => sym::no_event(go(a, table)?),
-        Expr::Pre(name) => {
-            std::rc::Rc::new(Sym::Pre(classify(name, table, extras).map_err(|e| with_origin(e, origin))?))
-        }
-        Expr::Initial => std::rc::Rc::new(Sym::Initial),
-        Expr::Sample { start, interval } => std::rc::Rc::new(Sym::Sample(*start, *interval)),
-        Expr::Edge(a) => std::rc::Rc::new(Sym::Edge(go(a, table)?)),
-        Expr::Change(a) => std::rc::Rc::new(Sym::Change(go(a, table)?)),
+            Expr::Der(inner) => {
+                let s = to_sym(inner, table, classify, extras, origin)?;
+                let mut failure = None;
+                let d = sym::time_derivative(&s, &mut |&v| match table.derivative(v, origin) {
+                    Ok(d) => Some(d),
+                    Err(e) => {
+                        failure.get_or_insert(e);
+                        None
+                    }
+                });
+                if let Some(e) = failure {
+                    return Err(e);
+                }
+                Some(d)
+            }
+            _ => None,
+        })
     })
 }
 
@@ -1070,14 +1056,14 @@ fn resolve_reads(
 /// The origin of an equation or `when` clause that reads variable `v`,
 /// if any does (besides the initial equations).
 fn used_outside_initial(pending: &Pending, v: usize) -> Option<String> {
-    if let Some(k) = pending.residuals.iter().position(|r| r.depends_on(v)) {
+    if let Some(k) = pending.residuals.iter().position(|r| r.depends_on(&v)) {
         return Some(pending.origins[k].clone());
     }
     let reads = |w: &&PendingWhen| {
         w.branches.iter().any(|(c, actions)| {
-            c.depends_on(v)
+            c.depends_on(&v)
                 || actions.iter().any(|a| match a {
-                    PendingAction::Assign { value, .. } | PendingAction::Reinit { value, .. } => value.depends_on(v),
+                    PendingAction::Assign { value, .. } | PendingAction::Reinit { value, .. } => value.depends_on(&v),
                 })
         })
     };

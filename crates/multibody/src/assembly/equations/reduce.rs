@@ -45,7 +45,7 @@ pub(super) fn reduce(pending: &mut Pending, table: &mut Table) -> Result<(), Err
             .iter()
             .map(|&r| {
                 let mut cols = Vec::new();
-                pending.residuals[r].each_var(&mut |v| {
+                pending.residuals[r].each_var(&mut |&v| {
                     if column[v] != usize::MAX && !cols.contains(&column[v]) {
                         cols.push(column[v]);
                     }
@@ -82,7 +82,7 @@ pub(super) fn reduce(pending: &mut Pending, table: &mut Table) -> Result<(), Err
         let is_state = |v: usize| matches!(table.vars[v].role, Role::Declared(_)) && has_derivative[v].is_some();
         let fixes_state = rows.iter().any(|&r| {
             let mut found = false;
-            pending.residuals[active[r]].each_var(&mut |v| found |= is_state(v));
+            pending.residuals[active[r]].each_var(&mut |&v| found |= is_state(v));
             found
         });
         let variable_of_column: Vec<usize> = (0..table.vars.len()).filter(|&v| column[v] != usize::MAX).collect();
@@ -106,7 +106,7 @@ pub(super) fn reduce(pending: &mut Pending, table: &mut Table) -> Result<(), Err
         let helps = fixes_state
             && rows.iter().all(|&r| {
                 let mut own = false;
-                pending.residuals[active[r]].each_var(&mut |v| own |= !matches!(table.vars[v].role, Role::Read(_)));
+                pending.residuals[active[r]].each_var(&mut |&v| own |= !matches!(table.vars[v].role, Role::Read(_)));
                 own && active[r] < original
             });
         if !helps {
@@ -123,7 +123,7 @@ pub(super) fn reduce(pending: &mut Pending, table: &mut Table) -> Result<(), Err
                 .iter()
                 .find(|&&r| {
                     let mut found = false;
-                    pending.residuals[active[r]].each_var(&mut |w| found |= w == v);
+                    pending.residuals[active[r]].each_var(&mut |&w| found |= w == v);
                     found
                 })
                 .map_or(String::new(), |&r| pending.origins[active[r]].clone());
@@ -134,7 +134,7 @@ pub(super) fn reduce(pending: &mut Pending, table: &mut Table) -> Result<(), Err
             let k = active[r];
             let origin = pending.origins[k].clone();
             let mut failure = None;
-            let derivative = sym::time_derivative(&pending.residuals[k], &mut |v| {
+            let derivative = sym::time_derivative(&pending.residuals[k], &mut |&v| {
                 if pending.discrete.contains(&v) {
                     return None;
                 }
@@ -165,7 +165,7 @@ pub(super) fn reduce(pending: &mut Pending, table: &mut Table) -> Result<(), Err
     let has_derivative = derivatives(&table.vars);
     let mut candidates: Vec<usize> = Vec::new();
     for &k in &differentiated {
-        pending.residuals[k].each_var(&mut |v| {
+        pending.residuals[k].each_var(&mut |&v| {
             if has_derivative[v].is_some() && !candidates.contains(&v) {
                 candidates.push(v);
             }
@@ -177,7 +177,7 @@ pub(super) fn reduce(pending: &mut Pending, table: &mut Table) -> Result<(), Err
         .map(|&k| {
             let mut cols = Vec::new();
             for (c, &v) in candidates.iter().enumerate() {
-                if pending.residuals[k].depends_on(v) {
+                if pending.residuals[k].depends_on(&v) {
                     cols.push(c);
                 }
             }

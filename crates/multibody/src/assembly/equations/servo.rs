@@ -110,14 +110,14 @@ pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity) -> Result<Vec
             used_elsewhere[c] = true;
         }
     }
-    let mut other_uses = Vec::new();
+    let mut other_uses: Vec<&String> = Vec::new();
     for w in &eqs.whens {
         for (condition, actions) in &w.branches {
             condition.variables(&mut other_uses);
             for a in actions {
                 match a {
                     crate::model::WhenAction::Assign { variable, value, .. } => {
-                        other_uses.push(variable.as_str());
+                        other_uses.push(variable);
                         value.variables(&mut other_uses);
                     }
                     crate::model::WhenAction::Reinit { value, .. } => value.variables(&mut other_uses),
@@ -132,11 +132,9 @@ pub(super) fn extract(eqs: &mut Equations, net: &mut Connectivity) -> Result<Vec
     // A variable a flow is given by decides that flow: not an effort.
     for f in &eqs.flows {
         match f {
-            crate::model::Flow::Frame { force, torque, .. } => {
-                other_uses.extend(force.iter().chain(torque).map(String::as_str))
-            }
+            crate::model::Flow::Frame { force, torque, .. } => other_uses.extend(force.iter().chain(torque)),
             crate::model::Flow::Frame2D { force, torque, .. } => {
-                other_uses.extend(force.iter().map(String::as_str));
+                other_uses.extend(force.iter());
                 other_uses.push(torque);
             }
             crate::model::Flow::Flange { value, .. } => other_uses.push(value),

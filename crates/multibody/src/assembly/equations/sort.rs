@@ -87,7 +87,8 @@ pub(super) fn sort(pending: &Pending, reads: &[Option<Source>]) -> Result<Sorted
             (rep != v).then(|| (rep, s_v * classes.find(rep).1))
         })
         .collect();
-    let substitute = |v: usize| alias[v].map(|(rep, s)| if s > 0.0 { sym::var(rep) } else { sym::neg(sym::var(rep)) });
+    let substitute =
+        |&v: &usize| alias[v].map(|(rep, s)| if s > 0.0 { sym::var(rep) } else { sym::neg(sym::var(rep)) });
     let residuals: Vec<S> = kept.iter().map(|&k| sym::substitute_all(&pending.residuals[k], &substitute)).collect();
 
     // Match the unknowns that remain to the equations.
@@ -99,7 +100,7 @@ pub(super) fn sort(pending: &Pending, reads: &[Option<Source>]) -> Result<Sorted
     let mut adjacency = Vec::with_capacity(residuals.len());
     for (k, r) in residuals.iter().enumerate() {
         let mut cols = Vec::new();
-        r.each_var(&mut |v| {
+        r.each_var(&mut |&v| {
             if column[v] != usize::MAX && !cols.contains(&column[v]) {
                 cols.push(column[v]);
             }
@@ -251,7 +252,7 @@ fn declaration_of(pending: &Pending, name: &str) -> String {
 /// `(a, b, s)` if residual `r` says `a = s b` for two unknowns.
 fn alias_of(r: &S, unknown: &impl Fn(usize) -> bool) -> Option<(usize, usize, f64)> {
     let mut vars = Vec::new();
-    r.each_var(&mut |v| {
+    r.each_var(&mut |&v| {
         if !vars.contains(&v) {
             vars.push(v);
         }
@@ -260,8 +261,8 @@ fn alias_of(r: &S, unknown: &impl Fn(usize) -> bool) -> Option<(usize, usize, f6
         return None;
     }
     let (a, b) = (vars[0], vars[1]);
-    let (slope_a, rest) = sym::affine_in(r, a)?;
-    let (slope_b, constant) = sym::affine_in(&rest, b)?;
+    let (slope_a, rest) = sym::affine_in(r, &a)?;
+    let (slope_b, constant) = sym::affine_in(&rest, &b)?;
     let (sa, sb) = (slope_a.as_const()?, slope_b.as_const()?);
     if sa.abs() != 1.0 || sb.abs() != 1.0 || constant.as_const() != Some(0.0) {
         return None;
@@ -275,7 +276,7 @@ fn alias_of(r: &S, unknown: &impl Fn(usize) -> bool) -> Option<(usize, usize, f6
 fn no_unknown(pending: &Pending, reads: &[Option<Source>], r: &Sym, origin: &str) -> Error {
     let mut mechanics = Vec::new();
     let mut own_states = Vec::new();
-    r.each_var(&mut |v| {
+    r.each_var(&mut |&v| {
         let name = pending.vars[v].name.clone();
         match (&pending.vars[v].role, &reads[v]) {
             (
