@@ -842,31 +842,64 @@ end
 }
 
 /// A parameter with only a guess passed on to a component's parameter
-/// (Modelica's InitSpringConstant) is not supported yet: the message says
-/// why, at the place, instead of calling the parameter a component.
+/// (Modelica's InitSpringConstant): the torsion spring of a pendulum gets
+/// the spring constant that holds the pendulum at rest at its start angle,
+/// `c phi0 = -m g L cos(phi0)`, found by the initialization from `initial
+/// der(j.w) = 0`; the built-in spring is replaced by the library's
+/// equation form of it, whose `c` follows the parameter.
 #[test]
-fn a_guess_only_parameter_passed_to_a_component_is_refused_clearly() {
-    let message = error_of(
+fn a_guess_only_parameter_passed_to_a_spring_is_the_one_that_holds_the_pendulum() {
+    let solution = simulate(
         r#"
-example component InitSpring
-  parameter c::Real(guess = 100)
-  wall = TranslationalComponents.Fixed()
-  spring = TranslationalComponents.Spring(c = c)
-  block = TranslationalComponents.Mass(m = 1, s(initial = 0.5), v(initial = 0))
+example component InitSpringConstant
+  parameter c::Real(guess = 1)
+  world = MultibodyComponents.World()
+  j = MultibodyComponents.Revolute(n = [0, 0, 1], phi(initial = -0.4), w(initial = 0))
+  body = MultibodyComponents.Body(m = 1, r_cm = [0.5, 0, 0])
+  spring = RotationalComponents.Spring(c = c)
 relations
-  connect(wall.flange, spring.flange_a)
-  connect(spring.flange_b, block.flange_a)
-  initial der(block.v) = 0
+  connect(world.frame_b, j.frame_a)
+  connect(j.frame_b, body.frame_a)
+  connect(j.support, spring.spline_a)
+  connect(spring.spline_b, j.axis)
+  initial der(j.w) = 0
 end
 
-analysis InitSpringRun
+analysis InitSpringConstantRun
+  extends TransientAnalysis(stop = 2, saveat = 0.1, abstol = 1e-10, reltol = 1e-10)
+  model = InitSpringConstant()
+end
+"#,
+    );
+    let exact = -9.80665 * 0.5 * (-0.4f64).cos() / -0.4;
+    let c = solution.get("c").unwrap();
+    report("c = -m g L cos(phi0) / phi0", (c[0] - exact).abs() / exact, 1e-9);
+    let spring_c = solution.get("spring.c").unwrap();
+    report("the spring's c follows it", spring_c.iter().map(|x| (x - exact).abs()).fold(0.0, f64::max), 1e-9);
+    report("the pendulum stays at rest", worst_against(&solution, "j.phi", |_| -0.4), 1e-8);
+}
+
+/// A built-in component with no equation form cannot take a parameter
+/// the initialization decides: the message says so at the place.
+#[test]
+fn a_guess_only_parameter_passed_to_a_built_in_without_equations_is_refused_clearly() {
+    let message = error_of(
+        r#"
+example component GuessedMass
+  parameter m::Real(guess = 1)
+  world = MultibodyComponents.World()
+  body = MultibodyComponents.Body(m = m)
+relations
+  connect(world.frame_b, body.frame_a)
+end
+
+analysis GuessedMassRun
   extends TransientAnalysis(stop = 1)
-  model = InitSpring()
+  model = GuessedMass()
 end
 "#,
     );
     println!("{message}");
-    assert!(message.contains("`c` is not a constant"), "{message}");
-    assert!(message.contains("a parameter with only a guess"), "{message}");
-    assert!(message.contains("spring = TranslationalComponents.Spring(c = c)"), "{message}");
+    assert!(message.contains("`m` of the built-in `Body` takes a constant"), "{message}");
+    assert!(message.contains("body = MultibodyComponents.Body(m = m)"), "{message}");
 }

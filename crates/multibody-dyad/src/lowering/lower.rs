@@ -111,6 +111,10 @@ pub struct Lowerer<'a, 'i> {
     /// The inputs of the model that the host sets: equations read each as
     /// the value of its `Input` component (`u`, one column).
     host_inputs: std::collections::HashSet<String>,
+    /// Parameters of sub-components given a parameter the initialization
+    /// decides (`Spring(c = c)` with `parameter c(guess = 100)`), by the
+    /// sub-component's name: the parameter and the variable it follows.
+    bound: HashMap<String, Vec<(Ident, String)>>,
 }
 
 fn flat(prefix: &str, name: &str) -> String {
@@ -141,6 +145,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             set_from_outside: Default::default(),
             tunables: Vec::new(),
             host_inputs: Default::default(),
+            bound: HashMap::new(),
         }
     }
 
@@ -478,7 +483,8 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         self.enter(def, site)?;
         let effective = self.effective_of(def)?;
         check_unique(effective.declarations.iter().map(Declaration::name))?;
-        let solved = solved_parameters(&effective, &modifiers);
+        let bound = self.bound.remove(prefix).unwrap_or_default();
+        let solved = solved_parameters(&effective, &modifiers, &bound, def)?;
         let decls = self.declarations(&effective, &solved)?;
 
         // Modifiers from outside: parameter values, start values of
@@ -510,13 +516,13 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             }
         }
         let level = Level { def, prefix, site, within };
-        self.subcomponents(&level, &subs, &mut scope, initial, forwarded)?;
+        self.subcomponents(&level, &subs, &solved, &mut scope, initial, forwarded)?;
         for (component, road) in surfaces {
             if let Some(c) = self.model.component_mut(&component) {
                 c.surface(road);
             }
         }
-        self.own_variables(prefix, name, &decls.variables, &solved, variable_mods, &mut scope)?;
+        self.own_variables(prefix, name, &decls.variables, &solved, &bound, variable_mods, &mut scope)?;
         self.connections(&level, &flats, &subs, &absent, &mut scope)?;
         self.own_relations(prefix, &flats, &consumed, &decls, &mut scope)?;
         self.stack.pop();
@@ -688,6 +694,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         &mut self,
         level: &Level,
         subs: &[Instance<'_, 'a>],
+        solved: &[VariableDecl],
         scope: &mut ParamScope,
         mut initial: ModsByName,
         mut forwarded: ModsByName,
@@ -697,8 +704,24 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         for instance in subs {
             let child = flat(prefix, &instance.local);
             let decl = instance.decl;
+            // A parameter given one the initialization decides follows it
+            // as a variable; the rest are values.
+            let (bound, values): (Vec<&Modifier>, Vec<&Modifier>) =
+                decl.modifiers.iter().partition(|m| solved_source(m, solved).is_some());
+            let values: Vec<Modifier> = values.into_iter().cloned().collect();
+            let mut kind = instance.kind.clone();
+            if !bound.is_empty() {
+                let sources = bound
+                    .iter()
+                    .filter_map(|m| Some((m.name.clone(), flat(prefix, solved_source(m, solved)?))))
+                    .collect();
+                if let Kind::Library(spec) = kind {
+                    kind = self.equation_form(decl, spec, &bound)?;
+                }
+                self.bound.insert(child.clone(), sources);
+            }
             let mut sub_scope = WithEnv { scope, env: &instance.env };
-            let own = eval_modifiers(&decl.modifiers, &mut sub_scope)?;
+            let own = eval_modifiers(&values, &mut sub_scope)?;
             let own = merge_same_level(own, initial.remove(&instance.local).unwrap_or_default())?;
             let outer = forwarded.get(&decl.name.name).cloned().unwrap_or_default();
             let merged = merge_outer(outer, own)?;
@@ -707,7 +730,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 Some(element) => merge_outer(element, merged)?,
                 None => merged,
             };
-            match instance.kind.clone() {
+            match kind {
                 Kind::Library(spec) => {
                     self.entities.insert(child.clone(), Entity::Library(spec));
                     self.library_component(spec, &child, decl, merged, within)?
@@ -745,6 +768,35 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         Ok(())
     }
 
+    /// The library's equation form of built-in component `spec` (declared
+    /// `decl`), for parameters `bound` to variables: the built-in one
+    /// takes constants only. `TranslationalComponents.Spring` becomes
+    /// `TranslationalComponents.Acausal.Spring`, which moves the same.
+    fn equation_form(
+        &self,
+        decl: &ComponentDecl,
+        spec: &'static ComponentSpec,
+        bound: &[&Modifier],
+    ) -> Result<Kind<'a>, Diagnostic> {
+        let written = decl.kind.text();
+        let form = written.rsplit_once('.').map(|(package, name)| format!("{package}.Acausal.{name}"));
+        if let Some(def) = form.as_deref().and_then(|f| self.index.component(f)) {
+            return Ok(Kind::User(def));
+        }
+        let first = bound[0];
+        Err(Diagnostic::error(format!(
+            "`{}` of the built-in `{}` takes a constant, and `{}` is decided by the initialization",
+            first.name.name,
+            spec.kind,
+            first.value.as_ref().map_or(String::new(), |v| crate::lowering::symbolic::reference_text(v))
+        ))
+        .primary(first.span, "a parameter with only a guess")
+        .help(
+            "write the component in Dyad (the library's equation forms are in `*.Acausal`: Spring, Damper, \
+             SpringDamper, ...), so that its parameter can follow a variable",
+        ))
+    }
+
     /// The component's own variables; `input` and `output` ones are
     /// signal connectors too. Parameters the initialization solves for
     /// are constant in time.
@@ -754,6 +806,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         owner: &str,
         variables: &[&VariableDecl],
         solved: &[VariableDecl],
+        bound: &[(Ident, String)],
         mut variable_mods: ModsByName,
         scope: &mut ParamScope,
     ) -> Result<(), Diagnostic> {
@@ -761,18 +814,22 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             self.variable(prefix, owner, v, variable_mods.remove(&v.name.name).unwrap_or_default(), scope)?;
         }
         for v in solved {
-            // Constant in time, its start free: `der(k) = 0` and a guess.
+            // Constant in time, its start free: `der(k) = 0` and a guess;
+            // or equal to the enclosing component's parameter it is given.
             let full = flat(prefix, &v.name.name);
             let origin = self.origin(v.span);
-            for n in relations::scalar_names(&full, &relations::dims(&v.ty, scope)?) {
+            let dims = relations::dims(&v.ty, scope)?;
+            let source = bound.iter().find(|(p, _)| p.name == v.name.name).map(|(_, s)| s);
+            let sources = source.map(|s| relations::scalar_names(s, &dims));
+            for (k, n) in relations::scalar_names(&full, &dims).into_iter().enumerate() {
                 if let Some(var) = self.model.equations.variables.iter_mut().find(|var| var.name == n) {
                     var.fixed = false;
                 }
-                self.model.equations.equations.push(multibody::Equation {
-                    lhs: multibody::Expr::der(multibody::Expr::var(n)),
-                    rhs: multibody::Expr::Const(0.0),
-                    origin: origin.clone(),
-                });
+                let (lhs, rhs) = match &sources {
+                    Some(sources) => (multibody::Expr::var(n), multibody::Expr::var(sources[k].clone())),
+                    None => (multibody::Expr::der(multibody::Expr::var(n)), multibody::Expr::Const(0.0)),
+                };
+                self.model.equations.equations.push(multibody::Equation { lhs, rhs, origin: origin.clone() });
             }
         }
         Ok(())
@@ -1235,29 +1292,56 @@ impl<'a, 'i> Lowerer<'a, 'i> {
 }
 
 /// A parameter with a guess and no value (none given here either) is
-/// decided by the initialization: a variable that keeps its start.
-fn solved_parameters(effective: &Effective, modifiers: &[Mod]) -> Vec<VariableDecl> {
-    effective
-        .declarations
-        .iter()
-        .filter_map(|d| match d {
-            Declaration::Parameter(p)
-                if p.default.is_none() && !modifiers.iter().any(|m| m.name.name == p.name.name) =>
-            {
-                let guess = p.ty.attributes.iter().find(|a| a.name.name == "guess")?.value.clone()?;
-                Some(VariableDecl {
-                    doc: p.doc.clone(),
-                    causality: Causality::Internal,
-                    name: p.name.clone(),
-                    ty: TypeRef { attributes: Vec::new(), ..p.ty.clone() },
-                    binding: None,
-                    initial: Some(guess),
-                    span: p.span,
-                })
+/// decided by the initialization: a variable that keeps its start. So is
+/// a parameter `bound` to such a parameter of the enclosing component,
+/// which it then follows.
+fn solved_parameters(
+    effective: &Effective,
+    modifiers: &[Mod],
+    bound: &[(Ident, String)],
+    def: &ComponentDef,
+) -> Result<Vec<VariableDecl>, Diagnostic> {
+    let as_variable = |p: &ParameterDecl, initial: Option<Expr>| VariableDecl {
+        doc: p.doc.clone(),
+        causality: Causality::Internal,
+        name: p.name.clone(),
+        ty: TypeRef { attributes: Vec::new(), ..p.ty.clone() },
+        binding: None,
+        initial,
+        span: p.span,
+    };
+    let params =
+        || effective.declarations.iter().filter_map(|d| if let Declaration::Parameter(p) = d { Some(p) } else { None });
+    let mut solved = Vec::new();
+    for (name, _) in bound {
+        let Some(p) = params().find(|p| p.name.name == name.name) else {
+            return Err(Diagnostic::error(format!("`{}` has no parameter `{}`", def.name.name, name.name))
+                .primary(name.span, "not a parameter of this component"));
+        };
+        solved.push(as_variable(p, None));
+    }
+    for p in params() {
+        if p.default.is_none()
+            && !modifiers.iter().any(|m| m.name.name == p.name.name)
+            && !bound.iter().any(|(b, _)| b.name == p.name.name)
+        {
+            if let Some(guess) = p.ty.attributes.iter().find(|a| a.name.name == "guess").and_then(|a| a.value.clone()) {
+                solved.push(as_variable(p, Some(guess)));
             }
-            _ => None,
-        })
-        .collect()
+        }
+    }
+    Ok(solved)
+}
+
+/// The parameter of the enclosing component that modifier `m` gives, if
+/// it is one the initialization decides (`c = c`, `c` with only a guess).
+fn solved_source<'s>(m: &Modifier, solved: &'s [VariableDecl]) -> Option<&'s str> {
+    let path = m.value.as_ref()?.as_path()?;
+    let [only] = &path.parts[..] else { return None };
+    if m.nested.is_some() {
+        return None;
+    }
+    solved.iter().find(|v| v.name.name == only.name).map(|v| v.name.name.as_str())
 }
 
 /// Sorts the modifiers given from outside: parameter values go into

@@ -239,7 +239,7 @@ fn name(path: &Path, scope: &mut dyn Scope) -> EResult {
             .help("parameter values and start values are computed from parameters")
             .note(
                 "a parameter with only a guess is a variable that the initialization decides: it can be used in \
-                 equations, not passed on to a component's parameter (not supported yet)",
+                 equations, and passed on by name to a component's parameter (`c = c`), not in a formula there",
             )),
             _ => {
                 let names = scope.parameter_names();
