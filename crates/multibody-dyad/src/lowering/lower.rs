@@ -483,7 +483,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         self.enter(def, site)?;
         let effective = self.effective_of(def)?;
         check_unique(effective.declarations.iter().map(Declaration::name))?;
-        let bound = self.bound.remove(prefix).unwrap_or_default();
+        let bound = self.bound.get(prefix).cloned().unwrap_or_default();
         let solved = solved_parameters(&effective, &modifiers, &bound, def)?;
         let decls = self.declarations(&effective, &solved)?;
 
@@ -522,7 +522,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 c.surface(road);
             }
         }
-        self.own_variables(prefix, name, &decls.variables, &solved, &bound, variable_mods, &mut scope)?;
+        self.own_variables(prefix, name, &decls.variables, &solved, variable_mods, &mut scope)?;
         self.connections(&level, &flats, &subs, &absent, &mut scope)?;
         self.own_relations(prefix, &flats, &consumed, &decls, &mut scope)?;
         self.stack.pop();
@@ -788,7 +788,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             "`{}` of the built-in `{}` takes a constant, and `{}` is decided by the initialization",
             first.name.name,
             spec.kind,
-            first.value.as_ref().map_or(String::new(), |v| crate::lowering::symbolic::reference_text(v))
+            first.value.as_ref().map_or(String::new(), crate::lowering::symbolic::reference_text)
         ))
         .primary(first.span, "a parameter with only a guess")
         .help(
@@ -806,13 +806,13 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         owner: &str,
         variables: &[&VariableDecl],
         solved: &[VariableDecl],
-        bound: &[(Ident, String)],
         mut variable_mods: ModsByName,
         scope: &mut ParamScope,
     ) -> Result<(), Diagnostic> {
         for v in variables {
             self.variable(prefix, owner, v, variable_mods.remove(&v.name.name).unwrap_or_default(), scope)?;
         }
+        let bound = self.bound.remove(prefix).unwrap_or_default();
         for v in solved {
             // Constant in time, its start free: `der(k) = 0` and a guess;
             // or equal to the enclosing component's parameter it is given.

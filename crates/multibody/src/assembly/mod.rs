@@ -203,7 +203,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
             .iter()
             .flat_map(|c| c.parts.iter())
             .filter_map(|p| match p {
-                Part::Road { surface } => Some(**surface),
+                Part::Road { surface } => Some((**surface).clone()),
                 _ => None,
             })
             .collect(),

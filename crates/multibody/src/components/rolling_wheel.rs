@@ -122,14 +122,14 @@ impl Component for Wheel {
                 b: 0,
                 kind: ConstraintKind::Wheel {
                     radius: self.radius,
-                    contact: WheelContact::Rolling { road: self.surface.map(|_| 0) },
+                    contact: WheelContact::Rolling { road: self.surface.as_ref().map(|_| 0) },
                 },
             },
         ];
         if let Some(inertia) = self.mass {
             parts.push(Part::Mass { frame: 0, inertia, point_gravity: false });
         }
-        if let Some(surface) = self.surface {
+        if let Some(surface) = self.surface.clone() {
             parts.push(Part::Road { surface: Box::new(surface) });
         }
         parts

@@ -359,21 +359,21 @@ impl Component for SlippingWheel {
             Some((c_z, d_z)) => Part::force(
                 None,
                 0,
-                ForceLaw::Tyre { radius: self.radius, law: self.law, c_z, d_z, road: self.surface.map(|_| 0) },
+                ForceLaw::Tyre { radius: self.radius, law: self.law, c_z, d_z, road: self.surface.as_ref().map(|_| 0) },
             ),
             None => Part::Constraint {
                 a: 1,
                 b: 0,
                 kind: ConstraintKind::Wheel {
                     radius: self.radius,
-                    contact: WheelContact::Slipping { law: self.law, road: self.surface.map(|_| 0) },
+                    contact: WheelContact::Slipping { law: self.law, road: self.surface.as_ref().map(|_| 0) },
                 },
             },
         });
         if let Some(inertia) = self.mass {
             parts.push(Part::Mass { frame: 0, inertia, point_gravity: false });
         }
-        if let Some(surface) = self.surface {
+        if let Some(surface) = self.surface.clone() {
             parts.push(Part::Road { surface: Box::new(surface) });
         }
         parts

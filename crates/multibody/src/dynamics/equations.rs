@@ -7,6 +7,7 @@ use super::{DynamicsError, Workspace};
 use crate::math::dense::{lu, lu_solve};
 use crate::math::expr::Cmp;
 use crate::math::sparse::SparseLu;
+use crate::math::tape::power;
 use crate::math::{skew, Vec3};
 use crate::system::equations::{
     EquationProgram, FrameQuantity, Gather, Jacobian, Op, Sample, Solve, NEWTON_ITERATIONS, NEWTON_TOLERANCE, TIME,
@@ -128,18 +129,6 @@ fn truth(b: bool) -> f64 {
         1.0
     } else {
         0.0
-    }
-}
-
-/// `a^b`, with whole exponents exact for negative bases.
-#[inline]
-fn power(a: f64, b: f64) -> f64 {
-    if b == 2.0 {
-        a * a
-    } else if b.fract() == 0.0 && b.abs() <= 64.0 {
-        a.powi(b as i32)
-    } else {
-        a.powf(b)
     }
 }
 

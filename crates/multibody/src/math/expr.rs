@@ -9,8 +9,9 @@
 //!
 //! A formula of time alone (no variables) also compiles into a
 //! [`TimeFunction`], evaluated with its first two time derivatives, which
-//! prescribed motion needs; evaluating it allocates nothing.
+//! prescribed motion needs.
 
+pub use super::tape::TimeFunction;
 use std::ops;
 use std::sync::Arc;
 
@@ -177,50 +178,6 @@ impl Func {
             Func::Log | Func::Log10 if x <= 0.0 => Some("positive"),
             Func::Asin | Func::Acos if !(-1.0..=1.0).contains(&x) => Some("between -1 and 1"),
             _ => None,
-        }
-    }
-
-    /// `f(x), f'(x), f''(x)`.
-    pub fn derivatives(self, x: f64) -> [f64; 3] {
-        match self {
-            Func::Sin => [x.sin(), x.cos(), -x.sin()],
-            Func::Cos => [x.cos(), -x.sin(), -x.cos()],
-            Func::Tan => {
-                let t = x.tan();
-                let d = 1.0 + t * t;
-                [t, d, 2.0 * t * d]
-            }
-            Func::Exp => [x.exp(); 3],
-            Func::Log => [x.ln(), 1.0 / x, -1.0 / (x * x)],
-            Func::Log10 => {
-                let k = std::f64::consts::LN_10;
-                [x.log10(), 1.0 / (x * k), -1.0 / (x * x * k)]
-            }
-            Func::Sqrt => {
-                let s = x.sqrt();
-                [s, 0.5 / s, -0.25 / (s * x)]
-            }
-            Func::Abs => [x.abs(), Func::Sign.apply(x), 0.0],
-            Func::Sign | Func::Floor | Func::Ceil => [self.apply(x), 0.0, 0.0],
-            Func::Asin => {
-                let r = 1.0 - x * x;
-                [x.asin(), 1.0 / r.sqrt(), x / (r * r.sqrt())]
-            }
-            Func::Acos => {
-                let r = 1.0 - x * x;
-                [x.acos(), -1.0 / r.sqrt(), -x / (r * r.sqrt())]
-            }
-            Func::Atan => {
-                let r = 1.0 + x * x;
-                [x.atan(), 1.0 / r, -2.0 * x / (r * r)]
-            }
-            Func::Sinh => [x.sinh(), x.cosh(), x.sinh()],
-            Func::Cosh => [x.cosh(), x.sinh(), x.cosh()],
-            Func::Tanh => {
-                let t = x.tanh();
-                let d = 1.0 - t * t;
-                [t, d, -2.0 * t * d]
-            }
         }
     }
 }
@@ -436,208 +393,6 @@ impl<V> ops::Neg for Expr<V> {
     }
 }
 
-/// One instruction of a compiled formula of time.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Op {
-    Time,
-    Const(f64),
-    Neg,
-    Not,
-    Add,
-    Sub,
-    Mul,
-    Div,
-    Pow,
-    Call(Func),
-    Call2(Func2),
-    Compare(Cmp),
-    And,
-    Or,
-    If,
-}
-
-/// A formula of time compiled for evaluation, with the stack depth it needs.
-#[derive(Clone, Debug, PartialEq)]
-pub struct TimeFunction {
-    ops: Vec<Op>,
-    depth: usize,
-}
-
-/// Formulas deeper than this are refused (they would need a larger stack).
-pub const MAX_DEPTH: usize = 32;
-
-type Jet = [f64; 3];
-
-impl TimeFunction {
-    /// Compiles `expr`, or says why it is not a formula of time.
-    pub fn new(expr: &Expr) -> Result<Self, String> {
-        let mut ops = Vec::new();
-        let depth = compile(expr, &mut ops)?;
-        if depth > MAX_DEPTH {
-            return Err(format!("the formula nests {depth} levels deep; at most {MAX_DEPTH} are supported"));
-        }
-        Ok(Self { ops, depth })
-    }
-
-    /// The value and its first two time derivatives at `t`.
-    pub fn jet(&self, t: f64) -> [f64; 3] {
-        let mut stack = [[0.0; 3]; MAX_DEPTH];
-        let mut n = 0;
-        for op in &self.ops {
-            let jet = match *op {
-                Op::Time => [t, 1.0, 0.0],
-                Op::Const(c) => [c, 0.0, 0.0],
-                Op::Neg => {
-                    n -= 1;
-                    stack[n].map(|x| -x)
-                }
-                Op::Not => {
-                    n -= 1;
-                    [if stack[n][0] == 0.0 { 1.0 } else { 0.0 }, 0.0, 0.0]
-                }
-                Op::Call(f) => {
-                    n -= 1;
-                    let [u, u1, u2] = stack[n];
-                    let [g, g1, g2] = f.derivatives(u);
-                    [g, g1 * u1, g2 * u1 * u1 + g1 * u2]
-                }
-                Op::If => {
-                    n -= 3;
-                    if stack[n][0] != 0.0 {
-                        stack[n + 1]
-                    } else {
-                        stack[n + 2]
-                    }
-                }
-                binary => {
-                    n -= 2;
-                    binary_jet(binary, stack[n], stack[n + 1])
-                }
-            };
-            stack[n] = jet;
-            n += 1;
-        }
-        debug_assert!(n == 1 && self.depth <= MAX_DEPTH);
-        stack[0]
-    }
-
-    /// The value at `t`.
-    pub fn value(&self, t: f64) -> f64 {
-        self.jet(t)[0]
-    }
-}
-
-/// Postfix code of `expr` into `ops`; returns the stack depth it needs.
-fn compile(expr: &Expr, ops: &mut Vec<Op>) -> Result<usize, String> {
-    let binary = |x: &Expr, y: &Expr, op: Op, ops: &mut Vec<Op>| -> Result<usize, String> {
-        let dx = compile(x, ops)?;
-        let dy = compile(y, ops)?;
-        ops.push(op);
-        Ok(dx.max(dy + 1))
-    };
-    Ok(match expr {
-        Expr::Time => {
-            ops.push(Op::Time);
-            1
-        }
-        Expr::Const(c) => {
-            ops.push(Op::Const(*c));
-            1
-        }
-        Expr::Var(name) => return Err(format!("`{name}` is not a function of time alone")),
-        Expr::Der(_) => return Err("`der` of a formula of time is not supported; differentiate it by hand".into()),
-        Expr::NoEvent(a) => compile(a, ops)?,
-        Expr::Pre(_) | Expr::Initial | Expr::Edge(_) | Expr::Change(_) | Expr::Sample { .. } => {
-            return Err("`pre`, `initial`, `edge`, `change` and `sample` belong in `when` clauses, not in a formula \
-                        of time"
-                .into())
-        }
-        Expr::Neg(a) | Expr::Not(a) | Expr::Call(_, a) => {
-            let d = compile(a, ops)?;
-            ops.push(match expr {
-                Expr::Neg(_) => Op::Neg,
-                Expr::Not(_) => Op::Not,
-                Expr::Call(f, _) => Op::Call(*f),
-                _ => unreachable!(),
-            });
-            d
-        }
-        Expr::Add(x, y) => binary(x, y, Op::Add, ops)?,
-        Expr::Sub(x, y) => binary(x, y, Op::Sub, ops)?,
-        Expr::Mul(x, y) => binary(x, y, Op::Mul, ops)?,
-        Expr::Div(x, y) => binary(x, y, Op::Div, ops)?,
-        Expr::Pow(x, y) => binary(x, y, Op::Pow, ops)?,
-        Expr::Call2(f, x, y) => binary(x, y, Op::Call2(*f), ops)?,
-        Expr::Compare(c, x, y) => binary(x, y, Op::Compare(*c), ops)?,
-        Expr::And(x, y) => binary(x, y, Op::And, ops)?,
-        Expr::Or(x, y) => binary(x, y, Op::Or, ops)?,
-        Expr::If(c, x, y) => {
-            let dc = compile(c, ops)?;
-            let dx = compile(x, ops)?;
-            let dy = compile(y, ops)?;
-            ops.push(Op::If);
-            dc.max(dx + 1).max(dy + 2)
-        }
-    })
-}
-
-/// The jet of `a op b`.
-fn binary_jet(op: Op, a: Jet, b: Jet) -> Jet {
-    let flat = |x: f64| [x, 0.0, 0.0];
-    match op {
-        Op::Add => [a[0] + b[0], a[1] + b[1], a[2] + b[2]],
-        Op::Sub => [a[0] - b[0], a[1] - b[1], a[2] - b[2]],
-        Op::Mul => [a[0] * b[0], a[1] * b[0] + a[0] * b[1], a[2] * b[0] + 2.0 * a[1] * b[1] + a[0] * b[2]],
-        Op::Div => {
-            let y = a[0] / b[0];
-            let y1 = (a[1] - y * b[1]) / b[0];
-            [y, y1, (a[2] - 2.0 * y1 * b[1] - y * b[2]) / b[0]]
-        }
-        Op::Pow if b[1] == 0.0 && b[2] == 0.0 => {
-            // A constant exponent: defined for negative bases too.
-            let p = b[0];
-            let y = a[0].powf(p);
-            let d1 = if p == 0.0 { 0.0 } else { p * a[0].powf(p - 1.0) };
-            let d2 = if p == 0.0 || p == 1.0 { 0.0 } else { p * (p - 1.0) * a[0].powf(p - 2.0) };
-            [y, d1 * a[1], d2 * a[1] * a[1] + d1 * a[2]]
-        }
-        Op::Pow => {
-            // a^b = exp(b ln a).
-            let [l, l1, l2] = Func::Log.derivatives(a[0]);
-            let ln = [l, l1 * a[1], l2 * a[1] * a[1] + l1 * a[2]];
-            let e = binary_jet(Op::Mul, b, ln);
-            let y = e[0].exp();
-            [y, y * e[1], y * (e[2] + e[1] * e[1])]
-        }
-        Op::Call2(Func2::Min) => {
-            if a[0] <= b[0] {
-                a
-            } else {
-                b
-            }
-        }
-        Op::Call2(Func2::Max) => {
-            if a[0] >= b[0] {
-                a
-            } else {
-                b
-            }
-        }
-        Op::Call2(Func2::Atan2) => {
-            // atan2(y = a, x = b): d = (x y' - y x') / r with r = x^2 + y^2.
-            let r = a[0] * a[0] + b[0] * b[0];
-            let num = b[0] * a[1] - a[0] * b[1];
-            let num1 = b[0] * a[2] - a[0] * b[2];
-            let r1 = 2.0 * (a[0] * a[1] + b[0] * b[1]);
-            [a[0].atan2(b[0]), num / r, (num1 * r - num * r1) / (r * r)]
-        }
-        Op::Compare(c) => flat(c.apply(a[0], b[0])),
-        Op::And => flat(if a[0] != 0.0 && b[0] != 0.0 { 1.0 } else { 0.0 }),
-        Op::Or => flat(if a[0] != 0.0 || b[0] != 0.0 { 1.0 } else { 0.0 }),
-        _ => unreachable!("not a binary operation"),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -684,17 +439,21 @@ mod tests {
 
     #[test]
     fn every_function_differentiates_correctly() {
+        use crate::math::symbolic::{derivative, evaluate, var};
         let h = 1e-5;
         for name in Func::NAMES {
             let f = Func::from_name(name).unwrap();
+            let e = std::sync::Arc::new(Expr::Call(f, var(0usize)));
+            let d1 = derivative(&e, &0);
+            let d2 = derivative(&d1, &0);
+            let at = |e: &Expr<usize>, x: f64| evaluate(e, 0.0, &|_| x);
             for x in [0.3, 0.7] {
-                let value = |x: f64| f.derivatives(x)[0];
-                let [y, d1, d2] = f.derivatives(x);
-                assert_eq!(y, f.apply(x), "{name}");
-                let fd1 = (value(x + h) - value(x - h)) / (2.0 * h);
-                let fd2 = (f.derivatives(x + h)[1] - f.derivatives(x - h)[1]) / (2.0 * h);
-                // Truncation h^2 |f''''| / 6 reaches 1e-8 for log at 0.3.
+                assert_eq!(at(&e, x), f.apply(x), "{name}");
+                let fd1 = (f.apply(x + h) - f.apply(x - h)) / (2.0 * h);
+                let fd2 = (at(&d1, x + h) - at(&d1, x - h)) / (2.0 * h);
+                // Truncation h^2 |f'''| / 6 reaches 1e-8 for log at 0.3.
                 let close = |a: f64, b: f64| (a - b).abs() < 1e-7 * (1.0 + a.abs());
+                let (d1, d2) = (at(&d1, x), at(&d2, x));
                 assert!(close(d1, fd1) && close(d2, fd2), "{name} at {x}: {d1} {fd1}, {d2} {fd2}");
             }
         }

@@ -9,6 +9,7 @@ pub mod sparse;
 pub mod spatial;
 pub mod surface;
 pub mod symbolic;
+pub mod tape;
 pub mod trajectory;
 pub mod union_find;
 pub mod wheel;

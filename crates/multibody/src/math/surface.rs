@@ -1,33 +1,17 @@
 //! A road surface: its height `y = h(x, z)`, an expression in the
-//! variables `x` and `z` (the world's), compiled into a fixed-size program
-//! (plain `Copy` data, so that a wheel's contact law can carry it) and
-//! evaluated with its gradient and second derivatives, allocating nothing.
+//! variables `x` and `z` (the world's), compiled with its gradient and
+//! second derivatives (from the one symbolic differentiation) into a
+//! [`Tape`], evaluated allocating nothing.
 
-use super::expr::{Expr, Func};
-
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Op {
-    X,
-    Z,
-    Const(f64),
-    Neg,
-    Add,
-    Sub,
-    Mul,
-    Div,
-    Pow,
-    Call(Func),
-}
-
-/// Longest program (instructions) and deepest stack of a surface formula.
-pub const MAX_OPS: usize = 48;
-pub const MAX_DEPTH: usize = 12;
+use super::expr::{Expr, Node};
+use super::symbolic::{derivative, rewrite, var};
+use super::tape::Tape;
 
 /// A compiled surface formula.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Surface {
-    ops: [Op; MAX_OPS],
-    len: usize,
+    /// `h, dh/dx, dh/dz, d2h/dx2, d2h/dxdz, d2h/dz2`.
+    tape: Tape,
 }
 
 /// A value with its gradient `[d/dx, d/dz]` and second derivatives
@@ -39,169 +23,46 @@ pub struct Height {
     pub hess: [f64; 3],
 }
 
-impl Height {
-    fn constant(value: f64) -> Self {
-        Height { value, ..Default::default() }
-    }
-
-    /// `g(self)` for `g` with the derivatives `[g, g', g'']` at `self.value`.
-    fn chain(self, [g, g1, g2]: [f64; 3]) -> Self {
-        let [ux, uz] = self.grad;
-        let [hxx, hxz, hzz] = self.hess;
-        Height {
-            value: g,
-            grad: [g1 * ux, g1 * uz],
-            hess: [g2 * ux * ux + g1 * hxx, g2 * ux * uz + g1 * hxz, g2 * uz * uz + g1 * hzz],
-        }
-    }
-
-    fn add(self, b: Self, sign: f64) -> Self {
-        Height {
-            value: self.value + sign * b.value,
-            grad: [self.grad[0] + sign * b.grad[0], self.grad[1] + sign * b.grad[1]],
-            hess: [0, 1, 2].map(|i| self.hess[i] + sign * b.hess[i]),
-        }
-    }
-
-    fn mul(self, b: Self) -> Self {
-        let (a, ag, ah) = (self.value, self.grad, self.hess);
-        let (c, cg, ch) = (b.value, b.grad, b.hess);
-        Height {
-            value: a * c,
-            grad: [ag[0] * c + a * cg[0], ag[1] * c + a * cg[1]],
-            hess: [
-                ah[0] * c + 2.0 * ag[0] * cg[0] + a * ch[0],
-                ah[1] * c + ag[0] * cg[1] + ag[1] * cg[0] + a * ch[1],
-                ah[2] * c + 2.0 * ag[1] * cg[1] + a * ch[2],
-            ],
-        }
-    }
-
-    fn is_constant(&self) -> bool {
-        self.grad == [0.0; 2] && self.hess == [0.0; 3]
-    }
-}
-
 impl Surface {
     /// Compiles `expr`, or says why it cannot be.
     pub fn new(expr: &Expr) -> Result<Self, String> {
-        let mut ops = [Op::Const(0.0); MAX_OPS];
-        let mut len = 0;
-        let depth = compile(expr, &mut ops, &mut len)?;
-        if depth > MAX_DEPTH {
-            return Err(format!("the road's formula nests {depth} levels deep; at most {MAX_DEPTH} are supported"));
-        }
-        Ok(Surface { ops, len })
+        let h: Node<usize> = rewrite(expr, &mut |node| match node {
+            Expr::Var(name) if name == "x" => Ok(Some(var(0))),
+            Expr::Var(name) if name == "z" => Ok(Some(var(1))),
+            Expr::Var(name) => Err(format!("a road's height is a formula of x and z only, not of `{name}`")),
+            Expr::Call2(f, ..) => {
+                let name = format!("{f:?}").to_lowercase();
+                Err(format!("`{name}` has no second derivatives everywhere, which a road needs"))
+            }
+            Expr::Const(_)
+            | Expr::Neg(_)
+            | Expr::Add(..)
+            | Expr::Sub(..)
+            | Expr::Mul(..)
+            | Expr::Div(..)
+            | Expr::Pow(..)
+            | Expr::Call(..) => Ok(None),
+            _ => Err("a road's height uses numbers, x, z, + - * / ^ and functions of one argument (sin, exp, ...); \
+                      not time, der, comparisons or if"
+                .into()),
+        })?;
+        let (hx, hz) = (derivative(&h, &0), derivative(&h, &1));
+        let (hxx, hxz, hzz) = (derivative(&hx, &0), derivative(&hx, &1), derivative(&hz, &1));
+        Ok(Surface { tape: Tape::new(&[h, hx, hz, hxx, hxz, hzz], "the road's formula")? })
     }
 
     /// The height at `(x, z)` with its derivatives.
     pub fn height(&self, x: f64, z: f64) -> Height {
-        let mut stack = [Height::default(); MAX_DEPTH];
-        let mut n = 0;
-        for op in &self.ops[..self.len] {
-            let value = match *op {
-                Op::X => Height { value: x, grad: [1.0, 0.0], hess: [0.0; 3] },
-                Op::Z => Height { value: z, grad: [0.0, 1.0], hess: [0.0; 3] },
-                Op::Const(c) => Height::constant(c),
-                Op::Neg => {
-                    n -= 1;
-                    stack[n].chain([-stack[n].value, -1.0, 0.0])
-                }
-                Op::Call(f) => {
-                    n -= 1;
-                    stack[n].chain(f.derivatives(stack[n].value))
-                }
-                binary => {
-                    n -= 2;
-                    let (a, b) = (stack[n], stack[n + 1]);
-                    match binary {
-                        Op::Add => a.add(b, 1.0),
-                        Op::Sub => a.add(b, -1.0),
-                        Op::Mul => a.mul(b),
-                        // a / b = a * (1 / b).
-                        Op::Div => a.mul(b.chain({
-                            let r = 1.0 / b.value;
-                            [r, -r * r, 2.0 * r * r * r]
-                        })),
-                        Op::Pow if b.is_constant() => {
-                            let p = b.value;
-                            let d1 = if p == 0.0 { 0.0 } else { p * a.value.powf(p - 1.0) };
-                            let d2 = if p == 0.0 || p == 1.0 { 0.0 } else { p * (p - 1.0) * a.value.powf(p - 2.0) };
-                            a.chain([a.value.powf(p), d1, d2])
-                        }
-                        // a^b = exp(b ln a).
-                        _ => b
-                            .mul(a.chain(Func::Log.derivatives(a.value)))
-                            .chain(Func::Exp.derivatives(b.value * a.value.ln())),
-                    }
-                }
-            };
-            stack[n] = value;
-            n += 1;
-        }
-        stack[0]
+        let mut o = [0.0; 6];
+        self.tape.eval(&[x, z], &mut o);
+        Height { value: o[0], grad: [o[1], o[2]], hess: [o[3], o[4], o[5]] }
     }
-}
-
-/// Postfix code of `expr` appended to `ops`; returns the stack depth it needs.
-fn compile(expr: &Expr, ops: &mut [Op; MAX_OPS], len: &mut usize) -> Result<usize, String> {
-    Ok(match expr {
-        Expr::Var(name) if name == "x" || name == "z" => {
-            put(ops, len, if name == "x" { Op::X } else { Op::Z })?;
-            1
-        }
-        Expr::Var(name) => return Err(format!("a road's height is a formula of x and z only, not of `{name}`")),
-        Expr::Const(c) => {
-            put(ops, len, Op::Const(*c))?;
-            1
-        }
-        Expr::Neg(a) => {
-            let d = compile(a, ops, len)?;
-            put(ops, len, Op::Neg)?;
-            d
-        }
-        Expr::Call(f, a) => {
-            let d = compile(a, ops, len)?;
-            put(ops, len, Op::Call(*f))?;
-            d
-        }
-        Expr::Add(a, b) | Expr::Sub(a, b) | Expr::Mul(a, b) | Expr::Div(a, b) | Expr::Pow(a, b) => {
-            let da = compile(a, ops, len)?;
-            let db = compile(b, ops, len)?;
-            let op = match expr {
-                Expr::Add(..) => Op::Add,
-                Expr::Sub(..) => Op::Sub,
-                Expr::Mul(..) => Op::Mul,
-                Expr::Div(..) => Op::Div,
-                _ => Op::Pow,
-            };
-            put(ops, len, op)?;
-            da.max(db + 1)
-        }
-        Expr::Call2(f, ..) => {
-            let name = format!("{f:?}").to_lowercase();
-            return Err(format!("`{name}` has no second derivatives everywhere, which a road needs"));
-        }
-        _ => {
-            return Err("a road's height uses numbers, x, z, + - * / ^ and functions of one argument (sin, exp, ...); \
-                        not time, der, comparisons or if"
-                .into())
-        }
-    })
-}
-
-fn put(ops: &mut [Op; MAX_OPS], len: &mut usize, op: Op) -> Result<(), String> {
-    if *len == MAX_OPS {
-        return Err(format!("the road's formula is too long: at most {MAX_OPS} numbers, names and operations"));
-    }
-    ops[*len] = op;
-    *len += 1;
-    Ok(())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::expr::Func;
 
     #[test]
     fn heights_come_with_their_derivatives() {
@@ -241,8 +102,8 @@ mod tests {
     #[test]
     fn long_formulas_are_refused() {
         let mut e = Expr::Var("x".into());
-        for _ in 0..40 {
-            e = e + 1.0;
+        for k in 0..300 {
+            e = e * Expr::Var("z".into()) + k as f64;
         }
         assert!(Surface::new(&e).unwrap_err().contains("too long"));
     }
