@@ -7,7 +7,7 @@ use super::{DynamicsError, Workspace};
 use crate::math::dense::{lu, lu_solve};
 use crate::math::expr::Cmp;
 use crate::math::sparse::SparseLu;
-use crate::math::tape::power;
+use crate::math::tape::truth;
 use crate::math::{skew, Vec3};
 use crate::system::equations::{
     EquationProgram, FrameQuantity, Gather, Jacobian, Op, Sample, Solve, NEWTON_ITERATIONS, NEWTON_TOLERANCE, TIME,
@@ -45,21 +45,10 @@ fn run_ops(ops: &[Op], samples: &[Sample], ws: &mut Workspace) {
 #[inline]
 fn run(ops: &[Op], r: &mut [f64], signals: &mut [f64], ev: &mut Events) {
     for op in ops {
+        if op.run_arithmetic(r) {
+            continue;
+        }
         match *op {
-            Op::Copy(d, a) => r[d as usize] = r[a as usize],
-            Op::Neg(d, a) => r[d as usize] = -r[a as usize],
-            Op::Add(d, a, b) => r[d as usize] = r[a as usize] + r[b as usize],
-            Op::Sub(d, a, b) => r[d as usize] = r[a as usize] - r[b as usize],
-            Op::Mul(d, a, b) => r[d as usize] = r[a as usize] * r[b as usize],
-            Op::Div(d, a, b) => r[d as usize] = r[a as usize] / r[b as usize],
-            Op::Pow(d, a, b) => r[d as usize] = power(r[a as usize], r[b as usize]),
-            Op::Call(f, d, a) => r[d as usize] = f.apply(r[a as usize]),
-            Op::Call2(f, d, a, b) => r[d as usize] = f.apply(r[a as usize], r[b as usize]),
-            Op::Compare(c, d, a, b) => r[d as usize] = c.apply(r[a as usize], r[b as usize]),
-            Op::And(d, a, b) => r[d as usize] = truth(r[a as usize] != 0.0 && r[b as usize] != 0.0),
-            Op::Or(d, a, b) => r[d as usize] = truth(r[a as usize] != 0.0 || r[b as usize] != 0.0),
-            Op::Not(d, a) => r[d as usize] = truth(r[a as usize] == 0.0),
-            Op::Select(d, c, a, b) => r[d as usize] = if r[c as usize] != 0.0 { r[a as usize] } else { r[b as usize] },
             Op::Load(d, slot) => r[d as usize] = signals[slot],
             Op::Store(slot, a) => signals[slot] = r[a as usize],
             Op::Relation { cmp, dst, a, b, indicator, slot } => {
@@ -119,16 +108,8 @@ fn run(ops: &[Op], r: &mut [f64], signals: &mut [f64], ev: &mut Events) {
                     ev.reinits.push((state as usize, r[src as usize]));
                 }
             }
+            _ => unreachable!("arithmetic ran above"),
         }
-    }
-}
-
-#[inline]
-fn truth(b: bool) -> f64 {
-    if b {
-        1.0
-    } else {
-        0.0
     }
 }
 

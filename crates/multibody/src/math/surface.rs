@@ -48,7 +48,7 @@ impl Surface {
         })?;
         let (hx, hz) = (derivative(&h, &0), derivative(&h, &1));
         let (hxx, hxz, hzz) = (derivative(&hx, &0), derivative(&hx, &1), derivative(&hz, &1));
-        Ok(Surface { tape: Tape::new(&[h, hx, hz, hxx, hxz, hzz], "the road's formula")? })
+        Ok(Surface { tape: Tape::new(&[h, hx, hz, hxx, hxz, hzz], 2, "the road's formula")? })
     }
 
     /// The height at `(x, z)` with its derivatives.

@@ -9,95 +9,12 @@
 //! Registers: `[time | constants | gathered | states | unknowns | temporaries]`.
 
 use super::{Attachment, FlangeRef};
-use crate::math::expr::{Cmp, Func, Func2};
 use crate::math::sparse::SparseLu;
+pub use crate::math::tape::{Op, Reg};
 use std::ops::Range;
-
-/// A register number.
-pub type Reg = u32;
 
 /// The register that holds the time.
 pub const TIME: Reg = 0;
-
-/// One instruction: `dst = f(operands)` on registers, or a move between a
-/// register and a signal slot.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Op {
-    Copy(Reg, Reg),
-    Neg(Reg, Reg),
-    Add(Reg, Reg, Reg),
-    Sub(Reg, Reg, Reg),
-    Mul(Reg, Reg, Reg),
-    Div(Reg, Reg, Reg),
-    Pow(Reg, Reg, Reg),
-    Call(Func, Reg, Reg),
-    Call2(Func2, Reg, Reg, Reg),
-    Compare(Cmp, Reg, Reg, Reg),
-    And(Reg, Reg, Reg),
-    Or(Reg, Reg, Reg),
-    Not(Reg, Reg),
-    /// `dst = if c != 0 { a } else { b }`.
-    Select(Reg, Reg, Reg, Reg),
-    /// `dst = signals[slot]`.
-    Load(Reg, usize),
-    /// `signals[slot] = src`.
-    Store(usize, Reg),
-    /// A relation that makes events: between events `dst` is the value it
-    /// had at the last event (`discrete[slot]`); at events it is evaluated
-    /// and kept there. Either way `indicators[indicator]` is set: positive
-    /// exactly where `a > b` or `a < b` holds (`a - b`, `b - a`), and where
-    /// `a >= b` or `a <= b` fails (`b - a`, `a - b`), so that the value
-    /// changes exactly where the indicator's sign does, at zero too.
-    Relation {
-        cmp: Cmp,
-        dst: Reg,
-        a: Reg,
-        b: Reg,
-        indicator: u32,
-        slot: u32,
-    },
-    /// `dst = initial()`.
-    Initial(Reg),
-    /// `dst = pre(discrete[slot])`: its value before the event pass.
-    LoadPre(Reg, u32),
-    /// At events: whether `cond` became true (`discrete[slot]` keeps its
-    /// value; at the start only with `at_start`, for `initial()`); between
-    /// events false. An `impulse` condition (one with `sample`) holds only
-    /// at its own instants: the slot keeps the last instant it fired at
-    /// (from minus infinity), so it fires once at each.
-    Fire {
-        dst: Reg,
-        cond: Reg,
-        slot: u32,
-        at_start: bool,
-        impulse: bool,
-    },
-    /// `dst = sample(start, interval)` of the program's sample number
-    /// `index`: true at events at one of its instants.
-    Sample {
-        dst: Reg,
-        index: u32,
-    },
-    /// At events: whether `value` changed (`discrete[slot]` keeps it); false
-    /// at the start and between events.
-    Change {
-        dst: Reg,
-        value: Reg,
-        slot: u32,
-    },
-    /// `discrete[slot] = src` if `fire` holds (a `when` assigns).
-    Assign {
-        slot: u32,
-        src: Reg,
-        fire: Reg,
-    },
-    /// `reinit` of state `y[state]` to `src` if `fire` holds.
-    Reinit {
-        state: u32,
-        src: Reg,
-        fire: Reg,
-    },
-}
 
 /// A potential of the mechanics the equations read.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -177,7 +177,7 @@ impl Emitter {
         let r = self.emit(e, vars);
         // Write the last op's result straight into the target when it made it.
         let last = self.ops.len().checked_sub(1).filter(|&i| i >= before);
-        match last.and_then(|i| result_mut(&mut self.ops[i])).filter(|d| **d == r) {
+        match last.and_then(|i| Op::dst_mut(&mut self.ops[i])).filter(|d| **d == r) {
             Some(d) => {
                 *d = target;
                 // The temporary is never written now: later uses read the target.
@@ -201,34 +201,6 @@ impl Emitter {
 
 fn arc_ptr(e: &S) -> *const Sym {
     std::sync::Arc::as_ptr(e)
-}
-
-/// The register an operation writes (a store writes a slot, not a register).
-fn result_mut(op: &mut Op) -> Option<&mut Reg> {
-    match op {
-        Op::Copy(d, _)
-        | Op::Neg(d, _)
-        | Op::Add(d, ..)
-        | Op::Sub(d, ..)
-        | Op::Mul(d, ..)
-        | Op::Div(d, ..)
-        | Op::Pow(d, ..)
-        | Op::Call(_, d, _)
-        | Op::Call2(_, d, ..)
-        | Op::Compare(_, d, ..)
-        | Op::And(d, ..)
-        | Op::Or(d, ..)
-        | Op::Not(d, _)
-        | Op::Select(d, ..)
-        | Op::Load(d, _)
-        | Op::Relation { dst: d, .. }
-        | Op::Initial(d)
-        | Op::LoadPre(d, _)
-        | Op::Fire { dst: d, .. }
-        | Op::Sample { dst: d, .. }
-        | Op::Change { dst: d, .. } => Some(d),
-        Op::Store(..) | Op::Assign { .. } | Op::Reinit { .. } => None,
-    }
 }
 
 /// The signal slot of the connector `local` of the hidden component `extra`.
