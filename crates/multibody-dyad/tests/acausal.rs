@@ -722,21 +722,19 @@ end
     report("initial flange.phi inside a component: phi = 0.4 + 2 t", worst, 1e-9);
 }
 
-/// Start conditions on accelerations: a pendulum on a torsion spring
-/// starts at rest in equilibrium (`initial der(j.w) = 0`), where the
-/// spring's torque balances gravity's, `c phi = -m g L cos(phi)`; and a
-/// component that starts its flange at rest with no acceleration
-/// (Modelica's InitializeFlange, `initial der(der(flange.phi)) = 0`) holds a
-/// spring-loaded inertia where the torque and the spring balance.
-#[test]
-fn a_start_at_rest_with_zero_acceleration_finds_the_equilibrium() {
-    let solution = simulate(
+/// A pendulum (1 kg at 0.5 m) on a revolute about z whose torsion spring
+/// (constant `c`) acts between the support and the axis, started at rest
+/// with no acceleration: `declaration` is added to the model, `start`
+/// modifies the joint's angle.
+fn pendulum_on_a_spring(declaration: &str, start: &str, c: &str) -> String {
+    format!(
         r#"
 example component RestStart
+  {declaration}
   world = MultibodyComponents.World()
-  j = MultibodyComponents.Revolute(n = [0, 0, 1], phi(guess = 0.3), w(initial = 0))
+  j = MultibodyComponents.Revolute(n = [0, 0, 1], {start}, w(initial = 0))
   body = MultibodyComponents.Body(m = 1, r_cm = [0.5, 0, 0])
-  spring = RotationalComponents.Spring(c = 20)
+  spring = RotationalComponents.Spring(c = {c})
 relations
   connect(world.frame_b, j.frame_a)
   connect(j.frame_b, body.frame_a)
@@ -746,11 +744,22 @@ relations
 end
 
 analysis RestStartRun
-  extends TransientAnalysis(stop = 1, saveat = 0.1, abstol = 1e-10, reltol = 1e-10)
+  extends TransientAnalysis(stop = 2, saveat = 0.1, abstol = 1e-10, reltol = 1e-10)
   model = RestStart()
 end
-"#,
-    );
+"#
+    )
+}
+
+/// Start conditions on accelerations: a pendulum on a torsion spring
+/// starts at rest in equilibrium (`initial der(j.w) = 0`), where the
+/// spring's torque balances gravity's, `c phi = -m g L cos(phi)`; and a
+/// component that starts its flange at rest with no acceleration
+/// (Modelica's InitializeFlange, `initial der(der(flange.phi)) = 0`) holds a
+/// spring-loaded inertia where the torque and the spring balance.
+#[test]
+fn a_start_at_rest_with_zero_acceleration_finds_the_equilibrium() {
+    let solution = simulate(&pendulum_on_a_spring("", "phi(guess = 0.3)", "20"));
     // The root of c phi + m g L cos(phi) = 0 in [-1, 0], by bisection.
     let f = |phi: f64| 20.0 * phi + 9.80665 * 0.5 * phi.cos();
     let (mut lo, mut hi) = (-1.0f64, 0.0f64);
@@ -849,28 +858,7 @@ end
 /// equation form of it, whose `c` follows the parameter.
 #[test]
 fn a_guess_only_parameter_passed_to_a_spring_is_the_one_that_holds_the_pendulum() {
-    let solution = simulate(
-        r#"
-example component InitSpringConstant
-  parameter c::Real(guess = 1)
-  world = MultibodyComponents.World()
-  j = MultibodyComponents.Revolute(n = [0, 0, 1], phi(initial = -0.4), w(initial = 0))
-  body = MultibodyComponents.Body(m = 1, r_cm = [0.5, 0, 0])
-  spring = RotationalComponents.Spring(c = c)
-relations
-  connect(world.frame_b, j.frame_a)
-  connect(j.frame_b, body.frame_a)
-  connect(j.support, spring.spline_a)
-  connect(spring.spline_b, j.axis)
-  initial der(j.w) = 0
-end
-
-analysis InitSpringConstantRun
-  extends TransientAnalysis(stop = 2, saveat = 0.1, abstol = 1e-10, reltol = 1e-10)
-  model = InitSpringConstant()
-end
-"#,
-    );
+    let solution = simulate(&pendulum_on_a_spring("parameter c::Real(guess = 1)", "phi(initial = -0.4)", "c"));
     let exact = -9.80665 * 0.5 * (-0.4f64).cos() / -0.4;
     let c = solution.get("c").unwrap();
     report("c = -m g L cos(phi0) / phi0", (c[0] - exact).abs() / exact, 1e-9);

@@ -121,6 +121,28 @@ impl Op {
         true
     }
 
+    /// The arithmetic instruction that computes node `e` into `d` from
+    /// the registers `x` of its operands (in [`Expr::children`] order);
+    /// `None` for a node that is not arithmetic.
+    pub fn arithmetic<V>(e: &Expr<V>, d: Reg, x: [Reg; 3]) -> Option<Op> {
+        Some(match e {
+            Expr::Neg(_) => Op::Neg(d, x[0]),
+            Expr::Not(_) => Op::Not(d, x[0]),
+            Expr::Call(f, _) => Op::Call(*f, d, x[0]),
+            Expr::Add(..) => Op::Add(d, x[0], x[1]),
+            Expr::Sub(..) => Op::Sub(d, x[0], x[1]),
+            Expr::Mul(..) => Op::Mul(d, x[0], x[1]),
+            Expr::Div(..) => Op::Div(d, x[0], x[1]),
+            Expr::Pow(..) => Op::Pow(d, x[0], x[1]),
+            Expr::Call2(f, ..) => Op::Call2(*f, d, x[0], x[1]),
+            Expr::Compare(c, ..) => Op::Compare(*c, d, x[0], x[1]),
+            Expr::And(..) => Op::And(d, x[0], x[1]),
+            Expr::Or(..) => Op::Or(d, x[0], x[1]),
+            Expr::If(..) => Op::Select(d, x[0], x[1], x[2]),
+            _ => return None,
+        })
+    }
+
     /// The register the instruction writes (a store, an assignment and a
     /// re-initialization write none).
     pub fn dst(mut self) -> Option<Reg> {
@@ -288,48 +310,21 @@ impl Compiler<'_> {
                 return Ok((self.inputs + k) as Reg);
             }
             Expr::NoEvent(a) => return self.emit(a),
-            Expr::Neg(a) | Expr::Not(a) | Expr::Call(_, a) => {
-                let a = self.emit(a)?;
-                match &**e {
-                    Expr::Neg(_) => Op::Neg(self.next(), a),
-                    Expr::Not(_) => Op::Not(self.next(), a),
-                    Expr::Call(f, _) => Op::Call(*f, self.next(), a),
-                    _ => unreachable!(),
-                }
-            }
-            Expr::Add(a, b)
-            | Expr::Sub(a, b)
-            | Expr::Mul(a, b)
-            | Expr::Div(a, b)
-            | Expr::Pow(a, b)
-            | Expr::Call2(_, a, b)
-            | Expr::Compare(_, a, b)
-            | Expr::And(a, b)
-            | Expr::Or(a, b) => {
-                let (a, b) = (self.emit(a)?, self.emit(b)?);
-                let d = self.next();
-                match &**e {
-                    Expr::Add(..) => Op::Add(d, a, b),
-                    Expr::Sub(..) => Op::Sub(d, a, b),
-                    Expr::Mul(..) => Op::Mul(d, a, b),
-                    Expr::Div(..) => Op::Div(d, a, b),
-                    Expr::Pow(..) => Op::Pow(d, a, b),
-                    Expr::Call2(f, ..) => Op::Call2(*f, d, a, b),
-                    Expr::Compare(c, ..) => Op::Compare(*c, d, a, b),
-                    Expr::And(..) => Op::And(d, a, b),
-                    _ => Op::Or(d, a, b),
-                }
-            }
-            Expr::If(c, a, b) => {
-                let (c, a, b) = (self.emit(c)?, self.emit(a)?, self.emit(b)?);
-                Op::Select(self.next(), c, a, b)
-            }
             Expr::Time | Expr::Der(_) => return Err(format!("{} cannot hold `time` or `der` here", self.what)),
             Expr::Pre(_) | Expr::Initial | Expr::Edge(_) | Expr::Change(_) | Expr::Sample { .. } => {
                 return Err(format!(
                     "`pre`, `initial`, `edge`, `change` and `sample` belong in `when` clauses, not in {}",
                     self.what
                 ))
+            }
+            _ => {
+                let mut x = [0; 3];
+                for (k, child) in e.children().into_iter().enumerate() {
+                    if let Some(child) = child {
+                        x[k] = self.emit(child)?;
+                    }
+                }
+                Op::arithmetic(e, self.next(), x).expect("every other node is arithmetic")
             }
         };
         let d = self.next();

@@ -125,44 +125,15 @@ impl Emitter {
                 self.ops.push(Op::Relation { cmp: *cmp, dst, a, b, indicator, slot });
                 dst
             }
-            Sym::Neg(a) | Sym::Call(_, a) | Sym::Not(a) => {
-                let a = self.emit(a, vars);
+            _ => {
+                let mut x = [0; 3];
+                for (k, child) in e.children().into_iter().enumerate() {
+                    if let Some(child) = child {
+                        x[k] = self.emit(child, vars);
+                    }
+                }
                 let d = self.register();
-                self.ops.push(match &**e {
-                    Sym::Neg(_) => Op::Neg(d, a),
-                    Sym::Call(f, _) => Op::Call(*f, d, a),
-                    _ => Op::Not(d, a),
-                });
-                d
-            }
-            Sym::Add(a, b)
-            | Sym::Sub(a, b)
-            | Sym::Mul(a, b)
-            | Sym::Div(a, b)
-            | Sym::Pow(a, b)
-            | Sym::Call2(_, a, b)
-            | Sym::Compare(_, a, b)
-            | Sym::And(a, b)
-            | Sym::Or(a, b) => {
-                let (a, b) = (self.emit(a, vars), self.emit(b, vars));
-                let d = self.register();
-                self.ops.push(match &**e {
-                    Sym::Add(..) => Op::Add(d, a, b),
-                    Sym::Sub(..) => Op::Sub(d, a, b),
-                    Sym::Mul(..) => Op::Mul(d, a, b),
-                    Sym::Div(..) => Op::Div(d, a, b),
-                    Sym::Pow(..) => Op::Pow(d, a, b),
-                    Sym::Call2(f, ..) => Op::Call2(*f, d, a, b),
-                    Sym::Compare(c, ..) => Op::Compare(*c, d, a, b),
-                    Sym::And(..) => Op::And(d, a, b),
-                    _ => Op::Or(d, a, b),
-                });
-                d
-            }
-            Sym::If(c, a, b) => {
-                let (c, a, b) = (self.emit(c, vars), self.emit(a, vars), self.emit(b, vars));
-                let d = self.register();
-                self.ops.push(Op::Select(d, c, a, b));
+                self.ops.push(Op::arithmetic(e, d, x).expect("every other node is arithmetic"));
                 d
             }
         };
