@@ -530,7 +530,9 @@ fn read_joint(
                 if joint.friction != 0.0 {
                     skip("dynamics friction", pos(e));
                 }
-                if joint.damping != 0.0 && !joint.kind.has_one_coordinate() {
+                if joint.damping != 0.0 && joint.kind == JointKind::Fixed {
+                    skip("dynamics damping of a fixed joint", pos(e));
+                } else if joint.damping != 0.0 && !joint.kind.has_one_coordinate() {
                     skip("dynamics damping", pos(e));
                 }
             }
@@ -591,16 +593,28 @@ fn numbers<const N: usize>(
     words: &str,
 ) -> Result<Option<[f64; N]>, UrdfError> {
     let Some(text) = node.attribute(key) else { return Ok(None) };
-    let parts: Vec<&str> = text.split_whitespace().collect();
-    if parts.len() != N {
+    let tag = node.tag_name().name();
+    if text.contains(',') {
+        let spaced = text.split(|c: char| c == ',' || c.is_whitespace()).filter(|p| !p.is_empty()).collect::<Vec<_>>();
         return Err(UrdfError::new(
             pos(node),
-            format!("`{key}=\"{text}\"` of `<{}>` needs {words} numbers", node.tag_name().name()),
+            format!(
+                "`{key}=\"{text}\"` of `<{tag}>` separates its numbers with commas; URDF separates them with \
+                 spaces: `{key}=\"{}\"`",
+                spaced.join(" ")
+            ),
         ));
+    }
+    let parts: Vec<&str> = text.split_whitespace().collect();
+    if parts.len() != N {
+        return Err(UrdfError::new(pos(node), format!("`{key}=\"{text}\"` of `<{tag}>` needs {words} numbers")));
     }
     let mut v = [0.0; N];
     for (k, p) in parts.iter().enumerate() {
-        v[k] = parse_number(p, node, key, pos)?;
+        // The whole attribute in the message, not only the piece.
+        v[k] = parse_number(p, node, key, pos).map_err(|_| {
+            UrdfError::new(pos(node), format!("`{key}=\"{text}\"` of `<{tag}>`: `{p}` is not a finite number"))
+        })?;
     }
     Ok(Some(v))
 }
@@ -1199,6 +1213,7 @@ pub fn skipped_effect(tag: &str) -> &'static str {
         "safety_controller" | "calibration" => "controller settings are not used",
         "dynamics friction" => "joint friction is not applied (damping is)",
         "dynamics damping" => "the damping of planar and floating joints is not applied",
+        "dynamics damping of a fixed joint" => "a fixed joint does not move, so its damping has no effect",
         "mimic" => "a mimic on a fixed joint has no effect",
         "limit" => "limits are not enforced (nor are they in Pinocchio's dynamics)",
         _ => "not part of the model",

@@ -353,6 +353,45 @@ fn bad_files_are_refused_with_their_place() {
     assert!(e.starts_with("bad.urdf:6:") && e.contains("`m` (revolute) mimics `p` (planar)"), "{e}");
 }
 
+/// A vector attribute is quoted whole, and commas get their own advice.
+#[test]
+fn a_vector_attribute_is_quoted_whole() {
+    let with_origin = |xyz: &str| {
+        format!(
+            "<robot name=\"r\">\n<link name=\"a\"/>\n<link name=\"b\"/>\n<joint name=\"j\" type=\"fixed\"><parent \
+             link=\"a\"/><child link=\"b\"/><origin xyz=\"{xyz}\"/></joint>\n</robot>"
+        )
+    };
+    let e = error_of(&with_origin("0.07, 0, -0.69"));
+    assert!(
+        e.contains("`xyz=\"0.07, 0, -0.69\"` of `<origin>` separates its numbers with commas")
+            && e.contains("`xyz=\"0.07 0 -0.69\"`"),
+        "{e}"
+    );
+    let e = error_of(&with_origin("0.07 zero -0.69"));
+    assert!(e.contains("`xyz=\"0.07 zero -0.69\"` of `<origin>`: `zero` is not a finite number"), "{e}");
+}
+
+/// Damping on a fixed joint is listed as having no effect, apart from the
+/// damping of planar and floating joints, which is not applied.
+#[test]
+fn damping_on_fixed_joints_is_listed_apart() {
+    let text = "<robot name=\"r\">\n<link name=\"a\"/>\n<link name=\"b\"/>\n<link name=\"c\"/>\n\
+                <joint name=\"f\" type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/><dynamics damping=\"0.5\"/></joint>\n\
+                <joint name=\"p\" type=\"planar\"><parent link=\"b\"/><child link=\"c\"/><dynamics damping=\"0.5\"/></joint>\n\
+                </robot>";
+    let robot = urdf::parse(text).unwrap();
+    let tags: Vec<(&str, usize)> = robot.skipped.iter().map(|s| (s.tag.as_str(), s.count)).collect();
+    assert!(
+        tags.contains(&("dynamics damping of a fixed joint", 1)) && tags.contains(&("dynamics damping", 1)),
+        "{tags:?}"
+    );
+    assert_eq!(
+        urdf::skipped_effect("dynamics damping of a fixed joint"),
+        "a fixed joint does not move, so its damping has no effect"
+    );
+}
+
 #[test]
 fn unmapped_elements_are_listed_once_with_their_place() {
     let text = std::fs::read_to_string(folder().join("arm6.urdf")).unwrap();
