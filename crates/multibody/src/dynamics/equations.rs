@@ -163,7 +163,8 @@ impl System {
         let program: &EquationProgram = &self.equations;
         let block = &program.blocks[b];
         run_ops(&program.ops[block.before.clone()], &program.samples, ws);
-        if let Solve::Newton { unknowns, residuals, jacobian, residual_ops, jacobian_ops, linear } = &block.solve {
+        if let Solve::Newton { unknowns, residuals, jacobian, residual_ops, jacobian_ops, linear, torn } = &block.solve
+        {
             let n = unknowns.len();
             let mut converged = false;
             for iteration in 0..NEWTON_ITERATIONS {
@@ -193,6 +194,9 @@ impl System {
             if !converged {
                 return Err(DynamicsError::EquationsDiverged { block: b });
             }
+            // The torn unknowns from the tearing variables' last values.
+            let torn = residual_ops.start..residual_ops.start + torn;
+            run_ops(&program.ops[torn], &program.samples, ws);
         }
         run_ops(&program.ops[block.after.clone()], &program.samples, ws);
         Ok(())

@@ -62,6 +62,10 @@ pub enum Solve {
         residual_ops: Range<usize>,
         jacobian_ops: Range<usize>,
         linear: bool,
+        /// A torn block: the first `torn` residual ops compute the unknowns
+        /// that follow from Newton's (the tearing variables); they run once
+        /// more after the last step.
+        torn: usize,
     },
 }
 

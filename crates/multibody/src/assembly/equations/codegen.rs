@@ -4,6 +4,7 @@
 //! and flows it writes; and the blocks' places among the signal blocks.
 
 use super::sort::{is_unknown, Sorted};
+use super::tearing;
 use super::{problem, Context, Pending, PendingAction, Read, Role, Source};
 use crate::assembly::signals::Signals;
 use crate::math::expr::Cmp;
@@ -382,36 +383,61 @@ pub(super) fn generate(
                 Solve::Explicit
             }
             _ => {
-                let k = unknowns.len();
-                largest_block = largest_block.max(k);
-                let residual_start = em.ops.len();
-                let residual_regs: Vec<Reg> = residuals.iter().map(|r| em.emit(r, &reg)).collect();
-                let residual_ops = residual_start..em.ops.len();
-                // Only the unknowns a residual mentions have a derivative
-                // other than zero: a long loop (a `for` over an array) has
-                // a few per row, and compiles in about its size, not k^3.
+                // Linear in every unknown (then one Newton step solves it,
+                // torn or not).
                 let column: HashMap<usize, usize> = unknowns.iter().enumerate().map(|(j, &x)| (x, j)).collect();
+                // The unknowns each residual mentions, and its derivatives by them.
                 let mut linear = true;
-                let mut entries: Vec<(usize, usize, S)> = Vec::new();
-                for (i, r) in residuals.iter().enumerate() {
+                let mut partials: Vec<Vec<(usize, S)>> = Vec::with_capacity(residuals.len());
+                for r in &residuals {
                     let mut own = Vec::new();
                     r.each_var(&mut |&v| {
                         if column.contains_key(&v) && !own.contains(&v) {
                             own.push(v);
                         }
                     });
+                    let mut row = Vec::with_capacity(own.len());
                     for x in own {
                         let d = sym::derivative(r, &x);
                         let mut on_unknowns = false;
                         d.each_var(&mut |&y| on_unknowns |= column.contains_key(&y));
                         linear &= !on_unknowns && sym::affine_in(r, &x).is_some();
-                        if d.as_const() != Some(0.0) {
-                            entries.push((i, column[&x], d));
-                        }
+                        row.push((x, d));
                     }
+                    partials.push(row);
                 }
+                let residual_start = em.ops.len();
+                let (newton_unknowns, newton_rows, entries, torn) = match tearing::tear(&residuals, unknowns) {
+                    Some(t) => {
+                        for (_, x, value) in &t.assigned {
+                            em.emit_into(value, &reg, reg[*x]);
+                        }
+                        let torn = em.ops.len() - residual_start;
+                        let entries = t.jacobian(&residuals);
+                        (t.tears, t.residuals, entries, torn)
+                    }
+                    None => {
+                        // Only the unknowns a residual mentions have a derivative
+                        // other than zero: a long loop (a `for` over an array) has
+                        // a few per row, and compiles in about its size, not k^3.
+                        let mut entries: Vec<(usize, usize, S)> = Vec::new();
+                        for (i, row) in partials.into_iter().enumerate() {
+                            for (x, d) in row {
+                                if d.as_const() != Some(0.0) {
+                                    entries.push((i, column[&x], d));
+                                }
+                            }
+                        }
+                        (unknowns.clone(), (0..residuals.len()).collect(), entries, 0)
+                    }
+                };
+                let k = newton_unknowns.len();
+                largest_block = largest_block.max(k);
+                let residual_regs: Vec<Reg> = newton_rows.iter().map(|&i| em.emit(residuals[i], &reg)).collect();
+                let residual_ops = residual_start..em.ops.len();
                 let layout = JacobianLayout::of(k, &entries);
-                refuse_constant_singular(&layout, &entries, rows, unknowns, pending, sorted)?;
+                let block_rows: Vec<usize> = newton_rows.iter().map(|&i| rows[i]).collect();
+                refuse_constant_singular(&layout, &entries, &block_rows, &newton_unknowns, pending, sorted)?;
                 let jacobian_start = em.ops.len();
                 let jacobian = match layout {
                     JacobianLayout::Dense => {
@@ -428,12 +454,13 @@ pub(super) fn generate(
                     }
                 };
                 Solve::Newton {
-                    unknowns: unknowns.iter().map(|&x| reg[x]).collect(),
+                    unknowns: newton_unknowns.iter().map(|&x| reg[x]).collect(),
                     residuals: residual_regs,
                     jacobian,
                     residual_ops,
                     jacobian_ops: jacobian_start..em.ops.len(),
                     linear,
+                    torn,
                 }
             }
         };
@@ -936,14 +963,17 @@ fn fuse_explicit(
         let before = copy(&block.before, ops);
         let solve = match block.solve {
             Solve::Explicit => Solve::Explicit,
-            Solve::Newton { unknowns, residuals, jacobian, residual_ops, jacobian_ops, linear } => Solve::Newton {
-                unknowns,
-                residuals,
-                jacobian,
-                residual_ops: copy(&residual_ops, ops),
-                jacobian_ops: copy(&jacobian_ops, ops),
-                linear,
-            },
+            Solve::Newton { unknowns, residuals, jacobian, residual_ops, jacobian_ops, linear, torn } => {
+                Solve::Newton {
+                    unknowns,
+                    residuals,
+                    jacobian,
+                    residual_ops: copy(&residual_ops, ops),
+                    jacobian_ops: copy(&jacobian_ops, ops),
+                    linear,
+                    torn,
+                }
+            }
         };
         let after = copy(&block.after, ops);
         let explicit = matches!(solve, Solve::Explicit);

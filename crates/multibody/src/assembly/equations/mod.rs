@@ -20,6 +20,7 @@ mod initial;
 mod reduce;
 mod servo;
 mod sort;
+mod tearing;
 
 pub(crate) use initial::{solve as initialize, Initial};
 
