@@ -311,11 +311,15 @@ end
     }
 }
 
-/// `sample` needs fixed instants: an interval that is not positive, or one
-/// that changes, is an error at its argument.
+/// `sample` needs fixed instants: an interval that is not positive, not
+/// finite (0/0), or that changes, is an error at its argument.
 #[test]
 fn sample_with_a_bad_interval_is_refused() {
-    for (interval, expected) in [("0", "must be positive"), ("x", "must be a number or a parameter")] {
+    for (interval, expected) in [
+        ("0", "must be positive"),
+        ("x", "must be a number or a parameter"),
+        ("0 / 0", "the interval of `sample` is NaN, not a finite number"),
+    ] {
         let text = format!(
             "example component Bad\n  variable x::Real = initial 0\n  variable n::Real = initial 0\nrelations\n  der(x) = 1\n  when sample(0, {interval})\n    n = pre(n) + 1\n  end\nend\n"
         );

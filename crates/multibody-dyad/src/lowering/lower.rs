@@ -591,7 +591,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         Ok(match self.effective.get(&(def as *const ComponentDef)) {
             Some(e) => e.clone(),
             None => {
-                let e = std::rc::Rc::new(effective(self.index, def, 0)?);
+                let e = std::rc::Rc::new(effective(self.index, def)?);
                 self.effective.insert(def as *const ComponentDef, e.clone());
                 e
             }
@@ -1125,7 +1125,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 if let Some(e) = declared(format!("{child}.{}", connector.name), d.name.name.clone()) {
                     return Ok(e);
                 }
-                let is_component = effective(self.index, d, 0)
+                let is_component = effective(self.index, d)
                     .map(|e| e.declarations.iter().any(|x| x.name().name == connector.name))
                     .unwrap_or(false);
                 if is_component {

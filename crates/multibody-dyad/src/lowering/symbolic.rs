@@ -502,7 +502,10 @@ fn function(callee: &Path, args: &[Expr], span: Span, names: &mut dyn Names) -> 
             let mut constant = |k: usize, what: &str| -> Result<f64, Diagnostic> {
                 match arg(k, names)?.constant() {
                     Some(x) if x.is_finite() => Ok(x),
-                    _ => Err(Diagnostic::error(format!("the {what} of `sample` must be a number or a parameter"))
+                    Some(x) => Err(Diagnostic::error(format!("the {what} of `sample` is {x}, not a finite number"))
+                        .primary(args[k].span, "not finite")
+                        .help("give `sample(start, interval)` finite numbers (0/0 is NaN, 1/0 infinite)")),
+                    None => Err(Diagnostic::error(format!("the {what} of `sample` must be a number or a parameter"))
                         .primary(args[k].span, "changes during the simulation")
                         .help("write `sample(start, interval)` with parameters: its instants are fixed")),
                 }

@@ -48,7 +48,7 @@ pub fn describe(name: &str) -> Option<Description> {
         .position(|(_, f)| f.items.iter().any(|i| matches!(i, Item::Component(c) if std::ptr::eq(c, def))))?;
     let text = stdlib::sources().nth(library)?.1;
     let source = |span: crate::syntax::source::Span| text.get(span.range()).unwrap_or_default().trim().to_string();
-    let merged = effective(&index, def, 0).ok()?;
+    let merged = effective(&index, def).ok()?;
     let mut parameters = Vec::new();
     let mut connectors = Vec::new();
     let mut parts = Vec::new();

@@ -16,12 +16,19 @@ pub struct Effective {
     pub relations: Vec<Relation>,
 }
 
-pub fn effective(index: &Index, def: &ComponentDef, depth: usize) -> Result<Effective, Diagnostic> {
+pub fn effective(index: &Index, def: &ComponentDef) -> Result<Effective, Diagnostic> {
+    merged(index, def, &mut Vec::new())
+}
+
+/// `def` merged with what it extends; `chain` holds the components being
+/// merged around it, outermost first, so that a cycle is named.
+fn merged<'a>(index: &Index<'a>, def: &'a ComponentDef, chain: &mut Vec<&'a str>) -> Result<Effective, Diagnostic> {
     let mut declarations = Vec::new();
     let mut relations = Vec::new();
+    chain.push(&def.name.name);
     for d in &def.declarations {
         let Declaration::Extends(e) = d else { continue };
-        if depth >= MAX_EXTENDS {
+        if chain.len() > MAX_EXTENDS {
             return Err(Diagnostic::error(format!("`extends` chains more than {MAX_EXTENDS} levels deep"))
                 .primary(e.span, "too deep")
                 .help("check for components that extend each other"));
@@ -50,11 +57,24 @@ pub fn effective(index: &Index, def: &ComponentDef, depth: usize) -> Result<Effe
         if std::ptr::eq(base, def) {
             return Err(Diagnostic::error(format!("`{}` extends itself", def.name.name)).primary(e.span, "here"));
         }
-        let mut inherited = effective(index, base, depth + 1)?;
+        if let Some(start) = chain.iter().position(|&c| c == base.name.name) {
+            let cycle: Vec<&str> = chain[start..].iter().copied().chain([base.name.name.as_str()]).collect();
+            return Err(Diagnostic::error(format!(
+                "`{}` extends itself through other components: {}",
+                base.name.name,
+                cycle.join(" → ")
+            ))
+            .primary(e.span, "this closes the cycle")
+            .help(
+                "components that extend each other have no declarations to start from: remove one of the `extends`",
+            ));
+        }
+        let mut inherited = merged(index, base, chain)?;
         apply_extends_modifiers(&mut inherited, &e.modifiers, &e.base)?;
         declarations.extend(inherited.declarations);
         relations.extend(inherited.relations);
     }
+    chain.pop();
     declarations.extend(def.declarations.iter().filter(|d| !matches!(d, Declaration::Extends(_))).cloned());
     relations.extend(def.relations.iter().cloned());
     Ok(Effective { declarations, relations })

@@ -1,8 +1,9 @@
-//! Tearing of an algebraic loop: most unknowns of a block that must be
-//! solved simultaneously follow one after another from a few others, the
-//! tearing variables, by equations solved in closed form; Newton's method
-//! then works on the tearing variables alone, with the residual equations
-//! left over. The choice is the greedy one of Modelica tools (solve what
+//! Tearing of a nonlinear algebraic loop: most unknowns of a block that
+//! must be solved simultaneously follow one after another from a few
+//! others, the tearing variables, by equations solved in closed form;
+//! Newton's method then works on the tearing variables alone, with the
+//! residual equations left over. (A linear block keeps its one pivoted
+//! sparse factorization, which rounds better than chains of closed forms.) The choice is the greedy one of Modelica tools (solve what
 //! can be solved; when stuck, tear the unknown that the most remaining
 //! equations mention).
 
