@@ -29,6 +29,14 @@ impl ResultFiles {
     pub fn new(inputs: &[PathBuf], csv: &Path, animate: Option<&Path>, plot: Option<&Path>) -> Result<Self, Failure> {
         let outputs = [("--out", Some(csv)), ("--animate", animate), ("--plot", plot)];
         outputs_are_safe(inputs, &outputs)?;
+        // A table is CSV or Parquet: another name would get CSV text under it.
+        let extension = csv.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+        if extension.as_deref().is_some_and(|e| !matches!(e, "csv" | "parquet" | "pq")) {
+            return Err(Failure::Usage(format!(
+                "`--out {}`: results are written as CSV or Parquet; name the file .csv or .parquet",
+                csv.display()
+            )));
+        }
         if let Some(plot) = plot {
             if multibody_view::PlotFormat::from_path(plot).is_none() {
                 return Err(Failure::Usage(format!(

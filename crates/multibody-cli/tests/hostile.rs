@@ -116,6 +116,16 @@ fn a_partial_name_never_replaces_a_model_file() {
     let o = multibody(&dir, &["sweep", "r.partial.dyad", "--param", "body.m=1,2", "--out", "r.dyad"]);
     assert_eq!(code(&o), 2, "{}", stderr(&o));
     assert_eq!(std::fs::read_to_string(&model).unwrap(), text);
+    // A table is CSV or Parquet: `r.xlsx` would have held CSV text.
+    for command in [
+        &["run", "r.partial.dyad", "--out", "r.xlsx"][..],
+        &["sweep", "r.partial.dyad", "--param", "g=1,2", "--out", "r.xlsx"],
+    ] {
+        let o = multibody(&dir, command);
+        assert_eq!(code(&o), 2, "{}", stderr(&o));
+        assert!(stderr(&o).contains("`--out r.xlsx`: results are written as CSV or Parquet"), "{}", stderr(&o));
+        assert!(!dir.join("r.xlsx").exists());
+    }
 }
 
 /// `--out /dev/null` used to replace the device node by a regular file
