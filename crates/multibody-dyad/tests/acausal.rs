@@ -760,18 +760,9 @@ end
 #[test]
 fn a_start_at_rest_with_zero_acceleration_finds_the_equilibrium() {
     let solution = simulate(&pendulum_on_a_spring("", "phi(guess = 0.3)", "20"));
-    // The root of c phi + m g L cos(phi) = 0 in [-1, 0], by bisection.
-    let f = |phi: f64| 20.0 * phi + 9.80665 * 0.5 * phi.cos();
-    let (mut lo, mut hi) = (-1.0f64, 0.0f64);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if f(mid) > 0.0 {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    report("equilibrium angle from initial der(j.w) = 0", worst_against(&solution, "j.phi", |_| lo), 1e-8);
+    // The root of c phi + m g L cos(phi) = 0 in [-1, 0].
+    let phi = rising_root(|phi| 20.0 * phi + 9.80665 * 0.5 * phi.cos(), -1.0, 0.0);
+    report("equilibrium angle from initial der(j.w) = 0", worst_against(&solution, "j.phi", |_| phi), 1e-8);
 
     let solution = simulate(
         r#"
@@ -920,20 +911,22 @@ analysis LoopRun
 end
 "#,
     );
-    let root = |t: f64| {
-        // w^3 + 6 w + 3 sin(t) - 7 rises in w: one real root in [-3, 3].
-        let f = |w: f64| w * w * w + 6.0 * w + 3.0 * t.sin() - 7.0;
-        let (mut lo, mut hi) = (-3.0f64, 3.0f64);
-        for _ in 0..200 {
-            let mid = 0.5 * (lo + hi);
-            if f(mid) > 0.0 {
-                hi = mid;
-            } else {
-                lo = mid;
-            }
-        }
-        lo
-    };
+    // w^3 + 6 w + 3 sin(t) - 7 rises in w: one real root in [-3, 3].
+    let root = |t: f64| rising_root(|w| w * w * w + 6.0 * w + 3.0 * t.sin() - 7.0, -3.0, 3.0);
     report("w is the cubic's root", worst_against(&solution, "w", root), 1e-10);
     report("z follows it", worst_against(&solution, "z", |t| 3.0 * (2.0 * root(t) + 1.0 + t.sin())), 1e-9);
+}
+
+/// The root of `f`, rising through zero in `[lo, hi]`, by bisection to
+/// rounding: a reference the code under test does not compute.
+fn rising_root(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if f(mid) > 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    lo
 }
