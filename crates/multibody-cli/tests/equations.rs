@@ -117,6 +117,19 @@ fn a_long_algebraic_loop_from_a_for_is_solved_to_its_closed_form() {
     check(&table, &format!("x[{n}]"), 1e-12, |_| 2.0);
 }
 
+/// A spring constant with only a guess, passed to the library's torsion
+/// spring, is found at the start so that the pendulum rests at -0.4 rad:
+/// `c (phi0 - phi_rel0) = -m g L cos(phi0)`.
+#[test]
+fn a_spring_constant_found_at_the_start_holds_the_pendulum() {
+    let table = run("init_spring_constant.dyad", None);
+    let (phi0, phi_rel0) = (-0.4f64, 0.1);
+    let c = -1.0 * 9.80665 * 0.5 * phi0.cos() / (phi0 - phi_rel0);
+    check(&table, "c", 1e-9 * c, |_| c);
+    check(&table, "spring.c", 1e-9 * c, |_| c);
+    check(&table, "joint.phi", 1e-9, |_| phi0);
+}
+
 /// A loop whose Jacobian changes with time, so its pivots are chosen
 /// from the pattern when it compiles: t x[1] + x[n] = 1 and
 /// x[i] = 2 x[i-1] + 1. At t = 0 the first pivot the pattern suggests,

@@ -305,7 +305,9 @@ fn every_examples_tunables_round_trip() {
             let model = format!("{:?}", lowered.model);
             for t in &lowered.tunables {
                 listed += 1;
-                let same = p.lower_target(&target, &[t.set(t.value)]).unwrap();
+                let same = p
+                    .lower_target(&target, &[t.set(t.value)])
+                    .unwrap_or_else(|d| panic!("{relative}: {}: {}", t.path, d.render(p.sources(), false)));
                 assert_eq!(format!("{:?}", same.model), model, "{relative}: {}", t.path);
                 let changed = if t.integer { t.value + 1.0 } else { t.value * 1.1 + 0.01 };
                 if let (Err(d), None) = (p.lower_target(&target, &[t.set(changed)]), t.max) {

@@ -1321,8 +1321,10 @@ fn solved_parameters(
         solved.push(as_variable(p, None));
     }
     for p in params() {
+        // A start or guess given from outside (`c(initial = 2)`, a tunable's
+        // override) moves the guess; only a value makes it a parameter.
         if p.default.is_none()
-            && !modifiers.iter().any(|m| m.name.name == p.name.name)
+            && !modifiers.iter().any(|m| m.name.name == p.name.name && m.value.is_some())
             && !bound.iter().any(|(b, _)| b.name == p.name.name)
         {
             if let Some(guess) = p.ty.attributes.iter().find(|a| a.name.name == "guess").and_then(|a| a.value.clone()) {
