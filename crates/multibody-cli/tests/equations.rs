@@ -124,7 +124,7 @@ fn a_long_algebraic_loop_from_a_for_is_solved_to_its_closed_form() {
 fn a_spring_constant_found_at_the_start_holds_the_pendulum() {
     let table = run("init_spring_constant.dyad", None);
     let (phi0, phi_rel0) = (-0.4f64, 0.1);
-    let c = -1.0 * 9.80665 * 0.5 * phi0.cos() / (phi0 - phi_rel0);
+    let c = -9.80665 * 0.5 * phi0.cos() / (phi0 - phi_rel0);
     check(&table, "c", 1e-9 * c, |_| c);
     check(&table, "spring.c", 1e-9 * c, |_| c);
     check(&table, "joint.phi", 1e-9, |_| phi0);
