@@ -706,8 +706,10 @@ impl<'a, 'i> Lowerer<'a, 'i> {
             let decl = instance.decl;
             // A parameter given one the initialization decides follows it
             // as a variable; the rest are values.
-            let (bound, values): (Vec<&Modifier>, Vec<&Modifier>) =
-                decl.modifiers.iter().partition(|m| solved_source(m, solved).is_some());
+            let (bound, values): (Vec<&Modifier>, Vec<&Modifier>) = decl.modifiers.iter().partition(|m| {
+                // A connector has no parameters: its modifiers stay values (and are refused).
+                !matches!(instance.kind, Kind::Connector(_)) && solved_source(m, solved).is_some()
+            });
             let values: Vec<Modifier> = values.into_iter().cloned().collect();
             let mut kind = instance.kind.clone();
             if !bound.is_empty() {
