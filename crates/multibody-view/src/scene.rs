@@ -5,6 +5,8 @@
 use crate::mesh::{self, MeshData};
 use crate::ViewError;
 use multibody::components::shapes::{Placement, Shape, ShapeKind};
+use multibody::math::rotation::axis_rotation;
+use multibody::math::{Mat3, Transform, Vec3};
 use multibody::Solution;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -87,20 +89,20 @@ fn kind_name(kind: &ShapeKind) -> (&'static str, f64) {
 }
 
 /// The columns of a frame's pose: a 3-D frame's `r_0[1..3]` and
-/// `R[1,1]..R[3,3]`, or a planar frame's `x`, `y` and `phi` (it lies in the
-/// world's x-y plane, turned about z).
+/// `R[1,1]..R[3,3]`, or a planar frame's `x`, `y` and `phi` (in the plane
+/// `plane`, turned about its normal).
 enum FrameColumns<'a> {
     Spatial([&'a [f64]; 12]),
-    Planar([&'a [f64]; 3]),
+    Planar { columns: [&'a [f64]; 3], plane: Transform },
 }
 
-fn frame_columns<'a>(solution: &'a Solution, frame: &str) -> Option<FrameColumns<'a>> {
+fn frame_columns<'a>(solution: &'a Solution, frame: &str, plane: Transform) -> Option<FrameColumns<'a>> {
     if let (Some(x), Some(y), Some(phi)) = (
         solution.get(&format!("{frame}.x")),
         solution.get(&format!("{frame}.y")),
         solution.get(&format!("{frame}.phi")),
     ) {
-        return Some(FrameColumns::Planar([x, y, phi]));
+        return Some(FrameColumns::Planar { columns: [x, y, phi], plane });
     }
     let mut names = Vec::with_capacity(12);
     for i in 1..=3 {
@@ -194,17 +196,17 @@ fn dot4(a: &[f64; 4], b: &[f64; 4]) -> f64 {
 /// solution's `R` maps world to frame (`v_frame = R v_world`), so the
 /// frame-to-world matrix is its transpose.
 fn pose_at(cols: &FrameColumns, k: usize) -> ([f64; 3], [f64; 4]) {
-    let cols = match cols {
-        FrameColumns::Spatial(cols) => cols,
-        FrameColumns::Planar([x, y, phi]) => {
-            let half = phi[k] / 2.0;
-            return ([x[k], y[k], 0.0], [half.cos(), 0.0, 0.0, half.sin()]);
+    let (p, r) = match cols {
+        FrameColumns::Spatial(cols) => {
+            (Vec3::new(cols[0][k], cols[1][k], cols[2][k]), Mat3::from_fn(|i, j| cols[3 + 3 * i + j][k]))
+        }
+        // In the plane, then the plane into the world.
+        FrameColumns::Planar { columns: [x, y, phi], plane } => {
+            (plane.trans + plane.rot.tr_mul(&Vec3::new(x[k], y[k], 0.0)), axis_rotation(2, phi[k]) * plane.rot)
         }
     };
-    let p = [cols[0][k], cols[1][k], cols[2][k]];
-    let r = |i: usize, j: usize| cols[3 + 3 * i + j][k];
-    let m = [r(0, 0), r(1, 0), r(2, 0), r(0, 1), r(1, 1), r(2, 1), r(0, 2), r(1, 2), r(2, 2)];
-    (p, quaternion(&m))
+    let m = [r[(0, 0)], r[(1, 0)], r[(2, 0)], r[(0, 1)], r[(1, 1)], r[(2, 1)], r[(0, 2)], r[(1, 2)], r[(2, 2)]];
+    ([p.x, p.y, p.z], quaternion(&m))
 }
 
 /// The frame times: the solution's own samples when there are no more than
@@ -292,11 +294,12 @@ pub fn sample(
     let mut placed: Vec<(&Shape, ScenePlacementDraft, Option<usize>)> = Vec::new();
     let mut mesh_files = MeshFiles::default();
 
-    let mut frame = |name: &str, skipped: &mut Vec<String>, component: &str| -> Option<usize> {
+    let mut frame = |name: &str, skipped: &mut Vec<String>, shape: &Shape| -> Option<usize> {
         if let Some(&i) = frame_index.get(name) {
             return Some(i);
         }
-        match frame_columns(solution, name) {
+        let component = &shape.component;
+        match frame_columns(solution, name, shape.plane) {
             Some(cols) => {
                 frames.push((name.to_string(), cols));
                 frame_index.insert(name.to_string(), frames.len() - 1);
@@ -324,7 +327,7 @@ pub fn sample(
         };
         let draft = match &shape.placement {
             Placement::InFrame { frame: f, origin, length, width_dir } => {
-                let Some(pose) = frame(f, &mut skipped, &shape.component) else { continue };
+                let Some(pose) = frame(f, &mut skipped, shape) else { continue };
                 ScenePlacementDraft::Frame {
                     pose,
                     origin: [origin.x, origin.y, origin.z],
@@ -333,12 +336,12 @@ pub fn sample(
                 }
             }
             Placement::Between { from, to } => {
-                let Some(a) = frame(from, &mut skipped, &shape.component) else { continue };
-                let Some(b) = frame(to, &mut skipped, &shape.component) else { continue };
+                let Some(a) = frame(from, &mut skipped, shape) else { continue };
+                let Some(b) = frame(to, &mut skipped, shape) else { continue };
                 ScenePlacementDraft::Between { from: a, to: b }
             }
             Placement::Vector { frame: f, vector, scale } => {
-                let Some(pose) = frame(f, &mut skipped, &shape.component) else { continue };
+                let Some(pose) = frame(f, &mut skipped, shape) else { continue };
                 let v = match vector_index.get(vector) {
                     Some(&v) => v,
                     None => {

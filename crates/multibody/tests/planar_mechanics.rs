@@ -398,9 +398,11 @@ fn a_hundred_link_planar_chain_moves_as_its_3d_twin() {
 /// A wheel (a planar body on a rolling joint) pushed along x by a constant
 /// force at its centre: it rolls with a = F / (m + I / r^2), the ground
 /// carries its weight, and x = radius phi_roll + x0 holds.
-#[test]
-fn a_planar_rolling_wheel_pushed_at_its_centre_accelerates_as_the_closed_form_says() {
-    let (f, mass, inertia, radius) = (0.5, 0.1, 0.01, 0.4);
+const ROLLING: (f64, f64, f64, f64) = (0.5, 0.1, 0.01, 0.4);
+
+/// A planar body on a rolling wheel joint, pushed along x at its centre.
+fn rolling_wheel() -> Model {
+    let (f, mass, inertia, radius) = ROLLING;
     let mut m = Model::new("rolling");
     m.add("world", "PlanarMechanics.World");
     m.add("wheel", "PlanarMechanics.OneDOFRollingWheelJoint").set("radius", radius).set("x0", 0.3);
@@ -413,7 +415,13 @@ fn a_planar_rolling_wheel_pushed_at_its_centre_accelerates_as_the_closed_form_sa
         .initial("w", 0.0);
     m.connect(["wheel.frame_a", "body.frame_a"]);
     push(&mut m, "body.frame_a", [f, 0.0, 0.0]);
-    let s = run(&m, 3.0);
+    m
+}
+
+#[test]
+fn a_planar_rolling_wheel_pushed_at_its_centre_accelerates_as_the_closed_form_says() {
+    let (f, mass, inertia, radius) = ROLLING;
+    let s = run(&rolling_wheel(), 3.0);
     let a = f / (mass + inertia / (radius * radius));
     let (x, phi_roll) = (s.get("wheel.x").unwrap(), s.get("wheel.phi_roll").unwrap());
     let mut worst = 0.0f64;
@@ -435,9 +443,11 @@ fn a_planar_rolling_wheel_pushed_at_its_centre_accelerates_as_the_closed_form_sa
 /// it to rolling; about the contact point its angular momentum
 /// I w - m r v is kept throughout (ground forces act at that point, gravity
 /// on the vertical through it), so it ends rolling at w = I w0 / (I + m r^2).
-#[test]
-fn a_spinning_planar_wheel_slips_until_it_rolls_keeping_its_angular_momentum_about_the_contact() {
-    let (mass, inertia, radius, w0) = (0.1, 0.1, 1.0, 30.0);
+const SLIPPING: (f64, f64, f64, f64) = (0.1, 0.1, 1.0, 30.0);
+
+/// A planar wheel spun at `w0` set on the ground, where it slips.
+fn slipping_wheel() -> Model {
+    let (mass, inertia, radius, w0) = SLIPPING;
     let mut m = Model::new("slipping");
     m.add("world", "PlanarMechanics.World");
     m.add("wheel", "PlanarMechanics.OneDOFSlippingWheelJoint")
@@ -456,7 +466,13 @@ fn a_spinning_planar_wheel_slips_until_it_rolls_keeping_its_angular_momentum_abo
         .initial("phi", 0.0)
         .initial("w", w0);
     m.connect(["wheel.frame_a", "body.frame_a"]);
-    let s = run(&m, 6.0);
+    m
+}
+
+#[test]
+fn a_spinning_planar_wheel_slips_until_it_rolls_keeping_its_angular_momentum_about_the_contact() {
+    let (mass, inertia, radius, w0) = SLIPPING;
+    let s = run(&slipping_wheel(), 6.0);
     let (v, w) = (s.get("body.v[1]").unwrap(), s.get("body.w").unwrap());
     let l0 = inertia * w0;
     let kept = v.iter().zip(w).fold(0.0f64, |m, (v, w)| m.max((inertia * w - mass * radius * v - l0).abs())) / l0;
@@ -477,8 +493,8 @@ fn a_spinning_planar_wheel_slips_until_it_rolls_keeping_its_angular_momentum_abo
 /// driven by 2 N.m through a 1 kg.m2 inertia, no gravity. The wheel runs in
 /// circles, its lateral force saturated at mu_A N = 80 N; that test asserts
 /// [f_lat, f_long] = [80, -5] at t = 15 and [80, -4.95] at t = 20 (to 1 %).
-#[test]
-fn a_slip_based_wheel_driving_in_circles_meets_multibody_jl() {
+/// A body on a slide from a pivot, driven in circles by a slip-based wheel.
+fn slip_based_wheel() -> Model {
     let mut m = Model::new("slip_based");
     m.add("world", "PlanarMechanics.World").set("g", 0.0);
     m.add("pivot", "PlanarMechanics.Revolute");
@@ -506,8 +522,13 @@ fn a_slip_based_wheel_driving_in_circles_meets_multibody_jl() {
     m.connect(["engine.spline", "inertia.spline_a"]);
     m.connect(["inertia.spline_b", "wheel.flange_a"]);
     m.connect(["load.y", "wheel.dynamicLoad"]);
+    m
+}
+
+#[test]
+fn a_slip_based_wheel_driving_in_circles_meets_multibody_jl() {
     let options = SimulationOptions { stop: 20.0, saveat: 0.05, abstol: 1e-8, reltol: 1e-8, ..Default::default() };
-    let s = m.assemble().unwrap().simulate(&options).unwrap();
+    let s = slip_based_wheel().assemble().unwrap().simulate(&options).unwrap();
     let at = |name: &str, t: f64| s.get(name).unwrap()[(t / 0.05).round() as usize];
     let mut worst = 0.0f64;
     for (t, lat, long) in [(15.0, 80.0, -5.0), (20.0, 80.0, -4.95)] {
@@ -521,40 +542,168 @@ fn a_slip_based_wheel_driving_in_circles_meets_multibody_jl() {
     assert!(worst < 1e-2, "the slip-based wheel differs from Multibody.jl by {worst:e}");
 }
 
-/// The planar World's `r_0_3d` and `rot_3d` place the plane for showing it
-/// in 3-D; the library keeps frame_b at x = y = phi = 0 and the planar
-/// motion is unchanged: a free body falls as `y = y0 + v0 t - g t^2 / 2`.
-#[test]
-fn a_planar_world_placed_in_3d_is_accepted_and_keeps_the_planar_motion() {
-    let mut m = Model::new("placed_plane");
-    m.add("world", "PlanarMechanics.World").set("r_0_3d", [1.0, 2.0, 3.0]).set("rot_3d", [0.3, -0.2, 0.1]);
-    m.add("body", "PlanarMechanics.Body").set("m", 2.0).set("I", 1.0).initial("r", [1.0, 2.0]).initial("v", [0.5, 3.0]);
-    let s = run(&m, 1.0);
-    let g = 9.80665;
-    let mut worst = 0.0f64;
-    for (k, t) in s.time().iter().enumerate() {
-        let expect = [1.0 + 0.5 * t, 2.0 + 3.0 * t - g * t * t / 2.0];
-        let got = [s.get("body.r[1]").unwrap()[k], s.get("body.r[2]").unwrap()[k]];
-        worst = (0..2).fold(worst, |m, i| m.max((got[i] - expect[i]).abs()));
-    }
-    assert!(worst < 1e-9, "free fall in a placed plane differs by {worst:e}");
+/// The plane's axes in the world for the planar World's `rot_3d`: turned
+/// about x, then the new y, then the new z (columns: the plane's x, y and
+/// normal in world coordinates), written here with the textbook matrices.
+fn plane_axes(angles: [f64; 3]) -> multibody::math::Mat3 {
+    use multibody::math::Mat3;
+    let [a, b, c] = angles;
+    let rx = Mat3::new(1.0, 0.0, 0.0, 0.0, a.cos(), -a.sin(), 0.0, a.sin(), a.cos());
+    let ry = Mat3::new(b.cos(), 0.0, b.sin(), 0.0, 1.0, 0.0, -b.sin(), 0.0, b.cos());
+    let rz = Mat3::new(c.cos(), -c.sin(), 0.0, c.sin(), c.cos(), 0.0, 0.0, 0.0, 1.0);
+    rx * ry * rz
 }
 
-/// Beside 3-D parts, a plane placed in 3-D would move them (the library's
-/// PlanarToMultiBodyEmbeddedTest): not done yet, so refused, not ignored.
+/// A pendulum carrying a 3-D body through PlanarToMultiBody, a puck on a
+/// spring-damper pushed by a world force, and sensors, in a plane at
+/// `origin` turned by `angles`.
+fn mechanism_in_plane(origin: [f64; 3], angles: [f64; 3]) -> Model {
+    let mut m = Model::new("in_plane");
+    m.add("world", "PlanarMechanics.World").set("r_0_3d", origin).set("rot_3d", angles);
+    m.add("hinge", "PlanarMechanics.Revolute").initial("phi", 0.4).initial("w", 0.0);
+    m.add("rod", "PlanarMechanics.FixedTranslation").set("r", [1.0, 0.0]);
+    m.add("bob", "PlanarMechanics.Body").set("m", 1.0).set("I", 0.1);
+    m.add("adapter", "PlanarMechanics.PlanarToMultiBody").set("z_position", 0.3);
+    m.add("load", "Body").set("m", 0.5).set("r_cm", [0.1, 0.0, 0.2]);
+    m.add("anchor", "PlanarMechanics.Fixed").set("r", [0.5, 1.0]).set("phi", 0.2);
+    m.add("spring", "PlanarMechanics.SpringDamper")
+        .set("c_x", 4.0)
+        .set("c_y", 6.0)
+        .set("c_phi", 2.0)
+        .set("d_x", 0.3)
+        .set("d_y", 0.2)
+        .set("d_phi", 0.1);
+    m.add("puck", "PlanarMechanics.Body")
+        .set("m", 0.5)
+        .set("I", 0.05)
+        .initial("r", [1.0, 0.5])
+        .initial("v", [0.0, 0.4])
+        .initial("phi", 0.3)
+        .initial("w", 0.0);
+    m.add("push", "PlanarMechanics.WorldForceTorque");
+    for (name, k) in [("fx", 1.0), ("fy", 0.5), ("tz", 0.2)] {
+        m.add(name, "BlockComponents.Constant").set("k", k);
+    }
+    m.add("where", "PlanarMechanics.AbsolutePosition").set("resolve_in_frame", multibody::Value::Enum("World".into()));
+    m.add("speed", "PlanarMechanics.AbsoluteVelocity").set("resolve_in_frame", multibody::Value::Enum("World".into()));
+    m.connect(["world.frame_b", "hinge.frame_a"]);
+    m.connect(["hinge.frame_b", "rod.frame_a"]);
+    m.connect(["rod.frame_b", "bob.frame_a", "adapter.frame_a"]);
+    m.connect(["adapter.frame_b", "load.frame_a"]);
+    m.connect(["anchor.frame_b", "spring.frame_a"]);
+    m.connect(["spring.frame_b", "puck.frame_a", "push.frame_b", "where.frame_a", "speed.frame_a"]);
+    m.connect(["fx.y", "push.force_x"]);
+    m.connect(["fy.y", "push.force_y"]);
+    m.connect(["tz.y", "push.torque"]);
+    m
+}
+
+/// The planar World's `r_0_3d` and `rot_3d` move the plane in 3-D: every
+/// planar quantity (positions, angles, forces, sensors, energies) is the
+/// same as in the x-y plane, and the 3-D side of PlanarToMultiBody sits at
+/// `origin + A [x, y, z_position]` turned by `A Rz(phi)`, with `A` the
+/// plane's axes computed in the test.
 #[test]
-fn a_plane_placed_in_3d_beside_3d_parts_is_refused_not_ignored() {
-    let mut m = Model::new("embedded");
+fn a_plane_placed_in_3d_moves_its_3d_parts_and_keeps_every_planar_quantity() {
+    let (origin, angles) = ([1.0, -2.0, 0.5], [0.7, -0.4, 1.1]);
+    let flat = run(&mechanism_in_plane([0.0; 3], [0.0; 3]), 3.0);
+    let placed = run(&mechanism_in_plane(origin, angles), 3.0);
+    let planar =
+        ["hinge.", "rod.", "bob.", "anchor.", "spring.", "puck.", "push.", "where.", "speed.", "adapter.frame_a"];
+    // Cut forces and torques at the 3-D frames are in frame coordinates.
+    let invariant = ["adapter.fz", "adapter.tau_perp", "adapter.frame_b.f", "adapter.frame_b.tau", "load.frame_a.f"];
+    let (compared, worst) =
+        placement_difference(&flat, &placed, |name| planar.iter().chain(&invariant).any(|p| name.starts_with(p)));
+    eprintln!("placed plane: {compared} planar columns differ from the x-y plane's by {worst:.1e} (tolerance 1e-8)");
+    assert!(compared > 60, "only {compared} columns compared");
+    assert!(worst < 1e-8, "planar quantities change with the plane's placement by {worst:e}");
+    let moved = flat.get("puck.r[1]").unwrap().iter().fold(0.0f64, |m, x| m.max((x - 1.0).abs()));
+    assert!(moved > 0.1, "the puck hardly moves");
+
+    let axes = plane_axes(angles);
+    let o = multibody::math::Vec3::from(origin);
+    let mut worst = 0.0f64;
+    for k in 0..flat.time().len() {
+        let col = |s: &Solution, n: &str| s.get(n).unwrap()[k];
+        let (x, y, phi) =
+            (col(&flat, "adapter.frame_a.x"), col(&flat, "adapter.frame_a.y"), col(&flat, "adapter.frame_a.phi"));
+        let r = o + axes * multibody::math::Vec3::new(x, y, 0.3);
+        let turn = multibody::math::Mat3::new(phi.cos(), -phi.sin(), 0.0, phi.sin(), phi.cos(), 0.0, 0.0, 0.0, 1.0);
+        let world_to_frame = (axes * turn).transpose();
+        for i in 0..3 {
+            worst = worst.max((col(&placed, &format!("adapter.frame_b.r_0[{}]", i + 1)) - r[i]).abs());
+            for j in 0..3 {
+                let got = col(&placed, &format!("adapter.frame_b.R[{},{}]", i + 1, j + 1));
+                worst = worst.max((got - world_to_frame[(i, j)]).abs());
+            }
+        }
+    }
+    eprintln!("placed plane: the 3-D frame differs from the plane's placement by {worst:.1e} (tolerance 1e-8)");
+    assert!(worst < 1e-8, "the 3-D side of PlanarToMultiBody is off its placed plane by {worst:e}");
+}
+
+/// How many columns `keep` selects, and their largest difference between
+/// a run in the x-y plane and one in a placed plane.
+fn placement_difference(flat: &Solution, placed: &Solution, keep: impl Fn(&str) -> bool) -> (usize, f64) {
+    let mut compared = 0;
+    let mut worst = 0.0f64;
+    for name in flat.names().iter().filter(|n| keep(n)) {
+        let (a, b) = (flat.get(name).unwrap(), placed.get(name).unwrap_or_else(|| panic!("no {name}")));
+        worst = a.iter().zip(b).fold(worst, |m, (a, b)| m.max((a - b).abs()));
+        compared += 1;
+    }
+    (compared, worst)
+}
+
+/// Wheels roll on the plane's ground line wherever the plane is: the
+/// rolling, slipping and slip-based wheels give every column of their
+/// x-y plane runs in a plane moved to [1, -2, 0.5] and turned. (The
+/// slipping wheel's friction is steep near adhesion: there the two runs'
+/// rounding, integrated at 1e-12, leaves 6e-9 in its accelerations.)
+#[test]
+fn planar_wheels_in_a_placed_plane_roll_and_slip_as_in_the_x_y_plane() {
+    let options = SimulationOptions { stop: 3.0, saveat: 0.05, abstol: 1e-12, reltol: 1e-12, ..Default::default() };
+    for flat in [rolling_wheel(), slipping_wheel(), slip_based_wheel()] {
+        let mut placed = flat.clone();
+        placed.component_mut("world").unwrap().set("r_0_3d", [1.0, -2.0, 0.5]).set("rot_3d", [0.7, -0.4, 1.1]);
+        let simulate =
+            |m: &Model| m.assemble().unwrap_or_else(|e| panic!("{}: {e}", m.name)).simulate(&options).unwrap();
+        let (a, b) = (simulate(&flat), simulate(&placed));
+        let (compared, worst) = placement_difference(&a, &b, |_| true);
+        eprintln!("{} in a placed plane: {compared} columns differ by {worst:.1e} (tolerance 1e-7)", flat.name);
+        assert!(worst < 1e-7, "{}: the placed plane changes the run by {worst:e}", flat.name);
+    }
+}
+
+/// The library's PlanarToMultiBodyEmbeddedTest: a pose prescribed as
+/// x = t, y = t / 2, phi = 0.3 t in a plane at [1, 2, 3] puts the 3-D frame
+/// (z_position 0.5) at [6, 4.5, 3.5] at t = 5, as its documentation says,
+/// turned about z by 1.5 rad.
+#[test]
+fn planar_to_multibody_embedded_in_a_plane_at_1_2_3_is_at_6_4_5_3_5_at_t_5() {
+    let mut m = Model::new("PlanarToMultiBodyEmbeddedTest");
     m.add("world", "PlanarMechanics.World").set("r_0_3d", [1.0, 2.0, 3.0]);
+    m.add("prescribed", "PlanarMechanics.PrescribedPose");
     m.add("body", "PlanarMechanics.Body").set("m", 1.0).set("I", 1.0);
     m.add("adapter", "PlanarMechanics.PlanarToMultiBody").set("z_position", 0.5);
     m.add("sensor", "AbsoluteAngles");
-    m.connect(["body.frame_a", "adapter.frame_a"]);
-    m.connect(["adapter.frame_b", "sensor.frame_a"]);
-    let message = m.assemble().unwrap_err().to_string();
-    for expected in ["world", "r_0_3d", "not applied to 3-D parts yet", "leave"] {
-        assert!(message.contains(expected), "`{expected}` missing from: {message}");
+    for (name, slope, input) in [("x", 1.0, "r_x"), ("y", 0.5, "r_y"), ("turn", 0.3, "phi")] {
+        m.add(name, "BlockComponents.Ramp").set("height", 100.0 * slope).set("duration", 100.0);
+        m.connect([format!("{name}.y"), format!("prescribed.{input}")]);
     }
+    m.connect(["prescribed.frame_b", "body.frame_a", "adapter.frame_a"]);
+    m.connect(["adapter.frame_b", "sensor.frame_a"]);
+    let s = run(&m, 5.0);
+    let last = s.time().len() - 1;
+    let at = |name: &str| s.get(name).unwrap_or_else(|| panic!("no {name}"))[last];
+    let r = [at("adapter.frame_b.r_0[1]"), at("adapter.frame_b.r_0[2]"), at("adapter.frame_b.r_0[3]")];
+    let angles = [at("sensor.angles[1]"), at("sensor.angles[2]"), at("sensor.angles[3]")];
+    eprintln!("embedded test at t = 5: r_0 = {r:?} (documented [6, 4.5, 3.5]), angles = {angles:?}");
+    let gap = (0..3).map(|i| (r[i] - [6.0, 4.5, 3.5][i]).abs()).fold(0.0f64, f64::max);
+    let turn = (0..3).map(|i| (angles[i] - [0.0, 0.0, 1.5][i]).abs()).fold(0.0f64, f64::max);
+    assert!(gap < 1e-9 && turn < 1e-9, "r_0 {r:?}, angles {angles:?}");
+    // The planar side reads in the plane: x = t, y = t / 2.
+    assert!((at("body.r[1]") - 5.0).abs() < 1e-9 && (at("body.r[2]") - 2.5).abs() < 1e-9);
 }
 
 /// A planar Prismatic with `axisflange`: a translational spring between

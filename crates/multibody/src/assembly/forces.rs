@@ -6,6 +6,7 @@ use super::connections::Connectors;
 use super::links::Tree;
 use super::mechanism::CompiledComponent;
 use crate::components::{ForceLaw, Part};
+use crate::math::Transform;
 use crate::system::{Anchor, Attachment, FlangeRef, ForceElement};
 use crate::Error;
 
@@ -16,6 +17,7 @@ pub fn elements(
     places: &Places,
     signal_of_connector: &[usize],
     zero_slot: usize,
+    plane: &Transform,
 ) -> Result<Vec<ForceElement>, Error> {
     let mut elements = Vec::new();
     for (ci, c) in components.iter().enumerate() {
@@ -45,6 +47,7 @@ pub fn elements(
                 connectors: (a.map(id), id(b)),
                 inputs: inputs.map(|i| i.map_or(zero_slot, |i| signal_of_connector[id(i)])),
                 flanges: flange_refs,
+                in_plane: super::links::in_placed_plane(c, plane),
             };
             for end in element.a.iter().chain([&element.b]) {
                 if let Anchor::Massless(m) = end.anchor {

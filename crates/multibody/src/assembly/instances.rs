@@ -21,9 +21,6 @@ pub fn world_settings(model: &Model) -> Result<WorldSettings, Error> {
             return Err(Error::SeveralWorlds { names: many.iter().map(|c| c.name.clone()).collect() });
         }
     }
-    if let Some(planar) = planar.first() {
-        refuse_placed_plane_beside_3d(model, planar)?;
-    }
     match (worlds.first(), planar.first()) {
         // A model of 1-D parts alone needs no World.
         (None, None) if !model.components.iter().any(has_frames) => Ok(WorldSettings::default()),
@@ -38,12 +35,13 @@ pub fn world_settings(model: &Model) -> Result<WorldSettings, Error> {
                     name: "g".into(),
                     value: format!("{} along {}", plane.g, plane.n.transpose()),
                     reason: format!(
-                        "the planar World's gravity differs from the 3-D World `{}`'s ({} along {}): both act on every body, so they must agree",
+                        "the planar World's gravity{} differs from the 3-D World `{}`'s ({} along {}): both act on every body, so they must agree",
+                        if plane.plane.rot == crate::math::Mat3::identity() { "" } else { " (in world coordinates, turned with the plane by rot_3d)" },
                         world.name, spatial.g, spatial.n.transpose()
                     ),
                 });
             }
-            Ok(spatial)
+            Ok(spatial.with_plane(plane.plane))
         }
     }
 }
@@ -66,7 +64,11 @@ pub fn build(model: &Model, world: &WorldSettings, extras: &[Extra]) -> Result<V
         let component = (spec.build)(&params)?;
         let parts = component.parts();
         let variables = component.variables();
-        let shapes = (spec.shapes)(&params).into_iter().map(|s| s.named(&instance.name)).collect();
+        let plane = if spec.is_planar() { world.plane } else { crate::math::Transform::IDENTITY };
+        let shapes = (spec.shapes)(&params)
+            .into_iter()
+            .map(|s| crate::components::shapes::Shape { plane, ..s.named(&instance.name) })
+            .collect();
         built.push(CompiledComponent {
             name: instance.name.clone(),
             spec,
@@ -107,34 +109,6 @@ pub fn build(model: &Model, world: &WorldSettings, extras: &[Extra]) -> Result<V
 
 /// Whether the component has 3-D frames (unknown kinds count as having
 /// them; their own error comes later).
-/// The planar World's `r_0_3d` and `rot_3d` place the plane in 3-D. A
-/// model of planar parts alone moves the same wherever the plane is; beside
-/// 3-D parts (through PlanarToMultiBody) the placement would move their
-/// frames, which is not done yet: refused rather than ignored.
-fn refuse_placed_plane_beside_3d(model: &Model, planar: &crate::ComponentInstance) -> Result<(), Error> {
-    let placed = planar.params.iter().find(|(name, value)| {
-        matches!(name.as_str(), "r_0_3d" | "rot_3d")
-            && matches!(value, crate::Value::Array(x) if x.iter().any(|v| *v != 0.0))
-    });
-    let spatial = |c: &&crate::ComponentInstance| {
-        lookup(&c.kind)
-            .is_some_and(|spec| spec.connectors.iter().any(|k| k.ty == crate::components::ConnectorType::Frame))
-    };
-    match (placed, model.components.iter().find(spatial)) {
-        (Some((name, value)), Some(other)) => Err(Error::InvalidValue {
-            component: planar.name.clone(),
-            name: name.clone(),
-            value: value.to_string(),
-            reason: format!(
-                "placing the plane in 3-D is not applied to 3-D parts yet (`{}` would not move with it); leave \
-                 r_0_3d and rot_3d at zero, so that the plane is the world's x-y plane",
-                other.name
-            ),
-        }),
-        _ => Ok(()),
-    }
-}
-
 fn has_frames(instance: &crate::ComponentInstance) -> bool {
     match lookup(&instance.kind) {
         Some(spec) => spec.connectors.iter().any(|c| c.ty.is_frame()),

@@ -22,6 +22,8 @@ pub struct RigidGroups {
     pub ground: usize,
     pub count: usize,
     pub warnings: Vec<String>,
+    /// Where the planar components' plane sits (world to plane).
+    pub plane: Transform,
 }
 
 /// Two frames related by a fixed transform: `to = pose(from)`.
@@ -36,7 +38,13 @@ struct RigidEdge {
 /// loop reaches a node twice.
 const RIGID_LOOP_TOLERANCE: f64 = 1e-9;
 
-pub fn rigid_groups(components: &[CompiledComponent], conn: &Connectors) -> Result<RigidGroups, Error> {
+/// The rigid groups of the frames; a planar frame fixed to the ground is
+/// fixed in the plane at `plane`.
+pub fn rigid_groups(
+    components: &[CompiledComponent],
+    conn: &Connectors,
+    plane: Transform,
+) -> Result<RigidGroups, Error> {
     let n = conn.frame_nodes.len();
     let ground_vertex = n;
     let mut edges = Vec::new();
@@ -48,7 +56,8 @@ pub fn rigid_groups(components: &[CompiledComponent], conn: &Connectors) -> Resu
                     edges.push(RigidEdge { from: node(*a), to: node(*b), pose: *pose, component: ci })
                 }
                 Part::Ground { frame, pose } => {
-                    edges.push(RigidEdge { from: ground_vertex, to: node(*frame), pose: *pose, component: ci })
+                    let pose = if c.spec.is_planar() { plane.then(pose) } else { *pose };
+                    edges.push(RigidEdge { from: ground_vertex, to: node(*frame), pose, component: ci })
                 }
                 _ => {}
             }
@@ -114,6 +123,7 @@ pub fn rigid_groups(components: &[CompiledComponent], conn: &Connectors) -> Resu
         ground,
         count,
         warnings,
+        plane,
     })
 }
 
@@ -371,7 +381,7 @@ pub fn spanning_tree(
                 part: j.part,
                 a: j.a,
                 b: j.b,
-                kind: if is_planar(&components[j.component]) {
+                kind: if components[j.component].spec.is_planar() {
                     planar_constraint_of_joint(&j.model)
                 } else {
                     constraint_of_joint(&j.model)
@@ -549,10 +559,11 @@ fn constraint_of_joint(model: &JointModel) -> ConstraintKind {
     }
 }
 
-/// Whether a component is planar (PlanarMechanics): its frames stay in the
-/// world's x-y plane, turned about z.
-fn is_planar(c: &CompiledComponent) -> bool {
-    c.spec.connectors.first().is_some_and(|k| k.ty == crate::components::ConnectorType::Frame2D)
+/// Whether a component is planar in a plane other than the world's x-y
+/// plane: its sensors and force laws then see its frames in the plane's
+/// coordinates (in the x-y plane those are the world's already).
+pub(crate) fn in_placed_plane(c: &CompiledComponent, plane: &Transform) -> bool {
+    *plane != Transform::IDENTITY && c.spec.is_planar()
 }
 
 /// The constraint a cut planar joint leaves: only its rows in the plane,
@@ -721,7 +732,9 @@ fn build_links(
                 )
             }
             Parent::Owner(o, states_of) => {
-                (GROUND, Transform::IDENTITY, o.model, (o.component, o.part), states_of, false)
+                // A planar body free in the plane moves from the plane's origin.
+                let x_tree = if components[o.component].spec.is_planar() { groups.plane } else { Transform::IDENTITY };
+                (GROUND, x_tree, o.model, (o.component, o.part), states_of, false)
             }
         };
         let names = match &components[source.0].parts[source.1] {

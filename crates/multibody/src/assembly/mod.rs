@@ -67,7 +67,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     let world = instances::world_settings(model)?;
     let mut components = instances::build(model, &world, &plan.extras)?;
     let conn = connections::resolve(model, &components)?;
-    let groups = links::rigid_groups(&components, &conn)?;
+    let groups = links::rigid_groups(&components, &conn, world.plane)?;
     let fixed: Vec<bool> = model.components.iter().map(|c| !c.initial.is_empty()).collect();
     let mut tree = links::spanning_tree(&components, &conn, &groups, &fixed)?;
     for (n, node) in tree.nodes.iter_mut().enumerate() {
@@ -120,7 +120,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     }
     let (line_masses, lines) = lines(&components, &conn, &tree)?;
 
-    let mut signals = signals::resolve(&components, &conn, &tree, &drive.places)?;
+    let mut signals = signals::resolve(&components, &conn, &tree, &drive.places, &world.plane)?;
     warnings.extend(std::mem::take(&mut signals.warnings));
     let mut events = crate::system::EventLayout { inputs: std::mem::take(&mut signals.inputs), ..Default::default() };
     let axis_elements = axis::elements(&mut components, &conn, &drive.places, &signals.of_connector, &mut events)?;
@@ -131,7 +131,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     let constraint_rows = constraint_rows + frictions.len();
     let zero_slot = signals.slots - 1;
     let force_elements =
-        forces::elements(&components, &conn, &mut tree, &drive.places, &signals.of_connector, zero_slot)?;
+        forces::elements(&components, &conn, &mut tree, &drive.places, &signals.of_connector, zero_slot, &world.plane)?;
     let servos = servos::attach(
         &components,
         &conn,
@@ -216,6 +216,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         point_masses,
         uniform_gravity,
         mu: world.mu,
+        plane: world.plane,
         states,
         dof,
         events,

@@ -9,6 +9,7 @@ use super::connections::Connectors;
 use super::links::Tree;
 use super::mechanism::CompiledComponent;
 use crate::components::{ConnectorType, Part};
+use crate::math::Transform;
 use crate::system::{Attachment, FlangeRef, SignalBlock, SignalLaw};
 use crate::Error;
 
@@ -35,6 +36,7 @@ pub fn resolve(
     conn: &Connectors,
     tree: &Tree,
     places: &Places,
+    plane: &Transform,
 ) -> Result<Signals, Error> {
     // Every block writes its own slot, in the order of the parts.
     let mut owners = Vec::new();
@@ -76,6 +78,7 @@ pub fn resolve(
                 inputs: inputs.map(|i| i.map_or(zero, |l| of_connector[id(l)])),
                 frames: frames.map(|f| f.map(attach)),
                 flanges: [flange(flanges[0])?, flange(flanges[1])?],
+                in_plane: super::links::in_placed_plane(c, plane),
             });
         }
     }

@@ -551,6 +551,20 @@ pub struct FrameState {
     pub tau: Vec3,
 }
 
+impl FrameState {
+    /// The same state in the coordinates of the fixed frame `plane` (world
+    /// to plane): what a planar component reads of its frames.
+    pub fn in_plane(&self, plane: &Transform) -> FrameState {
+        FrameState {
+            r_0: plane.rot * (self.r_0 - plane.trans),
+            rot: self.rot * plane.rot.transpose(),
+            v_0: plane.rot * self.v_0,
+            a_0: plane.rot * self.a_0,
+            ..*self
+        }
+    }
+}
+
 /// The coordinates of one of a component's joints (or owned orientation).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct JointState<'a> {

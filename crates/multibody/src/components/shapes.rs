@@ -2,7 +2,7 @@
 //! component's frames, whose `r_0` and `R` are in every solution, so a view
 //! can draw the motion from a solution and these declarations alone.
 
-use crate::math::Vec3;
+use crate::math::{Transform, Vec3};
 
 /// What to draw.
 #[derive(Clone, Debug, PartialEq)]
@@ -57,6 +57,9 @@ pub struct Shape {
     pub width: f64,
     pub height: f64,
     pub placement: Placement,
+    /// Where planar frames lie (world to plane): a planar frame's `x`, `y`
+    /// and `phi` are in this plane (the identity: the world's x-y plane).
+    pub plane: Transform,
 }
 
 /// A shape before its component's name is known: frames are connector
@@ -115,6 +118,7 @@ impl LocalShape {
             width: self.width,
             height: self.height,
             placement,
+            plane: Transform::IDENTITY,
         }
     }
 }

@@ -36,6 +36,13 @@ impl ComponentSpec {
     pub fn public_connectors(&self) -> impl Iterator<Item = &ConnectorSpec> {
         self.connectors.iter().filter(|c| !c.internal)
     }
+
+    /// Whether it is a planar component (PlanarMechanics; its first
+    /// connector is a Frame2D): it lives in the planar World's plane, whose
+    /// pose places its grounds, and reads its frames in its coordinates.
+    pub fn is_planar(&self) -> bool {
+        self.connectors.first().is_some_and(|k| k.ty == ConnectorType::Frame2D)
+    }
 }
 
 impl std::fmt::Debug for ComponentSpec {

@@ -106,6 +106,9 @@ pub struct WorldSettings {
     pub n: Vec3,
     pub mu: f64,
     pub point_gravity: bool,
+    /// Where the planar World puts the plane of planar components (world
+    /// to plane; the x-y plane unless its `r_0_3d` or `rot_3d` move it).
+    pub plane: Transform,
     /// Every World parameter, defaults included, for the visual defaults.
     values: Vec<(&'static str, Value)>,
 }
@@ -127,8 +130,14 @@ impl std::default::Default for WorldSettings {
 impl WorldSettings {
     /// No values: used while resolving the World's own parameters, which
     /// have no World-dependent defaults.
-    const BARE: WorldSettings =
-        WorldSettings { g: 0.0, n: Vec3::new(0.0, 0.0, 0.0), mu: 0.0, point_gravity: false, values: Vec::new() };
+    const BARE: WorldSettings = WorldSettings {
+        g: 0.0,
+        n: Vec3::new(0.0, 0.0, 0.0),
+        mu: 0.0,
+        point_gravity: false,
+        plane: Transform::IDENTITY,
+        values: Vec::new(),
+    };
 
     /// The settings of a World component instance.
     pub fn from_instance(instance: &crate::ComponentInstance) -> Result<Self, Error> {
@@ -153,7 +162,19 @@ impl WorldSettings {
         }
         // A negative field constant would make point gravity push away (Modelica: `mu(min = 0)`).
         let mu = p.non_negative("mu", true)?;
-        Ok(Self { g: p.real("g"), n, mu, point_gravity: p.boolean("point_gravity"), values })
+        Ok(Self {
+            g: p.real("g"),
+            n,
+            mu,
+            point_gravity: p.boolean("point_gravity"),
+            plane: Transform::IDENTITY,
+            values,
+        })
+    }
+
+    /// These settings with the planar components' plane at `plane`.
+    pub fn with_plane(self, plane: Transform) -> WorldSettings {
+        WorldSettings { plane, ..self }
     }
 
     /// A World parameter times `factor` (factors apply to numbers only).

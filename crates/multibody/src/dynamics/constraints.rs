@@ -38,6 +38,23 @@ pub(crate) struct EndState {
     pub a: Vec3,
 }
 
+impl EndState {
+    /// This end seen from a ground frame `ground` that does not move: in
+    /// its coordinates (a wheel's road is its plane y = 0).
+    fn seen_from_ground(&self, ground: &EndState) -> EndState {
+        let into = |v: Vec3| ground.rot * v;
+        EndState {
+            link: self.link,
+            r: into(self.r - ground.r),
+            rot: self.rot * ground.rot.transpose(),
+            w: into(self.w),
+            v: into(self.v),
+            alpha: into(self.alpha),
+            a: into(self.a),
+        }
+    }
+}
+
 /// One row of a constraint: its kind and direction (frame A coordinates).
 #[derive(Clone, Copy, Debug)]
 enum Row {
@@ -99,7 +116,24 @@ fn rows(kind: &ConstraintKind, a: &EndState, b: &EndState, roads: &[Surface], ou
         }
         ConstraintKind::Distance { length } => push(Row::Distance, r_ab.norm() - length),
         ConstraintKind::Wheel { radius, contact } => {
-            // Frame A is the ground; the road is the plane y = 0 or a surface.
+            // Frame A is the ground; the road is its plane y = 0 or a
+            // surface. The contact is found in its coordinates (those of
+            // the world, or of a planar World's placed plane), and its
+            // directions turned back into the world's.
+            let b = &b.seen_from_ground(a);
+            let to_world = |v: Vec3| a.rot.tr_mul(&v);
+            let mut push = |row: Row, residual: f64| {
+                let row = match row {
+                    Row::Contact { e, e_dot, delta, delta_dot } => Row::Contact {
+                        e: to_world(e),
+                        e_dot: to_world(e_dot),
+                        delta: to_world(delta),
+                        delta_dot: to_world(delta_dot),
+                    },
+                    other => other,
+                };
+                push(row, residual)
+            };
             let (c, contact_row) = match contact {
                 WheelContact::Vertical { .. } => (contact_frame(&b.rot, &b.w, radius, &Vec3::y(), true), None),
                 WheelContact::Rolling { road } | WheelContact::Slipping { road, .. } => {
@@ -127,10 +161,17 @@ fn rows(kind: &ConstraintKind, a: &EndState, b: &EndState, roads: &[Surface], ou
 
 /// A slipping wheel's friction per unit normal force (world), which acts
 /// at the contact point; `None` for other constraints.
-pub(crate) fn friction_per_normal_force(kind: &ConstraintKind, b: &EndState, roads: &[Surface]) -> Option<Vec3> {
+pub(crate) fn friction_per_normal_force(
+    kind: &ConstraintKind,
+    ground: &EndState,
+    b: &EndState,
+    roads: &[Surface],
+) -> Option<Vec3> {
     let ConstraintKind::Wheel { radius, contact: WheelContact::Slipping { law, road } } = *kind else {
         return None;
     };
+    // In the ground's coordinates, as the wheel's rows.
+    let b = &b.seen_from_ground(ground);
     let c = road_contact(&b.rot, &b.w, &b.r, &b.v, radius, road.map(|r| &roads[r])).frame;
     // The slipping wheels' lateral direction is the rolling ones' turned round.
     let e_lat = -c.e_lat;
@@ -138,7 +179,7 @@ pub(crate) fn friction_per_normal_force(kind: &ConstraintKind, b: &EndState, roa
     let (v_long, v_lat) = (v_contact.dot(&c.e_long), v_contact.dot(&e_lat));
     let v_roll = radius * b.w.dot(&c.e_axis);
     let (mu_long, mu_lat) = law.coefficients(v_long, v_lat, v_roll);
-    Some(-(c.e_long * mu_long + e_lat * mu_lat))
+    Some(ground.rot.tr_mul(&-(c.e_long * mu_long + e_lat * mu_lat)))
 }
 
 impl System {
@@ -180,7 +221,7 @@ impl System {
         for c in &self.constraints {
             let (a, b) = (self.end_state(ws, &c.a), self.end_state(ws, &c.b));
             let count = rows(&c.kind, &a, &b, &self.roads, &mut buffer);
-            let friction = if with_jacobian { friction_per_normal_force(&c.kind, &b, &self.roads) } else { None };
+            let friction = if with_jacobian { friction_per_normal_force(&c.kind, &a, &b, &self.roads) } else { None };
             let r_ab = b.r - a.r;
             let w_rel = b.w - a.w;
             let dv = b.v - a.v;
@@ -810,7 +851,7 @@ impl System {
                 // A force at the contact point: its moment about B's origin.
                 Row::Contact { e, delta, .. } => {
                     let mut f = e * l;
-                    if let Some(fr) = friction_per_normal_force(&c.kind, &b, &self.roads) {
+                    if let Some(fr) = friction_per_normal_force(&c.kind, &a, &b, &self.roads) {
                         f += fr * l;
                     }
                     force += f;

@@ -130,13 +130,18 @@ impl System {
                         crate::system::Anchor::Massless(_) => Vec3::zeros(),
                     };
                     let rate = -skew(&w) * p.rot;
+                    let plane = &self.plane;
                     for &(quantity, reg) in reads {
                         ws.registers[reg as usize] = match quantity {
                             FrameQuantity::Position(i) => p.r[i],
                             FrameQuantity::Rotation(i, j) => p.rot[(i, j)],
                             FrameQuantity::Velocity(i) => p.v[i],
                             FrameQuantity::RotationRate(i, j) => rate[(i, j)],
-                            FrameQuantity::PlanarAngle => crate::math::rotation::planar_angle(&p.rot),
+                            FrameQuantity::PlanarPosition(i) => (plane.rot * (p.r - plane.trans))[i],
+                            FrameQuantity::PlanarVelocity(i) => (plane.rot * p.v)[i],
+                            FrameQuantity::PlanarAngle => {
+                                crate::math::rotation::planar_angle(&(p.rot * plane.rot.transpose()))
+                            }
                             FrameQuantity::PlanarAngleRate => w.z,
                         };
                     }

@@ -5,7 +5,7 @@ use super::{DynamicsError, Workspace};
 use crate::math::rotation::planar_angle;
 use crate::math::surface::Surface;
 use crate::math::wheel::road_contact;
-use crate::math::{Force, Mat3, Vec3};
+use crate::math::{Force, Mat3, Transform, Vec3};
 use crate::system::{resolve_input, Resolve, SlipLaw};
 use crate::system::{Anchor, Attachment, ForceElement, ForceLaw, System, GROUND};
 
@@ -20,6 +20,28 @@ pub(crate) struct PointState {
     pub v: Vec3,
     /// Angular velocity, world coordinates.
     pub w: Vec3,
+}
+
+impl PointState {
+    /// The world's origin at rest.
+    pub const WORLD: PointState = PointState {
+        r: Vec3::new(0.0, 0.0, 0.0),
+        rot: Mat3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),
+        v: Vec3::new(0.0, 0.0, 0.0),
+        w: Vec3::new(0.0, 0.0, 0.0),
+    };
+
+    /// The same motion in the coordinates of the fixed frame `plane` (world
+    /// to plane).
+    #[inline]
+    pub fn in_plane(&self, plane: &Transform) -> PointState {
+        PointState {
+            r: plane.rot * (self.r - plane.trans),
+            rot: self.rot * plane.rot.transpose(),
+            v: plane.rot * self.v,
+            w: plane.rot * self.w,
+        }
+    }
 }
 
 /// A force (world coordinates) at a frame's origin and a moment (world
@@ -67,6 +89,29 @@ impl System {
     ) -> (Wrench, Wrench, [f64; 2]) {
         let kb = self.point_state(ws, &el.b);
         let ka = el.a.map(|a| self.point_state(ws, &a));
+        if !el.in_plane {
+            return self.law_applied(ws, el, q, u, ka, kb);
+        }
+        // A planar law works in the plane's coordinates; its wrenches turn back.
+        let plane = &self.plane;
+        let (on_a, on_b, on_flanges) =
+            self.law_applied(ws, el, q, u, ka.map(|a| a.in_plane(plane)), kb.in_plane(plane));
+        let back = |(f, t): Wrench| (plane.rot.tr_mul(&f), plane.rot.tr_mul(&t));
+        (back(on_a), back(on_b), on_flanges)
+    }
+
+    /// What the law of `el` applies, with its ends' motion `ka`, `kb` in the
+    /// coordinates it works in.
+    #[inline]
+    fn law_applied(
+        &self,
+        ws: &Workspace,
+        el: &ForceElement,
+        q: &[f64],
+        u: &[f64],
+        ka: Option<PointState>,
+        kb: PointState,
+    ) -> (Wrench, Wrench, [f64; 2]) {
         let zero = Vec3::zeros();
         let input = |k: usize| ws.signals[el.inputs[k]];
         let vector = |k: usize| Vec3::new(input(k), input(k + 1), input(k + 2));

@@ -1,9 +1,10 @@
 //! Evaluates the signal graph at one state: each block, in order, from
 //! time, the slots it reads, and the motion after the kinematics pass.
 
+use super::forces::PointState;
 use super::Workspace;
 use crate::math::{Mat3, Vec3};
-use crate::system::{Anchor, Attachment, Resolve, SignalLaw, System};
+use crate::system::{Attachment, Resolve, SignalBlock, SignalLaw, System};
 
 impl System {
     /// The first time after `t` at which a source of time switches.
@@ -54,19 +55,19 @@ impl System {
                     block.flanges[1].motion(q, u, &ws.lines).1 - block.flanges[0].motion(q, u, &ws.lines).1
                 }
                 &SignalLaw::FramePosition { index, resolve } => {
-                    let (a, b) = self.frame_pair(ws, &block.frames);
+                    let (a, b) = self.frame_pair(ws, block);
                     resolved(b.r - a.r, resolve, &a.rot, &b.rot)[index]
                 }
                 &SignalLaw::FrameVelocity { index, resolve } => {
-                    let (a, b) = self.frame_pair(ws, &block.frames);
+                    let (a, b) = self.frame_pair(ws, block);
                     resolved(b.v - a.v, resolve, &a.rot, &b.rot)[index]
                 }
                 &SignalLaw::AngularVelocity { index, resolve } => {
-                    let (a, b) = self.frame_pair(ws, &block.frames);
+                    let (a, b) = self.frame_pair(ws, block);
                     resolved(b.w - a.w, resolve, &a.rot, &b.rot)[index]
                 }
                 &SignalLaw::RelativeVelocity { index, seen_from, resolve } => {
-                    let (a, b) = self.frame_pair(ws, &block.frames);
+                    let (a, b) = self.frame_pair(ws, block);
                     let w = match seen_from {
                         Resolve::World => Vec3::zeros(),
                         Resolve::FrameA => a.w,
@@ -75,15 +76,15 @@ impl System {
                     resolved(b.v - a.v - w.cross(&(b.r - a.r)), resolve, &a.rot, &b.rot)[index]
                 }
                 &SignalLaw::FrameAngles { index, sequence, guess } => {
-                    let (a, b) = self.frame_pair(ws, &block.frames);
+                    let (a, b) = self.frame_pair(ws, block);
                     axes_rotations_angles_near(&(b.rot * a.rot.transpose()), sequence, guess)[index]
                 }
                 &SignalLaw::FrameDistance { s_small } => {
-                    let (a, b) = self.frame_pair(ws, &block.frames);
+                    let (a, b) = self.frame_pair(ws, block);
                     smooth_distance((b.r - a.r).norm_squared(), s_small)
                 }
                 &SignalLaw::ResolveVector { index } => {
-                    let (a, b) = self.frame_pair(ws, &block.frames);
+                    let (a, b) = self.frame_pair(ws, block);
                     (b.rot * a.rot.tr_mul(&Vec3::new(input(0), input(1), input(2))))[index]
                 }
                 SignalLaw::Unavailable { .. } => f64::NAN,
@@ -101,39 +102,17 @@ impl System {
         Ok(())
     }
 
-    /// The motion of a sensor's frame a (the world when absent) and frame b.
-    fn frame_pair(&self, ws: &Workspace, frames: &[Option<Attachment>; 2]) -> (FrameMotion, FrameMotion) {
-        let at = |f: &Option<Attachment>| f.map_or(FrameMotion::WORLD, |att| self.frame_motion(ws, &att));
-        (at(&frames[0]), at(&frames[1]))
-    }
-
-    fn frame_motion(&self, ws: &Workspace, att: &Attachment) -> FrameMotion {
-        let p = self.point_state(ws, att);
-        let w = match att.anchor {
-            Anchor::Link(k) => ws.links[k].rot.tr_mul(&ws.links[k].v.ang),
-            Anchor::Massless(_) => Vec3::zeros(),
+    /// The motion of a sensor's frame a (the world when absent) and frame b,
+    /// in the plane's coordinates for a sensor of a placed plane (whose
+    /// world is the plane).
+    fn frame_pair(&self, ws: &Workspace, block: &SignalBlock) -> (PointState, PointState) {
+        let at = |f: &Option<Attachment>| match f {
+            None => PointState::WORLD,
+            Some(att) if block.in_plane => self.point_state(ws, att).in_plane(&self.plane),
+            Some(att) => self.point_state(ws, att),
         };
-        FrameMotion { r: p.r, rot: p.rot, v: p.v, w }
+        (at(&block.frames[0]), at(&block.frames[1]))
     }
-}
-
-/// A frame's origin, world-to-frame rotation, origin velocity and angular
-/// velocity (world coordinates).
-#[derive(Clone, Copy)]
-struct FrameMotion {
-    r: Vec3,
-    rot: Mat3,
-    v: Vec3,
-    w: Vec3,
-}
-
-impl FrameMotion {
-    const WORLD: FrameMotion = FrameMotion {
-        r: Vec3::new(0.0, 0.0, 0.0),
-        rot: Mat3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),
-        v: Vec3::new(0.0, 0.0, 0.0),
-        w: Vec3::new(0.0, 0.0, 0.0),
-    };
 }
 
 /// A world vector resolved in the world, frame a or frame b.

@@ -224,6 +224,7 @@ impl Mechanism {
             let v_rel = b.v_0 - a.v_0;
             scratch.line_a.push(state.e.dot(&(b.a_0 - a.a_0)) + (v_rel.norm_squared() - state.v * state.v) / state.s);
         }
+        self.planar_frames_in_plane(&mut scratch.frames);
         scratch.flanges.clear();
         scratch.flanges.extend(self.flange_of_connector.iter().map(|f| {
             let (s, v) = f.motion(q, u, &ws.lines);
@@ -359,6 +360,24 @@ impl Mechanism {
         let planar = c.spec.public_connectors().filter(|k| k.ty == ConnectorType::Frame2D).count();
         let per_frame: usize = FRAME_SIGNALS.iter().map(|(_, size, _)| size).sum();
         c.variables.iter().map(|v| v.shape.len()).sum::<usize>() + frames * per_frame + planar * FRAME_2D_SIGNALS.len()
+    }
+
+    /// Planar frames in a placed plane read in its coordinates, as their
+    /// components and the `x`, `y`, `phi` of Frame2D connectors say them
+    /// (after the cut forces and cut joints, which work in the world's).
+    fn planar_frames_in_plane(&self, frames: &mut [FrameState]) {
+        let plane = &self.world.plane;
+        if *plane == Transform::IDENTITY {
+            return;
+        }
+        for c in &self.components {
+            for (local, connector) in c.spec.connectors.iter().enumerate() {
+                if connector.ty == ConnectorType::Frame2D {
+                    let frame = &mut frames[c.first_connector + local];
+                    *frame = frame.in_plane(plane);
+                }
+            }
+        }
     }
 
     /// The coordinates, rates and accelerations of cut joints, from the

@@ -27,7 +27,11 @@ pub enum FrameQuantity {
     Velocity(usize),
     /// `der(R[i, j])`.
     RotationRate(usize, usize),
-    /// A planar frame's angle about z, in (-pi, pi].
+    /// `x` (0) or `y` (1) of a planar frame: its origin in the plane.
+    PlanarPosition(usize),
+    /// `der` of a planar frame's `x` or `y`.
+    PlanarVelocity(usize),
+    /// A planar frame's angle about the plane's normal, in (-pi, pi].
     PlanarAngle,
     /// `der(phi)` of a planar frame: its angular velocity about z.
     PlanarAngleRate,

@@ -95,6 +95,9 @@ pub struct System {
     pub(crate) uniform_gravity: Vec3,
     /// The gravity constant of point gravity.
     pub(crate) mu: f64,
+    /// Where the planar components' plane sits (world to plane): their
+    /// sensors and force laws work in its coordinates.
+    pub(crate) plane: Transform,
     pub(crate) states: StateLayout,
     /// Degrees of freedom: velocity coordinates less independent constraints.
     pub(crate) dof: usize,
@@ -219,6 +222,9 @@ pub(crate) struct ForceElement {
     pub inputs: [usize; 6],
     /// Its 1-D flanges a and b (fixed where unused).
     pub flanges: [FlangeRef; 2],
+    /// A planar component's element in a plane placed away from the x-y
+    /// plane: its law sees the frames in the plane's coordinates.
+    pub in_plane: bool,
 }
 
 /// Frames without mass held by force elements only; their orientation is

@@ -97,4 +97,7 @@ pub(crate) struct SignalBlock {
     pub frames: [Option<Attachment>; 2],
     /// Flange a and flange b of a 1-D sensor.
     pub flanges: [FlangeRef; 2],
+    /// A planar sensor in a plane placed away from the x-y plane: it
+    /// measures in the plane's coordinates (its "world" is the plane).
+    pub in_plane: bool,
 }

@@ -656,6 +656,7 @@ impl Table {
                     FrameQuantity::Position(i) => FrameQuantity::Velocity(i),
                     FrameQuantity::Rotation(i, j) => FrameQuantity::RotationRate(i, j),
                     FrameQuantity::PlanarAngle => FrameQuantity::PlanarAngleRate,
+                    FrameQuantity::PlanarPosition(i) => FrameQuantity::PlanarVelocity(i),
                     _ => return Err(second_derivative(&self.vars[v].name, origin)),
                 },
             }),
@@ -791,7 +792,7 @@ fn classify_library(
         ConnectorType::Frame2D => match rest {
             "x" | "y" => Role::Read(Read::Frame {
                 connector: connector_name,
-                quantity: FrameQuantity::Position(usize::from(rest == "y")),
+                quantity: FrameQuantity::PlanarPosition(usize::from(rest == "y")),
             }),
             "phi" => Role::Read(Read::Frame { connector: connector_name, quantity: FrameQuantity::PlanarAngle }),
             "fx" | "fy" | "tau" => {

@@ -151,7 +151,8 @@ impl Component for PlanarBody {
         let w = a.w.z;
         let r_cm = a.rot.tr_mul(&self.r_cm);
         let v_cm = a.v_0 + NORMAL.cross(&r_cm) * w;
-        let g = ctx.world.gravity(&(a.r_0 + r_cm), false);
+        // Frames and gravity in the plane's coordinates.
+        let g = ctx.world.plane.rot * ctx.world.uniform_gravity();
         out.extend(xy(a.rot.tr_mul(&a.f)));
         out.extend(xy(a.r_0));
         out.extend(xy(a.v_0));

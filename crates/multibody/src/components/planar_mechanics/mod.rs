@@ -1,13 +1,17 @@
 //! PlanarMechanics: the library's 2-D mechanics.
 //!
-//! A planar component is a 3-D component held in the world's x-y plane. Its
+//! A planar component is a 3-D component held in the planar World's plane
+//! (the world's x-y plane unless its `r_0_3d` and `rot_3d` place it). Its
 //! `Frame2D` connectors are frames like any other inside the engine, placed
-//! at `(x, y, 0)` and turned by `phi` about z; its joints are revolutes
-//! about z and prismatics in the plane, its bodies have inertia about z
-//! only. So a planar mechanism gets everything a 3-D one has (the tree,
-//! loop closing, outputs, views), and a planar frame connected through
-//! `PlanarToMultiBody` drives 3-D parts directly. The connectors read as
-//! the library's `x`, `y`, `phi`, `fx`, `fy`, `tau`, in world coordinates.
+//! at `(x, y, 0)` of the plane and turned by `phi` about its normal; its
+//! joints are revolutes about z and prismatics in the plane, its bodies
+//! have inertia about z only. So a planar mechanism gets everything a 3-D
+//! one has (the tree, loop closing, outputs, views), and a planar frame
+//! connected through `PlanarToMultiBody` drives 3-D parts directly. The
+//! connectors read as the library's `x`, `y`, `phi`, `fx`, `fy`, `tau`, in
+//! the plane's coordinates: assembly grounds planar components in the
+//! plane, and their sensors, force laws, outputs and equations see their
+//! frames in its coordinates ([`crate::components::WorldSettings::plane`]).
 
 pub mod adapters;
 pub mod body;

@@ -3,6 +3,7 @@
 use super::super::shapes::{LocalShape, ShapeKind};
 use super::super::spec::{ComponentSpec, ConnectorSpec, ParamSpec, ParamType};
 use super::super::{world, Component, ParamSet, Part, WorldSettings};
+use crate::math::rotation::axes_rotations;
 use crate::math::{Transform, Vec3};
 use crate::{ComponentInstance, Error, Value};
 
@@ -10,7 +11,8 @@ pub static SPEC: ComponentSpec = ComponentSpec {
     kind: "PlanarMechanics.World",
     doc: "The root of a planar model: frame_b is fixed at x = y = phi = 0. Gravity g*n acts on every planar \
           body (n in the plane). A model with planar bodies needs one; with a 3-D World too, both must give \
-          the same gravity.",
+          the same gravity. r_0_3d and rot_3d place the plane in 3-D: planar quantities stay in the plane's \
+          coordinates, 3-D parts joined through PlanarToMultiBody and the animation see the plane there.",
     params: &[
         ParamSpec::boolean("render", true, "Draw the world axes in animations"),
         ParamSpec::vector("n", &[0.0, -1.0], "", "Direction of gravity in the plane (normalised)"),
@@ -32,19 +34,12 @@ pub static SPEC: ComponentSpec = ComponentSpec {
         ParamSpec::real("default_N_to_m", 1000.0, "N/m", "Force arrows: newtons per metre of arrow"),
         ParamSpec::real("default_Nm_to_m", 1000.0, "N.m/m", "Torque arrows: newton metres per metre of arrow"),
         ParamSpec::real("default_z_position", 0.0, "m", "Default z at which planar components are drawn"),
-        ParamSpec::vector(
-            "r_0_3d",
-            &[0.0, 0.0, 0.0],
-            "m",
-            "Where the plane sits in 3-D; the planar motion does not depend on it. Not applied yet: the \
-             animation draws the plane as the world's x-y plane, and beside 3-D parts (PlanarToMultiBody) a \
-             value other than zero is refused",
-        ),
+        ParamSpec::vector("r_0_3d", &[0.0, 0.0, 0.0], "m", "Where the plane's origin sits in 3-D (world coordinates)"),
         ParamSpec::vector(
             "rot_3d",
             &[0.0, 0.0, 0.0],
             "rad",
-            "How the plane is turned in 3-D (rotation angles about x, y, z); not applied yet, like r_0_3d",
+            "How the plane is turned in 3-D: angles of rotations about x, then the new y, then the new z",
         ),
     ],
     connectors: &[ConnectorSpec::frame_2d("frame_b", "The world frame: x = y = phi = 0")],
@@ -69,18 +64,24 @@ fn shapes(p: &ParamSet) -> Vec<LocalShape> {
         .collect()
 }
 
-/// The library's planar World fixes frame_b at x = y = phi = 0 whatever
-/// `r_0_3d` and `rot_3d` say: they place the plane in 3-D, which changes
-/// neither the planar motion nor gravity in the plane. They are checked
-/// here; beside 3-D parts, where they would move those, assembly refuses
-/// them (not applied yet).
+/// frame_b is at x = y = phi = 0 of the plane; where the plane sits
+/// (`r_0_3d`, `rot_3d`) is the model's, in [`WorldSettings::plane`], and
+/// assembly puts every ground of a planar frame there.
 fn build(p: &ParamSet) -> Result<Box<dyn Component>, Error> {
+    plane(p)?;
+    Ok(Box::new(PlanarWorld))
+}
+
+/// The plane's pose in the world: `rot_3d` as rotations about x, y, then z
+/// (the sequence [1, 2, 3]), its origin at `r_0_3d`.
+fn plane(p: &ParamSet) -> Result<Transform, Error> {
     for name in ["r_0_3d", "rot_3d"] {
         if p.vector(name).iter().any(|x| !x.is_finite()) {
             return Err(p.invalid(name, "every entry must be a finite number"));
         }
     }
-    Ok(Box::new(PlanarWorld))
+    let angles = Vec3::from_column_slice(&p.vector("rot_3d"));
+    Ok(Transform::new(axes_rotations([1, 2, 3], &angles), Vec3::from_column_slice(&p.vector("r_0_3d"))))
 }
 
 #[derive(Debug)]
@@ -93,13 +94,18 @@ impl Component for PlanarWorld {
 }
 
 /// The settings a planar World gives the whole model: those of a 3-D World
-/// with gravity `[n, 0] g` and the same visual defaults.
+/// with gravity `[n, 0] g` in the plane (turned with it into the world)
+/// and the same visual defaults, and the plane's pose.
 pub fn settings(instance: &ComponentInstance) -> Result<WorldSettings, Error> {
     let planar_only = ["r_0_3d", "rot_3d", "default_z_position"];
+    let plane = plane(&super::super::ParamSet::resolve(instance, &SPEC, &WorldSettings::default())?)?;
     let mut params = Vec::new();
     for (name, value) in &instance.params {
         match (name.as_str(), value) {
-            ("n", Value::Array(n)) if n.len() == 2 => params.push((name.clone(), Value::Array(vec![n[0], n[1], 0.0]))),
+            ("n", Value::Array(n)) if n.len() == 2 => {
+                let n = plane.rot.tr_mul(&Vec3::new(n[0], n[1], 0.0));
+                params.push((name.clone(), Value::Array(n.as_slice().to_vec())))
+            }
             ("n", _) => {
                 return Err(Error::InvalidValue {
                     component: instance.name.clone(),
@@ -112,6 +118,11 @@ pub fn settings(instance: &ComponentInstance) -> Result<WorldSettings, Error> {
             _ => params.push((name.clone(), value.clone())),
         }
     }
+    // Gravity along the plane's y when `n` is not given: [0, -1] in the plane.
+    if !params.iter().any(|(name, _)| name == "n") {
+        let n = plane.rot.tr_mul(&Vec3::new(0.0, -1.0, 0.0));
+        params.push(("n".into(), Value::Array(n.as_slice().to_vec())));
+    }
     let as_3d = ComponentInstance { kind: world::SPEC.kind.into(), params, ..instance.clone() };
-    WorldSettings::from_instance(&as_3d)
+    Ok(WorldSettings::from_instance(&as_3d)?.with_plane(plane))
 }
