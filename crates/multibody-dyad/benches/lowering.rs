@@ -36,10 +36,22 @@ fn algebraic_loop(n: usize) -> String {
 /// Dyad (a resistor and a capacitor to ground each), fed by a voltage
 /// source: about 20 equations per section with the connection equations.
 fn rc_ladder(n: usize) -> String {
+    ladder(n, "")
+}
+
+/// The same ladder with every capacitor started at rest: `n` initial
+/// equations over `n` start values, one sparse Newton system.
+fn ladder_at_rest(n: usize) -> String {
+    ladder(n, "    initial der(c[i].v) = 0\n")
+}
+
+fn ladder(n: usize, per_stage: &str) -> String {
     let mut text = format!(
         "example component Chain\n  source = ElectricalComponents.VoltageSource()\n  level = BlockComponents.Constant(k = 1)\n  ground = ElectricalComponents.Ground()\n  r = [ElectricalComponents.Resistor(R = 1) for i in 1:{n}]\n  c = [ElectricalComponents.Capacitor(C = 1e-3) for i in 1:{n}]\nrelations\n  connect(level.y, source.V)\n  connect(source.n, ground.g)\n  connect(source.p, r[1].p)\n"
     );
-    text.push_str(&format!("  for i in 1:{n}\n    connect(r[i].n, c[i].p)\n    connect(c[i].n, ground.g)\n  end\n"));
+    text.push_str(&format!(
+        "  for i in 1:{n}\n    connect(r[i].n, c[i].p)\n    connect(c[i].n, ground.g)\n{per_stage}  end\n"
+    ));
     text.push_str(&format!("  for i in 1:{}\n    connect(r[i].n, r[i + 1].p)\n  end\nend\n", n - 1));
     text
 }
@@ -73,6 +85,15 @@ fn sizes(c: &mut Criterion) {
     group.sample_size(10);
     for n in [150, 1500] {
         let text = rc_ladder(n);
+        group.throughput(Throughput::Elements(n as u64));
+        group.bench_with_input(BenchmarkId::from_parameter(n), &text, |b, text| b.iter(|| check(text)));
+    }
+    group.finish();
+    // The same, started at rest: the initialization's Newton system.
+    let mut group = c.benchmark_group("ladder_started_at_rest");
+    group.sample_size(10);
+    for n in [150, 1500] {
+        let text = ladder_at_rest(n);
         group.throughput(Throughput::Elements(n as u64));
         group.bench_with_input(BenchmarkId::from_parameter(n), &text, |b, text| b.iter(|| check(text)));
     }

@@ -364,3 +364,76 @@ end
     );
     assert!(message.contains("has flows but no potential"), "{message}");
 }
+
+/// A ladder of `n` stages (series resistor 1, capacitor to ground and a
+/// shunt resistor 10 at each node) from a 1 V source, every capacitor
+/// started at rest (`initial der(c[i].v) = 0`).
+fn ladder_at_rest(n: usize) -> String {
+    format!(
+        r#"
+example component Ladder
+  source = ElectricalComponents.VoltageSource()
+  level = BlockComponents.Constant(k = 1)
+  ground = ElectricalComponents.Ground()
+  r = [ElectricalComponents.Resistor(R = 1) for i in 1:{n}]
+  shunt = [ElectricalComponents.Resistor(R = 10) for i in 1:{n}]
+  c = [ElectricalComponents.Capacitor(C = 1e-3) for i in 1:{n}]
+relations
+  connect(level.y, source.V)
+  connect(source.n, ground.g)
+  connect(source.p, r[1].p)
+  for i in 1:{n}
+    connect(r[i].n, c[i].p, shunt[i].p)
+    connect(c[i].n, shunt[i].n, ground.g)
+    initial der(c[i].v) = 0
+  end
+  for i in 1:{m}
+    connect(r[i].n, r[i + 1].p)
+  end
+end
+
+analysis LadderRun
+  extends TransientAnalysis(stop = 0.01, saveat = 0.005, abstol = 1e-10, reltol = 1e-10)
+  model = Ladder()
+end
+"#,
+        m = n - 1
+    )
+}
+
+/// 300 capacitors started at rest: 300 initial equations over 300 free
+/// start values, one sparse Newton system (each equation reads three
+/// neighbouring voltages, so three evaluations give its Jacobian). At rest
+/// no current flows into the capacitors: the node voltages solve the
+/// resistive ladder, `(v[k-1] - v[k]) / 1 = v[k] / 10 + (v[k] - v[k+1]) / 1`,
+/// which the test solves by elimination; the ladder then stays there.
+#[test]
+fn a_ladder_of_300_capacitors_started_at_rest_holds_the_resistive_divider() {
+    let n = 300;
+    let solution = simulate(&ladder_at_rest(n));
+    // Tridiagonal elimination (Thomas) of the node equations.
+    let (a, b, c) = (-1.0, 2.0 + 0.1, -1.0);
+    let mut d = vec![0.0; n];
+    d[0] = 1.0; // the source's 1 V through r[1]
+    let (mut cp, mut dp) = (vec![0.0; n], vec![0.0; n]);
+    let last = |k: usize| if k == n - 1 { 1.0 + 0.1 } else { b };
+    cp[0] = c / last(0);
+    dp[0] = d[0] / last(0);
+    for k in 1..n {
+        let m = last(k) - a * cp[k - 1];
+        cp[k] = c / m;
+        dp[k] = (d[k] - a * dp[k - 1]) / m;
+    }
+    let mut v = vec![0.0; n];
+    v[n - 1] = dp[n - 1];
+    for k in (0..n - 1).rev() {
+        v[k] = dp[k] - cp[k] * v[k + 1];
+    }
+    let mut worst = 0.0f64;
+    for (k, expected) in v.iter().enumerate() {
+        let column = solution.get(&format!("c[{}].v", k + 1)).unwrap_or_else(|| panic!("no c[{}].v", k + 1));
+        worst = column.iter().fold(worst, |w, x| w.max((x - expected).abs()));
+    }
+    report("300-stage ladder started at rest, node voltages", worst, 1e-9);
+    assert!(v[0] > 0.5 && v[n - 1] > 0.0, "the divider should carry voltage down the ladder");
+}

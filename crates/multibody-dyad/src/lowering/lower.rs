@@ -403,7 +403,8 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 let outside: Vec<Vec<String>> = flow_set.outside.iter().map(scalars).collect();
                 for k in 0..field.dims.iter().product::<usize>() {
                     let sum = |list: &[Vec<String>]| {
-                        list.iter().map(|names| multibody::Expr::var(names[k].as_str())).reduce(|a, b| a + b)
+                        let terms = list.iter().map(|names| multibody::Expr::var(names[k].as_str()));
+                        multibody::math::symbolic::balanced(terms, |a, b| a + b)
                     };
                     let (lhs, rhs) = match (sum(&inside), sum(&outside)) {
                         (Some(a), Some(b)) => (a, b),

@@ -130,7 +130,7 @@ pub fn from_val(v: &Val) -> Option<ArrayExpr> {
 }
 
 fn sum(terms: impl IntoIterator<Item = Node>) -> Node {
-    terms.into_iter().fold(constant(0.0), add)
+    sym::balanced(terms, add).unwrap_or_else(|| constant(0.0))
 }
 
 fn truth(x: bool) -> Node {

@@ -47,6 +47,26 @@ pub fn neg<V>(a: Node<V>) -> Node<V> {
     }
 }
 
+/// `items` joined pairwise into a balanced tree (`None` when empty): a sum
+/// of n terms nests log2(n) deep instead of n, so that the recursive
+/// passes over it (resolution, derivatives, code) stay shallow for a node
+/// where hundreds of connections meet.
+pub fn balanced<T>(items: impl IntoIterator<Item = T>, join: impl Fn(T, T) -> T) -> Option<T> {
+    let mut level: Vec<T> = items.into_iter().collect();
+    while level.len() > 1 {
+        let mut next = Vec::with_capacity(level.len().div_ceil(2));
+        let mut items = level.into_iter();
+        while let Some(a) = items.next() {
+            next.push(match items.next() {
+                Some(b) => join(a, b),
+                None => a,
+            });
+        }
+        level = next;
+    }
+    level.pop()
+}
+
 pub fn add<V: PartialEq>(a: Node<V>, b: Node<V>) -> Node<V> {
     match (a.as_const(), b.as_const()) {
         (Some(x), Some(y)) => constant(x + y),

@@ -1,15 +1,20 @@
 //! Initial equations (`initial der(x) = 0`, `initial y = 1`): they hold at
 //! the start only. Their unknowns are the states of the equations whose
-//! start values the model did not fix; Newton's method (least-norm steps,
-//! a finite-difference Jacobian through the whole right-hand side) moves
-//! those start values as little as it can until they hold.
+//! start values the model did not fix (guess-only parameters among them);
+//! Newton's method moves those start values as little as it can until
+//! they hold, on one sparse system: its Jacobian's pattern follows from
+//! the sorted equations, its values from finite differences through the
+//! whole right-hand side, perturbing at once start values whose equations
+//! do not overlap.
 
-use super::problem;
+use super::sort::Sorted;
+use super::{problem, Source};
 use crate::dynamics::Workspace;
-use crate::math::dense::{cholesky, cholesky_solve};
+use crate::math::sparse::SparseLu;
 use crate::math::symbolic::{evaluate, S};
 use crate::system::equations::Reg;
 use crate::{Error, Mechanism};
+use std::collections::BTreeMap;
 
 const ITERATIONS: usize = 50;
 const TOLERANCE: f64 = 1e-10;
@@ -26,6 +31,8 @@ pub(crate) struct Initial {
     /// Indices in the state of the equations' states not fixed at the start.
     pub free: Vec<usize>,
     pub free_names: Vec<String>,
+    /// What each residual depends on (see [`dependence`]).
+    pub depends: Vec<Dependence>,
 }
 
 /// The residuals of the initial equations at the state `y`.
@@ -131,48 +138,58 @@ fn too_many(init: &Initial, names: &[String]) -> Error {
     )
 }
 
-/// Newton's method with least-norm steps over the start values `free`.
+/// Newton's method with least-norm steps over the start values `free`
+/// (the equations' free states first, in [`Initial::free`]'s order). The
+/// Jacobian is sparse: its pattern comes from [`Initial::depends`], and one
+/// evaluation of the right-hand side perturbs every start value of a group
+/// whose residuals do not overlap (a ladder of capacitors started at rest
+/// needs three, not one per capacitor). The step solves the sparse
+/// `J dz = -r` (as many equations as start values) or, with fewer
+/// equations, the least-norm `dz = -J' (J J')^-1 r`.
 fn newton(mechanism: &mut Mechanism, init: &Initial, free: &[usize], free_names: &[String]) -> Result<(), Error> {
     let (m, k) = (init.residuals.len(), free.len());
+    let jacobian = Pattern::new(&init.depends, k);
     let mut ws = mechanism.workspace();
     let mut y = mechanism.system.states.start.clone();
     let (mut r, mut trial) = (vec![0.0; m], vec![0.0; m]);
-    let mut jac = vec![0.0; m * k];
+    let mut values = vec![0.0; jacobian.entries.len()];
+    let mut step = vec![0.0; k];
+    let singular = || {
+        problem(
+            "the initial equations do not determine the free start values (their Jacobian is singular)",
+            init.origins.clone(),
+            free_names.to_vec(),
+            "check that each initial equation involves a state whose start value is free",
+        )
+    };
     for _ in 0..ITERATIONS {
         residuals(mechanism, &mut ws, init, &y, &mut r)?;
         if r.iter().all(|x| x.abs() <= TOLERANCE) {
             mechanism.system.states.start = y;
             return Ok(());
         }
-        for (j, &i) in free.iter().enumerate() {
-            let h = 1e-7 * (1.0 + y[i].abs());
-            let keep = y[i];
-            y[i] += h;
+        for group in &jacobian.groups {
+            let keep: Vec<f64> = group.iter().map(|&j| y[free[j]]).collect();
+            for &j in group {
+                y[free[j]] += fd_step(y[free[j]]);
+            }
             residuals(mechanism, &mut ws, init, &y, &mut trial)?;
-            y[i] = keep;
-            for row in 0..m {
-                jac[row * k + j] = (trial[row] - r[row]) / h;
+            for (&j, &x) in group.iter().zip(&keep) {
+                y[free[j]] = x;
+            }
+            for &j in group {
+                let h = fd_step(y[free[j]]);
+                for &e in &jacobian.of_column[j] {
+                    let row = jacobian.entries[e].0;
+                    values[e] = (trial[row] - r[row]) / h;
+                }
             }
         }
-        // Least-norm step: dz = -J' (J J')^-1 r.
-        let mut jjt = vec![0.0; m * m];
-        for a in 0..m {
-            for b in 0..m {
-                jjt[a * m + b] = (0..k).map(|j| jac[a * k + j] * jac[b * k + j]).sum();
-            }
+        if !jacobian.step(&values, &r, &mut step) {
+            return Err(singular());
         }
-        if !cholesky(&mut jjt, m) {
-            return Err(problem(
-                "the initial equations do not determine the free start values (their Jacobian is singular)",
-                init.origins.clone(),
-                free_names.to_vec(),
-                "check that each initial equation involves a state whose start value is free",
-            ));
-        }
-        let mut w = r.clone();
-        cholesky_solve(&jjt, m, &mut w);
         for (j, &i) in free.iter().enumerate() {
-            y[i] -= (0..m).map(|a| jac[a * k + j] * w[a]).sum::<f64>();
+            y[i] += step[j];
         }
     }
     Err(problem(
@@ -181,4 +198,220 @@ fn newton(mechanism: &mut Mechanism, init: &Initial, free: &[usize], free_names:
         free_names.to_vec(),
         "give the states better start values (`guess`), or check the initial equations",
     ))
+}
+
+/// The finite-difference step of a start value `x`.
+fn fd_step(x: f64) -> f64 {
+    1e-7 * (1.0 + x.abs())
+}
+
+/// The pattern of the initial equations' Jacobian over `k` start values,
+/// and the groups of columns one evaluation perturbs together.
+struct Pattern {
+    m: usize,
+    k: usize,
+    /// (row, column) of each entry.
+    entries: Vec<(usize, usize)>,
+    /// The entries of each column.
+    of_column: Vec<Vec<usize>>,
+    /// Columns no two of which share a row.
+    groups: Vec<Vec<usize>>,
+}
+
+impl Pattern {
+    fn new(depends: &[Dependence], k: usize) -> Pattern {
+        let m = depends.len();
+        let mut entries = Vec::new();
+        for (row, d) in depends.iter().enumerate() {
+            if d.everything {
+                entries.extend((0..k).map(|j| (row, j)));
+            } else {
+                entries.extend(d.columns.iter().filter(|&&j| j < k).map(|&j| (row, j)));
+            }
+        }
+        let mut of_column = vec![Vec::new(); k];
+        for (e, &(_, j)) in entries.iter().enumerate() {
+            of_column[j].push(e);
+        }
+        // Greedy colouring: each column joins the first group none of whose
+        // rows it has.
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        let mut rows_of_group: Vec<Vec<bool>> = Vec::new();
+        for (j, column) in of_column.iter().enumerate() {
+            if column.is_empty() {
+                continue;
+            }
+            let free = rows_of_group.iter().position(|used| column.iter().all(|&e| !used[entries[e].0]));
+            let g = free.unwrap_or_else(|| {
+                groups.push(Vec::new());
+                rows_of_group.push(vec![false; m]);
+                groups.len() - 1
+            });
+            groups[g].push(j);
+            column.iter().for_each(|&e| rows_of_group[g][entries[e].0] = true);
+        }
+        Pattern { m, k, entries, of_column, groups }
+    }
+
+    /// The Newton step for the Jacobian `values` (on the entries) and the
+    /// residuals `r`; false when the system is singular.
+    fn step(&self, values: &[f64], r: &[f64], step: &mut [f64]) -> bool {
+        let (m, k) = (self.m, self.k);
+        let mut work = vec![0.0; m.max(k)];
+        if m == k {
+            let Some(lu) = SparseLu::analyse(m, &self.entries, Some(values)) else { return false };
+            let mut factors = vec![0.0; lu.stored()];
+            lu.load(values.iter().copied(), &mut factors);
+            if !lu.factor(&mut factors) {
+                return false;
+            }
+            step.iter_mut().zip(r).for_each(|(s, r)| *s = -r);
+            lu.solve(&factors, step, &mut work);
+            return true;
+        }
+        // Least norm: (J J') w = r, dz = -J' w; J J' has an entry where two
+        // rows share a column.
+        let mut product: BTreeMap<(usize, usize), f64> = BTreeMap::new();
+        for column in &self.of_column {
+            for &a in column {
+                for &b in column {
+                    *product.entry((self.entries[a].0, self.entries[b].0)).or_insert(0.0) += values[a] * values[b];
+                }
+            }
+        }
+        let (pattern, entries): (Vec<(usize, usize)>, Vec<f64>) = product.into_iter().unzip();
+        let Some(lu) = SparseLu::analyse(m, &pattern, Some(&entries)) else { return false };
+        let mut factors = vec![0.0; lu.stored()];
+        lu.load(entries.iter().copied(), &mut factors);
+        if !lu.factor(&mut factors) {
+            return false;
+        }
+        let mut w = r.to_vec();
+        lu.solve(&factors, &mut w, &mut work);
+        step.fill(0.0);
+        for (e, &(row, j)) in self.entries.iter().enumerate() {
+            step[j] -= values[e] * w[row];
+        }
+        true
+    }
+}
+
+/// What an initial equation's residual can depend on among the start
+/// values Newton moves: the equations' states (by their position in
+/// [`Initial::free`]) and, when it reads the mechanism or a signal, every
+/// start value (the mechanism's among them).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Dependence {
+    pub columns: Vec<usize>,
+    pub everything: bool,
+}
+
+impl Dependence {
+    fn join(&mut self, other: &Dependence) {
+        self.everything |= other.everything;
+        self.columns.extend_from_slice(&other.columns);
+    }
+
+    fn tidy(mut self) -> Dependence {
+        self.columns.sort_unstable();
+        self.columns.dedup();
+        self
+    }
+}
+
+/// For each initial equation, the start values its residual depends on:
+/// followed from the states through the sorted blocks (a block's unknowns
+/// depend on what its equations read), so that the Jacobian's pattern is
+/// known and one evaluation perturbs many start values at once.
+pub(super) fn dependence(
+    sorted: &Sorted,
+    reads: &[Option<Source>],
+    signal_of_time: &[bool],
+    column_of_state: &[Option<usize>],
+    residuals: &[S],
+) -> Vec<Dependence> {
+    // What the blocks do not compute (the mechanism's and the signals'
+    // quantities, and any other) may depend on every start; discrete
+    // values and signals of time only stay as they are.
+    let fixed = |source: &Option<Source>| match source {
+        Some(Source::Discrete(_)) => true,
+        Some(Source::Slot(slot)) => signal_of_time.get(*slot).copied().unwrap_or(false),
+        _ => false,
+    };
+    let mut of: Vec<Dependence> =
+        reads.iter().map(|source| Dependence { columns: Vec::new(), everything: !fixed(source) }).collect();
+    for (k, &s) in sorted.states.iter().enumerate() {
+        of[s] = Dependence { columns: column_of_state[k].into_iter().collect(), everything: false };
+    }
+    let root = |v: usize| sorted.alias[v].map_or(v, |(of, _)| of);
+    let mut names = Vec::new();
+    for (equations, unknowns) in &sorted.blocks {
+        let mut block = Dependence::default();
+        for &e in equations {
+            names.clear();
+            sorted.residuals[e].variables(&mut names);
+            for &&v in &names {
+                let v = root(v);
+                if !unknowns.contains(&v) {
+                    block.join(&of[v]);
+                }
+            }
+        }
+        let block = block.tidy();
+        for &u in unknowns {
+            of[u] = block.clone();
+        }
+    }
+    residuals
+        .iter()
+        .map(|r| {
+            let mut d = Dependence::default();
+            names.clear();
+            r.variables(&mut names);
+            for &&v in &names {
+                d.join(&of[root(v)]);
+            }
+            d.tidy()
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn reads(columns: &[usize]) -> Dependence {
+        Dependence { columns: columns.to_vec(), everything: false }
+    }
+
+    /// Equations that each read three neighbours take three evaluations;
+    /// one that reads the mechanism takes one per start value.
+    #[test]
+    fn start_values_of_disjoint_equations_are_perturbed_together() {
+        let n: usize = 300;
+        let chain: Vec<Dependence> = (0..n)
+            .map(|i| Dependence { columns: (i.saturating_sub(1)..=(i + 1).min(n - 1)).collect(), everything: false })
+            .collect();
+        let pattern = Pattern::new(&chain, n);
+        assert_eq!(pattern.groups.len(), 3);
+        assert_eq!(pattern.entries.len(), 3 * n - 2);
+        let mut dense = chain.clone();
+        dense[7] = Dependence { columns: Vec::new(), everything: true };
+        assert_eq!(Pattern::new(&dense, n).groups.len(), n);
+    }
+
+    /// The sparse step solves J dz = -r when square, and gives the
+    /// least-norm step otherwise: x + y = 2 from 0 moves both by 1.
+    #[test]
+    fn the_step_is_newtons_or_the_least_norm_one() {
+        let pattern = Pattern::new(&[reads(&[0, 1]), reads(&[1])], 2);
+        // J = [[2, 1], [0, 4]], r = [3, 8]: dz = -J^-1 r = [-0.5, -2].
+        let mut step = vec![0.0; 2];
+        assert!(pattern.step(&[2.0, 1.0, 4.0], &[3.0, 8.0], &mut step));
+        assert!((step[0] + 0.5).abs() < 1e-15 && (step[1] + 2.0).abs() < 1e-15, "{step:?}");
+        let under = Pattern::new(&[reads(&[0, 1])], 2);
+        assert!(under.step(&[1.0, 1.0], &[-2.0], &mut step));
+        assert!((step[0] - 1.0).abs() < 1e-15 && (step[1] - 1.0).abs() < 1e-15, "{step:?}");
+        assert!(!pattern.step(&[2.0, 1.0, 0.0], &[3.0, 8.0], &mut step), "a singular J is refused");
+    }
 }

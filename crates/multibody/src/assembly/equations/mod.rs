@@ -912,7 +912,18 @@ impl Plan {
                 _ => None,
             })
             .collect();
+        let mut column = 0;
+        let column_of_state: Vec<Option<usize>> = (0..sorted.states.len())
+            .map(|k| {
+                (!states.fixed[nq + nv + k]).then(|| {
+                    column += 1;
+                    column - 1
+                })
+            })
+            .collect();
+        let depends = initial::dependence(&sorted, &reads, &signals.of_time, &column_of_state, &pending.initial);
         let initial = (!pending.initial.is_empty()).then(|| Initial {
+            depends,
             residuals: pending.initial,
             origins: pending.initial_origins,
             registers,
