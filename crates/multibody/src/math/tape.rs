@@ -1,12 +1,14 @@
 //! The one compiled form of formulas: straight-line code on registers.
 //! [`Op`] is the instruction set, its arithmetic run by one interpreter,
-//! that every compiled formula uses: the model's equations (whose program
-//! adds moves between registers and signal slots and the instructions of
-//! events) and the formulas compiled here, a formula of time with its time derivatives
-//! (prescribed motion) and a road's height with its gradient and curvature.
-//! Their derivatives come from the one symbolic differentiation
-//! ([`super::symbolic`]), so no rule of calculus is written twice. A
-//! subexpression met twice is computed once. Evaluating allocates nothing.
+//! and [`Writer`] the one writer of code from expression trees, that every
+//! compiled formula uses: the model's equations (whose program adds moves
+//! between registers and signal slots and the instructions of events, as
+//! the writer's [`Leaves`]) and the [`Tape`]s compiled here, a formula of
+//! time with its time derivatives (prescribed motion) and a road's height
+//! with its gradient and curvature. Their derivatives come from the one
+//! symbolic differentiation ([`super::symbolic`]), so no rule of calculus
+//! is written twice. A subexpression met twice is computed once.
+//! Evaluating allocates nothing.
 
 use super::expr::{Cmp, Expr, Func, Func2, Node};
 use std::collections::HashMap;
@@ -200,17 +202,169 @@ pub fn truth(b: bool) -> f64 {
     }
 }
 
+/// Writes expression trees as instructions: a fresh register for each
+/// result, each constant once (a register loaded before the code runs),
+/// and each subtree shared by address once, until [`Writer::forget`]. The
+/// one writer of code: the leaves, and nodes that are not arithmetic, are
+/// its caller's ([`Leaves`]).
+#[derive(Debug)]
+pub struct Writer<V> {
+    pub ops: Vec<Op>,
+    /// The next free register.
+    pub registers: usize,
+    /// Registers with a value before the code first runs: the constants,
+    /// and whatever else the caller adds (an unknown's start value).
+    pub preset: Vec<(Reg, f64)>,
+    by_bits: HashMap<u64, Reg>,
+    /// Registers holding a subtree (by its address); `keep` holds those
+    /// subtrees, so that no address is reused while they are remembered.
+    memo: HashMap<*const Expr<V>, Reg>,
+    keep: Vec<Node<V>>,
+    /// Past this many registers the writer stops writing (and descending):
+    /// [`Writer::overflowed`] then says the code is too long.
+    budget: usize,
+}
+
+/// What a caller of [`Writer::write`] decides: the register of a leaf
+/// (a variable, time) and the code of nodes that are not arithmetic
+/// (events); `None` leaves the node to the writer.
+pub trait Leaves<V> {
+    fn leaf(&mut self, w: &mut Writer<V>, e: &Node<V>) -> Option<Leaf>;
+}
+
+/// Where a caller put a node.
+pub enum Leaf {
+    /// In a register that is not remembered for the node (a variable's
+    /// register may differ between calls).
+    At(Reg),
+    /// In code written for it, remembered like arithmetic.
+    Written(Reg),
+}
+
+impl<V> Writer<V> {
+    /// A writer whose first free register is `first`.
+    pub fn new(first: usize) -> Self {
+        Writer {
+            ops: Vec::new(),
+            registers: first,
+            preset: Vec::new(),
+            by_bits: HashMap::new(),
+            memo: HashMap::new(),
+            keep: Vec::new(),
+            budget: usize::MAX,
+        }
+    }
+
+    /// A writer that stops past `budget` registers.
+    pub fn with_budget(first: usize, budget: usize) -> Self {
+        Writer { budget, ..Writer::new(first) }
+    }
+
+    /// Whether it stopped for want of registers (its code is then unusable).
+    pub fn overflowed(&self) -> bool {
+        self.registers > self.budget
+    }
+
+    /// A fresh register.
+    pub fn register(&mut self) -> Reg {
+        self.registers += 1;
+        (self.registers - 1) as Reg
+    }
+
+    /// The register that holds the constant `x`.
+    pub fn constant(&mut self, x: f64) -> Reg {
+        if let Some(&r) = self.by_bits.get(&x.to_bits()) {
+            return r;
+        }
+        let r = self.register();
+        self.by_bits.insert(x.to_bits(), r);
+        self.preset.push((r, x));
+        r
+    }
+
+    /// Code that leaves the value of `e` in a register, which it returns.
+    pub fn write(&mut self, e: &Node<V>, leaves: &mut impl Leaves<V>) -> Reg {
+        if let Some(&r) = self.memo.get(&std::sync::Arc::as_ptr(e)) {
+            return r;
+        }
+        if self.overflowed() {
+            return 0;
+        }
+        let r = match leaves.leaf(self, e) {
+            Some(Leaf::At(r)) => return r,
+            Some(Leaf::Written(r)) => r,
+            None => match &**e {
+                Expr::Const(x) => return self.constant(*x),
+                _ => {
+                    let mut x = [0; 3];
+                    for (k, child) in e.children().into_iter().enumerate() {
+                        if let Some(child) = child {
+                            x[k] = self.write(child, leaves);
+                        }
+                    }
+                    let d = self.register();
+                    self.ops.push(Op::arithmetic(e, d, x).expect("the leaves take every node that is not arithmetic"));
+                    d
+                }
+            },
+        };
+        self.remember(e, r);
+        r
+    }
+
+    /// From now on `e` is in register `r`.
+    pub fn remember(&mut self, e: &Node<V>, r: Reg) {
+        self.keep.push(e.clone());
+        self.memo.insert(std::sync::Arc::as_ptr(e), r);
+    }
+
+    /// Forgets which registers hold which subtrees (their registers may
+    /// be written again); constants stay.
+    pub fn forget(&mut self) {
+        self.memo.clear();
+        self.keep.clear();
+    }
+}
+
 /// The most registers a tape may use (they live on the stack).
 pub const MAX_REGISTERS: usize = 256;
 
-/// Compiled formulas (the roots) over inputs `Var(0)`, `Var(1)`, ...
-/// Registers: `[inputs | constants | results]`.
+/// Compiled formulas (the roots) over inputs `Var(0)`, `Var(1)`, ...,
+/// which are its first registers.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Tape {
     inputs: usize,
-    constants: Vec<f64>,
+    registers: usize,
+    constants: Vec<(Reg, f64)>,
     ops: Vec<Op>,
     roots: Vec<Reg>,
+}
+
+/// A tape's leaves: its inputs; what it cannot hold (time, `der`,
+/// events) is its first refusal, and nothing is written for it.
+struct Inputs<'w> {
+    what: &'w str,
+    refused: Option<String>,
+}
+
+impl Leaves<usize> for Inputs<'_> {
+    fn leaf(&mut self, w: &mut Writer<usize>, e: &Node<usize>) -> Option<Leaf> {
+        let what = self.what;
+        let refuse = |why: String, refused: &mut Option<String>| {
+            refused.get_or_insert(why);
+            Some(Leaf::At(0))
+        };
+        match &**e {
+            Expr::Var(k) => Some(Leaf::At(*k as Reg)),
+            Expr::NoEvent(a) => Some(Leaf::At(w.write(a, self))),
+            Expr::Time | Expr::Der(_) => refuse(format!("{what} cannot hold `time` or `der` here"), &mut self.refused),
+            Expr::Pre(_) | Expr::Initial | Expr::Edge(_) | Expr::Change(_) | Expr::Sample { .. } => refuse(
+                format!("`pre`, `initial`, `edge`, `change` and `sample` belong in `when` clauses, not in {what}"),
+                &mut self.refused,
+            ),
+            _ => None,
+        }
+    }
 }
 
 impl Tape {
@@ -218,125 +372,34 @@ impl Tape {
     /// too long, or a node that is not arithmetic (`der`, events); `what`
     /// names the formula in the message.
     pub fn new(roots: &[Node<usize>], inputs: usize, what: &str) -> Result<Tape, String> {
-        let mut c = Compiler { inputs, constants: Vec::new(), ops: Vec::new(), by_node: HashMap::new(), what };
-        let roots = roots.iter().map(|r| c.emit(r)).collect::<Result<Vec<_>, _>>()?;
-        // Constants sit between the inputs and the results: renumber.
-        let first_result = (inputs + c.constants.len()) as Reg;
-        let at = |r: Reg| if r >= RESULT_BASE { r - RESULT_BASE + first_result } else { r };
-        let ops = c.ops.iter().map(|op| remap(*op, &at)).collect();
-        let tape = Tape { inputs, constants: c.constants, ops, roots: roots.into_iter().map(at).collect() };
-        if tape.registers() > MAX_REGISTERS {
+        let mut w = Writer::with_budget(inputs, MAX_REGISTERS);
+        let mut leaves = Inputs { what, refused: None };
+        let roots = roots.iter().map(|r| w.write(r, &mut leaves)).collect();
+        if let Some(why) = leaves.refused {
+            return Err(why);
+        }
+        if w.overflowed() {
             return Err(format!(
                 "{what} is too long: with its derivatives it needs more than {MAX_REGISTERS} numbers and operations"
             ));
         }
-        Ok(tape)
-    }
-
-    fn registers(&self) -> usize {
-        self.inputs + self.constants.len() + self.ops.len()
+        Ok(Tape { inputs, registers: w.registers, constants: w.preset, ops: w.ops, roots })
     }
 
     /// Every root at `inputs`, into `out` (as many as there are roots).
     pub fn eval(&self, inputs: &[f64], out: &mut [f64]) {
         let mut r = [0.0; MAX_REGISTERS];
-        let k = self.inputs;
-        r[..k].copy_from_slice(&inputs[..k]);
-        r[k..k + self.constants.len()].copy_from_slice(&self.constants);
+        let r = &mut r[..self.registers];
+        r[..self.inputs].copy_from_slice(&inputs[..self.inputs]);
+        for &(k, x) in &self.constants {
+            r[k as usize] = x;
+        }
         for op in &self.ops {
-            op.run_arithmetic(&mut r);
+            op.run_arithmetic(r);
         }
         for (o, &root) in out.iter_mut().zip(&self.roots) {
             *o = r[root as usize];
         }
-    }
-}
-
-/// Results are numbered from here while compiling (constants from the
-/// inputs up), until the count of constants is known.
-const RESULT_BASE: Reg = 1 << 20;
-
-/// `op` with its registers renumbered by `at`.
-fn remap(op: Op, at: &dyn Fn(Reg) -> Reg) -> Op {
-    match op {
-        Op::Copy(d, a) => Op::Copy(at(d), at(a)),
-        Op::Neg(d, a) => Op::Neg(at(d), at(a)),
-        Op::Add(d, a, b) => Op::Add(at(d), at(a), at(b)),
-        Op::Sub(d, a, b) => Op::Sub(at(d), at(a), at(b)),
-        Op::Mul(d, a, b) => Op::Mul(at(d), at(a), at(b)),
-        Op::Div(d, a, b) => Op::Div(at(d), at(a), at(b)),
-        Op::Pow(d, a, b) => Op::Pow(at(d), at(a), at(b)),
-        Op::Call(f, d, a) => Op::Call(f, at(d), at(a)),
-        Op::Call2(f, d, a, b) => Op::Call2(f, at(d), at(a), at(b)),
-        Op::Compare(c, d, a, b) => Op::Compare(c, at(d), at(a), at(b)),
-        Op::And(d, a, b) => Op::And(at(d), at(a), at(b)),
-        Op::Or(d, a, b) => Op::Or(at(d), at(a), at(b)),
-        Op::Not(d, a) => Op::Not(at(d), at(a)),
-        Op::Select(d, c, a, b) => Op::Select(at(d), at(c), at(a), at(b)),
-        other => other,
-    }
-}
-
-struct Compiler<'w> {
-    inputs: usize,
-    constants: Vec<f64>,
-    ops: Vec<Op>,
-    /// Shared subtrees, by address.
-    by_node: HashMap<*const Expr<usize>, Reg>,
-    what: &'w str,
-}
-
-impl Compiler<'_> {
-    /// The register of the next instruction's result (renumbered later).
-    fn next(&self) -> Reg {
-        RESULT_BASE + self.ops.len() as Reg
-    }
-
-    fn emit(&mut self, e: &Node<usize>) -> Result<Reg, String> {
-        let key = std::sync::Arc::as_ptr(e);
-        if let Some(&r) = self.by_node.get(&key) {
-            return Ok(r);
-        }
-        let op = match &**e {
-            Expr::Var(k) => return Ok(*k as Reg),
-            Expr::Const(c) => {
-                let k = match self.constants.iter().position(|x| x.to_bits() == c.to_bits()) {
-                    Some(k) => k,
-                    None => {
-                        self.constants.push(*c);
-                        self.constants.len() - 1
-                    }
-                };
-                return Ok((self.inputs + k) as Reg);
-            }
-            Expr::NoEvent(a) => return self.emit(a),
-            Expr::Time | Expr::Der(_) => return Err(format!("{} cannot hold `time` or `der` here", self.what)),
-            Expr::Pre(_) | Expr::Initial | Expr::Edge(_) | Expr::Change(_) | Expr::Sample { .. } => {
-                return Err(format!(
-                    "`pre`, `initial`, `edge`, `change` and `sample` belong in `when` clauses, not in {}",
-                    self.what
-                ))
-            }
-            _ => {
-                let mut x = [0; 3];
-                for (k, child) in e.children().into_iter().enumerate() {
-                    if let Some(child) = child {
-                        x[k] = self.emit(child)?;
-                    }
-                }
-                Op::arithmetic(e, self.next(), x).expect("every other node is arithmetic")
-            }
-        };
-        let d = self.next();
-        self.ops.push(op);
-        self.by_node.insert(key, d);
-        if self.ops.len() > MAX_REGISTERS {
-            return Err(format!(
-                "{} is too long: with its derivatives it needs more than {MAX_REGISTERS} numbers and operations",
-                self.what
-            ));
-        }
-        Ok(d)
     }
 }
 
@@ -396,7 +459,7 @@ mod tests {
         let s = add(var(0usize), constant(1.0));
         let t = Tape::new(&[mul(s.clone(), s.clone()), s], 1, "a test").unwrap();
         assert_eq!(t.ops.len(), 2); // x + 1, (x + 1)^2
-        assert_eq!(t.constants, [1.0]);
+        assert_eq!(t.constants, [(1, 1.0)]);
         let mut out = [0.0; 2];
         t.eval(&[2.0], &mut out);
         assert_eq!(out, [9.0, 3.0]);

@@ -10,23 +10,22 @@ use crate::assembly::signals::Signals;
 use crate::math::expr::Cmp;
 use crate::math::sparse::SparseLu;
 use crate::math::symbolic::{self as sym, Sym, S};
+use crate::math::tape::{Leaf, Leaves, Writer};
 use crate::system::equations::{EquationBlock, EquationProgram, Gather, Jacobian, Op, Reg, Solve, TIME};
 use crate::system::{Attachment, EventLayout, SignalLaw, StateLayout};
 use crate::Error;
 use std::collections::{BinaryHeap, HashMap, HashSet};
 use std::ops::Range;
 
-/// Registers and ops being written.
+/// The equations' code being written: its instructions (by the one
+/// [`Writer`]) and what their events add.
 struct Emitter {
-    registers: usize,
-    constants: HashMap<u64, Reg>,
-    initial: Vec<(Reg, f64)>,
-    ops: Vec<Op>,
-    /// Registers already holding a subexpression (by its address) within
-    /// the current block; `keep` holds those expressions so that no
-    /// address is reused while the block is written.
-    memo: HashMap<*const Sym, Reg>,
-    keep: Vec<S>,
+    w: Writer<usize>,
+    events: Events,
+}
+
+/// What the equations' events add while their code is written.
+struct Events {
     /// Whether relations are emitted without events (inside `noEvent`,
     /// and in what `when` clauses do, which runs at events only).
     live: bool,
@@ -44,135 +43,117 @@ struct Emitter {
     samples: Vec<crate::system::equations::Sample>,
 }
 
-impl Emitter {
-    fn register(&mut self) -> Reg {
-        self.registers += 1;
-        (self.registers - 1) as Reg
-    }
-
-    fn constant(&mut self, x: f64) -> Reg {
-        if let Some(&r) = self.constants.get(&x.to_bits()) {
-            return r;
-        }
-        let r = self.register();
-        self.constants.insert(x.to_bits(), r);
-        self.initial.push((r, x));
-        r
-    }
-
-    /// Code that leaves the value of `e` in a register, which it returns.
-    fn emit(&mut self, e: &S, vars: &[Reg]) -> Reg {
-        if let Some(&r) = self.memo.get(&arc_ptr(e)) {
-            return r;
-        }
-        let r = match &**e {
-            Sym::Const(x) => return self.constant(*x),
-            Sym::Time => return TIME,
-            Sym::Var(v) => return vars[*v],
-            Sym::Der(_) => unreachable!("assembly gives every derivative a variable of its own"),
-            // Before the event: a discrete variable's value at the start
-            // of the pass; any other's is its left limit, the value now.
-            Sym::Pre(v) => match self.discrete_of[*v] {
-                Some(slot) => {
-                    let d = self.register();
-                    self.ops.push(Op::LoadPre(d, slot as u32));
-                    d
-                }
-                None => return vars[*v],
-            },
-            Sym::Initial => {
-                let d = self.register();
-                self.ops.push(Op::Initial(d));
-                d
-            }
-            &Sym::Sample { start, interval } => {
-                let sample = crate::system::equations::Sample { start, interval };
-                let index = match self.samples.iter().position(|s| *s == sample) {
-                    Some(k) => k,
-                    None => {
-                        self.samples.push(sample);
-                        self.samples.len() - 1
-                    }
-                };
-                let dst = self.register();
-                self.ops.push(Op::Sample { dst, index: index as u32 });
-                dst
-            }
-            Sym::NoEvent(a) => {
-                let was = std::mem::replace(&mut self.live, true);
-                let r = self.emit(a, vars);
-                self.live = was;
-                return r;
-            }
-            Sym::Edge(a) => {
-                let cond = self.emit(a, vars);
-                let impulse = mentions_sample(a);
-                let (dst, slot) = (self.register(), self.discrete_slot(if impulse { f64::NEG_INFINITY } else { 0.0 }));
-                self.ops.push(Op::Fire { dst, cond, slot, at_start: false, impulse });
-                dst
-            }
-            Sym::Change(a) => {
-                let value = self.emit(a, vars);
-                let (dst, slot) = (self.register(), self.discrete_slot(0.0));
-                self.ops.push(Op::Change { dst, value, slot });
-                dst
-            }
-            Sym::Compare(cmp @ (Cmp::Lt | Cmp::Le | Cmp::Gt | Cmp::Ge), a, b) if !self.live => {
-                let (a, b) = (self.emit(a, vars), self.emit(b, vars));
-                let dst = self.register();
-                let indicator = (self.first_indicator + self.indicators.len()) as u32;
-                self.indicators.push(format!("the relation in `{}`", self.label));
-                let slot = self.discrete_slot(0.0);
-                self.ops.push(Op::Relation { cmp: *cmp, dst, a, b, indicator, slot });
-                dst
-            }
-            _ => {
-                let mut x = [0; 3];
-                for (k, child) in e.children().into_iter().enumerate() {
-                    if let Some(child) = child {
-                        x[k] = self.emit(child, vars);
-                    }
-                }
-                let d = self.register();
-                self.ops.push(Op::arithmetic(e, d, x).expect("every other node is arithmetic"));
-                d
-            }
-        };
-        self.keep.push(e.clone());
-        self.memo.insert(arc_ptr(e), r);
-        r
-    }
-
-    /// Code that leaves the value of `e` in register `target`.
-    fn emit_into(&mut self, e: &S, vars: &[Reg], target: Reg) {
-        let before = self.ops.len();
-        let r = self.emit(e, vars);
-        // Write the last op's result straight into the target when it made it.
-        let last = self.ops.len().checked_sub(1).filter(|&i| i >= before);
-        match last.and_then(|i| Op::dst_mut(&mut self.ops[i])).filter(|d| **d == r) {
-            Some(d) => {
-                *d = target;
-                // The temporary is never written now: later uses read the target.
-                self.memo.insert(arc_ptr(e), target);
-            }
-            None => self.ops.push(Op::Copy(target, r)),
-        }
-    }
-
+impl Events {
     /// A new slot of the discrete state with its start value.
     fn discrete_slot(&mut self, start: f64) -> u32 {
         self.discrete.push(start);
         (self.first_discrete + self.discrete.len() - 1) as u32
     }
+}
 
-    fn new_block(&mut self) {
-        self.memo.clear();
-        self.keep.clear();
+/// The equations' leaves: variables in their registers, time, and the
+/// instructions of events.
+struct Program<'a> {
+    vars: &'a [Reg],
+    events: &'a mut Events,
+}
+
+impl Leaves<usize> for Program<'_> {
+    fn leaf(&mut self, w: &mut Writer<usize>, e: &S) -> Option<Leaf> {
+        Some(match &**e {
+            Sym::Time => Leaf::At(TIME),
+            Sym::Var(v) => Leaf::At(self.vars[*v]),
+            Sym::Der(_) => unreachable!("assembly gives every derivative a variable of its own"),
+            // Before the event: a discrete variable's value at the start
+            // of the pass; any other's is its left limit, the value now.
+            Sym::Pre(v) => match self.events.discrete_of[*v] {
+                Some(slot) => {
+                    let d = w.register();
+                    w.ops.push(Op::LoadPre(d, slot as u32));
+                    Leaf::Written(d)
+                }
+                None => Leaf::At(self.vars[*v]),
+            },
+            Sym::Initial => {
+                let d = w.register();
+                w.ops.push(Op::Initial(d));
+                Leaf::Written(d)
+            }
+            &Sym::Sample { start, interval } => {
+                let sample = crate::system::equations::Sample { start, interval };
+                let samples = &mut self.events.samples;
+                let index = samples.iter().position(|s| *s == sample).unwrap_or_else(|| {
+                    samples.push(sample);
+                    samples.len() - 1
+                });
+                let dst = w.register();
+                w.ops.push(Op::Sample { dst, index: index as u32 });
+                Leaf::Written(dst)
+            }
+            Sym::NoEvent(a) => {
+                let was = std::mem::replace(&mut self.events.live, true);
+                let r = w.write(a, self);
+                self.events.live = was;
+                Leaf::At(r)
+            }
+            Sym::Edge(a) => {
+                let cond = w.write(a, self);
+                let impulse = mentions_sample(a);
+                let (dst, slot) =
+                    (w.register(), self.events.discrete_slot(if impulse { f64::NEG_INFINITY } else { 0.0 }));
+                w.ops.push(Op::Fire { dst, cond, slot, at_start: false, impulse });
+                Leaf::Written(dst)
+            }
+            Sym::Change(a) => {
+                let value = w.write(a, self);
+                let (dst, slot) = (w.register(), self.events.discrete_slot(0.0));
+                w.ops.push(Op::Change { dst, value, slot });
+                Leaf::Written(dst)
+            }
+            Sym::Compare(cmp @ (Cmp::Lt | Cmp::Le | Cmp::Gt | Cmp::Ge), a, b) if !self.events.live => {
+                let (a, b) = (w.write(a, self), w.write(b, self));
+                let dst = w.register();
+                let events = &mut *self.events;
+                let indicator = (events.first_indicator + events.indicators.len()) as u32;
+                events.indicators.push(format!("the relation in `{}`", events.label));
+                let slot = events.discrete_slot(0.0);
+                w.ops.push(Op::Relation { cmp: *cmp, dst, a, b, indicator, slot });
+                Leaf::Written(dst)
+            }
+            _ => return None,
+        })
     }
 }
 
-fn arc_ptr(e: &S) -> *const Sym {
-    std::sync::Arc::as_ptr(e)
+impl Emitter {
+    fn register(&mut self) -> Reg {
+        self.w.register()
+    }
+
+    /// Code that leaves the value of `e` in a register, which it returns.
+    fn emit(&mut self, e: &S, vars: &[Reg]) -> Reg {
+        self.w.write(e, &mut Program { vars, events: &mut self.events })
+    }
+
+    /// Code that leaves the value of `e` in register `target`.
+    fn emit_into(&mut self, e: &S, vars: &[Reg], target: Reg) {
+        let before = self.w.ops.len();
+        let r = self.emit(e, vars);
+        // Write the last op's result straight into the target when it made it.
+        let last = self.w.ops.len().checked_sub(1).filter(|&i| i >= before);
+        match last.and_then(|i| Op::dst_mut(&mut self.w.ops[i])).filter(|d| **d == r) {
+            Some(d) => {
+                *d = target;
+                // The temporary is never written now: later uses read the target.
+                self.w.remember(e, target);
+            }
+            None => self.w.ops.push(Op::Copy(target, r)),
+        }
+    }
+
+    fn new_block(&mut self) {
+        self.w.forget();
+    }
 }
 
 /// The signal slot of the connector `local` of the hidden component `extra`.
@@ -196,27 +177,25 @@ pub(super) fn generate(
         discrete_of[v] = Some(events.discrete_start.len() + k);
     }
     let mut em = Emitter {
-        registers: 1,
-        constants: HashMap::new(),
-        initial: Vec::new(),
-        ops: Vec::new(),
-        memo: HashMap::new(),
-        keep: Vec::new(),
-        live: false,
-        first_indicator: events.indicators.len(),
-        first_discrete: events.discrete_start.len(),
-        indicators: Vec::new(),
-        discrete: pending
-            .discrete
-            .iter()
-            .map(|&v| match pending.vars[v].role {
-                Role::Declared(d) => pending.declared[d].start.unwrap_or(0.0),
-                _ => 0.0,
-            })
-            .collect(),
-        discrete_of,
-        label: String::new(),
-        samples: Vec::new(),
+        // Register 0 is time.
+        w: Writer::new(1),
+        events: Events {
+            live: false,
+            first_indicator: events.indicators.len(),
+            first_discrete: events.discrete_start.len(),
+            indicators: Vec::new(),
+            discrete: pending
+                .discrete
+                .iter()
+                .map(|&v| match pending.vars[v].role {
+                    Role::Declared(d) => pending.declared[d].start.unwrap_or(0.0),
+                    _ => 0.0,
+                })
+                .collect(),
+            discrete_of,
+            label: String::new(),
+            samples: Vec::new(),
+        },
     };
     let mut reg = vec![Reg::MAX; n];
     let mut slot_reads: Vec<Option<usize>> = vec![None; n];
@@ -245,7 +224,9 @@ pub(super) fn generate(
                 }
             }
             Source::State(index) => gathers.push(Gather::State { index: *index, register: reg[v] }),
-            Source::Discrete(k) => gathers.push(Gather::Discrete { slot: em.first_discrete + k, register: reg[v] }),
+            Source::Discrete(k) => {
+                gathers.push(Gather::Discrete { slot: em.events.first_discrete + k, register: reg[v] })
+            }
             Source::Reaction(row) => reactions.push((*row, reg[v])),
             // Filled by the initialization from the accelerations.
             Source::Rate(_) => {}
@@ -267,7 +248,7 @@ pub(super) fn generate(
 
     // States, then unknowns; an alias shares its unknown's register, or
     // (negated) gets its own.
-    let first_state = em.registers as Reg;
+    let first_state = em.w.registers as Reg;
     for &s in &sorted.states {
         reg[s] = em.register();
     }
@@ -280,7 +261,7 @@ pub(super) fn generate(
             *r = em.register();
             if let Role::Declared(d) = pending.vars[v].role {
                 if let Some(start) = pending.declared[d].start {
-                    em.initial.push((*r, start));
+                    em.w.preset.push((*r, start));
                 }
             }
         }
@@ -339,12 +320,12 @@ pub(super) fn generate(
             });
         }
         reads_reaction.push(mentioned.iter().any(|&v| matches!(reads[v], Some(Source::Reaction(_)))));
-        let before = em.ops.len();
+        let before = em.w.ops.len();
         let mut loads = Vec::new();
         let mut deps = Vec::new();
         for &v in &mentioned {
             if let Some(slot) = slot_reads[v] {
-                em.ops.push(Op::Load(reg[v], slot));
+                em.w.ops.push(Op::Load(reg[v], slot));
                 loads.push(slot);
             }
             let other = block_of_unknown[v];
@@ -362,7 +343,7 @@ pub(super) fn generate(
             }
         }
         let label = label.join("; ");
-        em.label.clone_from(&label);
+        em.events.label.clone_from(&label);
         let solve = match (residuals.as_slice(), unknowns.as_slice()) {
             ([r], [x]) if explicit(r, *x).is_some() => {
                 let value = explicit(r, *x).expect("checked");
@@ -406,7 +387,7 @@ pub(super) fn generate(
                     }
                     partials.push(row);
                 }
-                let residual_start = em.ops.len();
+                let residual_start = em.w.ops.len();
                 // A linear block is solved in one step of its sparse, pivoted
                 // factorization; torn, its chains of closed forms could
                 // amplify rounding (a 40-step doubling chain loses 5e-5).
@@ -416,7 +397,7 @@ pub(super) fn generate(
                         for (_, x, value) in &t.assigned {
                             em.emit_into(value, &reg, reg[*x]);
                         }
-                        let torn = em.ops.len() - residual_start;
+                        let torn = em.w.ops.len() - residual_start;
                         let entries = t.jacobian(&residuals);
                         (t.tears, t.residuals, entries, torn)
                     }
@@ -438,11 +419,11 @@ pub(super) fn generate(
                 let k = newton_unknowns.len();
                 largest_block = largest_block.max(k);
                 let residual_regs: Vec<Reg> = newton_rows.iter().map(|&i| em.emit(residuals[i], &reg)).collect();
-                let residual_ops = residual_start..em.ops.len();
+                let residual_ops = residual_start..em.w.ops.len();
                 let layout = JacobianLayout::of(k, &entries);
                 let block_rows: Vec<usize> = newton_rows.iter().map(|&i| rows[i]).collect();
                 refuse_constant_singular(&layout, &entries, &block_rows, &newton_unknowns, pending, sorted)?;
-                let jacobian_start = em.ops.len();
+                let jacobian_start = em.w.ops.len();
                 let jacobian = match layout {
                     JacobianLayout::Dense => {
                         let mut dense = vec![sym::constant(0.0); k * k];
@@ -462,30 +443,30 @@ pub(super) fn generate(
                     residuals: residual_regs,
                     jacobian,
                     residual_ops,
-                    jacobian_ops: jacobian_start..em.ops.len(),
+                    jacobian_ops: jacobian_start..em.w.ops.len(),
                     linear,
                     torn,
                 }
             }
         };
         let before = match solve {
-            Solve::Explicit => before..em.ops.len(),
+            Solve::Explicit => before..em.w.ops.len(),
             Solve::Newton { ref residual_ops, .. } => before..residual_ops.start,
         };
-        let after = em.ops.len();
+        let after = em.w.ops.len();
         let mut writes = Vec::new();
         for &u in unknowns {
             for &v in &members[u] {
                 if let Some(&(_, of)) = negated.iter().find(|(w, _)| *w == v) {
-                    em.ops.push(Op::Neg(reg[v], reg[of]));
+                    em.w.ops.push(Op::Neg(reg[v], reg[of]));
                 }
                 for &slot in &stores_of[v] {
-                    em.ops.push(Op::Store(slot, reg[v]));
+                    em.w.ops.push(Op::Store(slot, reg[v]));
                     writes.push(slot);
                 }
             }
         }
-        blocks.push(EquationBlock { before, solve, after: after..em.ops.len(), label });
+        blocks.push(EquationBlock { before, solve, after: after..em.w.ops.len(), label });
         block_reads.push(loads);
         block_writes.push(writes);
         block_deps.push(deps);
@@ -502,7 +483,7 @@ pub(super) fn generate(
     refuse_events_on_reactions(pending, &post_decided)?;
     let positions =
         place(&mut blocks, &block_reads, &block_writes, &block_deps, &after_dynamics, signals, ctx, pending, sorted)?;
-    let (blocks, positions) = fuse_explicit(&mut em.ops, blocks, positions);
+    let (blocks, positions) = fuse_explicit(&mut em.w.ops, blocks, positions);
     let first_post = positions.iter().position(|&p| p == AFTER_DYNAMICS).unwrap_or(positions.len());
     let (when_conditions, when_actions, reinits) = when_clauses(&mut em, pending, reads, sorted, &reg, states)?;
 
@@ -524,12 +505,12 @@ pub(super) fn generate(
         .map(|(i, v)| (v.name.clone(), reg[i]))
         .collect();
     let program = EquationProgram {
-        registers: em.registers,
-        constants: em.initial,
+        registers: em.w.registers,
+        constants: em.w.preset,
         gathers,
         first_state,
         rates: sorted.rates.iter().map(|&d| reg[d]).collect(),
-        ops: em.ops,
+        ops: em.w.ops,
         blocks,
         positions,
         largest_block,
@@ -541,10 +522,10 @@ pub(super) fn generate(
         when_conditions,
         when_actions,
         reinits,
-        samples: em.samples,
+        samples: em.events.samples,
     };
-    events.indicators.append(&mut em.indicators);
-    events.discrete_start.append(&mut em.discrete);
+    events.indicators.append(&mut em.events.indicators);
+    events.discrete_start.append(&mut em.events.discrete);
     Ok((program, reg))
 }
 
@@ -561,23 +542,23 @@ fn when_clauses(
     states: &StateLayout,
 ) -> Result<(Range<usize>, Range<usize>, usize), Error> {
     em.new_block();
-    let start = em.ops.len();
+    let start = em.w.ops.len();
     let mut conditions = Vec::with_capacity(pending.whens.len());
     for w in &pending.whens {
-        em.label.clone_from(&w.origin);
+        em.events.label.clone_from(&w.origin);
         conditions.push(w.branches.iter().map(|(c, _)| em.emit(c, reg)).collect::<Vec<Reg>>());
     }
-    let conditions_end = em.ops.len();
+    let conditions_end = em.w.ops.len();
     let mut reinits = 0;
-    em.live = true;
+    em.events.live = true;
     for (w, regs) in pending.whens.iter().zip(&conditions) {
         // The first branch whose condition became true, only.
         let mut taken: Option<Reg> = None;
         for ((condition, actions), &cond) in w.branches.iter().zip(regs) {
             let fired = em.register();
             let impulse = mentions_sample(condition);
-            let slot = em.discrete_slot(if impulse { f64::NEG_INFINITY } else { 0.0 });
-            em.ops.push(Op::Fire { dst: fired, cond, slot, at_start: mentions_initial(condition), impulse });
+            let slot = em.events.discrete_slot(if impulse { f64::NEG_INFINITY } else { 0.0 });
+            em.w.ops.push(Op::Fire { dst: fired, cond, slot, at_start: mentions_initial(condition), impulse });
             let fire = match taken {
                 None => {
                     taken = Some(fired);
@@ -585,9 +566,9 @@ fn when_clauses(
                 }
                 Some(before) => {
                     let (not_before, fire, now_taken) = (em.register(), em.register(), em.register());
-                    em.ops.push(Op::Not(not_before, before));
-                    em.ops.push(Op::And(fire, fired, not_before));
-                    em.ops.push(Op::Or(now_taken, before, fired));
+                    em.w.ops.push(Op::Not(not_before, before));
+                    em.w.ops.push(Op::And(fire, fired, not_before));
+                    em.w.ops.push(Op::Or(now_taken, before, fired));
                     taken = Some(now_taken);
                     fire
                 }
@@ -596,20 +577,20 @@ fn when_clauses(
                 match action {
                     PendingAction::Assign { slot, value } => {
                         let src = em.emit(value, reg);
-                        em.ops.push(Op::Assign { slot: (em.first_discrete + slot) as u32, src, fire });
+                        em.w.ops.push(Op::Assign { slot: (em.events.first_discrete + slot) as u32, src, fire });
                     }
                     PendingAction::Reinit { variable, value, origin } => {
                         let state = reinit_target(pending, reads, sorted, states, *variable, origin)?;
                         let src = em.emit(value, reg);
-                        em.ops.push(Op::Reinit { state: state as u32, src, fire });
+                        em.w.ops.push(Op::Reinit { state: state as u32, src, fire });
                         reinits += 1;
                     }
                 }
             }
         }
     }
-    em.live = false;
-    Ok((start..conditions_end, conditions_end..em.ops.len(), reinits))
+    em.events.live = false;
+    Ok((start..conditions_end, conditions_end..em.w.ops.len(), reinits))
 }
 
 /// Whether `e` holds `sample`, true only at its own events.
