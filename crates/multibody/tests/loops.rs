@@ -198,3 +198,48 @@ fn spherical_joint_with_euler_quaternion_or_no_states_agree() {
         assert!(worst < 1e-6);
     }
 }
+
+/// A planar four-bar (crank 1 from the origin, coupler 1, rocker 0.5 to a
+/// pivot at [1.2, 0]) whose crank is driven at 1 rad/s from 60 degrees. The
+/// loop closes only while the crank tip is within 1.5 of the pivot: from
+/// cos(theta) = (1 + 1.44 - 2.25) / 2.4 on it cannot. The run stops there
+/// (t = acos(0.0791667) - pi / 3 = 0.4443 s), naming the loop, with what was
+/// computed kept, instead of running on with the loop open.
+#[test]
+fn a_four_bar_driven_past_its_dead_point_stops_there_naming_the_loop() {
+    let mut m = Model::new("past_dead_point");
+    m.add("world", "PlanarMechanics.World");
+    m.add("crank_joint", "PlanarMechanics.Revolute").initial("phi", std::f64::consts::FRAC_PI_3).initial("w", 1.0);
+    for (name, length) in [("crank", 1.0), ("coupler", 1.0), ("rocker", 0.5)] {
+        m.add(name, "PlanarMechanics.BodyShape").set("r", [length, 0.0]).set("m", 1.0).set("I", 0.1);
+    }
+    for joint in ["coupler_joint", "rocker_joint", "ground_joint"] {
+        m.add(joint, "PlanarMechanics.Revolute");
+    }
+    m.add("base", "PlanarMechanics.Fixed").set("r", [1.2, 0.0]);
+    m.add("drive", "RotationalComponents.Speed");
+    m.add("mount", "RotationalComponents.Fixed");
+    m.add("speed", "BlockComponents.Constant").set("k", 1.0);
+    m.connect(["world.frame_b", "crank_joint.frame_a"]);
+    m.connect(["crank_joint.frame_b", "crank.frame_a"]);
+    m.connect(["crank.frame_b", "coupler_joint.frame_a"]);
+    m.connect(["coupler_joint.frame_b", "coupler.frame_a"]);
+    m.connect(["coupler.frame_b", "rocker_joint.frame_a"]);
+    m.connect(["rocker_joint.frame_b", "rocker.frame_a"]);
+    m.connect(["rocker.frame_b", "ground_joint.frame_a"]);
+    m.connect(["ground_joint.frame_b", "base.frame_b"]);
+    m.connect(["speed.y", "drive.w_ref"]);
+    m.connect(["drive.spline", "crank_joint.flange_a"]);
+    m.connect(["drive.support", "mount.spline"]);
+    let options = SimulationOptions { stop: 1.0, saveat: 0.01, ..Default::default() };
+    let stopped = m.assemble().unwrap().simulate(&options).unwrap_err();
+    let dead_point = (0.19f64 / 2.4).acos() - std::f64::consts::FRAC_PI_3;
+    let message = stopped.to_string();
+    eprintln!("four-bar past its dead point ({dead_point:.5} s): {message}");
+    assert!((stopped.time - dead_point).abs() < 1e-3, "stopped at {} instead of near {dead_point}", stopped.time);
+    for expected in ["loop", "`ground_joint`", "`crank_joint`", "cannot close", "dead point"] {
+        assert!(message.contains(expected), "`{expected}` missing from: {message}");
+    }
+    let kept = stopped.partial.time();
+    assert!(kept.len() > 40 && *kept.last().unwrap() <= stopped.time, "the samples before the stop are kept");
+}

@@ -374,6 +374,20 @@ impl Mechanism {
                 self.velocity_name(dof)
             ),
             DynamicsError::NotFinite => "a value became infinite or NaN (the motion blew up)".into(),
+            DynamicsError::LoopOpen { constraint, residual } => {
+                let cut = &self.components[self.system.constraints[constraint].component].name;
+                let around = self
+                    .loops
+                    .get(constraint)
+                    .map(|l| l.joints.iter().map(|j| format!("`{j}`")).collect::<Vec<_>>().join(", "))
+                    .unwrap_or_default();
+                format!(
+                    "the loop closed at `{cut}` (through {around}) cannot close: its equations stay violated by \
+                     {residual:.3e} (m or rad) after projection. The motion reached a configuration the loop \
+                     cannot take, such as a crank driven past the dead point of its linkage; change what drives \
+                     it, or the lengths"
+                )
+            }
             DynamicsError::ContactIndeterminate { link } => format!(
                 "the normal forces of the slipping wheels and the other constraint forces near `{}` have no unique \
                  solution (rigid contacts with friction on constraints that repeat each other); give the wheels \

@@ -24,6 +24,11 @@ const RANK_TOLERANCE: f64 = 1e-10;
 const PROJECT_ABOVE: f64 = 1e-12;
 /// ... in at most this many Newton steps.
 const PROJECTION_ITERATIONS: usize = 10;
+/// A position residual that projection leaves above this (m or rad) is a
+/// loop that cannot close: where projection works it ends below
+/// [`PROJECT_ABOVE`], and through a singular configuration (a
+/// parallelogram's change point) still far below this.
+const LOOP_OPEN: f64 = 1e-6;
 
 /// Where a constraint end is and how it moves, in world coordinates; the
 /// accelerations are those with all joint accelerations zero and no gravity.
@@ -717,14 +722,30 @@ impl System {
             changed = true;
             Some(self.free_coordinates.as_slice())
         };
+        let mut closed = false;
         for _ in 0..PROJECTION_ITERATIONS {
             self.constraint_state(ws, y)?;
             if ws.residual.iter().all(|r| r.abs() <= PROJECT_ABOVE) {
+                closed = true;
                 break;
             }
             self.least_norm_step(ws, free, true);
             self.retract(y, ws);
             changed = true;
+        }
+        if !closed {
+            // A loop that cannot close stops the run rather than open.
+            self.constraint_state(ws, y)?;
+            let worst = self
+                .constraints
+                .iter()
+                .enumerate()
+                .map(|(k, c)| (k, ws.residual[c.row..c.row + c.rows].iter().fold(0.0f64, |m, r| m.max(r.abs()))));
+            if let Some((constraint, residual)) =
+                worst.filter(|&(_, r)| r > LOOP_OPEN).max_by(|a, b| a.1.total_cmp(&b.1))
+            {
+                return Err(DynamicsError::LoopOpen { constraint, residual });
+            }
         }
         self.velocity_residual(ws, y)?;
         if ws.lambda.iter().any(|v| *v != 0.0) {

@@ -43,6 +43,10 @@ pub enum DynamicsError {
     /// The normal forces of slipping wheels (whose friction follows them)
     /// and the other constraint forces have no unique solution.
     ContactIndeterminate { link: usize },
+    /// Projection cannot bring constraint `constraint` back: its position
+    /// equations stay violated by `residual` (m or rad). The loop cannot
+    /// close in the configuration the motion reached.
+    LoopOpen { constraint: usize, residual: f64 },
 }
 
 /// Scratch memory of the dynamics for one mechanism: everything the
