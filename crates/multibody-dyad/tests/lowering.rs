@@ -472,3 +472,25 @@ end"#,
         error("component Bad\n  parameter a::Real = log10(-1)\n  variable x::Real\nrelations\n  x = a\nend", "Bad");
     assert!(message.contains("`log10` of -1 is not defined") && message.contains("positive"), "{message}");
 }
+
+/// An equation of 20,000 terms (generated models write such sums) ran the
+/// command out of stack and aborted it: long sums and products are now
+/// taken pairwise. `x = time + time + ...` is `20000 t`, and the product
+/// of 4,000 factors `(1 + time / 4000)` is `(1 + t / 4000)^4000`.
+#[test]
+fn equations_of_thousands_of_terms_run() {
+    let sum = vec!["time"; 20_000].join(" + ");
+    let product = vec!["(1 + time / 4000)"; 4_000].join(" * ");
+    let text = format!(
+        "example component Long\n  variable x::Real\n  variable y::Real\nrelations\n  x = {sum}\n  y = {product}\nend\n"
+    );
+    let options = multibody::SimulationOptions { stop: 0.5, saveat: 0.1, ..Default::default() };
+    let s = component(&text, "Long").assemble().unwrap().simulate(&options).unwrap();
+    let mut worst = 0.0f64;
+    for (k, t) in s.time().iter().enumerate() {
+        worst = worst.max((s.get("x").unwrap()[k] - 20_000.0 * t).abs() / (1.0 + 20_000.0 * t));
+        let y = (1.0 + t / 4000.0f64).powi(4000);
+        worst = worst.max((s.get("y").unwrap()[k] - y).abs() / y);
+    }
+    assert!(worst < 1e-12, "long sums and products are off by {worst:e} (relative)");
+}

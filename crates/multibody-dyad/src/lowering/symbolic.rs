@@ -129,6 +129,9 @@ pub fn from_val(v: &Val) -> Option<ArrayExpr> {
     }
 }
 
+/// Chains of sums this long or longer are added pairwise.
+const LONG_CHAIN: usize = 32;
+
 fn sum(terms: impl IntoIterator<Item = Node>) -> Node {
     sym::balanced(terms, add).unwrap_or_else(|| constant(0.0))
 }
@@ -165,9 +168,29 @@ pub fn eval(expr: &Expr, names: &mut dyn Names) -> SResult {
         ExprKind::Chain { first, rest } => {
             let mut value = eval(first, names)?;
             let mut left = first.span;
-            for (op, rhs) in rest {
-                let b = eval(rhs, names)?;
-                value = binary(*op, value, b, left, rhs.span, left.to(rhs.span))?;
+            let operands = rest.iter().map(|(op, rhs)| Ok((*op, eval(rhs, names)?))).collect::<Result<Vec<_>, _>>()?;
+            // A long sum or product of numbers is taken pairwise: a
+            // balanced tree log2(n) deep, which the later passes walk
+            // without a deep recursion (and which rounds no worse than
+            // left to right).
+            let numbers = operands.len() >= LONG_CHAIN
+                && matches!(value, ArrayExpr::Scalar(_))
+                && operands.iter().all(|(_, x)| matches!(x, ArrayExpr::Scalar(_)));
+            let all = |ops: &[BinaryOp]| operands.iter().all(|(op, _)| ops.contains(op));
+            if numbers && (all(&[BinaryOp::Add, BinaryOp::Sub]) || all(&[BinaryOp::Mul])) {
+                let product = operands[0].0 == BinaryOp::Mul;
+                let term = |(op, x): (BinaryOp, ArrayExpr)| match (op, x) {
+                    (BinaryOp::Sub, ArrayExpr::Scalar(x)) => neg(x),
+                    (_, ArrayExpr::Scalar(x)) => x,
+                    _ => unreachable!("checked: numbers"),
+                };
+                let ArrayExpr::Scalar(first) = value else { unreachable!("checked: a number") };
+                let terms = std::iter::once(first).chain(operands.into_iter().map(term));
+                let joined = if product { sym::balanced(terms, mul) } else { sym::balanced(terms, add) };
+                return Ok(ArrayExpr::Scalar(joined.expect("a chain has terms")));
+            }
+            for ((op, b), (_, rhs)) in operands.into_iter().zip(rest) {
+                value = binary(op, value, b, left, rhs.span, left.to(rhs.span))?;
                 left = left.to(rhs.span);
             }
             Ok(value)
