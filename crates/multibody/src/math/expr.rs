@@ -2,8 +2,9 @@
 //! to the compiled code: scalar expressions of time and variables
 //! (`ctrl.y = -kp * (sensor.phi - ref)`), plain data. `Expr` (variables
 //! by name) is what a model states; after assembly resolves the names,
-//! the same tree with numbered variables, [`Sym`](super::symbolic::Sym),
-//! is what the equation compiler sorts, differentiates and compiles
+//! the same tree over typed variable ids ([`VarId`](super::symbolic::VarId)),
+//! [`Sym`](super::symbolic::Sym), is what the equation compiler sorts,
+//! differentiates and compiles
 //! ([`symbolic`](super::symbolic) holds the algebra, written once for
 //! both). Subtrees are shared (`Arc`), so copies and derivatives are cheap.
 //!

@@ -8,10 +8,58 @@
 use super::expr::{Cmp, Expr, Func, Func2, Node};
 use std::sync::Arc;
 
-/// An expression over numbered variables (after assembly resolves names).
-pub type Sym = Expr<usize>;
-/// A shared expression over numbered variables.
-pub type S = Node<usize>;
+/// A variable of the model's equations once assembly resolves its name:
+/// its number among them, a type of its own so that it is never taken for
+/// a register, a state index or a signal slot. Vectors and slices with one
+/// entry per variable are indexed by it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct VarId(u32);
+
+impl VarId {
+    pub fn new(index: usize) -> VarId {
+        VarId(u32::try_from(index).expect("fewer than 2^32 variables"))
+    }
+
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+
+    /// The variables numbered `0..n`.
+    pub fn all(n: usize) -> impl Iterator<Item = VarId> {
+        (0..n).map(VarId::new)
+    }
+}
+
+impl<T> std::ops::Index<VarId> for [T] {
+    type Output = T;
+    fn index(&self, v: VarId) -> &T {
+        &self[v.index()]
+    }
+}
+
+impl<T> std::ops::IndexMut<VarId> for [T] {
+    fn index_mut(&mut self, v: VarId) -> &mut T {
+        &mut self[v.index()]
+    }
+}
+
+impl<T> std::ops::Index<VarId> for Vec<T> {
+    type Output = T;
+    fn index(&self, v: VarId) -> &T {
+        &self[v.index()]
+    }
+}
+
+impl<T> std::ops::IndexMut<VarId> for Vec<T> {
+    fn index_mut(&mut self, v: VarId) -> &mut T {
+        &mut self[v.index()]
+    }
+}
+
+/// An expression over the model's variables (after assembly resolves names).
+pub type Sym = Expr<VarId>;
+/// A shared expression over the model's variables.
+pub type S = Node<VarId>;
 
 pub fn constant<V>(x: f64) -> Node<V> {
     Arc::new(Expr::Const(x))

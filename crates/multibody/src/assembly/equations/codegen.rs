@@ -9,7 +9,7 @@ use super::{problem, Context, Pending, PendingAction, Read, Role, Source};
 use crate::assembly::signals::Signals;
 use crate::math::expr::Cmp;
 use crate::math::sparse::SparseLu;
-use crate::math::symbolic::{self as sym, Sym, S};
+use crate::math::symbolic::{self as sym, Sym, VarId, S};
 use crate::math::tape::{Leaf, Leaves, Writer};
 use crate::system::equations::{EquationBlock, EquationProgram, Gather, Jacobian, Op, Reg, Solve, TIME};
 use crate::system::{Attachment, EventLayout, SignalLaw, StateLayout};
@@ -20,7 +20,7 @@ use std::ops::Range;
 /// The equations' code being written: its instructions (by the one
 /// [`Writer`]) and what their events add.
 struct Emitter {
-    w: Writer<usize>,
+    w: Writer<VarId>,
     events: Events,
 }
 
@@ -58,8 +58,8 @@ struct Program<'a> {
     events: &'a mut Events,
 }
 
-impl Leaves<usize> for Program<'_> {
-    fn leaf(&mut self, w: &mut Writer<usize>, e: &S) -> Option<Leaf> {
+impl Leaves<VarId> for Program<'_> {
+    fn leaf(&mut self, w: &mut Writer<VarId>, e: &S) -> Option<Leaf> {
         Some(match &**e {
             Sym::Time => Leaf::At(TIME),
             Sym::Var(v) => Leaf::At(self.vars[*v]),
@@ -256,7 +256,7 @@ pub(super) fn generate(
     for &s in &sorted.states {
         is_state[s] = true;
     }
-    for (v, r) in reg.iter_mut().enumerate() {
+    for (v, r) in VarId::all(n).zip(reg.iter_mut()) {
         if is_unknown(pending, &is_state, v) && sorted.alias[v].is_none() {
             *r = em.register();
             if let Role::Declared(d) = pending.vars[v].role {
@@ -366,10 +366,10 @@ pub(super) fn generate(
             _ => {
                 // Linear in every unknown (then one Newton step solves it,
                 // torn or not).
-                let column: HashMap<usize, usize> = unknowns.iter().enumerate().map(|(j, &x)| (x, j)).collect();
+                let column: HashMap<VarId, usize> = unknowns.iter().enumerate().map(|(j, &x)| (x, j)).collect();
                 // The unknowns each residual mentions, and its derivatives by them.
                 let mut linear = true;
-                let mut partials: Vec<Vec<(usize, S)>> = Vec::with_capacity(residuals.len());
+                let mut partials: Vec<Vec<(VarId, S)>> = Vec::with_capacity(residuals.len());
                 for r in &residuals {
                     let mut own = Vec::new();
                     r.each_var(&mut |&v| {
@@ -474,7 +474,7 @@ pub(super) fn generate(
 
     let fed = |slot: usize| owner_of_slot(ctx, signals, slot);
     let after_dynamics = after_the_accelerations(&reads_reaction, &block_deps, &block_writes, pending, sorted, fed)?;
-    let post_decided: Vec<bool> = (0..n)
+    let post_decided: Vec<bool> = VarId::all(n)
         .map(|v| {
             let rep = sorted.alias[v].map_or(v, |(of, _)| of);
             block_of_unknown[rep] != usize::MAX && after_dynamics[block_of_unknown[rep]]
@@ -614,7 +614,7 @@ fn reinit_target(
     reads: &[Option<Source>],
     sorted: &Sorted,
     states: &StateLayout,
-    v: usize,
+    v: VarId,
     origin: &str,
 ) -> Result<usize, Error> {
     if let Some(k) = sorted.states.iter().position(|&s| s == v) {
@@ -655,7 +655,7 @@ fn reinit_target(
 
 /// The closed form of unknown `x` from residual `r = 0`, if `r` is
 /// linear in it with a slope that cannot vanish structurally.
-fn explicit(r: &S, x: usize) -> Option<S> {
+fn explicit(r: &S, x: VarId) -> Option<S> {
     let (slope, rest) = sym::affine_in(r, &x)?;
     match slope.as_const() {
         Some(0.0) => None,
@@ -812,7 +812,7 @@ fn refuse_constant_singular(
     layout: &JacobianLayout,
     entries: &[(usize, usize, S)],
     rows: &[usize],
-    unknowns: &[usize],
+    unknowns: &[VarId],
     pending: &Pending,
     sorted: &Sorted,
 ) -> Result<(), Error> {
@@ -897,7 +897,7 @@ fn after_the_accelerations(
 fn refuse_events_on_reactions(pending: &Pending, post_decided: &[bool]) -> Result<(), Error> {
     for w in &pending.whens {
         let mut names = Vec::new();
-        let mut note = |&v: &usize| {
+        let mut note = |&v: &VarId| {
             if post_decided[v] && !names.contains(&pending.vars[v].name) {
                 names.push(pending.vars[v].name.clone());
             }

@@ -11,7 +11,7 @@ use super::sort::Sorted;
 use super::{problem, Source};
 use crate::dynamics::Workspace;
 use crate::math::sparse::SparseLu;
-use crate::math::symbolic::{evaluate, S};
+use crate::math::symbolic::{evaluate, VarId, S};
 use crate::system::equations::Reg;
 use crate::{Error, Mechanism};
 use std::collections::BTreeMap;
@@ -343,7 +343,7 @@ pub(super) fn dependence(
     for (k, &s) in sorted.states.iter().enumerate() {
         of[s] = Dependence { columns: column_of_state[k].into_iter().collect(), everything: false };
     }
-    let root = |v: usize| sorted.alias[v].map_or(v, |(of, _)| of);
+    let root = |v: VarId| sorted.alias[v].map_or(v, |(of, _)| of);
     let mut names = Vec::new();
     for (equations, unknowns) in &sorted.blocks {
         let mut block = Dependence::default();

@@ -33,7 +33,7 @@ use crate::components::blocks::equation::EquationPart;
 use crate::components::{lookup, ComponentSpec, ConnectorType};
 use crate::error::closest;
 use crate::math::expr::{Expr, TimeFunction};
-use crate::math::symbolic::{self as sym, Sym, S};
+use crate::math::symbolic::{self as sym, Sym, VarId, S};
 use crate::math::union_find::UnionFind;
 use crate::model::Flow;
 use crate::system::equations::{EquationProgram, FrameQuantity};
@@ -65,7 +65,7 @@ enum Role {
     /// A variable the model declared (a state if its derivative appears).
     Declared(usize),
     /// The time derivative of variable `of` (an unknown).
-    Derivative { of: usize },
+    Derivative { of: VarId },
     /// A signal input the equations write through the hidden component `extra`.
     Written { extra: String },
     /// A value the equations read.
@@ -124,12 +124,12 @@ struct Pending {
     initial_origins: Vec<String>,
     /// Declared variables whose values go to hidden flow components:
     /// (variable, extra, its output connector).
-    stores: Vec<(usize, String, &'static str)>,
+    stores: Vec<(VarId, String, &'static str)>,
     declared: Vec<crate::model::Variable>,
     /// The `when` clauses.
     whens: Vec<PendingWhen>,
     /// The discrete variables (assigned in `when` clauses), by their slot.
-    discrete: Vec<usize>,
+    discrete: Vec<VarId>,
     /// Per variable: whether it has a derivative but is not a state, being
     /// fixed by an equation that index reduction differentiated.
     dummy: Vec<bool>,
@@ -137,7 +137,7 @@ struct Pending {
 
 impl Pending {
     /// The slot of variable `v` among the discrete variables, if it is one.
-    fn discrete_slot(&self, v: usize) -> Option<usize> {
+    fn discrete_slot(&self, v: VarId) -> Option<usize> {
         self.discrete.iter().position(|&d| d == v)
     }
 }
@@ -152,7 +152,7 @@ enum PendingAction {
     /// Discrete variable number `slot` takes `value`.
     Assign { slot: usize, value: S },
     /// Variable `variable` (a state) jumps to `value`.
-    Reinit { variable: usize, value: S, origin: String },
+    Reinit { variable: VarId, value: S, origin: String },
 }
 
 /// The library connector types of the model's components, and which
@@ -325,8 +325,8 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
         let connector = quantity.rsplit_once('.').map_or("", |(c, _)| c);
         net.connector_type(connector).is_some_and(|t| !t.is_signal())
     });
-    let mut written_sets: HashMap<usize, usize> = HashMap::new();
-    let mut classify = |name: &str, table: &mut Table, extras: &mut Vec<Extra>| -> Result<usize, Error> {
+    let mut written_sets: HashMap<usize, VarId> = HashMap::new();
+    let mut classify = |name: &str, table: &mut Table, extras: &mut Vec<Extra>| -> Result<VarId, Error> {
         if let Some(&v) = table.by_name.get(name) {
             return Ok(v);
         }
@@ -382,7 +382,7 @@ pub(crate) fn plan(model: &Model) -> Result<Plan, Error> {
     }
 
     // `when` clauses: the variables they assign become discrete.
-    let mut discrete: Vec<usize> = Vec::new();
+    let mut discrete: Vec<VarId> = Vec::new();
     let mut whens = Vec::with_capacity(eqs.whens.len());
     for w in &eqs.whens {
         let mut branches = Vec::with_capacity(w.branches.len());
@@ -626,7 +626,7 @@ fn mechanical_aliases(equations: &[&crate::Equation], declared: &HashMap<&str, u
 }
 
 /// A variable that `pre` is taken of in `e` and that is not discrete.
-fn pre_of_continuous(e: &S, discrete: &[usize]) -> Option<usize> {
+fn pre_of_continuous(e: &S, discrete: &[VarId]) -> Option<VarId> {
     e.find(&mut |node| match node {
         Sym::Pre(v) if !discrete.contains(v) => Some(*v),
         _ => None,
@@ -636,18 +636,19 @@ fn pre_of_continuous(e: &S, discrete: &[usize]) -> Option<usize> {
 /// The interned variables.
 struct Table {
     vars: Vec<Var>,
-    by_name: HashMap<String, usize>,
+    by_name: HashMap<String, VarId>,
 }
 
 impl Table {
-    fn add(&mut self, name: String, role: Role) -> usize {
+    fn add(&mut self, name: String, role: Role) -> VarId {
+        let v = VarId::new(self.vars.len());
         self.vars.push(Var { name: name.clone(), role });
-        self.by_name.insert(name, self.vars.len() - 1);
-        self.vars.len() - 1
+        self.by_name.insert(name, v);
+        v
     }
 
     /// The variable that is the derivative of `v`, made on first use.
-    fn derivative(&mut self, v: usize, origin: &str) -> Result<usize, Error> {
+    fn derivative(&mut self, v: VarId, origin: &str) -> Result<VarId, Error> {
         let role = match &self.vars[v].role {
             Role::Declared(_) => Role::Derivative { of: v },
             Role::Read(Read::Frame { connector, quantity }) => Role::Read(Read::Frame {
@@ -822,7 +823,7 @@ fn classify_library(
 
 /// `expr` as a symbolic expression, interning its names; `der(e)` becomes
 /// the time derivative of `e` over the derivatives' variables.
-fn to_sym<F: FnMut(&str, &mut Table, &mut Vec<Extra>) -> Result<usize, Error>>(
+fn to_sym<F: FnMut(&str, &mut Table, &mut Vec<Extra>) -> Result<VarId, Error>>(
     expr: &Expr,
     table: &mut Table,
     classify: &mut F,
@@ -940,12 +941,12 @@ impl Plan {
 /// start values left free, and is never dropped. (States take theirs
 /// directly; variables index reduction made dummies have theirs already;
 /// discrete variables start at theirs.)
-fn starts_of_computed_variables(pending: &mut Pending, states: &[usize]) {
+fn starts_of_computed_variables(pending: &mut Pending, states: &[VarId]) {
     let mut is_state = vec![false; pending.vars.len()];
     for &s in states {
         is_state[s] = true;
     }
-    for (v, &state) in is_state.iter().enumerate() {
+    for (v, &state) in VarId::all(is_state.len()).zip(&is_state) {
         let Role::Declared(d) = pending.vars[v].role else { continue };
         let declared = &pending.declared[d];
         let (Some(start), true) = (declared.start, declared.fixed) else { continue };
@@ -998,7 +999,7 @@ fn resolve_reads(
     states: &StateLayout,
 ) -> Result<Vec<Option<Source>>, Error> {
     let mut out = Vec::with_capacity(pending.vars.len());
-    for (v, var) in pending.vars.iter().enumerate() {
+    for (v, var) in VarId::all(pending.vars.len()).zip(&pending.vars) {
         if let Some(slot) = pending.discrete_slot(v) {
             out.push(Some(Source::Discrete(slot)));
             continue;
@@ -1068,7 +1069,7 @@ fn resolve_reads(
 
 /// The origin of an equation or `when` clause that reads variable `v`,
 /// if any does (besides the initial equations).
-fn used_outside_initial(pending: &Pending, v: usize) -> Option<String> {
+fn used_outside_initial(pending: &Pending, v: VarId) -> Option<String> {
     if let Some(k) = pending.residuals.iter().position(|r| r.depends_on(&v)) {
         return Some(pending.origins[k].clone());
     }

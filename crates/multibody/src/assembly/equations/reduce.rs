@@ -13,7 +13,7 @@
 
 use super::{problem, Pending, Role, Table};
 use crate::math::graph::maximum_matching;
-use crate::math::symbolic as sym;
+use crate::math::symbolic::{self as sym, VarId};
 use crate::Error;
 
 /// Differentiates the equations the structure needs, marks in
@@ -25,11 +25,11 @@ pub(super) fn reduce(pending: &mut Pending, table: &mut Table) -> Result<(), Err
     // is seen through its derivative.
     let mut active: Vec<usize> = (0..original).collect();
     let mut differentiated: Vec<usize> = Vec::new();
-    let mut gained: Vec<usize> = Vec::new();
+    let mut gained: Vec<VarId> = Vec::new();
     loop {
         let has_derivative = derivatives(&table.vars);
         let unknown = |v: usize| match table.vars[v].role {
-            Role::Declared(_) => has_derivative[v].is_none() && !pending.discrete.contains(&v),
+            Role::Declared(_) => has_derivative[v].is_none() && !pending.discrete.contains(&VarId::new(v)),
             Role::Derivative { .. } | Role::Written { .. } => true,
             Role::Read(_) => false,
         };
@@ -79,14 +79,15 @@ pub(super) fn reduce(pending: &mut Pending, table: &mut Table) -> Result<(), Err
         }
         // Differentiating helps where the surplus comes from states that
         // equations fix, and only equations of variables of their own.
-        let is_state = |v: usize| matches!(table.vars[v].role, Role::Declared(_)) && has_derivative[v].is_some();
+        let is_state = |v: VarId| matches!(table.vars[v].role, Role::Declared(_)) && has_derivative[v].is_some();
         let fixes_state = rows.iter().any(|&r| {
             let mut found = false;
             pending.residuals[active[r]].each_var(&mut |&v| found |= is_state(v));
             found
         });
-        let variable_of_column: Vec<usize> = (0..table.vars.len()).filter(|&v| column[v] != usize::MAX).collect();
-        let fixed: Vec<usize> = cols.iter().map(|&c| variable_of_column[c]).collect();
+        let variable_of_column: Vec<VarId> =
+            VarId::all(table.vars.len()).filter(|&v| column[v] != usize::MAX).collect();
+        let fixed: Vec<VarId> = cols.iter().map(|&c| variable_of_column[c]).collect();
         let second = fixed.iter().find(|&&v| matches!(table.vars[v].role, Role::Derivative { .. }));
         if let (Some(&d), true) = (second, fixes_state) {
             // Its own derivative would be needed: a second differentiation.
@@ -163,7 +164,7 @@ pub(super) fn reduce(pending: &mut Pending, table: &mut Table) -> Result<(), Err
     // One variable per differentiated equation stops being a state,
     // preferring those that became states only through the differentiation.
     let has_derivative = derivatives(&table.vars);
-    let mut candidates: Vec<usize> = Vec::new();
+    let mut candidates: Vec<VarId> = Vec::new();
     for &k in &differentiated {
         pending.residuals[k].each_var(&mut |&v| {
             if has_derivative[v].is_some() && !candidates.contains(&v) {
@@ -211,9 +212,9 @@ pub(super) fn reduce(pending: &mut Pending, table: &mut Table) -> Result<(), Err
 }
 
 /// For each variable, the variable that is its derivative, if any.
-fn derivatives(vars: &[super::Var]) -> Vec<Option<usize>> {
+fn derivatives(vars: &[super::Var]) -> Vec<Option<VarId>> {
     let mut out = vec![None; vars.len()];
-    for (d, var) in vars.iter().enumerate() {
+    for (d, var) in VarId::all(vars.len()).zip(vars) {
         if let Role::Derivative { of } = var.role {
             out[of] = Some(d);
         }

@@ -5,29 +5,29 @@
 
 use super::{problem, Pending, Read, Role, Source};
 use crate::math::graph::{maximum_matching, strongly_connected_components};
-use crate::math::symbolic::{self as sym, Sym, S};
+use crate::math::symbolic::{self as sym, Sym, VarId, S};
 use crate::Error;
 
 /// The sorted equations.
 pub(super) struct Sorted {
     /// Per variable: the unknown it is an alias of and the sign
     /// (`v = sign * of`), for aliases.
-    pub alias: Vec<Option<(usize, f64)>>,
+    pub alias: Vec<Option<(VarId, f64)>>,
     /// The residuals that remain, with the aliases substituted.
     pub residuals: Vec<S>,
     /// Index into the pending residuals of each remaining one (for messages).
     pub source: Vec<usize>,
     /// Blocks in evaluation order: equation indices (into `residuals`) and
     /// the unknowns they solve for, in matching order.
-    pub blocks: Vec<(Vec<usize>, Vec<usize>)>,
+    pub blocks: Vec<(Vec<usize>, Vec<VarId>)>,
     /// The declared variables that are states, in order.
-    pub states: Vec<usize>,
+    pub states: Vec<VarId>,
     /// For each state (in `states` order), its derivative variable.
-    pub rates: Vec<usize>,
+    pub rates: Vec<VarId>,
 }
 
 /// Whether variable `v` is an unknown the equations decide.
-pub(super) fn is_unknown(pending: &Pending, is_state: &[bool], v: usize) -> bool {
+pub(super) fn is_unknown(pending: &Pending, is_state: &[bool], v: VarId) -> bool {
     match pending.vars[v].role {
         Role::Declared(_) => !is_state[v] && pending.discrete_slot(v).is_none(),
         Role::Derivative { .. } | Role::Written { .. } => true,
@@ -40,7 +40,7 @@ pub(super) fn sort(pending: &Pending, reads: &[Option<Source>]) -> Result<Sorted
     let mut is_state = vec![false; n];
     let mut states = Vec::new();
     let mut rates = Vec::new();
-    for (d, var) in pending.vars.iter().enumerate() {
+    for (d, var) in VarId::all(n).zip(&pending.vars) {
         if let Role::Derivative { of } = var.role {
             if pending.dummy[of] {
                 continue;
@@ -53,16 +53,16 @@ pub(super) fn sort(pending: &Pending, reads: &[Option<Source>]) -> Result<Sorted
     // States in declaration order (rates follow).
     let mut order: Vec<usize> = (0..states.len()).collect();
     order.sort_by_key(|&k| states[k]);
-    let states: Vec<usize> = order.iter().map(|&k| states[k]).collect();
-    let rates: Vec<usize> = order.iter().map(|&k| rates[k]).collect();
-    let unknown = |v: usize| is_unknown(pending, &is_state, v);
+    let states: Vec<VarId> = order.iter().map(|&k| states[k]).collect();
+    let rates: Vec<VarId> = order.iter().map(|&k| rates[k]).collect();
+    let unknown = |v: VarId| is_unknown(pending, &is_state, v);
 
     // Aliases: `a = s b` between two unknowns, one class per set of them.
     let mut classes = SignedSets::new(n);
     let mut kept = Vec::new();
     for (k, r) in pending.residuals.iter().enumerate() {
         match alias_of(r, &unknown) {
-            Some((a, b, s)) if classes.join(a, b, s) => {}
+            Some((a, b, s)) if classes.join(a.index(), b.index(), s) => {}
             _ => kept.push(k),
         }
     }
@@ -79,20 +79,20 @@ pub(super) fn sort(pending: &Pending, reads: &[Option<Source>]) -> Result<Sorted
             best[root] = v;
         }
     }
-    let alias: Vec<Option<(usize, f64)>> = (0..n)
+    let alias: Vec<Option<(VarId, f64)>> = (0..n)
         .map(|v| {
             let (root, s_v) = classes.find(v);
             let rep = best[root];
             // v = s_v root, rep = s_rep root: v = s_v s_rep rep.
-            (rep != v).then(|| (rep, s_v * classes.find(rep).1))
+            (rep != v).then(|| (VarId::new(rep), s_v * classes.find(rep).1))
         })
         .collect();
     let substitute =
-        |&v: &usize| alias[v].map(|(rep, s)| if s > 0.0 { sym::var(rep) } else { sym::neg(sym::var(rep)) });
+        |&v: &VarId| alias[v].map(|(rep, s)| if s > 0.0 { sym::var(rep) } else { sym::neg(sym::var(rep)) });
     let residuals: Vec<S> = kept.iter().map(|&k| sym::substitute_all(&pending.residuals[k], &substitute)).collect();
 
     // Match the unknowns that remain to the equations.
-    let unknowns: Vec<usize> = (0..n).filter(|&v| unknown(v) && alias[v].is_none()).collect();
+    let unknowns: Vec<VarId> = VarId::all(n).filter(|&v| unknown(v) && alias[v].is_none()).collect();
     let mut column = vec![usize::MAX; n];
     for (c, &v) in unknowns.iter().enumerate() {
         column[v] = c;
@@ -237,7 +237,7 @@ pub(super) fn sort(pending: &Pending, reads: &[Option<Source>]) -> Result<Sorted
     let blocks = strongly_connected_components(&edges)
         .into_iter()
         .map(|rows| {
-            let unknowns_of: Vec<usize> = rows.iter().map(|&r| unknowns[col_of[r]]).collect();
+            let unknowns_of: Vec<VarId> = rows.iter().map(|&r| unknowns[col_of[r]]).collect();
             (rows, unknowns_of)
         })
         .collect();
@@ -250,7 +250,7 @@ fn declaration_of(pending: &Pending, name: &str) -> String {
 }
 
 /// `(a, b, s)` if residual `r` says `a = s b` for two unknowns.
-fn alias_of(r: &S, unknown: &impl Fn(usize) -> bool) -> Option<(usize, usize, f64)> {
+fn alias_of(r: &S, unknown: &impl Fn(VarId) -> bool) -> Option<(VarId, VarId, f64)> {
     let mut vars = Vec::new();
     r.each_var(&mut |&v| {
         if !vars.contains(&v) {

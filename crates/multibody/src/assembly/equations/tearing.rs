@@ -7,7 +7,7 @@
 //! can be solved; when stuck, tear the unknown that the most remaining
 //! equations mention).
 
-use crate::math::symbolic::{self as sym, S};
+use crate::math::symbolic::{self as sym, VarId, S};
 use std::collections::HashMap;
 
 /// Blocks torn to more tearing variables than this keep their sparse
@@ -18,9 +18,9 @@ const MAX_TEARS: usize = 16;
 pub(super) struct Tearing {
     /// `(equation, unknown, value)` in order: the unknown is `value`, a
     /// formula of the tearing variables and of the unknowns before it.
-    pub assigned: Vec<(usize, usize, S)>,
+    pub assigned: Vec<(usize, VarId, S)>,
     /// The tearing variables: Newton's unknowns.
-    pub tears: Vec<usize>,
+    pub tears: Vec<VarId>,
     /// The equations left over, as many as the tearing variables: Newton's
     /// residuals (indices into the block's equations).
     pub residuals: Vec<usize>,
@@ -30,8 +30,8 @@ pub(super) struct Tearing {
 /// Newton's system smaller and small. An unknown is assigned only by an
 /// equation linear in it with a constant slope, so that no division can
 /// vanish. Cost: about the size of the block's incidence.
-pub(super) fn tear(equations: &[&S], unknowns: &[usize]) -> Option<Tearing> {
-    let column: HashMap<usize, usize> = unknowns.iter().enumerate().map(|(j, &x)| (x, j)).collect();
+pub(super) fn tear(equations: &[&S], unknowns: &[VarId]) -> Option<Tearing> {
+    let column: HashMap<VarId, usize> = unknowns.iter().enumerate().map(|(j, &x)| (x, j)).collect();
     // Which unknowns each equation mentions, and the reverse.
     let mut incidence: Vec<Vec<usize>> = Vec::with_capacity(equations.len());
     let mut occurs: Vec<Vec<usize>> = vec![Vec::new(); unknowns.len()];
@@ -96,7 +96,7 @@ impl Tearing {
     /// total derivative through the assigned unknowns (chain rule, in the
     /// order they were assigned).
     pub(super) fn jacobian(&self, equations: &[&S]) -> Vec<(usize, usize, S)> {
-        let position: HashMap<usize, usize> = self.assigned.iter().enumerate().map(|(k, (_, x, _))| (*x, k)).collect();
+        let position: HashMap<VarId, usize> = self.assigned.iter().enumerate().map(|(k, (_, x, _))| (*x, k)).collect();
         // Row k: d(assigned unknown k)/d(each tear).
         let mut rates: Vec<Vec<S>> = Vec::with_capacity(self.assigned.len());
         let total = |e: &S, rates: &[Vec<S>]| -> Vec<S> {
@@ -135,7 +135,7 @@ impl Tearing {
 
 /// `x` from `e = 0` if `e` is linear in `x` with a constant slope other
 /// than zero.
-fn explicit_with_constant_slope(e: &S, x: usize) -> Option<S> {
+fn explicit_with_constant_slope(e: &S, x: VarId) -> Option<S> {
     let (slope, rest) = sym::affine_in(e, &x)?;
     match slope.as_const()? {
         0.0 => None,
@@ -153,7 +153,7 @@ mod tests {
     #[test]
     fn a_chain_tears_to_one_variable_with_the_chain_rule() {
         // x1 = 2 x0, x2 = x1 + 1, x3 = 3 x2, x0 * x0 + x3 = 10.
-        let x = |k: usize| var(k);
+        let x = |k: usize| var(VarId::new(k));
         let eqs = [
             sub(x(1), mul(constant(2.0), x(0))),
             sub(x(2), add(x(1), constant(1.0))),
@@ -161,7 +161,7 @@ mod tests {
             sub(add(mul(x(0), x(0)), x(3)), constant(10.0)),
         ];
         let refs: Vec<&S> = eqs.iter().collect();
-        let t = tear(&refs, &[0, 1, 2, 3]).expect("torn");
+        let t = tear(&refs, &[0, 1, 2, 3].map(VarId::new)).expect("torn");
         assert_eq!(t.tears.len(), 1);
         assert_eq!(t.residuals.len(), 1);
         // With the tear at x0 = 1.5 (any other tear works the same way):
@@ -193,9 +193,10 @@ mod tests {
     #[test]
     fn no_division_by_a_variable_slope() {
         // x0 * x1 = 1, x0 + x1 = 3: neither has a constant slope in the first.
-        let eqs = [sub(mul(var(0), var(1)), constant(1.0)), sub(add(var(0), var(1)), constant(3.0))];
+        let x = |k: usize| var(VarId::new(k));
+        let eqs = [sub(mul(x(0), x(1)), constant(1.0)), sub(add(x(0), x(1)), constant(3.0))];
         let refs: Vec<&S> = eqs.iter().collect();
-        let t = tear(&refs, &[0, 1]).expect("torn");
+        let t = tear(&refs, &[0, 1].map(VarId::new)).expect("torn");
         assert_eq!(t.assigned.len(), 1);
         assert_eq!(t.residuals, [0]);
     }
