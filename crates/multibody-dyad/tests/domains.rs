@@ -437,3 +437,108 @@ fn a_ladder_of_300_capacitors_started_at_rest_holds_the_resistive_divider() {
     report("300-stage ladder started at rest, node voltages", worst, 1e-9);
     assert!(v[0] > 0.5 && v[n - 1] > 0.0, "the divider should carry voltage down the ladder");
 }
+
+/// An inverting amplifier on an IdealOpAmp: a SineVoltage (1 V, 2 Hz)
+/// through 1 kOhm into the inverting input, 3 kOhm from there to the
+/// output, a 2 kOhm load. The output is `-3 sin(4 pi t)` (the gain
+/// `-R2 / R1`), which a PotentialSensor reads, and a PowerSensor reads the
+/// load's `v^2 / R`.
+#[test]
+fn an_inverting_amplifier_gains_minus_r2_over_r1() {
+    let solution = simulate(
+        r#"
+example component Inverting
+  source = ElectricalComponents.SineVoltage(V = 1, f = 2)
+  r1 = ElectricalComponents.Resistor(R = 1000)
+  r2 = ElectricalComponents.Resistor(R = 3000)
+  load = ElectricalComponents.Resistor(R = 2000)
+  amp = ElectricalComponents.IdealOpAmp()
+  out = ElectricalComponents.PotentialSensor()
+  meter = ElectricalComponents.PowerSensor()
+  ground = ElectricalComponents.Ground()
+relations
+  connect(source.p, r1.p)
+  connect(r1.n, r2.p, amp.n1)
+  connect(r2.n, amp.p2, out.p, meter.pc, meter.pv)
+  connect(meter.nc, load.p)
+  connect(load.n, meter.nv, amp.p1, amp.n2, source.n, ground.g)
+end
+
+analysis InvertingRun
+  extends TransientAnalysis(stop = 1, saveat = 0.01, abstol = 1e-10, reltol = 1e-10)
+  model = Inverting()
+end
+"#,
+    );
+    let out = |t: f64| -3.0 * (4.0 * std::f64::consts::PI * t).sin();
+    report("inverting amplifier, output voltage", worst_against(&solution, "out.phi", out), 1e-9);
+    report(
+        "inverting amplifier, load power",
+        worst_against(&solution, "meter.power", |t| out(t).powi(2) / 2000.0),
+        1e-12,
+    );
+    report("inverting amplifier, no input current", worst_against(&solution, "amp.i1", |_| 0.0), 1e-15);
+}
+
+/// An integrator on an IdealOpAmp3Pin: 2 V through 1 Ohm into the
+/// inverting input, a 0.5 F capacitor from it to the output, which then
+/// falls as `-V t / (R C) = -4 t`.
+#[test]
+fn an_op_amp_integrator_ramps_at_minus_v_over_rc() {
+    let solution = simulate(
+        r#"
+example component Integrator
+  source = ElectricalComponents.ConstantVoltage(V = 2)
+  r = ElectricalComponents.Resistor(R = 1)
+  c = ElectricalComponents.Capacitor(C = 0.5, v(initial = 0))
+  amp = ElectricalComponents.IdealOpAmp3Pin()
+  out = ElectricalComponents.PotentialSensor()
+  ground = ElectricalComponents.Ground()
+relations
+  connect(source.p, r.p)
+  connect(r.n, c.p, amp.in_n)
+  connect(c.n, amp.out, out.p)
+  connect(amp.in_p, source.n, ground.g)
+end
+
+analysis IntegratorRun
+  extends TransientAnalysis(stop = 1, saveat = 0.01, abstol = 1e-10, reltol = 1e-10)
+  model = Integrator()
+end
+"#,
+    );
+    report("op-amp integrator, output voltage", worst_against(&solution, "out.phi", |t| -4.0 * t), 1e-9);
+}
+
+/// A linear motor: 10 V through 2 Ohm into a TranslationalEMF (k = 5 N/A)
+/// whose flange pushes a 1 kg mass: `m dv/dt = k (V - k v) / R`, so
+/// `v = (V / k) (1 - exp(-k^2 t / (m R)))`.
+#[test]
+fn a_translational_emf_drives_a_mass_to_v_over_k() {
+    let solution = simulate(
+        r#"
+example component LinearMotor
+  source = ElectricalComponents.ConstantVoltage(V = 10)
+  r = ElectricalComponents.Resistor(R = 2)
+  emf = ElectricalComponents.TranslationalEMF(k = 5)
+  ground = ElectricalComponents.Ground()
+  slider = TranslationalComponents.Mass(m = 1, s(initial = 0), v(initial = 0))
+  rail = TranslationalComponents.Fixed()
+relations
+  connect(source.p, r.p)
+  connect(r.n, emf.p)
+  connect(emf.n, source.n, ground.g)
+  connect(emf.flange, slider.flange_a)
+  connect(emf.support, rail.flange)
+end
+
+analysis LinearMotorRun
+  extends TransientAnalysis(stop = 1, saveat = 0.01, abstol = 1e-10, reltol = 1e-10)
+  model = LinearMotor()
+end
+"#,
+    );
+    let v = |t: f64| 2.0 * (1.0 - (-12.5 * t).exp());
+    report("linear motor, slider speed", worst_against(&solution, "slider.v", v), 1e-6);
+    report("linear motor, current", worst_against(&solution, "r.i", |t| (10.0 - 5.0 * v(t)) / 2.0), 1e-6);
+}

@@ -103,6 +103,7 @@ const STANDARD_TYPES: &[(&str, &str, Option<f64>)] = &[
     ("ElectricCharge", "C", None),
     ("ElectricCurrent", "A", None),
     ("ElectricPotential", "V", None),
+    ("ElectricalForceConstant", "N/A", None),
     ("ElectricalTorqueConstant", "N.m/A", None),
     ("Energy", "J", None),
     ("Force", "N", None),
