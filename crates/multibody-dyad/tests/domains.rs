@@ -542,3 +542,42 @@ end
     report("linear motor, slider speed", worst_against(&solution, "slider.v", v), 1e-6);
     report("linear motor, current", worst_against(&solution, "r.i", |t| (10.0 - 5.0 * v(t)) / 2.0), 1e-6);
 }
+
+/// A half-wave rectifier: a SineVoltage (10 V, 1 Hz) through an IdealDiode
+/// into 10 Ohm. Conducting, `i = Vs / (R + Ron)`; blocking,
+/// `i = Goff Vs / (1 + R Goff)`: both branches exact, switching (an event)
+/// where the source changes sign.
+#[test]
+fn an_ideal_diode_rectifies_half_waves() {
+    let solution = simulate(
+        r#"
+example component Rectifier
+  source = ElectricalComponents.SineVoltage(V = 10, f = 1)
+  diode = ElectricalComponents.IdealDiode()
+  load = ElectricalComponents.Resistor(R = 10)
+  ground = ElectricalComponents.Ground()
+relations
+  connect(source.p, diode.p)
+  connect(diode.n, load.p)
+  connect(load.n, source.n, ground.g)
+end
+
+analysis RectifierRun
+  extends TransientAnalysis(stop = 2, saveat = 0.01, abstol = 1e-10, reltol = 1e-10)
+  model = Rectifier()
+end
+"#,
+    );
+    let (r, ron, goff) = (10.0, 1e-5, 1e-5);
+    let current = |t: f64| {
+        let vs = 10.0 * (2.0 * std::f64::consts::PI * t).sin();
+        if vs >= 0.0 {
+            vs / (r + ron)
+        } else {
+            goff * vs / (1.0 + r * goff)
+        }
+    };
+    report("half-wave rectifier, load current", worst_against(&solution, "load.i", current), 1e-9);
+    let blocked = solution.get("load.i").unwrap().iter().fold(f64::INFINITY, |m, &i| m.min(i));
+    assert!(blocked > -1e-4 && blocked < 0.0, "blocking, the current is about -Goff Vs: {blocked}");
+}
