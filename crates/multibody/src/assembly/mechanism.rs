@@ -376,16 +376,18 @@ impl Mechanism {
             DynamicsError::NotFinite => "a value became infinite or NaN (the motion blew up)".into(),
             DynamicsError::LoopOpen { constraint, residual } => {
                 let cut = &self.components[self.system.constraints[constraint].component].name;
-                let around = self
-                    .loops
-                    .get(constraint)
-                    .map(|l| l.joints.iter().map(|j| format!("`{j}`")).collect::<Vec<_>>().join(", "))
-                    .unwrap_or_default();
+                let info = self.loops.get(constraint);
+                let joints = info.map(|l| l.joints.iter().map(|j| format!("`{j}`")).collect::<Vec<_>>().join(", "));
+                let what = match info {
+                    Some(l) if l.prescribed => format!("the motion the equations prescribe at `{cut}`"),
+                    Some(l) if l.wheel_contact.is_some() => format!("the contact of the wheel `{cut}`"),
+                    _ => format!("the loop closed at `{cut}` (through {})", joints.unwrap_or_default()),
+                };
                 format!(
-                    "the loop closed at `{cut}` (through {around}) cannot close: its equations stay violated by \
-                     {residual:.3e} (m or rad) after projection. The motion reached a configuration the loop \
-                     cannot take, such as a crank driven past the dead point of its linkage; change what drives \
-                     it, or the lengths"
+                    "{what} cannot close: its equations stay violated by {residual:.3e} (m or rad) after \
+                     projection. The motion reached a configuration it cannot take, such as a crank driven past \
+                     the dead point of its linkage or a target out of reach; change what drives it, or the \
+                     lengths"
                 )
             }
             DynamicsError::ContactIndeterminate { link } => format!(
