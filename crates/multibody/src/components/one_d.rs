@@ -98,6 +98,39 @@ impl Component for Sensor1D {
     }
 }
 
+/// Why an output that depends on the accelerations cannot be read by
+/// blocks or equations (it is recorded).
+pub(crate) const NEEDS_ACCELERATIONS: &str = "depends on the accelerations, which are solved after the signals \
+    (reading it would make an algebraic loop through the dynamics); it is recorded in the results";
+
+/// The acceleration of a 1-D connector, recorded: its output exists for
+/// the library's connector, but nothing may read it (see
+/// [`NEEDS_ACCELERATIONS`]).
+#[derive(Debug)]
+pub struct Acceleration1D {
+    pub variables: &'static [VarSpec],
+}
+
+impl Component for Acceleration1D {
+    fn parts(&self) -> Vec<Part> {
+        vec![Part::Signal {
+            output: 1,
+            law: SignalLaw::Unavailable { reason: NEEDS_ACCELERATIONS },
+            inputs: [None; 3],
+            frames: [None; 2],
+            flanges: [None, Some(0)],
+        }]
+    }
+
+    fn variables(&self) -> Vec<VarSpec> {
+        self.variables.to_vec()
+    }
+
+    fn evaluate(&self, ctx: &EvalContext, out: &mut Vec<f64>) {
+        out.push(ctx.flanges[0].a);
+    }
+}
+
 /// A 1-D connector held at a fixed position.
 #[derive(Debug)]
 pub struct Fixed1D {
@@ -123,7 +156,7 @@ macro_rules! one_d_library {
         source: $source:literal, angle_sensor: $angle_sensor:literal, rel_position_sensor: $rel_position_sensor:literal,
     ) => {
         pub mod $module {
-            use $crate::components::one_d::{Element1D, Fixed1D, Sensor1D};
+            use $crate::components::one_d::{Acceleration1D, Element1D, Fixed1D, Sensor1D};
             use $crate::components::spec::{ComponentSpec, ConnectorSpec, ParamSpec, ParamType, VarSpec};
             use $crate::components::{Component, Law1D, ParamSet};
             use $crate::system::SignalLaw;
@@ -355,6 +388,21 @@ macro_rules! one_d_library {
                 connectors: &[SENSED, ConnectorSpec::output($speed, "The measured speed")],
                 variables: &[VarSpec::scalar($speed, $u_speed, "The measured speed")],
                 build: |_: &ParamSet| sensor(SignalLaw::FlangeSpeed, SPEED_SENSOR.variables),
+                shapes: $crate::components::shapes::none,
+            };
+
+            pub static ACCELERATION_SENSOR: ComponentSpec = ComponentSpec {
+                kind: concat!($lib, ".AccelerationSensor"),
+                doc: concat!(
+                    "Measures the absolute acceleration `a` of its ",
+                    $conn,
+                    ". It is recorded in the results; ",
+                    "blocks and equations cannot read it (the accelerations are solved after the signals)."
+                ),
+                params: &[],
+                connectors: &[SENSED, ConnectorSpec::output("a", "The measured acceleration (recorded only)")],
+                variables: &[VarSpec::scalar("a", $u_acc, "The measured acceleration")],
+                build: |_: &ParamSet| Ok(Box::new(Acceleration1D { variables: ACCELERATION_SENSOR.variables })),
                 shapes: $crate::components::shapes::none,
             };
         }

@@ -24,8 +24,7 @@ use crate::math::rotation::planar_angle;
 use crate::math::{Mat3, Transform, Vec3};
 use crate::Error;
 
-const NEEDS_ACCELERATIONS: &str = "depends on the accelerations, which are solved after the signals \
-    (reading it would make an algebraic loop through the dynamics); it is recorded in the results";
+use super::super::one_d::NEEDS_ACCELERATIONS;
 const NEEDS_CUT_FORCES: &str = "depends on cut forces, which are solved after the signals \
     (reading it would make an algebraic loop through the dynamics); it is recorded in the results";
 const INTERNAL: &str = "is internal";
