@@ -581,3 +581,41 @@ end
     let blocked = solution.get("load.i").unwrap().iter().fold(f64::INFINITY, |m, &i| m.min(i));
     assert!(blocked > -1e-4 && blocked < 0.0, "blocking, the current is about -Goff Vs: {blocked}");
 }
+
+/// Switches in series with 10 Ohm across 10 V: the closing switch closes
+/// and the opening switch opens at t = 0.5 (their `control` set by
+/// equations of time). Closed, `i = V / (R + Ron)`; open,
+/// `i = Goff V / (1 + R Goff)`.
+#[test]
+fn ideal_switches_conduct_as_their_control_says() {
+    let solution = simulate(
+        r#"
+example component Switches
+  source = ElectricalComponents.ConstantVoltage(V = 10)
+  closing = ElectricalComponents.IdealClosingSwitch()
+  opening = ElectricalComponents.IdealOpeningSwitch()
+  r1 = ElectricalComponents.Resistor(R = 10)
+  r2 = ElectricalComponents.Resistor(R = 10)
+  ground = ElectricalComponents.Ground()
+relations
+  closing.control = time >= 0.5
+  opening.control = time >= 0.5
+  connect(source.p, closing.p, opening.p)
+  connect(closing.n, r1.p)
+  connect(opening.n, r2.p)
+  connect(r1.n, r2.n, source.n, ground.g)
+end
+
+analysis SwitchesRun
+  extends TransientAnalysis(stop = 1, saveat = 0.01, abstol = 1e-10, reltol = 1e-10)
+  model = Switches()
+end
+"#,
+    );
+    let (closed, open) = (10.0 / (10.0 + 1e-5), 1e-5 * 10.0 / (1.0 + 10.0 * 1e-5));
+    // The sample at the event's instant is the left limit (before it).
+    let closing = |t: f64| if t > 0.5 { closed } else { open };
+    let opening = |t: f64| if t > 0.5 { open } else { closed };
+    report("closing switch, current", worst_against(&solution, "r1.i", closing), 1e-9);
+    report("opening switch, current", worst_against(&solution, "r2.i", opening), 1e-9);
+}
