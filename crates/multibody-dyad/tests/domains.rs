@@ -619,3 +619,31 @@ end
     report("closing switch, current", worst_against(&solution, "r1.i", closing), 1e-9);
     report("opening switch, current", worst_against(&solution, "r2.i", opening), 1e-9);
 }
+
+/// A 1 mF capacitor started at 10 V discharges through a Conductor of
+/// 0.01 S: `v = 10 exp(-t G / C)`.
+#[test]
+fn a_capacitor_discharges_through_a_conductor() {
+    let solution = simulate(
+        r#"
+example component Discharge
+  c = ElectricalComponents.Capacitor(C = 1e-3, v(initial = 10))
+  g = ElectricalComponents.Conductor(G = 0.01)
+  ground = ElectricalComponents.Ground()
+relations
+  connect(c.p, g.p)
+  connect(c.n, g.n, ground.g)
+end
+
+analysis DischargeRun
+  extends TransientAnalysis(stop = 0.5, saveat = 0.005, abstol = 1e-10, reltol = 1e-10)
+  model = Discharge()
+end
+"#,
+    );
+    report(
+        "conductor discharge, capacitor voltage",
+        worst_against(&solution, "c.v", |t| 10.0 * (-10.0 * t).exp()),
+        1e-6,
+    );
+}
