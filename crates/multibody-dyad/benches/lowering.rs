@@ -68,26 +68,22 @@ fn check(text: &str) -> usize {
 
 fn sizes(c: &mut Criterion) {
     type Model = fn(usize) -> String;
-    let cases: [(&str, Model); 3] =
-        [("chained_parameters", chained_parameters), ("for_loop", for_loop), ("algebraic_loop", algebraic_loop)];
-    for (name, model) in cases {
-        let mut group = c.benchmark_group(name);
-        group.sample_size(10);
-        for n in [10_000, 100_000] {
-            let text = model(n);
-            group.throughput(Throughput::Elements(n as u64));
-            group.bench_with_input(BenchmarkId::from_parameter(n), &text, |b, text| b.iter(|| check(text)));
-        }
-        group.finish();
-    }
+    const LARGE: [usize; 2] = [10_000, 100_000];
     // Issue 42's goal: a model of 2,000 user equations compiles in under
-    // 50 ms; started at rest, the ladder also runs the initialization's
-    // Newton system.
-    let ladders: [(&str, Model); 2] = [("rc_ladder", rc_ladder), ("ladder_started_at_rest", ladder_at_rest)];
-    for (name, model) in ladders {
+    // 50 ms (rc_ladder/150); started at rest, the ladder also runs the
+    // initialization's Newton system.
+    const LADDER: [usize; 2] = [150, 1500];
+    let cases: [(&str, Model, [usize; 2]); 5] = [
+        ("chained_parameters", chained_parameters, LARGE),
+        ("for_loop", for_loop, LARGE),
+        ("algebraic_loop", algebraic_loop, LARGE),
+        ("rc_ladder", rc_ladder, LADDER),
+        ("ladder_started_at_rest", ladder_at_rest, LADDER),
+    ];
+    for (name, model, sizes) in cases {
         let mut group = c.benchmark_group(name);
         group.sample_size(10);
-        for n in [150, 1500] {
+        for n in sizes {
             let text = model(n);
             group.throughput(Throughput::Elements(n as u64));
             group.bench_with_input(BenchmarkId::from_parameter(n), &text, |b, text| b.iter(|| check(text)));
