@@ -202,7 +202,7 @@ fn pose_at(cols: &FrameColumns, k: usize) -> ([f64; 3], [f64; 4]) {
         }
         // In the plane, then the plane into the world.
         FrameColumns::Planar { columns: [x, y, phi], plane } => {
-            (plane.trans + plane.rot.tr_mul(&Vec3::new(x[k], y[k], 0.0)), axis_rotation(2, phi[k]) * plane.rot)
+            (plane.inv_apply_point(&Vec3::new(x[k], y[k], 0.0)), axis_rotation(2, phi[k]) * plane.rot)
         }
     };
     let m = [r[(0, 0)], r[(1, 0)], r[(2, 0)], r[(0, 1)], r[(1, 1)], r[(2, 1)], r[(0, 2)], r[(1, 2)], r[(2, 2)]];

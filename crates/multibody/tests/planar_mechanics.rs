@@ -735,3 +735,45 @@ fn a_planar_prismatic_driven_through_its_axis_flange_oscillates_at_sqrt_c_over_m
         .fold(0.0f64, |w, (t, x)| w.max((x - x0 * (omega * t).cos()).abs()));
     assert!(worst < 1e-9, "the spring on the flange differs from x0 cos(sqrt(c/m) t) by {worst:e}");
 }
+
+/// A plane turned by rot_3d = [pi/2, 0, 0] stands upright: its y axis is
+/// the world's z, so its gravity [0, -1] points along the world's -z. A
+/// 3-D World beside it must say the same: its default gravity (-y) is
+/// refused with a message that points at rot_3d, and n = [0, 0, -1] runs,
+/// a 3-D body hanging from the plane then falling with the planar body.
+#[test]
+fn a_turned_plane_and_a_3d_world_must_agree_on_gravity() {
+    let model = |n_3d: Option<[f64; 3]>| {
+        let mut m = Model::new("upright_plane");
+        m.add("world", "PlanarMechanics.World").set("rot_3d", [std::f64::consts::FRAC_PI_2, 0.0, 0.0]);
+        let world_3d = m.add("world_3d", "World");
+        if let Some(n) = n_3d {
+            world_3d.set("n", n);
+        }
+        m.add("puck", "PlanarMechanics.Body")
+            .set("m", 1.0)
+            .set("I", 0.1)
+            .initial("r", [0.0, 0.0])
+            .initial("v", [0.0, 0.0]);
+        m.add("adapter", "PlanarMechanics.PlanarToMultiBody");
+        m.add("ball", "Body").set("m", 0.5);
+        m.connect(["puck.frame_a", "adapter.frame_a"]);
+        m.connect(["adapter.frame_b", "ball.frame_a"]);
+        m
+    };
+    let message = model(None).assemble().unwrap_err().to_string();
+    for expected in ["gravity", "rot_3d", "world_3d", "must agree"] {
+        assert!(message.contains(expected), "`{expected}` missing from: {message}");
+    }
+    let s = run(&model(Some([0.0, 0.0, -1.0])), 1.0);
+    let g = 9.80665;
+    let mut worst = 0.0f64;
+    for (k, t) in s.time().iter().enumerate() {
+        // In the plane: y falls as -g t^2 / 2; in the world: z does.
+        worst = worst.max((s.get("puck.r[2]").unwrap()[k] + g * t * t / 2.0).abs());
+        worst = worst.max((s.get("ball.frame_a.r_0[3]").unwrap()[k] + g * t * t / 2.0).abs());
+        worst = worst.max(s.get("ball.frame_a.r_0[2]").unwrap()[k].abs());
+    }
+    eprintln!("upright plane: free fall off by {worst:.1e} (tolerance 1e-9)");
+    assert!(worst < 1e-9, "a body in an upright plane falls off by {worst:e}");
+}

@@ -558,7 +558,7 @@ impl FrameState {
     /// to plane): what a planar component reads of its frames.
     pub fn in_plane(&self, plane: &Transform) -> FrameState {
         FrameState {
-            r_0: plane.rot * (self.r_0 - plane.trans),
+            r_0: plane.apply_point(&self.r_0),
             rot: self.rot * plane.rot.transpose(),
             v_0: plane.rot * self.v_0,
             a_0: plane.rot * self.a_0,

@@ -78,15 +78,15 @@ pub struct Sensor1D {
     pub variables: &'static [VarSpec],
 }
 
+/// A sensor's block: `output` from `law` on flanges `a` (the fixed ground
+/// when absent) and `b`.
+fn sensor_part(output: usize, law: SignalLaw, a: Option<usize>, b: usize) -> Part {
+    Part::Signal { output, law, inputs: [None; 3], frames: [None; 2], flanges: [a, Some(b)] }
+}
+
 impl Component for Sensor1D {
     fn parts(&self) -> Vec<Part> {
-        vec![Part::Signal {
-            output: self.output,
-            law: self.law.clone(),
-            inputs: [None; 3],
-            frames: [None; 2],
-            flanges: [self.a, Some(self.b)],
-        }]
+        vec![sensor_part(self.output, self.law.clone(), self.a, self.b)]
     }
 
     fn variables(&self) -> Vec<VarSpec> {
@@ -113,13 +113,7 @@ pub struct Acceleration1D {
 
 impl Component for Acceleration1D {
     fn parts(&self) -> Vec<Part> {
-        vec![Part::Signal {
-            output: 1,
-            law: SignalLaw::Unavailable { reason: NEEDS_ACCELERATIONS },
-            inputs: [None; 3],
-            frames: [None; 2],
-            flanges: [None, Some(0)],
-        }]
+        vec![sensor_part(1, SignalLaw::Unavailable { reason: NEEDS_ACCELERATIONS }, None, 0)]
     }
 
     fn variables(&self) -> Vec<VarSpec> {

@@ -137,7 +137,7 @@ impl System {
                             FrameQuantity::Rotation(i, j) => p.rot[(i, j)],
                             FrameQuantity::Velocity(i) => p.v[i],
                             FrameQuantity::RotationRate(i, j) => rate[(i, j)],
-                            FrameQuantity::PlanarPosition(i) => (plane.rot * (p.r - plane.trans))[i],
+                            FrameQuantity::PlanarPosition(i) => plane.apply_point(&p.r)[i],
                             FrameQuantity::PlanarVelocity(i) => (plane.rot * p.v)[i],
                             FrameQuantity::PlanarAngle => {
                                 crate::math::rotation::planar_angle(&(p.rot * plane.rot.transpose()))

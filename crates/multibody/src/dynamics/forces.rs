@@ -36,7 +36,7 @@ impl PointState {
     #[inline]
     pub fn in_plane(&self, plane: &Transform) -> PointState {
         PointState {
-            r: plane.rot * (self.r - plane.trans),
+            r: plane.apply_point(&self.r),
             rot: self.rot * plane.rot.transpose(),
             v: plane.rot * self.v,
             w: plane.rot * self.w,

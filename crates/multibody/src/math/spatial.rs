@@ -166,6 +166,12 @@ impl Transform {
         Transform { rot: self.rot.transpose(), trans: -(self.rot * self.trans) }
     }
 
+    /// A point given in A coordinates, expressed in B coordinates.
+    #[inline]
+    pub fn apply_point(&self, p: &Vec3) -> Vec3 {
+        self.rot * (p - self.trans)
+    }
+
     /// A point given in B coordinates, expressed in A coordinates.
     #[inline]
     pub fn inv_apply_point(&self, p: &Vec3) -> Vec3 {
