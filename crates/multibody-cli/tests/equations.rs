@@ -371,3 +371,22 @@ fn a_bouncing_ball_counts_its_impacts_at_the_closed_form_times() {
     println!("impact {n} at {} (closed form {}): {error:.1e}", last.last().unwrap(), impact(n));
     assert!(error < 1e-8, "impact {n}: {error}");
 }
+
+/// The op-amp linear motor through the command: the amplifier's output is
+/// `u = -3 sin(w t)` (w = 4 pi), the slider's speed solves
+/// `v' = -a v + b sin(w t)` with a = k^2/(m R) = 12.5, b = -3 k/(m R) = -7.5
+/// from rest, and the amplifier delivers `u i` with `i = (u - k v) / R`.
+#[test]
+fn an_op_amp_amplifier_drives_a_linear_motor_as_its_closed_form() {
+    let table = run("op_amp_linear_motor.dyad", None);
+    let w = 4.0 * std::f64::consts::PI;
+    let (a, b) = (12.5, -7.5);
+    let u = |t: f64| -3.0 * (w * t).sin();
+    let v = |t: f64| {
+        let d = a * a + w * w;
+        b / d * (a * (w * t).sin() - w * (w * t).cos()) + b * w / d * (-a * t).exp()
+    };
+    check(&table, "drive.phi", 1e-9, u);
+    check(&table, "slider.v", 1e-7, v);
+    check(&table, "meter.power", 1e-6, |t| u(t) * (u(t) - 5.0 * v(t)) / 2.0);
+}
