@@ -930,3 +930,293 @@ fn rising_root(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
     }
     lo
 }
+
+/// A pendulum written in Cartesian coordinates, `x^2 + y^2 = L^2` with
+/// the rod's pull `lambda` unknown, is an index-3 system: the constraint
+/// is differentiated twice and two of the four coordinates stop being
+/// states. Reference, computed here: the same pendulum as the angle
+/// equation `theta'' = -(g/L) sin(theta)`, integrated by classical
+/// Runge-Kutta at 1e-4 s, and the pull `m (g cos(theta) + L theta'^2) / L`;
+/// and the period `4 K(sin(theta0/2)) sqrt(L/g)`, K by the
+/// arithmetic-geometric mean, after which the bob is back where it started.
+#[test]
+fn a_pendulum_in_cartesian_coordinates_runs_through_index_reduction_of_order_three() {
+    let (m, length, g): (f64, f64, f64) = (1.5, 0.8, 9.81);
+    let theta0: f64 = 0.7;
+    // K(k) = pi / (2 agm(1, sqrt(1 - k^2))).
+    let k = (theta0 / 2.0).sin();
+    let (mut a, mut b) = (1.0f64, (1.0 - k * k).sqrt());
+    for _ in 0..30 {
+        (a, b) = ((a + b) / 2.0, (a * b).sqrt());
+    }
+    let period = 4.0 * std::f64::consts::PI / (2.0 * a) * (length / g).sqrt();
+    let text = format!(
+        r#"
+example component CartesianPendulum
+  parameter m::Mass = {m}
+  parameter L::Length = {length}
+  parameter g::Real = {g}
+  variable x::Length
+  variable y::Length(guess = -0.7)
+  variable vx::Velocity
+  variable vy::Velocity
+  variable lambda::Real
+relations
+  initial x = L * sin({theta0})
+  initial vx = 0
+  der(x) = vx
+  der(y) = vy
+  m * der(vx) = -lambda * x
+  m * der(vy) = -lambda * y - m * g
+  x^2 + y^2 = L^2
+end
+
+analysis CartesianPendulumRun
+  extends TransientAnalysis(stop = {period}, saveat = {step}, abstol = 1e-11, reltol = 1e-11)
+  model = CartesianPendulum()
+end
+"#,
+        step = period / 200.0
+    );
+    let solution = simulate(&text);
+    // theta'' = -(g/L) sin(theta) from (theta0, 0), by RK4.
+    let angle = |t_end: f64| {
+        let f = |s: [f64; 2]| [s[1], -(g / length) * s[0].sin()];
+        let steps = (t_end / 1e-4).ceil().max(1.0) as usize;
+        let h = t_end / steps as f64;
+        let mut s = [theta0, 0.0];
+        for _ in 0..steps {
+            let k1 = f(s);
+            let k2 = f([s[0] + h / 2.0 * k1[0], s[1] + h / 2.0 * k1[1]]);
+            let k3 = f([s[0] + h / 2.0 * k2[0], s[1] + h / 2.0 * k2[1]]);
+            let k4 = f([s[0] + h * k3[0], s[1] + h * k3[1]]);
+            for i in 0..2 {
+                s[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+            }
+        }
+        s
+    };
+    report("x = L sin(theta)", worst_against(&solution, "x", |t| length * angle(t)[0].sin()), 1e-9);
+    report("y = -L cos(theta)", worst_against(&solution, "y", |t| -length * angle(t)[0].cos()), 1e-9);
+    report(
+        "vx = L cos(theta) theta'",
+        worst_against(&solution, "vx", |t| {
+            let s = angle(t);
+            length * s[0].cos() * s[1]
+        }),
+        1e-8,
+    );
+    report(
+        "lambda = m (g cos(theta) + L theta'^2) / L",
+        worst_against(&solution, "lambda", |t| {
+            let s = angle(t);
+            m * (g * s[0].cos() + length * s[1] * s[1]) / length
+        }),
+        1e-6,
+    );
+    let x = solution.get("x").unwrap();
+    report("back at the start after the elliptic period", (x[x.len() - 1] - length * theta0.sin()).abs(), 1e-9);
+    let (xs, ys) = (solution.get("x").unwrap(), solution.get("y").unwrap());
+    let drift = xs.iter().zip(ys).map(|(x, y)| (x * x + y * y - length * length).abs()).fold(0.0, f64::max);
+    report("the constraint holds", drift, 1e-9);
+}
+
+/// `der(der(x))` written directly: the derivative `der(x)` is a state of
+/// its own, free at the start unless an initial equation fixes it.
+/// Closed form: `x = cos(w t) + (v0 / w) sin(w t)`.
+#[test]
+fn a_second_derivative_written_directly_is_integrated() {
+    let solution = simulate(
+        r#"
+example component Oscillator
+  parameter w::Real = 3
+  variable x::Real
+relations
+  initial x = 1
+  initial der(x) = 0.6
+  der(der(x)) = -w^2 * x
+end
+
+analysis OscillatorRun
+  extends TransientAnalysis(stop = 4, saveat = 0.05, abstol = 1e-11, reltol = 1e-11)
+  model = Oscillator()
+end
+"#,
+    );
+    report(
+        "x = cos(3t) + 0.2 sin(3t)",
+        worst_against(&solution, "x", |t| (3.0 * t).cos() + 0.2 * (3.0 * t).sin()),
+        1e-8,
+    );
+}
+
+/// A variable's type attributes: `guess` picks the root Newton's method
+/// finds (`x^2 = 0.36` from -0.5 and from 0.5), and an attribute variables
+/// do not have is refused where it is written.
+#[test]
+fn a_variables_guess_attribute_is_used_and_unknown_attributes_are_refused() {
+    for guess in [-0.5f64, 0.5] {
+        let solution = simulate(&format!(
+            r#"
+example component Root
+  variable x::Real(guess = {guess})
+relations
+  x^2 = 0.36
+end
+
+analysis RootRun
+  extends TransientAnalysis(stop = 1, saveat = 0.5)
+  model = Root()
+end
+"#
+        ));
+        report("the root near the guess", worst_against(&solution, "x", |_| 0.6 * guess.signum()), 1e-12);
+    }
+    let message = error_of(
+        r#"
+example component Odd
+  variable x::Real(start = 3)
+relations
+  der(x) = -x
+end
+
+analysis OddRun
+  extends TransientAnalysis(stop = 1)
+  model = Odd()
+end
+"#,
+    );
+    println!("{message}");
+    assert!(message.contains("`start` is not an attribute of a variable"), "{message}");
+    assert!(message.contains("model.dyad:3:20"), "{message}");
+    assert!(message.contains("initial x = "), "{message}");
+}
+
+/// Two Cartesian pendulums hung one from the other: two coupled
+/// constraints of index 3 (four coordinates computed, four integrated).
+/// Reference, computed here: the double pendulum's Lagrange equations in
+/// its two angles, integrated by classical Runge-Kutta at 1e-4 s.
+#[test]
+fn a_double_pendulum_in_cartesian_coordinates_follows_its_lagrange_equations() {
+    let (m1, m2, l1, l2, g): (f64, f64, f64, f64, f64) = (1.0, 0.7, 1.0, 0.6, 9.81);
+    let (theta1, theta2): (f64, f64) = (0.5, -0.3);
+    let solution = simulate(&format!(
+        r#"
+example component CartesianDoublePendulum
+  parameter m1::Mass = {m1}
+  parameter m2::Mass = {m2}
+  parameter L1::Length = {l1}
+  parameter L2::Length = {l2}
+  parameter g::Real = {g}
+  variable x1::Length
+  variable y1::Length(guess = -0.9)
+  variable x2::Length
+  variable y2::Length(guess = -1.4)
+  variable vx1::Velocity
+  variable vy1::Velocity
+  variable vx2::Velocity
+  variable vy2::Velocity
+  variable pull1::Real
+  variable pull2::Real
+relations
+  initial x1 = L1 * sin({theta1})
+  initial x2 = L1 * sin({theta1}) + L2 * sin({theta2})
+  initial vx1 = 0
+  initial vx2 = 0
+  der(x1) = vx1
+  der(y1) = vy1
+  der(x2) = vx2
+  der(y2) = vy2
+  m1 * der(vx1) = -pull1 * x1 + pull2 * (x2 - x1)
+  m1 * der(vy1) = -pull1 * y1 + pull2 * (y2 - y1) - m1 * g
+  m2 * der(vx2) = -pull2 * (x2 - x1)
+  m2 * der(vy2) = -pull2 * (y2 - y1) - m2 * g
+  x1^2 + y1^2 = L1^2
+  (x2 - x1)^2 + (y2 - y1)^2 = L2^2
+end
+
+analysis CartesianDoublePendulumRun
+  extends TransientAnalysis(stop = 2, saveat = 0.02, abstol = 1e-11, reltol = 1e-11)
+  model = CartesianDoublePendulum()
+end
+"#
+    ));
+    let rates = |s: [f64; 4]| {
+        let [t1, t2, w1, w2] = s;
+        let d = t1 - t2;
+        let den = 2.0 * m1 + m2 - m2 * (2.0 * d).cos();
+        let a1 = (-g * (2.0 * m1 + m2) * t1.sin()
+            - m2 * g * (t1 - 2.0 * t2).sin()
+            - 2.0 * d.sin() * m2 * (w2 * w2 * l2 + w1 * w1 * l1 * d.cos()))
+            / (l1 * den);
+        let a2 = 2.0 * d.sin() * (w1 * w1 * l1 * (m1 + m2) + g * (m1 + m2) * t1.cos() + w2 * w2 * l2 * m2 * d.cos())
+            / (l2 * den);
+        [w1, w2, a1, a2]
+    };
+    let angles = |t_end: f64| {
+        let steps = (t_end / 1e-4).ceil().max(1.0) as usize;
+        let h = t_end / steps as f64;
+        let mut s = [theta1, theta2, 0.0, 0.0];
+        let add = |s: [f64; 4], k: [f64; 4], f: f64| std::array::from_fn::<f64, 4, _>(|i| s[i] + f * k[i]);
+        for _ in 0..steps {
+            let k1 = rates(s);
+            let k2 = rates(add(s, k1, h / 2.0));
+            let k3 = rates(add(s, k2, h / 2.0));
+            let k4 = rates(add(s, k3, h));
+            s = std::array::from_fn(|i| s[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]));
+        }
+        s
+    };
+    let x2 = |t: f64| {
+        let s = angles(t);
+        l1 * s[0].sin() + l2 * s[1].sin()
+    };
+    report("upper bob x1 = L1 sin(theta1)", worst_against(&solution, "x1", |t| l1 * angles(t)[0].sin()), 1e-9);
+    report("lower bob x2", worst_against(&solution, "x2", x2), 1e-9);
+    report(
+        "lower bob y2",
+        worst_against(&solution, "y2", |t| {
+            let s = angles(t);
+            -l1 * s[0].cos() - l2 * s[1].cos()
+        }),
+        1e-9,
+    );
+}
+
+/// The coordinates index reduction computes are chosen once, at the
+/// start: a Cartesian pendulum started near the horizontal computes `x`
+/// from the rod, which stops fixing `x` at the bottom. The run stops there
+/// with a message that says so, keeping what it computed.
+#[test]
+fn a_state_choice_that_stops_suiting_the_motion_is_named() {
+    let text = r#"
+example component WideSwing
+  variable x::Real
+  variable y::Real(guess = -0.31)
+  variable vx::Real
+  variable vy::Real
+  variable pull::Real
+relations
+  initial x = 0.95
+  initial vx = 0
+  der(x) = vx
+  der(y) = vy
+  der(vx) = -pull * x
+  der(vy) = -pull * y - 9.81
+  x^2 + y^2 = 1
+end
+
+analysis WideSwingRun
+  extends TransientAnalysis(stop = 2, saveat = 0.01)
+  model = WideSwing()
+end
+"#;
+    let (mechanism, options) = common::load("model.dyad", text);
+    let failure = mechanism.simulate(&options).expect_err("the choice stops suiting the motion");
+    let message = &failure.reason;
+    println!("stopped at t = {}: {message}", failure.time);
+    assert!(message.contains("no longer determine `x`") && message.contains("chose, at the start"), "{message}");
+    // Near the bottom, a quarter of the swing's period; the samples before it are kept.
+    assert!(failure.time > 0.4 && failure.time < 0.7, "{}", failure.time);
+    assert!(failure.partial.time().len() > 40);
+}

@@ -18,6 +18,7 @@ use crate::semantics::extends::{effective, Effective};
 use crate::semantics::index::Index;
 use crate::semantics::modifiers::{apply_overrides, eval_modifiers, merge_outer, merge_same_level, Mod, Override};
 use crate::semantics::scope::ParamScope;
+use crate::semantics::types;
 use crate::syntax::ast::*;
 use crate::syntax::source::Span;
 use crate::Lowered;
@@ -960,6 +961,31 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         // with where each is written and whether it reads parameters.
         let mut start: Option<(Val, bool)> = None;
         let mut written: Option<(Span, bool)> = None;
+        // The declaration's type attributes (`x::Length(guess = 1)`), then
+        // its aliases': the first of each name holds.
+        for attribute in types::resolve(&v.ty, &self.index.aliases)?.attributes {
+            let fixed = match attribute.name.name.as_str() {
+                "guess" => false,
+                "initial" => true,
+                "units" | "unit" | "min" | "max" | "display_units" | "nominal" => continue,
+                other => {
+                    return Err(Diagnostic::error(format!("`{other}` is not an attribute of a variable"))
+                        .primary(attribute.name.span, "unknown attribute")
+                        .help(format!(
+                            "a variable's type takes `guess`, `units`, `min` and `max`: `{}::Real(guess = 1)`; \
+                             a start value that holds is `initial {} = ...` among the relations",
+                            v.name.name, v.name.name
+                        )))
+                }
+            };
+            if start.as_ref().is_some_and(|(_, f)| *f || !fixed) {
+                continue;
+            }
+            let Some(e) = &attribute.value else { continue };
+            let reads = scope.reads();
+            start = Some((eval(e, scope)?, fixed));
+            written = Some((e.span, scope.reads() != reads));
+        }
         if let Some(e) = &v.initial {
             let reads = scope.reads();
             start = Some((eval(e, scope)?, true));

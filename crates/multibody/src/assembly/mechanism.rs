@@ -400,17 +400,36 @@ impl Mechanism {
                 "no position of the frames without mass between {} balances the forces on them (springs that cannot hold them, or pulled apart without limit); give them mass or change the springs",
                 self.system.massless[group].components.iter().map(|c| format!("`{c}`")).collect::<Vec<_>>().join(", ")
             ),
-            DynamicsError::EquationsSingular { block } => format!(
-                "the equations {} have a singular Jacobian here: they do not determine their unknowns at this state \
-                 (no solution near it, or their derivative vanishes there); give their variables start values \
-                 (`guess`) near a solution, or reformulate them",
-                self.system.equations.blocks[block].label
-            ),
-            DynamicsError::EquationsDiverged { block } => format!(
-                "Newton's method found no solution of the equations {} here (no solution near the last one, or a \
-                 discontinuity); give their variables better start values, or reformulate them",
-                self.system.equations.blocks[block].label
-            ),
+            DynamicsError::EquationsSingular { block } | DynamicsError::EquationsDiverged { block } => {
+                let block = &self.system.equations.blocks[block];
+                if !block.reduced.is_empty() {
+                    let names = block.reduced.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ");
+                    return format!(
+                        "the equations {} no longer determine {names} here: index reduction chose, at the start, to \
+                         compute {names} from them and integrate the other variables, and along the motion the \
+                         equations lost their hold on {names} (their derivative with respect to it vanished). The \
+                         choice is made once and not changed while the model runs; start the model where the other \
+                         choice suits (give start values or guesses at which the equations depend more on the \
+                         variables to integrate), or write the model in coordinates the equations fix throughout \
+                         (an angle instead of two positions)",
+                        block.label
+                    );
+                }
+                if matches!(error, DynamicsError::EquationsSingular { .. }) {
+                    format!(
+                        "the equations {} have a singular Jacobian here: they do not determine their unknowns at \
+                         this state (no solution near it, or their derivative vanishes there); give their variables \
+                         start values (`guess`) near a solution, or reformulate them",
+                        block.label
+                    )
+                } else {
+                    format!(
+                        "Newton's method found no solution of the equations {} here (no solution near the last one, \
+                         or a discontinuity); give their variables better start values, or reformulate them",
+                        block.label
+                    )
+                }
+            }
         }
     }
 }

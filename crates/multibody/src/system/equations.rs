@@ -95,6 +95,9 @@ pub struct EquationBlock {
     pub after: Range<usize>,
     /// The equations of the block, for messages.
     pub label: String,
+    /// Its unknowns that index reduction computes instead of integrating
+    /// (chosen once, at the start), for messages.
+    pub reduced: Vec<String>,
 }
 
 /// Newton's limits for a block; beyond them the evaluation fails.

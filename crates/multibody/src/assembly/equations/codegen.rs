@@ -466,7 +466,8 @@ pub(super) fn generate(
                 }
             }
         }
-        blocks.push(EquationBlock { before, solve, after: after..em.w.ops.len(), label });
+        let reduced = unknowns.iter().filter(|&&u| pending.dummy[u]).map(|&u| pending.vars[u].name.clone()).collect();
+        blocks.push(EquationBlock { before, solve, after: after..em.w.ops.len(), label, reduced });
         block_reads.push(loads);
         block_writes.push(writes);
         block_deps.push(deps);
@@ -489,11 +490,20 @@ pub(super) fn generate(
 
     // The states of the equations join the state vector.
     for &s in &sorted.states {
-        let Role::Declared(d) = pending.vars[s].role else { unreachable!("states are declared variables") };
-        let v = &pending.declared[d];
-        states.names.push(v.name.clone());
-        states.start.push(v.start.unwrap_or(0.0));
-        states.fixed.push(v.start.is_some() && v.fixed);
+        states.names.push(pending.vars[s].name.clone());
+        match pending.vars[s].role {
+            Role::Declared(d) => {
+                let v = &pending.declared[d];
+                states.start.push(v.start.unwrap_or(0.0));
+                states.fixed.push(v.start.is_some() && v.fixed);
+            }
+            // A derivative integrated (`der(der(x))` written): free at the
+            // start, from 0, unless initial equations fix it.
+            _ => {
+                states.start.push(0.0);
+                states.fixed.push(false);
+            }
+        }
     }
     states.nx = sorted.states.len();
 
@@ -970,7 +980,7 @@ fn fuse_explicit(
                 continue;
             }
         }
-        fused.push(EquationBlock { before, solve, after, label: block.label });
+        fused.push(EquationBlock { before, solve, after, label: block.label, reduced: block.reduced });
         fused_positions.push(position);
     }
     (fused, fused_positions)

@@ -650,7 +650,7 @@ impl Table {
     /// The variable that is the derivative of `v`, made on first use.
     fn derivative(&mut self, v: VarId, origin: &str) -> Result<VarId, Error> {
         let role = match &self.vars[v].role {
-            Role::Declared(_) => Role::Derivative { of: v },
+            Role::Declared(_) | Role::Derivative { .. } => Role::Derivative { of: v },
             Role::Read(Read::Frame { connector, quantity }) => Role::Read(Read::Frame {
                 connector: connector.clone(),
                 quantity: match *quantity {
@@ -668,7 +668,7 @@ impl Table {
                 Role::Read(Read::AxisAcceleration { connector: connector.clone() })
             }
             Role::Read(Read::State { name, rate: false }) => Role::Read(Read::State { name: name.clone(), rate: true }),
-            Role::Derivative { .. } | Role::Read(Read::AxisAcceleration { .. } | Read::State { rate: true, .. }) => {
+            Role::Read(Read::AxisAcceleration { .. } | Read::State { rate: true, .. }) => {
                 return Err(second_derivative(&self.vars[v].name, origin))
             }
             Role::Read(Read::Reaction { .. } | Read::Effort { .. }) => {

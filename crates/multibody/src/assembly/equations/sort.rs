@@ -30,7 +30,9 @@ pub(super) struct Sorted {
 pub(super) fn is_unknown(pending: &Pending, is_state: &[bool], v: VarId) -> bool {
     match pending.vars[v].role {
         Role::Declared(_) => !is_state[v] && pending.discrete_slot(v).is_none(),
-        Role::Derivative { .. } | Role::Written { .. } => true,
+        // A derivative is integrated where its own derivative is.
+        Role::Derivative { .. } => !is_state[v],
+        Role::Written { .. } => true,
         Role::Read(_) => false,
     }
 }
