@@ -319,3 +319,34 @@ fn elastic_bearing() {
     let signals = ["load.phi", "load.w", "shaft.phi", "shaft.w", "springDamper.phi_rel", "springDamper.w_rel"];
     check("ElasticBearing", &signals);
 }
+
+/// One axis of the industrial robot (RobotR3.OneAxis), written in the
+/// project's own Dyad files `examples/robot/RobotAxis.dyad` (the axis:
+/// motor circuit of three op-amps, elastic gear with bearing friction,
+/// P-PI controller) and `examples/robot/one_axis.dyad` (the load and the
+/// path): the controller's integrator, the gear's spring, the load's
+/// motion, the circuit's capacitor voltage and armature current, and the
+/// friction's mode and start flags, over the run to 0.5 s after the path.
+#[test]
+fn one_axis_of_the_robot() {
+    let reference = Table::reference("OneAxis");
+    let dir = scratch("reference-OneAxis");
+    let out = dir.join("OneAxis.csv");
+    let files = ["RobotAxis", "one_axis"].map(|f| crate_path(&format!("../../examples/robot/{f}.dyad")));
+    let output = multibody(&dir, &["run", &files[0], &files[1], "--out", out.to_str().unwrap()]);
+    assert!(output.status.success(), "multibody run failed:\n{}", String::from_utf8_lossy(&output.stderr));
+    let ours = Table::load(&out);
+    let friction = ["mode", "startBackward", "startForward"].map(|v| format!("axis.gear.bearingFriction.{v}"));
+    let mut signals = vec![
+        "axis.controller.PI.x",
+        "axis.gear.spring.phi_rel",
+        "axis.gear.spring.w_rel",
+        "axis.initializeFlange.phi_flange",
+        "axis.initializeFlange.w_flange",
+        "axis.motor.C.v",
+        "axis.motor.La.i",
+    ];
+    signals.extend(friction.iter().map(String::as_str));
+    let pairs: Vec<(&str, &str)> = signals.iter().map(|s| (*s, *s)).collect();
+    assert_pairs_within_tube(&reference, &ours, &pairs);
+}

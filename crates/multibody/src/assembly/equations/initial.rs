@@ -14,6 +14,7 @@ use crate::math::sparse::SparseLu;
 use crate::math::symbolic::{evaluate, VarId, S};
 use crate::system::equations::Reg;
 use crate::{Error, Mechanism};
+use nalgebra::{DMatrix, DVector};
 use std::collections::BTreeMap;
 
 const ITERATIONS: usize = 50;
@@ -89,19 +90,118 @@ pub(crate) fn solve(mechanism: &mut Mechanism, init: &Initial) -> Result<(), Err
     if init.residuals.len() > free.len() {
         return Err(too_many(init, &names));
     }
-    newton(mechanism, init, &free, &names)
+    if held_rows(mechanism).is_empty() {
+        newton(mechanism, init, &free, &names)
+    } else {
+        newton_constrained(mechanism, init, &free, &names)
+    }
+}
+
+/// The constraint rows that hold at the start whatever moves: those of
+/// loops, couplings and prescribed motions (a friction element's row holds
+/// only while it is stuck, which the start does not decide here).
+fn held_rows(mechanism: &Mechanism) -> Vec<usize> {
+    let system = &mechanism.system;
+    let friction: Vec<usize> = system.frictions.iter().map(|f| f.row).collect();
+    (0..system.constraint_rows).filter(|r| !friction.contains(r)).collect()
+}
+
+/// Newton's method where the mechanism's start values move under its
+/// constraints: the constraints' position and velocity residuals join the
+/// initial equations (the loops stay closed, the gears engaged), and each
+/// step is the least-squares one of the dense Jacobian by finite
+/// differences (the mechanism's free start values are few).
+fn newton_constrained(
+    mechanism: &mut Mechanism,
+    init: &Initial,
+    free: &[usize],
+    names: &[String],
+) -> Result<(), Error> {
+    let rows = held_rows(mechanism);
+    let (m, k) = (init.residuals.len(), free.len());
+    let position_row: Vec<bool> = {
+        let mut on = vec![true; mechanism.system.constraint_rows];
+        for c in &mechanism.system.constraints {
+            for i in (0..c.rows).filter(|&i| c.kind.is_velocity_row(i)) {
+                on[c.row + i] = false;
+            }
+        }
+        rows.iter().map(|&r| on[r]).collect()
+    };
+    let n = m + 2 * rows.len();
+    let mut ws = mechanism.workspace();
+    let mut y = mechanism.system.states.start.clone();
+    let evaluate = |ws: &mut Workspace, y: &[f64], out: &mut DVector<f64>| -> Result<(), Error> {
+        residuals(mechanism, ws, init, y, &mut out.as_mut_slice()[..m])?;
+        let system = &mechanism.system;
+        let unreachable = |e: crate::dynamics::DynamicsError| {
+            problem(
+                format!("the start cannot be evaluated: {}", mechanism.describe(&e)),
+                init.origins.clone(),
+                vec![],
+                "check the start values",
+            )
+        };
+        system.servo_targets(ws, 0.0);
+        system.constraint_state(ws, y).map_err(unreachable)?;
+        for (i, (&r, &on)) in rows.iter().zip(&position_row).enumerate() {
+            out[m + i] = if on { ws.residual[r] } else { 0.0 };
+        }
+        system.velocity_residual(ws, y).map_err(unreachable)?;
+        for (i, &r) in rows.iter().enumerate() {
+            out[m + rows.len() + i] = ws.lambda[r];
+        }
+        Ok(())
+    };
+    let (mut r, mut trial) = (DVector::zeros(n), DVector::zeros(n));
+    let mut jacobian = DMatrix::zeros(n, k);
+    for iteration in 0..ITERATIONS {
+        evaluate(&mut ws, &y, &mut r)?;
+        if r.amax() <= TOLERANCE {
+            mechanism.system.states.start = y;
+            return Ok(());
+        }
+        for (j, &i) in free.iter().enumerate() {
+            let keep = y[i];
+            let h = fd_step(keep);
+            y[i] += h;
+            evaluate(&mut ws, &y, &mut trial)?;
+            y[i] = keep;
+            jacobian.set_column(j, &((&trial - &r) / h));
+        }
+        if iteration == 0 {
+            // The constraints take some of the start values' freedom.
+            let taken = jacobian.rows(m, n - m).into_owned().svd(false, false).rank(1e-9);
+            if m > k - taken.min(k) {
+                return Err(too_many(init, names));
+            }
+        }
+        let step = jacobian.clone().svd(true, true).solve(&(-&r), 1e-12).map_err(|_| {
+            problem(
+                "the initial equations do not determine the free start values",
+                init.origins.clone(),
+                names.to_vec(),
+                "check that each initial equation involves a state whose start value is free",
+            )
+        })?;
+        for (j, &i) in free.iter().enumerate() {
+            y[i] += step[j];
+        }
+    }
+    Err(problem(
+        "Newton's method found no start that satisfies the initial equations with the mechanism's constraints",
+        init.origins.clone(),
+        names.to_vec(),
+        "give the states better start values (`guess`), or check the initial equations",
+    ))
 }
 
 /// The start values of the mechanism that the initial equations may move:
 /// positions and velocities of joints with one coordinate (revolute,
 /// prismatic, 1-D inertias and masses) that the model did not fix and that
-/// no motion drives; none while loops are closed (moving one joint would
-/// open them).
+/// no motion drives (with loops or gears, under their constraints).
 fn mechanical_free(mechanism: &Mechanism) -> Vec<(usize, String)> {
     let system = &mechanism.system;
-    if system.constraint_rows > 0 {
-        return Vec::new();
-    }
     let states = &system.states;
     let mut out = Vec::new();
     for link in system.links.iter().skip(1) {
