@@ -64,7 +64,7 @@ pub enum Error {
     #[error("the model has {} Worlds ({}); keep exactly one (besides, a model may have one PlanarMechanics.World)", names.len(), names.join(", "))]
     SeveralWorlds { names: Vec<String> },
 
-    #[error("nothing owns the orientation of the assembly of {}: it is not connected to the World and has no Body with an orientation state.\nTo fix it, either connect it to the World (through joints or fixed parts), or give it an owner: a Body with `orientation_state = Quaternion` (or `Euler`) rigidly attached to it.", list(components))]
+    #[error("nothing owns the orientation of the assembly of {}: it is not connected to the World and has no Body with an orientation state.\nTo fix it, either connect it to the World (through joints or fixed parts), or give it an owner: a Body with `orientation_state = OrientationState.Quaternion()` (or `OrientationState.Euler()`) rigidly attached to it.", list(components))]
     NoOrientationOwner { components: Vec<String> },
 
     #[error("the assembly of {} has two owners of its orientation, `{first}` and `{second}`; keep exactly one (set the other's `orientation_state` to None, or `isroot = false`)", list(group))]

@@ -358,7 +358,7 @@ impl Mechanism {
                 };
                 format!(
                     "the Euler angles of `{}` (sequence {:?}) reached their singular configuration, where the first and \
-                     third axes line up. Use orientation_state = Quaternion for this body, or an Euler sequence whose \
+                     third axes line up. Use `orientation_state = OrientationState.Quaternion()` for this body, or an Euler sequence whose \
                      singularity the motion does not reach",
                     name(link),
                     seq

@@ -136,7 +136,7 @@ fn not_a_state(ci: usize, components: &[CompiledComponent], tree: &Tree, variabl
         let reason = if c.joints.iter().any(|j| matches!(j, JointRef::Cut(_))) {
             cut_joint_reason(ci, components, tree)
         } else if c.joints.is_empty() && c.parts.iter().any(|p| matches!(p, Part::Mass { .. })) {
-            "its motion comes from what it is connected to. Set the start values of the joints between it and the World instead, or make it free (orientation_state = Quaternion for a Body, isroot = true for an unconnected PointMass)".to_string()
+            "its motion comes from what it is connected to. Set the start values of the joints between it and the World instead, or make it free (`orientation_state = OrientationState.Quaternion()` for a Body, `isroot = true` for an unconnected PointMass)".to_string()
         } else if states.is_empty() {
             format!("{} has no states; it is computed from the motion", c.spec.kind)
         } else {
