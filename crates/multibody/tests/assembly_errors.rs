@@ -53,7 +53,7 @@ fn point_masses_on_a_rod_have_no_owner_of_their_orientation() {
         other => panic!("expected NoOrientationOwner, got {other:?}"),
     }
     // The fix: anchor it to the World, or give it a Body with an orientation state.
-    assert_mentions(&message, &["`pm1`", "`rod`", "`pm2`", "World", "Body", "orientation_state = Quaternion"]);
+    assert_mentions(&message, &["`pm1`", "`rod`", "`pm2`", "World", "Body", "orientation_state = OrientationState.Quaternion()"]);
 }
 
 /// A free Body with the default orientation_state (None) owns nothing.
@@ -63,7 +63,7 @@ fn free_body_without_orientation_state_has_no_owner() {
     model.add("body", "Body").set("m", 2.0);
     let (err, message) = failure(&model);
     assert!(matches!(&err, Error::NoOrientationOwner { components } if components == &["body".to_string()]), "{err:?}");
-    assert_mentions(&message, &["`body`", "World", "orientation_state = Quaternion"]);
+    assert_mentions(&message, &["`body`", "World", "orientation_state = OrientationState.Quaternion()"]);
 }
 
 /// Two Quaternion Bodies joined rigidly: two owners of one orientation.
