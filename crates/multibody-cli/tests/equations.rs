@@ -10,6 +10,7 @@
 mod common;
 
 use common::{crate_path, multibody, scratch, Table};
+use multibody_reference::Signals;
 
 /// Runs `examples/equations/FILE` (its analysis `analysis`, if given) and
 /// reads the CSV.
@@ -389,4 +390,35 @@ fn an_op_amp_amplifier_drives_a_linear_motor_as_its_closed_form() {
     check(&table, "drive.phi", 1e-9, u);
     check(&table, "slider.v", 1e-7, v);
     check(&table, "meter.power", 1e-6, |t| u(t) * (u(t) - 5.0 * v(t)) / 2.0);
+}
+
+/// The Cartesian pendulum (index 3): after two of its periods (computed
+/// here from the complete elliptic integral by the arithmetic-geometric
+/// mean) the bob is back where it started, at rest, and the rod's length
+/// held all along.
+#[test]
+fn a_pendulum_in_cartesian_coordinates_returns_after_its_elliptic_period() {
+    let table = run("cartesian_pendulum.dyad", None);
+    let (length, g, theta0) = (0.8f64, 9.81f64, 30f64.to_radians());
+    let k = (theta0 / 2.0).sin();
+    let (mut a, mut b) = (1.0f64, (1.0 - k * k).sqrt());
+    for _ in 0..30 {
+        (a, b) = ((a + b) / 2.0, (a * b).sqrt());
+    }
+    let period = 2.0 * std::f64::consts::PI / a * (length / g).sqrt();
+    let time = table.times();
+    let last = time.len() - 1;
+    // The file stops at two periods rounded to 1e-6 s, where the bob moves 1.5e-6 m at most.
+    assert!(
+        (time[last] - 2.0 * period).abs() < 1e-6,
+        "the run ends at two periods: {} vs {}",
+        time[last],
+        2.0 * period
+    );
+    let (x, y) = (table.column("x"), table.column("y"));
+    assert!((x[last] - length * theta0.sin()).abs() < 2e-6, "x = {} after two periods", x[last]);
+    // At rest there; g sin(theta0) over 1e-6 s is 5e-6 m/s.
+    assert!(table.column("vx")[last].abs() < 1e-5, "vx = {} after two periods", table.column("vx")[last]);
+    let worst = x.iter().zip(y).map(|(x, y)| (x * x + y * y - length * length).abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-9, "the rod's length holds: {worst}");
 }

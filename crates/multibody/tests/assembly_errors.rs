@@ -53,7 +53,10 @@ fn point_masses_on_a_rod_have_no_owner_of_their_orientation() {
         other => panic!("expected NoOrientationOwner, got {other:?}"),
     }
     // The fix: anchor it to the World, or give it a Body with an orientation state.
-    assert_mentions(&message, &["`pm1`", "`rod`", "`pm2`", "World", "Body", "orientation_state = OrientationState.Quaternion()"]);
+    assert_mentions(
+        &message,
+        &["`pm1`", "`rod`", "`pm2`", "World", "Body", "orientation_state = OrientationState.Quaternion()"],
+    );
 }
 
 /// A free Body with the default orientation_state (None) owns nothing.
