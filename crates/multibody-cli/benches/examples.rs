@@ -13,15 +13,17 @@ mod examples;
 fn compile(c: &mut Criterion) {
     let mut group = c.benchmark_group("compile");
     for path in examples::example_files() {
-        let text = std::fs::read_to_string(&path).unwrap();
+        let sources = examples::example_sources(&path);
         let analysis = examples::load_example(&path).name;
         group.bench_function(examples::example_name(&path), |b| {
             b.iter(|| {
                 let mut package = Package::new();
-                // Under its own path, as the tests load it (added as
+                // Under their own paths, as the tests load them (added as
                 // `model.dyad`, one example failed to lower: `rod.r` needs 3
                 // numbers).
-                package.add_source(path.display().to_string(), text.as_str()).unwrap();
+                for (name, text) in &sources {
+                    package.add_source(name.as_str(), text.as_str()).unwrap();
+                }
                 package.lower_analysis(&analysis).unwrap().assemble().unwrap()
             })
         });

@@ -1267,3 +1267,40 @@ end
     report("the rocker turns at 2/3 rad/s", (start("j4.w") - 2.0 / 3.0).abs(), 1e-9);
     report("the filter starts at rest", (start("x") - 2.0).abs(), 1e-12);
 }
+
+/// A library block's outputs named with an index (`q[2]` of a
+/// point-to-point block driving two axes) reach a component written in
+/// Dyad as they reach the library's own blocks: each axis its own (the
+/// second axis used to read the first's). Reference: the synchronized
+/// profile from 0 to [1, 3] with unit limits, `s(t) = t^2 / 6` while
+/// accelerating (the slower axis sets the pace: its speed limit 1 gives
+/// `s' <= 1/3`, its acceleration limit `s'' <= 1/3`).
+#[test]
+fn indexed_outputs_of_a_library_block_reach_components_written_in_dyad() {
+    let solution = simulate(
+        r#"
+component Twice
+  u = RealInput()
+  y = RealOutput()
+relations
+  y = 2 * u
+end
+
+example component TwoAxes
+  path = BlockComponents.KinematicPTP(nout = 2, q0 = [0, 0], q1 = [1, 3], qd_max = [1, 1], qdd_max = [1, 1])
+  first = Twice()
+  second = Twice()
+relations
+  connect(path.q[1], first.u)
+  connect(path.q[2], second.u)
+end
+
+analysis TwoAxesRun
+  extends TransientAnalysis(stop = 1, saveat = 0.1)
+  model = TwoAxes()
+end
+"#,
+    );
+    report("the first axis's output", worst_against(&solution, "first.y", |t| 2.0 * t * t / 6.0), 1e-12);
+    report("the second axis's output", worst_against(&solution, "second.y", |t| 2.0 * 3.0 * t * t / 6.0), 1e-12);
+}

@@ -267,3 +267,35 @@ fn acceleration_sensors_record_the_closed_form_accelerations() {
     let message = reads.assemble().unwrap_err().to_string();
     assert!(message.contains("accelerations"), "{message}");
 }
+
+/// The torque a joint reports is what its axis delivers to the joint: a
+/// constant torque on a motor inertia J behind a gear of ratio i turns a
+/// disc of inertia I about the joint's axis with `a = i tau / (I + i^2 J)`,
+/// and the joint gets `I a` of it (the rest accelerates the motor, whose
+/// reflected inertia the joint's coordinate carries). Closed form, and the
+/// disc's kinetic energy equals the work of the reported torque.
+#[test]
+fn a_joint_behind_a_geared_motor_reports_the_torque_its_axis_delivers() {
+    let (j, ratio, disc, torque) = (0.002, 7.0, 0.3, 1.5);
+    let mut model = Model::new("geared disc");
+    model.add("world", "World").set("g", 0.0);
+    model.add("rev", "Revolute").set("n", [0.0, 0.0, 1.0]).initial("phi", 0.0).initial("w", 0.0);
+    model.add("body", "Body").set("m", 1.0).set("r_cm", [0.0, 0.0, 0.0]).set("I_33", disc);
+    model.add("motor", "RotationalComponents.Inertia").set("J", j);
+    model.add("gear", "RotationalComponents.IdealGear").set("ratio", ratio);
+    model.add("drive", "RotationalComponents.ConstantTorque").set("tau_constant", torque);
+    model.connect(["world.frame_b", "rev.frame_a"]);
+    model.connect(["rev.frame_b", "body.frame_a"]);
+    model.connect(["drive.spline", "motor.spline_a"]);
+    model.connect(["motor.spline_b", "gear.spline_a"]);
+    model.connect(["gear.spline_b", "rev.axis"]);
+    let solution = model.assemble().unwrap().simulate(&tight(1.0)).unwrap();
+    let a = ratio * torque / (disc + ratio * ratio * j);
+    let worst = |name: &str, f: &dyn Fn(f64) -> f64| {
+        solution.time().iter().zip(solution.get(name).unwrap()).fold(0.0f64, |m, (&t, &x)| m.max((x - f(t)).abs()))
+    };
+    assert!(worst("rev.w", &|t| a * t) < 1e-9, "the joint accelerates at {a}");
+    let delivered = worst("rev.tau", &|_| disc * a);
+    println!("reported joint torque against I a = {:.4}: worst {delivered:.2e}", disc * a);
+    assert!(delivered < 1e-9, "the joint reports the torque its axis delivers: worst {delivered:e}");
+}

@@ -38,6 +38,10 @@ pub(crate) struct OutputScratch {
     cut_u: Vec<f64>,
     cut_udot: Vec<f64>,
     cut_tau: Vec<f64>,
+    /// The torque (force) each joint coordinate gets through its axis:
+    /// the drive train's, less what accelerates the inertias geared to it
+    /// (their armature, which the dynamics keeps in the mass matrix).
+    axis_tau: Vec<f64>,
     /// Accelerations of the lines' lengths.
     line_a: Vec<f64>,
     /// One component's output values.
@@ -217,6 +221,11 @@ impl Mechanism {
         } else {
             (q, u, qd, ud)
         };
+        scratch.axis_tau.clear();
+        scratch.axis_tau.extend_from_slice(&ws.tau);
+        for link in self.system.links.iter().filter(|l| l.armature != 0.0) {
+            scratch.axis_tau[link.v_offset] -= link.armature * ud[link.v_offset];
+        }
         // A line's length accelerates as s'' = e . a_rel + (|v_rel|^2 - s'^2) / s.
         scratch.line_a.clear();
         for (line, state) in self.system.lines.iter().zip(&ws.lines) {
@@ -253,7 +262,7 @@ impl Mechanism {
                             u: &ju[vr.clone()],
                             qdot: &jqd[qr],
                             udot: &jud[vr.clone()],
-                            tau: &ws.tau[vr],
+                            tau: &scratch.axis_tau[vr],
                         }
                     }
                     JointRef::Cut(k) => {

@@ -40,7 +40,12 @@ pub(crate) struct Initial {
 fn residuals(m: &Mechanism, ws: &mut Workspace, init: &Initial, y: &[f64], out: &mut [f64]) -> Result<(), Error> {
     let mut dy = vec![0.0; y.len()];
     let t0 = 0.0;
-    // At the start relations hold as they are (as in the first event iteration).
+    // At the start relations hold as they are (as in the first event
+    // iteration), from the discrete start: each evaluation sees the same
+    // modes. Friction elements are then in no mode yet and carry nothing,
+    // so where the split of a holding torque between a stuck friction and
+    // a drive is open, the drive holds it all (as Modelica tools choose).
+    ws.discrete.copy_from_slice(&m.system.events.discrete_start);
     ws.at_event = true;
     ws.initial = true;
     let evaluated = m.rhs(ws, t0, y, &mut dy);
@@ -155,9 +160,10 @@ fn newton_constrained(
     };
     let (mut r, mut trial) = (DVector::zeros(n), DVector::zeros(n));
     let mut jacobian = DMatrix::zeros(n, k);
+    let mut convergence = Convergence::new(n);
     for iteration in 0..ITERATIONS {
         evaluate(&mut ws, &y, &mut r)?;
-        if r.amax() <= TOLERANCE {
+        if convergence.met(r.as_slice()) {
             mechanism.system.states.start = y;
             return Ok(());
         }
@@ -184,6 +190,7 @@ fn newton_constrained(
                 "check that each initial equation involves a state whose start value is free",
             )
         })?;
+        convergence.stepped(free.iter().zip(step.iter()).map(|(&i, &dz)| (y[i], dz)));
         for (j, &i) in free.iter().enumerate() {
             y[i] += step[j];
         }
@@ -262,9 +269,10 @@ fn newton(mechanism: &mut Mechanism, init: &Initial, free: &[usize], free_names:
             "check that each initial equation involves a state whose start value is free",
         )
     };
+    let mut convergence = Convergence::new(m);
     for _ in 0..ITERATIONS {
         residuals(mechanism, &mut ws, init, &y, &mut r)?;
-        if r.iter().all(|x| x.abs() <= TOLERANCE) {
+        if convergence.met(&r) {
             mechanism.system.states.start = y;
             return Ok(());
         }
@@ -288,6 +296,7 @@ fn newton(mechanism: &mut Mechanism, init: &Initial, free: &[usize], free_names:
         if !jacobian.step(&values, &r, &mut step) {
             return Err(singular());
         }
+        convergence.stepped(free.iter().zip(&step).map(|(&i, &dz)| (y[i], dz)));
         for (j, &i) in free.iter().enumerate() {
             y[i] += step[j];
         }
@@ -298,6 +307,34 @@ fn newton(mechanism: &mut Mechanism, init: &Initial, free: &[usize], free_names:
         free_names.to_vec(),
         "give the states better start values (`guess`), or check the initial equations",
     ))
+}
+
+/// When Newton's iterates have converged: every residual below
+/// [`TOLERANCE`], or, where the residuals' size puts that below rounding
+/// (a capacitor's rate `i / C` is of order 1e8), the last step below
+/// rounding of the values and each residual a 1e-8 of the largest it was.
+struct Convergence {
+    largest: Vec<f64>,
+    last_step: f64,
+}
+
+impl Convergence {
+    fn new(m: usize) -> Self {
+        Convergence { largest: vec![0.0; m], last_step: f64::INFINITY }
+    }
+
+    fn met(&mut self, r: &[f64]) -> bool {
+        for (l, x) in self.largest.iter_mut().zip(r) {
+            *l = l.max(x.abs());
+        }
+        r.iter().all(|x| x.abs() <= TOLERANCE)
+            || (self.last_step <= 1e-10 && r.iter().zip(&self.largest).all(|(x, l)| x.abs() <= 1e-8 * (1.0 + l)))
+    }
+
+    /// Records a step: `(value, change)` of each start value moved.
+    fn stepped(&mut self, moves: impl Iterator<Item = (f64, f64)>) {
+        self.last_step = moves.fold(0.0, |m, (z, dz)| m.max(dz.abs() / (1.0 + z.abs())));
+    }
 }
 
 /// The finite-difference step of a start value `x`.

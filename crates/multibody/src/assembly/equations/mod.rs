@@ -743,7 +743,10 @@ fn classify_library(
     let Some((component, member)) = net.split(name) else { return Err(unknown()) };
     let spec = net.specs[component];
     let (head, rest) = member.split_once('.').unwrap_or((member, ""));
-    let Some((_, connector)) = spec.connector(indexed(head).map_or(head, |(h, _)| h)) else {
+    // A connector's own name may carry an index (a block's `q[2]`); else
+    // the index is of the quantity (`r_0[1]`).
+    let found = spec.connector(head).or_else(|| spec.connector(indexed(head).map_or(head, |(h, _)| h)));
+    let Some((_, connector)) = found else {
         // Not a connector: a variable of the component (a state, say).
         return Ok(Some(Role::Read(Read::State { name: name.to_string(), rate: false })));
     };
