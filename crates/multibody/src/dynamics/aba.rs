@@ -21,9 +21,14 @@ impl System {
         ud: &mut [f64],
     ) -> Result<(), DynamicsError> {
         self.motion_and_loads(ws, t, q, u)?;
-        if !self.uses_mass_matrix() {
+        if !self.needs_mass_matrix(ws) {
             self.articulated_inertias(ws)?;
             self.accelerations(ws, ud);
+            if !self.frictions.is_empty() {
+                // All sliding: their forces are loads, and no row holds.
+                ws.lambda.fill(0.0);
+                self.friction_modes(ws, q, u, ud);
+            }
             Ok(())
         } else {
             // Loops may leave massless links in the tree, and a line

@@ -263,6 +263,10 @@ fn newton_step(jacobian: &Jacobian, b: usize, n: usize, ws: &mut Workspace) -> b
             lu_solve(matrix, n, &ws.newton_pivots[..n], &mut ws.newton_step[..n], &mut ws.newton_work[..n]);
             true
         }
+        Jacobian::Constant { factors, pivots } => {
+            lu_solve(factors, n, pivots, &mut ws.newton_step[..n], &mut ws.newton_work[..n]);
+            true
+        }
         Jacobian::Sparse { entries, lu: compiled } => {
             let values = || entries.iter().map(|&reg| registers[reg as usize]);
             let layout = ws.newton_layouts[b].as_ref().unwrap_or(compiled);

@@ -10,6 +10,26 @@ use crate::system::friction::{
 use crate::system::System;
 
 impl System {
+    /// Whether the accelerations at this moment need the mass matrix: as
+    /// [`System::uses_mass_matrix`], except that friction elements that
+    /// slide plainly add no row (their forces are loads, and the
+    /// articulated-body recursion serves, linear in the links). Stuck,
+    /// breaking away or in no mode yet, they keep the constrained solve.
+    pub(crate) fn needs_mass_matrix(&self, ws: &Workspace) -> bool {
+        if !self.uses_mass_matrix() {
+            return false;
+        }
+        !self.line_masses.is_empty()
+            || self.constraint_rows > self.frictions.len()
+            || self.frictions.iter().any(|f| {
+                let flags = FrictionFlags::read(&ws.discrete[f.discrete..f.discrete + FRICTION_DISCRETE]);
+                let sliding = matches!(flags.mode, FrictionMode::Forward | FrictionMode::Backward)
+                    && !flags.start_forward
+                    && !flags.start_backward;
+                !(sliding || flags.free)
+            })
+    }
+
     /// The normal force `cgeo fn` of friction element `k` (the law's scale
     /// without a normal-force input).
     fn friction_normal(&self, ws: &Workspace, k: usize) -> f64 {

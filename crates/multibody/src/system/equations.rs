@@ -82,6 +82,9 @@ pub enum Jacobian {
     /// The entries that are not always zero, in the order `lu` analysed
     /// them: a large block with a few unknowns an equation.
     Sparse { entries: Vec<Reg>, lu: Box<SparseLu> },
+    /// A small linear block whose coefficients are numbers (a circuit of
+    /// resistors and op-amps): factored once, when compiled.
+    Constant { factors: Vec<f64>, pivots: Vec<usize> },
 }
 
 /// A block of equations that are solved together, with the ops that

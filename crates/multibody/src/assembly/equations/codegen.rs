@@ -431,7 +431,10 @@ pub(super) fn generate(
                             dense[i * k + j] = d;
                         }
                         largest_factors = largest_factors.max(k * k);
-                        Jacobian::Dense(dense.iter().map(|d| em.emit(d, &reg)).collect())
+                        match constant_factors(&dense, k, linear) {
+                            Some((factors, pivots)) => Jacobian::Constant { factors, pivots },
+                            None => Jacobian::Dense(dense.iter().map(|d| em.emit(d, &reg)).collect()),
+                        }
                     }
                     JacobianLayout::Sparse(lu) => {
                         largest_factors = largest_factors.max(lu.stored());
@@ -661,6 +664,18 @@ fn reinit_target(
             if names.is_empty() { String::new() } else { format!(" ({})", names.join(", ")) }
         ),
     ))
+}
+
+/// The LU factors of a linear block's Jacobian whose entries are all
+/// numbers, or `None` (entries that vary, a nonlinear block, or singular:
+/// left to the evaluation, which reports it where it happens).
+fn constant_factors(dense: &[S], k: usize, linear: bool) -> Option<(Vec<f64>, Vec<usize>)> {
+    if !linear {
+        return None;
+    }
+    let mut factors = dense.iter().map(|d| d.as_const()).collect::<Option<Vec<f64>>>()?;
+    let mut pivots = vec![0; k];
+    crate::math::dense::lu(&mut factors, k, &mut pivots).then_some((factors, pivots))
 }
 
 /// The closed form of unknown `x` from residual `r = 0`, if `r` is
