@@ -51,9 +51,19 @@ struct Model {
 #[pyfunction]
 #[pyo3(signature = (text, file, analysis = None, model = None))]
 fn load_text(text: String, file: String, analysis: Option<String>, model: Option<String>) -> PyResult<Model> {
+    load_sources(vec![(file, text)], analysis, model)
+}
+
+/// Parses several model files together, `(file, text)` each (the files of
+/// a folder: one may use what another defines).
+#[pyfunction]
+#[pyo3(signature = (sources, analysis = None, model = None))]
+fn load_sources(sources: Vec<(String, String)>, analysis: Option<String>, model: Option<String>) -> PyResult<Model> {
     let mut package = Package::new();
-    if let Err(d) = package.add_source(file, text) {
-        return Err(model_error(&package, &d));
+    for (file, text) in sources {
+        if let Err(d) = package.add_source(file, text) {
+            return Err(model_error(&package, &d));
+        }
     }
     let target = choose(&package, analysis, model)?;
     let lowered = package.lower_target(&target, &[]).map_err(|d| model_error(&package, &d))?;
@@ -696,6 +706,7 @@ fn _multibody(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Simulator>()?;
     m.add_class::<JointSpace>()?;
     m.add_function(wrap_pyfunction!(load_text, m)?)?;
+    m.add_function(wrap_pyfunction!(load_sources, m)?)?;
     m.add_function(wrap_pyfunction!(load_urdf, m)?)?;
     m.add("MultibodyError", m.py().get_type::<MultibodyError>())?;
     m.add("ModelError", m.py().get_type::<ModelError>())?;

@@ -192,6 +192,30 @@ def test_the_example_plots_the_double_pendulum(tmp_path):
     assert "3 runs" in done.stdout
 
 
+def test_a_folder_loads_as_the_command_reads_it(tmp_path):
+    # The robot's folder: library files and models together, the numbers
+    # of `multibody run` on the folder, bit for bit.
+    model = multibody.load(EXAMPLES / "robot", analysis="OneAxisRun")
+    result = model.simulate(signals=["load.phi", "axis.motor.La.i"])
+    ours = run_command(tmp_path, EXAMPLES / "robot", "--analysis", "OneAxisRun")
+    assert np.array_equal(result.time, ours["time"])
+    for name in ["load.phi", "axis.motor.La.i"]:
+        assert np.array_equal(result[name], ours[name]), name
+    with pytest.raises(multibody.ModelError, match="without .dyad files"):
+        multibody.load(tmp_path)
+
+
+def test_the_robot_example_plots_the_tracking_errors(tmp_path):
+    pytest.importorskip("matplotlib")
+    out = tmp_path / "plot.png"
+    done = subprocess.run([sys.executable, str(EXAMPLES / "python" / "robot_tracking.py"), str(out)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert out.stat().st_size > 10_000
+    # The path is followed: every axis within 0.02 rad (the command's test bounds it too).
+    largest = float(done.stdout.split("largest error ")[1].split(" rad")[0])
+    assert largest < 0.02, done.stdout
+
+
 def test_help_reads_well():
     doc = multibody.__doc__
     assert "simulate" in doc and "ModelError" in doc

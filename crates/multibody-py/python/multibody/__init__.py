@@ -575,20 +575,32 @@ def load(
     floating: bool = False,
 ) -> Model:
     """Loads a ``.dyad`` file: its analysis (``analysis=`` when it has
-    several), or a component with default options (``model=``). A
-    ``.urdf`` file is read as ``multibody import`` writes it (a fixed
-    base, or a floating one with ``floating=True``; mesh visuals left out),
-    with gravity along -z."""
+    several), or a component with default options (``model=``). A folder
+    is read as ``multibody run`` reads one: every ``.dyad`` file in it
+    (not its subfolders), together. A ``.urdf`` file is read as
+    ``multibody import`` writes it (a fixed base, or a floating one with
+    ``floating=True``; mesh visuals left out), with gravity along -z."""
     path = os.fspath(path)
-    with open(path, "rb") as f:
-        data = f.read()
-    try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError as e:
-        raise ModelError(f"{path} is not UTF-8 text (byte offset {e.start})", path, 0, 0) from None
+    if os.path.isdir(path):
+        files = sorted(os.path.join(path, f) for f in os.listdir(path) if f.endswith(".dyad"))
+        if not files:
+            raise ModelError(f"{path} is a folder without .dyad files", path, 0, 0)
+        sources = [(f, _read_text(f)) for f in files]
+        return Model(_call(_multibody.load_sources, sources, analysis=analysis, model=model), path)
+    text = _read_text(path)
     if path.lower().endswith(".urdf"):
         return Model(_call(_multibody.load_urdf, text, path, floating=floating), path)
     return loads(text, file=path, analysis=analysis, model=model)
+
+
+def _read_text(path: str) -> str:
+    """The UTF-8 text of a file, or a ModelError that names it."""
+    with open(path, "rb") as f:
+        data = f.read()
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise ModelError(f"{path} is not UTF-8 text (byte offset {e.start})", path, 0, 0) from None
 
 
 def loads(text: str, *, file: str = "<text>", analysis: Optional[str] = None, model: Optional[str] = None) -> Model:

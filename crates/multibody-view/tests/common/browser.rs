@@ -35,12 +35,18 @@ impl Shot {
     /// its own (window errors, WebGL missing, shader failures), no uncaught
     /// exception and no WebGL error in the console.
     pub fn assert_clean(&self) {
-        let console = self.console();
         assert!(
-            console.iter().any(|l| l.contains("multibody-view: rendered")),
+            self.console().iter().any(|l| l.contains("multibody-view: rendered")),
             "the page did not finish rendering; browser log:\n{}",
             self.log
         );
+        self.assert_no_errors();
+    }
+
+    /// Fails if the page reported an error (a page without a 3-D view, of
+    /// a model without shapes, renders nothing and says so by not logging).
+    pub fn assert_no_errors(&self) {
+        let console = self.console();
         let bad: Vec<&&str> = console
             .iter()
             .filter(|l| {
