@@ -422,3 +422,54 @@ fn a_pendulum_in_cartesian_coordinates_returns_after_its_elliptic_period() {
     let worst = x.iter().zip(y).map(|(x, y)| (x * x + y * y - length * length).abs()).fold(0.0, f64::max);
     assert!(worst < 1e-9, "the rod's length holds: {worst}");
 }
+
+/// Dyad's DC-motor tutorial model: a motor component (R, L, k, J, f) held
+/// at 1 rad/s by a limited PID controller, a load torque of -0.3 N m from
+/// 3 s. Reference, integrated here by classical Runge-Kutta at 1e-5 s: the
+/// loop's four equations as the parts state them, the armature
+/// `L i' = u - R i - k w`, the rotor `J w' = k i - f w + tau_load`, the
+/// controller's integrator `xi' = (e + (y - v) / (k Ni)) / Ti` and its
+/// derivative filter `xd' = (-w - xd) Nd / Td`, with `v = k (e + xi + D)`,
+/// `D = Nd (-w - xd)`, `e = 1 - w`, `y = v` limited to +-5.
+#[test]
+fn the_tutorial_dc_motor_holds_its_speed_as_its_loop_equations() {
+    let table = run("dc_motor_speed_control.dyad", None);
+    let (r, l, k_m, j, f) = (0.5, 4.5e-3, 0.5, 0.02, 0.01);
+    let (k, ti, td, nd, ni) = (0.5, 0.1, 1e5, 10.0, 0.9);
+    // `loaded`: whether the step lies after the load's step (the steps end on the samples, 3 s among them).
+    let rates = |loaded: bool, s: [f64; 4]| {
+        let [i, w, xi, xd] = s;
+        let e = 1.0 - w;
+        let d = nd * (-w - xd);
+        let v = k * (e + xi + d);
+        let u = v.clamp(-5.0, 5.0);
+        let load = if loaded { -0.3 } else { 0.0 };
+        [(u - r * i - k_m * w) / l, (k_m * i - f * w + load) / j, (e + (u - v) / (k * ni)) / ti, (-w - xd) * nd / td]
+    };
+    let h: f64 = 1e-5;
+    let mut s = [0.0; 4];
+    let mut t = 0.0;
+    let time = table.times().to_vec();
+    let (w_ours, i_ours) = (table.column("motor.inertia.w"), table.column("motor.L1.i"));
+    let (mut worst_w, mut worst_i) = (0.0f64, 0.0f64);
+    for (n, &sample) in time.iter().enumerate() {
+        while t < sample - 1e-12 {
+            let step = h.min(sample - t);
+            let add = |s: [f64; 4], k: [f64; 4], c: f64| std::array::from_fn::<f64, 4, _>(|m| s[m] + c * k[m]);
+            let loaded = t >= 3.0 - 1e-12;
+            let k1 = rates(loaded, s);
+            let k2 = rates(loaded, add(s, k1, step / 2.0));
+            let k3 = rates(loaded, add(s, k2, step / 2.0));
+            let k4 = rates(loaded, add(s, k3, step));
+            s = std::array::from_fn(|m| s[m] + step / 6.0 * (k1[m] + 2.0 * k2[m] + 2.0 * k3[m] + k4[m]));
+            t += step;
+        }
+        worst_w = worst_w.max((w_ours[n] - s[1]).abs());
+        worst_i = worst_i.max((i_ours[n] - s[0]).abs());
+    }
+    println!("speed: worst {worst_w:.2e} rad/s (tolerance 1e-8); current: worst {worst_i:.2e} A (tolerance 1e-7)");
+    assert!(worst_w < 1e-8 && worst_i < 1e-7);
+    // It runs up towards 1 rad/s, sags under the load, and comes back.
+    let at = |t0: f64| w_ours[time.iter().position(|&x| (x - t0).abs() < 1e-9).unwrap()];
+    assert!(at(3.0) > 0.9 && at(3.5) < at(3.0) && at(6.0) > 0.98, "{} {} {}", at(3.0), at(3.5), at(6.0));
+}
