@@ -103,7 +103,8 @@ pub struct OptionArgs {
     /// Relative tolerance of the integrator
     #[arg(long, value_name = "X", allow_hyphen_values = true)]
     pub reltol: Option<f64>,
-    /// Integration method: auto (adaptive Dormand-Prince), Rodas4 (implicit, for stiff models), or RK4
+    /// Integration method: auto (adaptive Dormand-Prince), Rodas4 (implicit, for stiff models), ROS34PW2
+    /// (implicit, keeping its Jacobian over many steps: for stiff models with many states), or RK4
     /// (fixed step, the --saveat or the analysis's saveat/dtmax) (default: the analysis's alg)
     #[arg(long, value_name = "NAME")]
     pub alg: Option<String>,

@@ -326,6 +326,11 @@ fn method(options: &SimulationOptions) -> String {
             number(options.abstol),
             number(options.reltol)
         ),
+        Method::Ros34Pw2 => format!(
+            "implicit ROS34PW2 (for stiff models with many states), abstol {}, reltol {}",
+            number(options.abstol),
+            number(options.reltol)
+        ),
     }
 }
 

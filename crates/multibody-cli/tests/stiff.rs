@@ -88,7 +88,27 @@ fn the_explicit_method_warns_that_a_stiff_model_is_stiff_and_names_the_state() {
     println!("Dormand-Prince: worst error {worst:.3} tolerances; {:?}", solution.warnings());
     assert!(worst < 1.0, "stable steps are accurate too: {worst} tolerances");
     let warning = solution.warnings().iter().find(|w| w.contains("stiff")).expect("a stiffness warning");
-    assert!(warning.contains("`slider.v`") && warning.contains("Rodas4"), "{warning}");
+    assert!(warning.contains("`slider.v`") && warning.contains("ROS34PW2"), "{warning}");
+}
+
+/// The Rosenbrock-W method (its Jacobian kept over many steps) on the same
+/// stiff spring-damper: within the tolerance of the closed form, at far
+/// fewer evaluations than the explicit method.
+#[test]
+fn the_w_method_follows_a_stiff_spring_damper_within_its_tolerance() {
+    let (mechanism, mut options, exact) = stiff_spring();
+    options.method = Method::Ros34Pw2;
+    let ends = mechanism.simulate(&SimulationOptions { saveat: 0.0, ..options.clone() }).unwrap();
+    println!(
+        "ROS34PW2: {} steps, worst error at their ends {:.3} tolerances",
+        ends.len() - 1,
+        worst_in_tolerances(&ends, &exact, &options)
+    );
+    let solution = mechanism.simulate(&options).unwrap();
+    let worst = worst_in_tolerances(&solution, &exact, &options);
+    println!("ROS34PW2: worst error {worst:.3} tolerances; {:?}", solution.warnings());
+    assert!(worst < 1.0, "the error is {worst} tolerances");
+    assert!(solution.warnings().is_empty(), "{:?}", solution.warnings());
 }
 
 /// Without damping nothing is stiff, but a fast oscillation runs through so

@@ -304,8 +304,8 @@ fn method(
                 ))
                 .primary(span, "not available")
                 .help(
-                    "write `alg = ODEAlg.Auto()` for the default, `alg = \"Rodas4\"` for stiff models, or \
-                     `alg = \"RK4\"` for fixed-step RK4",
+                    "write `alg = ODEAlg.Auto()` for the default, `alg = \"Rodas4\"` or `alg = \"ROS34PW2\"` for \
+                     stiff models, or `alg = \"RK4\"` for fixed-step RK4",
                 ),
             );
             Ok(Method::DormandPrince45)

@@ -22,7 +22,7 @@
 //! outputs still report the library's angles.
 
 use super::integrator::{DenseStep, Failure, Observer, OdeSystem, Reached, Stats, Tolerances};
-use super::{dopri5, rk4, rodas, Method, Rows, RunReport, SampleSink, SimulationOptions, Solution, Stopped};
+use super::{dopri5, rk4, rodas, rosw, Method, Rows, RunReport, SampleSink, SimulationOptions, Solution, Stopped};
 use crate::assembly::Mechanism;
 use crate::dynamics::chart::{self, EulerChart};
 use crate::dynamics::{DynamicsError, StateJacobian, Workspace};
@@ -79,6 +79,7 @@ enum Stepper {
     DormandPrince(dopri5::DormandPrince),
     Rk4(rk4::Rk4),
     Rodas4(rodas::Rodas4),
+    RosW(rosw::RosW),
 }
 
 impl Stepper {
@@ -88,6 +89,7 @@ impl Stepper {
             Method::DormandPrince45 => Stepper::DormandPrince(dopri5::DormandPrince::new(n, tol)),
             Method::Rk4 { dt } => Stepper::Rk4(rk4::Rk4::new(n, dt)),
             Method::Rodas4 => Stepper::Rodas4(rodas::Rodas4::new(n, tol)),
+            Method::Ros34Pw2 => Stepper::RosW(rosw::RosW::new(n, tol)),
         }
     }
 
@@ -96,6 +98,7 @@ impl Stepper {
             Stepper::DormandPrince(s) => s.start(sys, t, y, horizon),
             Stepper::Rk4(s) => s.start(sys, t, y),
             Stepper::Rodas4(s) => s.start(sys, t, y, horizon),
+            Stepper::RosW(s) => s.start(sys, t, y, horizon),
         }
     }
 
@@ -120,6 +123,7 @@ impl Stepper {
             Stepper::DormandPrince(s) => s.advance(sys, tf, observe),
             Stepper::Rk4(s) => s.advance(sys, tf, observe),
             Stepper::Rodas4(s) => s.advance(sys, tf, observe),
+            Stepper::RosW(s) => s.advance(sys, tf, observe),
         }
     }
 
@@ -154,6 +158,7 @@ impl Stepper {
             Stepper::DormandPrince(s) => s.y(),
             Stepper::Rk4(s) => s.y(),
             Stepper::Rodas4(s) => s.y(),
+            Stepper::RosW(s) => s.y(),
         }
     }
 
@@ -162,6 +167,7 @@ impl Stepper {
             Stepper::DormandPrince(s) => s.stats(),
             Stepper::Rk4(s) => s.stats(),
             Stepper::Rodas4(s) => s.stats(),
+            Stepper::RosW(s) => s.stats(),
         }
     }
 }
@@ -618,7 +624,11 @@ impl<'m> Simulator<'m> {
             events: 0,
             last_event: None,
             stats: Stats::default(),
-            jacobian: if options.method == Method::Rodas4 { mechanism.system.state_jacobian_work() } else { None },
+            jacobian: if matches!(options.method, Method::Rodas4 | Method::Ros34Pw2) {
+                mechanism.system.state_jacobian_work()
+            } else {
+                None
+            },
             options: options.clone(),
             mechanism,
         };
