@@ -17,6 +17,7 @@ mod dopri5;
 pub mod integrator;
 mod rk4;
 mod rodas;
+mod rosenbrock;
 mod rosw;
 mod simulator;
 mod solution;

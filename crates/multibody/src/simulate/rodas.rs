@@ -85,7 +85,8 @@
 use super::integrator::{
     finish_step, initial_step, DenseStep, Failure, Observer, OdeSystem, Reached, Stats, Stopped, Tolerances,
 };
-use crate::math::dense::{lu, lu_solve};
+use super::rosenbrock;
+use crate::math::dense::lu_solve;
 
 /// The diagonal of the method: `W = I/(hγ) - J`.
 const GAMMA: f64 = 0.25;
@@ -376,42 +377,13 @@ impl Rodas4 {
     /// `∂f/∂y` (the system's own where it has one) and `∂f/∂t` at
     /// `(t, self.y)`, by forward differences from `self.f = f(t, y)`.
     fn jacobian<S: OdeSystem>(&mut self, sys: &mut S, t: f64, stats: &mut Stats) -> Result<(), S::Error> {
-        let n = self.y.len();
-        let given = sys.jacobian(t, &self.y, &mut self.jac)?;
-        for j in (0..n).filter(|_| !given) {
-            let yj = self.y[j];
-            self.y[j] = yj + (f64::EPSILON * yj.abs().max(1e-5)).sqrt();
-            // The increment as represented, so the quotient is exact for a linear f.
-            let delta = self.y[j] - yj;
-            stats.evaluations += 1;
-            let evaluated = sys.rhs(t, &self.y, &mut self.arg);
-            self.y[j] = yj;
-            evaluated?;
-            for i in 0..n {
-                self.jac[i * n + j] = (self.arg[i] - self.f[i]) / delta;
-            }
-        }
-        let t1 = t + (f64::EPSILON * t.abs().max(1e-5)).sqrt();
-        let dt = t1 - t;
-        stats.evaluations += 1;
-        sys.rhs(t1, &self.y, &mut self.arg)?;
-        for i in 0..n {
-            self.f_t[i] = (self.arg[i] - self.f[i]) / dt;
-        }
-        Ok(())
+        rosenbrock::jacobian(sys, t, &mut self.y, &self.f, &mut self.jac, &mut self.arg, stats)?;
+        rosenbrock::time_derivative(sys, t, &self.y, &self.f, &mut self.f_t, &mut self.arg, stats)
     }
 
     /// Forms `W = I/(hγ) - J` and factors it; false if it is singular.
     fn factor(&mut self, h: f64) -> bool {
-        let n = self.y.len();
-        let diagonal = 1.0 / (h * GAMMA);
-        for (w, j) in self.w.iter_mut().zip(&self.jac) {
-            *w = -j;
-        }
-        for i in 0..n {
-            self.w[i * n + i] += diagonal;
-        }
-        lu(&mut self.w, n, &mut self.pivots)
+        rosenbrock::factor(&self.jac, &mut self.w, &mut self.pivots, h * GAMMA)
     }
 
     /// The six stages of a step of size `h` from `(t, self.y)`, and the

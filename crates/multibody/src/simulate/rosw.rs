@@ -47,7 +47,8 @@
 use super::integrator::{
     finish_step, initial_step, DenseStep, Failure, Observer, OdeSystem, Reached, Stats, Stopped, Tolerances,
 };
-use crate::math::dense::{lu, lu_solve};
+use super::rosenbrock;
+use crate::math::dense::lu_solve;
 
 const STAGES: usize = 4;
 #[allow(clippy::excessive_precision)]
@@ -408,51 +409,20 @@ impl RosW {
         self.stats
     }
 
-    /// `∂f/∂y` at `(t, self.y)` (the system's own where it has one), by
-    /// forward differences from `self.f`.
+    /// `∂f/∂y` at `(t, self.y)` (the system's own where it has one).
     fn jacobian<S: OdeSystem>(&mut self, sys: &mut S, t: f64, stats: &mut Stats) -> Result<(), S::Error> {
-        let n = self.y.len();
-        let given = sys.jacobian(t, &self.y, &mut self.jac)?;
-        for j in (0..n).filter(|_| !given) {
-            let yj = self.y[j];
-            self.y[j] = yj + (f64::EPSILON * yj.abs().max(1e-5)).sqrt();
-            let delta = self.y[j] - yj;
-            stats.evaluations += 1;
-            let evaluated = sys.rhs(t, &self.y, &mut self.arg);
-            self.y[j] = yj;
-            evaluated?;
-            for i in 0..n {
-                self.jac[i * n + j] = (self.arg[i] - self.f[i]) / delta;
-            }
-        }
-        Ok(())
+        rosenbrock::jacobian(sys, t, &mut self.y, &self.f, &mut self.jac, &mut self.arg, stats)
     }
 
-    /// `∂f/∂t` at `(t, self.y)`, by a forward difference from `self.f`:
-    /// at every step (a stiff component following a forcing needs the
-    /// forcing's rate of the step itself).
+    /// `∂f/∂t` at `(t, self.y)`: at every step (a stiff component following
+    /// a forcing needs the forcing's rate of the step itself).
     fn time_derivative<S: OdeSystem>(&mut self, sys: &mut S, t: f64, stats: &mut Stats) -> Result<(), S::Error> {
-        let t1 = t + (f64::EPSILON * t.abs().max(1e-5)).sqrt();
-        let dt = t1 - t;
-        stats.evaluations += 1;
-        sys.rhs(t1, &self.y, &mut self.arg)?;
-        for i in 0..self.y.len() {
-            self.f_t[i] = (self.arg[i] - self.f[i]) / dt;
-        }
-        Ok(())
+        rosenbrock::time_derivative(sys, t, &self.y, &self.f, &mut self.f_t, &mut self.arg, stats)
     }
 
     /// Forms `W = I/(hγ) - J` and factors it; false if it is singular.
     fn factor(&mut self, h: f64) -> bool {
-        let n = self.y.len();
-        let diagonal = 1.0 / (h * GAMMA);
-        for (w, j) in self.w.iter_mut().zip(&self.jac) {
-            *w = -j;
-        }
-        for i in 0..n {
-            self.w[i * n + i] += diagonal;
-        }
-        let factored = lu(&mut self.w, n, &mut self.pivots);
+        let factored = rosenbrock::factor(&self.jac, &mut self.w, &mut self.pivots, h * GAMMA);
         self.w_h = if factored { h } else { f64::NAN };
         factored
     }
@@ -554,24 +524,11 @@ impl RosW {
 #[cfg(test)]
 mod tests {
     use super::super::dopri5::DormandPrince;
+    use super::super::integrator::test_systems::Oscillator;
     use super::*;
 
     fn tol(tol: f64) -> Tolerances {
         Tolerances { abstol: tol, reltol: tol, dtmax: 0.0 }
-    }
-
-    /// `y'' = -y` as a system, with its exact solution from (1, 0).
-    struct Oscillator;
-    impl OdeSystem for Oscillator {
-        type Error = ();
-        fn dim(&self) -> usize {
-            2
-        }
-        fn rhs(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), ()> {
-            dy[0] = y[1];
-            dy[1] = -y[0];
-            Ok(())
-        }
     }
 
     /// One step of size `h` from (1, 0), with a fresh Jacobian: the error of

@@ -1,0 +1,71 @@
+//! What the Rosenbrock methods ([`super::rodas`], [`super::rosw`]) share:
+//! `∂f/∂y` and `∂f/∂t` by forward differences, and the matrix
+//! `W = I/(hγ) - J` factored.
+
+use super::integrator::{OdeSystem, Stats};
+use crate::math::dense::lu;
+
+/// `∂f/∂y` at `(t, y)` into `jac` (n x n, row-major): the system's own
+/// where it has one, else one evaluation per column with the increment
+/// `sqrt(eps · max(|y_j|, 1e-5))` of Hairer's codes, from `f = f(t, y)`.
+/// `y` is restored; `scratch` holds an evaluation.
+pub(super) fn jacobian<S: OdeSystem>(
+    sys: &mut S,
+    t: f64,
+    y: &mut [f64],
+    f: &[f64],
+    jac: &mut [f64],
+    scratch: &mut [f64],
+    stats: &mut Stats,
+) -> Result<(), S::Error> {
+    let n = y.len();
+    if sys.jacobian(t, y, jac)? {
+        return Ok(());
+    }
+    for j in 0..n {
+        let yj = y[j];
+        y[j] = yj + (f64::EPSILON * yj.abs().max(1e-5)).sqrt();
+        // The increment as represented, so the quotient is exact for a linear f.
+        let delta = y[j] - yj;
+        stats.evaluations += 1;
+        let evaluated = sys.rhs(t, y, scratch);
+        y[j] = yj;
+        evaluated?;
+        for i in 0..n {
+            jac[i * n + j] = (scratch[i] - f[i]) / delta;
+        }
+    }
+    Ok(())
+}
+
+/// `∂f/∂t` at `(t, y)` into `f_t`, by a forward difference from `f = f(t, y)`.
+pub(super) fn time_derivative<S: OdeSystem>(
+    sys: &mut S,
+    t: f64,
+    y: &[f64],
+    f: &[f64],
+    f_t: &mut [f64],
+    scratch: &mut [f64],
+    stats: &mut Stats,
+) -> Result<(), S::Error> {
+    let t1 = t + (f64::EPSILON * t.abs().max(1e-5)).sqrt();
+    let dt = t1 - t;
+    stats.evaluations += 1;
+    sys.rhs(t1, y, scratch)?;
+    for ((d, a), b) in f_t.iter_mut().zip(scratch.iter()).zip(f) {
+        *d = (a - b) / dt;
+    }
+    Ok(())
+}
+
+/// Forms `W = I/(hγ) - J` in `w` and factors it; false if it is singular.
+pub(super) fn factor(jac: &[f64], w: &mut [f64], pivots: &mut [usize], h_gamma: f64) -> bool {
+    let n = pivots.len();
+    for (w, j) in w.iter_mut().zip(jac) {
+        *w = -j;
+    }
+    for i in 0..n {
+        w[i * n + i] += 1.0 / h_gamma;
+    }
+    lu(w, n, pivots)
+}
