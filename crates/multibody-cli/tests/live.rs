@@ -259,13 +259,23 @@ fn the_robot_axis_runs_in_the_page_with_a_changed_gain() {
     assert_eq!(finals.len(), 1, "the page did not report its run:\n{}", shot.log);
     let finals = pairs(finals[0]);
     assert!(finals.len() >= 6, "{finals:?}");
-    let mut worst: f64 = 0.0;
+    let out =
+        multibody(&dir, &["run", &folder, "--analysis", "OneAxisRun", "--out", "unchanged.csv", "--signals", "*"]);
+    assert_eq!(code(&out), 0, "{}", stderr(&out));
+    let unchanged = Table::load(&dir.join("unchanged.csv"));
+    let (mut worst, mut change): (f64, f64) = (0.0, 0.0);
     for (name, value) in &finals {
+        let scale = |x: f64| x.abs().max(1.0);
         let expected = *reference.column(name).last().unwrap();
-        worst = worst.max((value - expected).abs() / expected.abs().max(1.0));
+        worst = worst.max((value - expected).abs() / scale(expected));
+        let before = *unchanged.column(name).last().unwrap();
+        change = change.max((value - before).abs() / scale(before));
     }
     // The WebAssembly engine's math library rounds sines and powers apart
-    // from the native one's, and friction events move with such bits.
-    eprintln!("one axis with kp = 8: worst relative difference to the command {worst:.1e} (allowed 1e-9)");
-    assert!(worst <= 1e-9, "the page's final state differs from the command's by {worst:e}");
+    // from the native one's: the steps part, and the two runs agree to the
+    // run's accuracy (tolerance 1e-8), not to the bit; the gain's own
+    // effect is far larger.
+    eprintln!("one axis with kp = 8: worst relative difference to the command {worst:.1e} (allowed 1e-5); kp = 5 -> 8 changes the end by {change:.1e}");
+    assert!(worst <= 1e-5, "the page's final state differs from the command's by {worst:e}");
+    assert!(change > 1e-3, "the changed gain shows: {change:e}");
 }

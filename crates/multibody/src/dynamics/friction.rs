@@ -19,15 +19,19 @@ impl System {
         if !self.uses_mass_matrix() {
             return false;
         }
-        !self.line_masses.is_empty()
-            || self.constraint_rows > self.frictions.len()
-            || self.frictions.iter().any(|f| {
-                let flags = FrictionFlags::read(&ws.discrete[f.discrete..f.discrete + FRICTION_DISCRETE]);
-                let sliding = matches!(flags.mode, FrictionMode::Forward | FrictionMode::Backward)
-                    && !flags.start_forward
-                    && !flags.start_backward;
-                !(sliding || flags.free)
-            })
+        !self.line_masses.is_empty() || self.constraint_rows > self.frictions.len() || self.friction_holds(ws)
+    }
+
+    /// Whether a friction element holds (stuck, breaking away, or in no
+    /// mode yet) in the workspace's discrete state.
+    pub(crate) fn friction_holds(&self, ws: &Workspace) -> bool {
+        self.frictions.iter().any(|f| {
+            let flags = FrictionFlags::read(&ws.discrete[f.discrete..f.discrete + FRICTION_DISCRETE]);
+            let sliding = matches!(flags.mode, FrictionMode::Forward | FrictionMode::Backward)
+                && !flags.start_forward
+                && !flags.start_backward;
+            !(sliding || flags.free)
+        })
     }
 
     /// The normal force `cgeo fn` of friction element `k` (the law's scale

@@ -57,7 +57,7 @@ const NON_STIFF_STEPS: usize = 6;
 
 /// The integrator's memory, allocated once per integration.
 pub struct DormandPrince {
-    tol: Tolerances,
+    pub(crate) tol: Tolerances,
     k: [Vec<f64>; 7],
     y: Vec<f64>,
     y_new: Vec<f64>,

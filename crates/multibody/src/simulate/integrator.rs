@@ -219,7 +219,7 @@ pub(crate) fn initial_step<S: OdeSystem>(
     // friction element's speed of 1e-15 after its break-away's second
     // event) gives a step the time cannot resolve, which stops the run
     // before the error control could grow it. Runs with a step bound (the
-    // simulator sets one for models with friction) start at least at a
+    // simulator sets one, of any size, for models with friction) start at least at a
     // resolvable step; unbounded runs keep Hairer's guess, whose collapse
     // is how events that pile up (a ball bouncing to rest) are noticed.
     let first = if tol.dtmax > 0.0 { (100.0 * h).max(1e3 * f64::EPSILON * t.abs()) } else { 100.0 * h };

@@ -135,7 +135,7 @@ const EXPONENT: f64 = 0.25;
 
 /// The integrator's memory, allocated once.
 pub struct Rodas4 {
-    tol: Tolerances,
+    pub(crate) tol: Tolerances,
     /// `∂f/∂y` at the start of the current step (n x n, row-major).
     jac: Vec<f64>,
     /// The LU factors of `W = I/(hγ) - J`, and their row pivots.

@@ -93,6 +93,16 @@ impl Stepper {
         }
     }
 
+    /// The largest step from the next start on (0: none).
+    fn set_dtmax(&mut self, dtmax: f64) {
+        match self {
+            Stepper::DormandPrince(s) => s.tol.dtmax = dtmax,
+            Stepper::Rk4(_) => {}
+            Stepper::Rodas4(s) => s.tol.dtmax = dtmax,
+            Stepper::RosW(s) => s.tol.dtmax = dtmax,
+        }
+    }
+
     fn start<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64], horizon: f64) -> Result<(), Stop<S::Error>> {
         match self {
             Stepper::DormandPrince(s) => s.start(sys, t, y, horizon),
@@ -515,6 +525,14 @@ pub struct Simulator<'m> {
     /// Whether the integrator holds `(t, y)` with its derivative, ready to
     /// step on (events, inputs and a new state make it start again).
     started: bool,
+    /// The step bound while the states may stand frozen: without states
+    /// nothing bounds the steps, and a relation of the signals could change
+    /// and change back inside one; a stuck friction element freezes its
+    /// states (the error estimate is zero, the steps grow) while the force
+    /// it holds follows the sources and may pass its limit and fall back
+    /// inside one long step. Steps no longer than the output interval then
+    /// (with friction, only while an element is stuck).
+    frozen_dtmax: Option<f64>,
     /// Whether only an input changed since the integrator stood ready: it
     /// starts again with the step it would have taken next, and (a host
     /// that sets an input before a call will likely do so before the next)
@@ -566,15 +584,12 @@ impl<'m> Simulator<'m> {
         // element freezes its states (the error estimate is zero, the
         // steps grow), while the force it holds follows the sources and
         // may pass its limit and fall back inside one long step.
-        let bounded;
-        let frozen = n == 0 || !mechanism.system.frictions.is_empty();
-        let options = if frozen && !mechanism.system.events.indicators.is_empty() && options.saveat > 0.0 {
-            let dtmax = if options.dtmax > 0.0 { options.dtmax.min(options.saveat) } else { options.saveat };
-            bounded = SimulationOptions { dtmax, ..options.clone() };
-            &bounded
-        } else {
-            options
-        };
+        // (Friction: only while an element is stuck; see `frozen_dtmax`.)
+        let frozen = (n == 0 || !mechanism.system.frictions.is_empty())
+            && !mechanism.system.events.indicators.is_empty()
+            && options.saveat > 0.0;
+        let frozen_dtmax =
+            frozen.then(|| if options.dtmax > 0.0 { options.dtmax.min(options.saveat) } else { options.saveat });
         if y0.len() != n {
             return Err(fail(format!("the start state has {} values, the mechanism {n} states", y0.len())));
         }
@@ -629,6 +644,7 @@ impl<'m> Simulator<'m> {
             } else {
                 None
             },
+            frozen_dtmax,
             options: options.clone(),
             mechanism,
         };
@@ -1216,6 +1232,16 @@ impl<'m> Simulator<'m> {
         let mut system = Dynamics { mechanism, ws, jacobian: jacobian.as_mut(), charts, indicators };
         let horizon = (self.options.stop - self.options.start).max(tf - self.t);
         if !self.started {
+            let frozen =
+                system.mechanism.system.states.start.is_empty() || system.mechanism.system.friction_holds(system.ws);
+            stepper.set_dtmax(match self.frozen_dtmax {
+                Some(bound) if frozen => bound,
+                // Sliding: no bound, but a bound all the same (of any
+                // size), so that the first step after a break-away starts
+                // at a step the time resolves (see `initial_step`).
+                Some(_) if self.options.dtmax == 0.0 => f64::MAX,
+                _ => self.options.dtmax,
+            });
             let started = if self.input_changed {
                 stepper.restart(&mut system, self.t, &self.y, horizon)
             } else {
