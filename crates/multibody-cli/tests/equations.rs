@@ -10,7 +10,7 @@
 mod common;
 
 use common::{crate_path, multibody, scratch, Table};
-use multibody_reference::Signals;
+use multibody_reference::{pendulum_period, rk4, Signals};
 
 /// Runs `examples/equations/FILE` (its analysis `analysis`, if given) and
 /// reads the CSV.
@@ -400,12 +400,7 @@ fn an_op_amp_amplifier_drives_a_linear_motor_as_its_closed_form() {
 fn a_pendulum_in_cartesian_coordinates_returns_after_its_elliptic_period() {
     let table = run("cartesian_pendulum.dyad", None);
     let (length, g, theta0) = (0.8f64, 9.81f64, 30f64.to_radians());
-    let k = (theta0 / 2.0).sin();
-    let (mut a, mut b) = (1.0f64, (1.0 - k * k).sqrt());
-    for _ in 0..30 {
-        (a, b) = ((a + b) / 2.0, (a * b).sqrt());
-    }
-    let period = 2.0 * std::f64::consts::PI / a * (length / g).sqrt();
+    let period = pendulum_period(length, g, theta0);
     let time = table.times();
     let last = time.len() - 1;
     // The file stops at two periods rounded to 1e-6 s, where the bob moves 1.5e-6 m at most.
@@ -436,33 +431,24 @@ fn the_tutorial_dc_motor_holds_its_speed_as_its_loop_equations() {
     let table = run("dc_motor_speed_control.dyad", None);
     let (r, l, k_m, j, f) = (0.5, 4.5e-3, 0.5, 0.02, 0.01);
     let (k, ti, td, nd, ni) = (0.5, 0.1, 1e5, 10.0, 0.9);
-    // `loaded`: whether the step lies after the load's step (the steps end on the samples, 3 s among them).
-    let rates = |loaded: bool, s: [f64; 4]| {
-        let [i, w, xi, xd] = s;
+    let rates = |load: f64, s: &[f64; 4]| {
+        let [i, w, xi, xd] = *s;
         let e = 1.0 - w;
         let d = nd * (-w - xd);
         let v = k * (e + xi + d);
         let u = v.clamp(-5.0, 5.0);
-        let load = if loaded { -0.3 } else { 0.0 };
         [(u - r * i - k_m * w) / l, (k_m * i - f * w + load) / j, (e + (u - v) / (k * ni)) / ti, (-w - xd) * nd / td]
     };
-    let h: f64 = 1e-5;
-    let mut s = [0.0; 4];
-    let mut t = 0.0;
+    // Sample interval by sample interval (0.01 s, RK4 at 1e-5 s), the load on from the one that starts at 3 s.
     let time = table.times().to_vec();
     let (w_ours, i_ours) = (table.column("motor.inertia.w"), table.column("motor.L1.i"));
     let (mut worst_w, mut worst_i) = (0.0f64, 0.0f64);
-    for (n, &sample) in time.iter().enumerate() {
-        while t < sample - 1e-12 {
-            let step = h.min(sample - t);
-            let add = |s: [f64; 4], k: [f64; 4], c: f64| std::array::from_fn::<f64, 4, _>(|m| s[m] + c * k[m]);
-            let loaded = t >= 3.0 - 1e-12;
-            let k1 = rates(loaded, s);
-            let k2 = rates(loaded, add(s, k1, step / 2.0));
-            let k3 = rates(loaded, add(s, k2, step / 2.0));
-            let k4 = rates(loaded, add(s, k3, step));
-            s = std::array::from_fn(|m| s[m] + step / 6.0 * (k1[m] + 2.0 * k2[m] + 2.0 * k3[m] + k4[m]));
-            t += step;
+    let mut s = [0.0; 4];
+    for n in 0..time.len() {
+        if n > 0 {
+            let load = if time[n - 1] >= 3.0 - 1e-12 { -0.3 } else { 0.0 };
+            let every = ((time[n] - time[n - 1]) / 1e-5).round() as usize;
+            s = rk4(|s| rates(load, s), s, (time[n] - time[n - 1]) / every as f64, 2, every)[1];
         }
         worst_w = worst_w.max((w_ours[n] - s[1]).abs());
         worst_i = worst_i.max((i_ours[n] - s[0]).abs());

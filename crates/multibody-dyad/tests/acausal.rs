@@ -8,6 +8,7 @@ mod common;
 
 use common::{error_of, example, report, simulate, worst_against, worst_difference};
 use multibody_dyad::Package;
+use multibody_reference::{pendulum_period, rk4};
 
 /// A rotational spring-damper as the library writes its own: `w_rel` is
 /// `der` of the stretch (the component's relations, without `end`).
@@ -943,13 +944,7 @@ fn rising_root(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
 fn a_pendulum_in_cartesian_coordinates_runs_through_index_reduction_of_order_three() {
     let (m, length, g): (f64, f64, f64) = (1.5, 0.8, 9.81);
     let theta0: f64 = 0.7;
-    // K(k) = pi / (2 agm(1, sqrt(1 - k^2))).
-    let k = (theta0 / 2.0).sin();
-    let (mut a, mut b) = (1.0f64, (1.0 - k * k).sqrt());
-    for _ in 0..30 {
-        (a, b) = ((a + b) / 2.0, (a * b).sqrt());
-    }
-    let period = 4.0 * std::f64::consts::PI / (2.0 * a) * (length / g).sqrt();
+    let period = pendulum_period(length, g, theta0);
     let text = format!(
         r#"
 example component CartesianPendulum
@@ -979,39 +974,20 @@ end
         step = period / 200.0
     );
     let solution = simulate(&text);
-    // theta'' = -(g/L) sin(theta) from (theta0, 0), by RK4.
-    let angle = |t_end: f64| {
-        let f = |s: [f64; 2]| [s[1], -(g / length) * s[0].sin()];
-        let steps = (t_end / 1e-4).ceil().max(1.0) as usize;
-        let h = t_end / steps as f64;
-        let mut s = [theta0, 0.0];
-        for _ in 0..steps {
-            let k1 = f(s);
-            let k2 = f([s[0] + h / 2.0 * k1[0], s[1] + h / 2.0 * k1[1]]);
-            let k3 = f([s[0] + h / 2.0 * k2[0], s[1] + h / 2.0 * k2[1]]);
-            let k4 = f([s[0] + h * k3[0], s[1] + h * k3[1]]);
-            for i in 0..2 {
-                s[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-            }
-        }
-        s
+    // theta'' = -(g/L) sin(theta) from (theta0, 0), by RK4 at about 1e-4 s, on the saved grid.
+    let every = ((period / 200.0) / 1e-4).ceil() as usize;
+    let angles = rk4(|s| [s[1], -(g / length) * s[0].sin()], [theta0, 0.0], period / 200.0 / every as f64, 201, every);
+    let worst = |name: &str, exact: &dyn Fn(&[f64; 2]) -> f64| {
+        let column = solution.get(name).unwrap();
+        assert_eq!(column.len(), angles.len(), "the saved grid");
+        column.iter().zip(&angles).map(|(x, s)| (x - exact(s)).abs()).fold(0.0, f64::max)
     };
-    report("x = L sin(theta)", worst_against(&solution, "x", |t| length * angle(t)[0].sin()), 1e-9);
-    report("y = -L cos(theta)", worst_against(&solution, "y", |t| -length * angle(t)[0].cos()), 1e-9);
-    report(
-        "vx = L cos(theta) theta'",
-        worst_against(&solution, "vx", |t| {
-            let s = angle(t);
-            length * s[0].cos() * s[1]
-        }),
-        1e-8,
-    );
+    report("x = L sin(theta)", worst("x", &|s| length * s[0].sin()), 1e-9);
+    report("y = -L cos(theta)", worst("y", &|s| -length * s[0].cos()), 1e-9);
+    report("vx = L cos(theta) theta'", worst("vx", &|s| length * s[0].cos() * s[1]), 1e-8);
     report(
         "lambda = m (g cos(theta) + L theta'^2) / L",
-        worst_against(&solution, "lambda", |t| {
-            let s = angle(t);
-            m * (g * s[0].cos() + length * s[1] * s[1]) / length
-        }),
+        worst("lambda", &|s| m * (g * s[0].cos() + length * s[1] * s[1]) / length),
         1e-6,
     );
     let x = solution.get("x").unwrap();
@@ -1141,8 +1117,8 @@ analysis CartesianDoublePendulumRun
 end
 "#
     ));
-    let rates = |s: [f64; 4]| {
-        let [t1, t2, w1, w2] = s;
+    let rates = |s: &[f64; 4]| {
+        let [t1, t2, w1, w2] = *s;
         let d = t1 - t2;
         let den = 2.0 * m1 + m2 - m2 * (2.0 * d).cos();
         let a1 = (-g * (2.0 * m1 + m2) * t1.sin()
@@ -1153,34 +1129,16 @@ end
             / (l2 * den);
         [w1, w2, a1, a2]
     };
-    let angles = |t_end: f64| {
-        let steps = (t_end / 1e-4).ceil().max(1.0) as usize;
-        let h = t_end / steps as f64;
-        let mut s = [theta1, theta2, 0.0, 0.0];
-        let add = |s: [f64; 4], k: [f64; 4], f: f64| std::array::from_fn::<f64, 4, _>(|i| s[i] + f * k[i]);
-        for _ in 0..steps {
-            let k1 = rates(s);
-            let k2 = rates(add(s, k1, h / 2.0));
-            let k3 = rates(add(s, k2, h / 2.0));
-            let k4 = rates(add(s, k3, h));
-            s = std::array::from_fn(|i| s[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]));
-        }
-        s
+    // The solution's grid: every 0.02 s to 2 s, RK4 at 1e-4 s.
+    let angles = rk4(rates, [theta1, theta2, 0.0, 0.0], 1e-4, 101, 200);
+    let worst = |name: &str, exact: &dyn Fn(&[f64; 4]) -> f64| {
+        let column = solution.get(name).unwrap();
+        assert_eq!(column.len(), angles.len(), "the saved grid");
+        column.iter().zip(&angles).map(|(x, s)| (x - exact(s)).abs()).fold(0.0, f64::max)
     };
-    let x2 = |t: f64| {
-        let s = angles(t);
-        l1 * s[0].sin() + l2 * s[1].sin()
-    };
-    report("upper bob x1 = L1 sin(theta1)", worst_against(&solution, "x1", |t| l1 * angles(t)[0].sin()), 1e-9);
-    report("lower bob x2", worst_against(&solution, "x2", x2), 1e-9);
-    report(
-        "lower bob y2",
-        worst_against(&solution, "y2", |t| {
-            let s = angles(t);
-            -l1 * s[0].cos() - l2 * s[1].cos()
-        }),
-        1e-9,
-    );
+    report("upper bob x1 = L1 sin(theta1)", worst("x1", &|s| l1 * s[0].sin()), 1e-9);
+    report("lower bob x2", worst("x2", &|s| l1 * s[0].sin() + l2 * s[1].sin()), 1e-9);
+    report("lower bob y2", worst("y2", &|s| -l1 * s[0].cos() - l2 * s[1].cos()), 1e-9);
 }
 
 /// The coordinates index reduction computes are chosen once, at the

@@ -258,3 +258,45 @@ pub fn expm2(a: [[f64; 2]; 2], t: f64) -> [[f64; 2]; 2] {
     let e = (s * t).exp();
     [[e * (c + g * (a[0][0] - s)), e * g * a[0][1]], [e * g * a[1][0], e * (c + g * (a[1][1] - s))]]
 }
+
+/// Classical RK4 with a fixed step, written here independently of the
+/// engine: returns the state at `t = n * dt * every` for `n` in
+/// `0..samples` (`every` steps per output sample). A reference for models
+/// whose closed form is an ODE of a few states.
+pub fn rk4<const N: usize>(
+    f: impl Fn(&[f64; N]) -> [f64; N],
+    y0: [f64; N],
+    dt: f64,
+    samples: usize,
+    every: usize,
+) -> Vec<[f64; N]> {
+    let mut y = y0;
+    let mut out = vec![y];
+    let axpy = |y: &[f64; N], a: f64, k: &[f64; N]| -> [f64; N] { std::array::from_fn(|i| y[i] + a * k[i]) };
+    for _ in 1..samples {
+        for _ in 0..every {
+            let k1 = f(&y);
+            let k2 = f(&axpy(&y, dt / 2.0, &k1));
+            let k3 = f(&axpy(&y, dt / 2.0, &k2));
+            let k4 = f(&axpy(&y, dt, &k3));
+            for i in 0..N {
+                y[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+            }
+        }
+        out.push(y);
+    }
+    out
+}
+
+/// The period of a pendulum of length `length` released at rest from the
+/// angle `theta0`: `4 K(sin(theta0 / 2)) sqrt(length / g)`, the complete
+/// elliptic integral `K(k) = pi / (2 agm(1, sqrt(1 - k^2)))` by the
+/// arithmetic-geometric mean.
+pub fn pendulum_period(length: f64, g: f64, theta0: f64) -> f64 {
+    let k = (theta0 / 2.0).sin();
+    let (mut a, mut b) = (1.0f64, (1.0 - k * k).sqrt());
+    for _ in 0..30 {
+        (a, b) = ((a + b) / 2.0, (a * b).sqrt());
+    }
+    2.0 * std::f64::consts::PI / a * (length / g).sqrt()
+}

@@ -336,36 +336,4 @@ pub fn check_derivative(label: &str, unit: &str, t: &[f64], h: f64, x: &[Vec<f64
     worst.check(label, unit, noise + truncation);
 }
 
-/// Classical RK4 with a fixed step, written here independently of the
-/// engine: returns the state at `t = n * dt` for every `n` multiple of
-/// `every` (so `every` steps per output sample).
-pub fn rk4<const N: usize>(
-    f: impl Fn(&[f64; N]) -> [f64; N],
-    y0: [f64; N],
-    dt: f64,
-    samples: usize,
-    every: usize,
-) -> Vec<[f64; N]> {
-    let mut y = y0;
-    let mut out = vec![y];
-    let axpy = |y: &[f64; N], a: f64, k: &[f64; N]| -> [f64; N] {
-        let mut r = *y;
-        for i in 0..N {
-            r[i] += a * k[i];
-        }
-        r
-    };
-    for _ in 1..samples {
-        for _ in 0..every {
-            let k1 = f(&y);
-            let k2 = f(&axpy(&y, dt / 2.0, &k1));
-            let k3 = f(&axpy(&y, dt / 2.0, &k2));
-            let k4 = f(&axpy(&y, dt, &k3));
-            for i in 0..N {
-                y[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-            }
-        }
-        out.push(y);
-    }
-    out
-}
+pub use multibody_reference::rk4;
