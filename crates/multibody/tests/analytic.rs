@@ -24,6 +24,7 @@ mod physics;
 
 use models::{compare_runs, tumbling_body};
 use multibody::{Model, OrientationState};
+use multibody_reference::rk4;
 use physics::*;
 use std::f64::consts::PI;
 

@@ -335,5 +335,3 @@ pub fn check_derivative(label: &str, unit: &str, t: &[f64], h: f64, x: &[Vec<f64
     println!("{label}: finite-difference truncation estimate {truncation:.1e}, sample noise bound {noise:.1e}");
     worst.check(label, unit, noise + truncation);
 }
-
-pub use multibody_reference::rk4;
