@@ -127,9 +127,6 @@ const DENSE_CHECK: f64 = 0.75;
 /// half the tolerance.
 const DENSE_WEIGHT: f64 = 2.0;
 
-const SAFETY: f64 = 0.9;
-const FAC_MIN: f64 = 0.2; // smallest step ratio h_new / h
-const FAC_MAX: f64 = 6.0; // largest step ratio
 /// The error estimate is of order 3: its local error goes as `h^4`.
 const EXPONENT: f64 = 0.25;
 
@@ -322,22 +319,14 @@ impl Rodas4 {
                 self.rejected_last = true;
                 continue;
             }
-            // h_new = h / fac
-            let mut fac = (err.powf(EXPONENT) / SAFETY).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN);
             if err > 1.0 {
                 self.stats.rejected += 1;
-                h /= fac;
+                h /= rosenbrock::step_factor(err, EXPONENT);
                 self.rejected_last = true;
                 continue;
             }
-            if let Some((h_prev, err_prev)) = self.previous {
-                // Gustafsson: also look at how the error changed since the
-                // last accepted step, and take the more cautious step.
-                let predicted =
-                    (h_prev / h * (err * err / err_prev).powf(EXPONENT) / SAFETY).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN);
-                fac = fac.max(predicted);
-            }
-            self.previous = Some((h, err.max(1e-2)));
+            // h_new = h / fac
+            let fac = rosenbrock::accepted_factor(err, h, &mut self.previous, EXPONENT);
             self.dense_coefficients();
             std::mem::swap(&mut self.y, &mut self.y_new);
             let t_end = if last { tf } else { t + h };

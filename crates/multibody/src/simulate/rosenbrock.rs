@@ -1,6 +1,6 @@
 //! What the Rosenbrock methods ([`super::rodas`], [`super::rosw`]) share:
-//! `∂f/∂y` and `∂f/∂t` by forward differences, and the matrix
-//! `W = I/(hγ) - J` factored.
+//! `∂f/∂y` and `∂f/∂t` by forward differences, the matrix
+//! `W = I/(hγ) - J` factored, and the step-size control.
 
 use super::integrator::{OdeSystem, Stats};
 use crate::math::dense::lu;
@@ -68,4 +68,30 @@ pub(super) fn factor(jac: &[f64], w: &mut [f64], pivots: &mut [usize], h_gamma: 
         w[i * n + i] += 1.0 / h_gamma;
     }
     lu(w, n, pivots)
+}
+
+const SAFETY: f64 = 0.9;
+/// The smallest and largest step ratios `h_new / h`.
+const FAC_MIN: f64 = 0.2;
+const FAC_MAX: f64 = 6.0;
+
+/// The divisor `fac` of the step, `h_new = h / fac`, for an error estimate
+/// `err` (in tolerances) whose local error goes as `h^(1/exponent)`.
+pub(super) fn step_factor(err: f64, exponent: f64) -> f64 {
+    (err.powf(exponent) / SAFETY).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN)
+}
+
+/// [`step_factor`] for an accepted step of size `h`, with Gustafsson's
+/// predictive correction (as Hairer's `rodas.f` does by default): also how
+/// the error changed since the last accepted step `previous` (its step and
+/// error), taking the more cautious step; `previous` becomes this one.
+pub(super) fn accepted_factor(err: f64, h: f64, previous: &mut Option<(f64, f64)>, exponent: f64) -> f64 {
+    let mut fac = step_factor(err, exponent);
+    if let Some((h_prev, err_prev)) = *previous {
+        let predicted =
+            (h_prev / h * (err * err / err_prev).powf(exponent) / SAFETY).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN);
+        fac = fac.max(predicted);
+    }
+    *previous = Some((h, err.max(1e-2)));
+    fac
 }

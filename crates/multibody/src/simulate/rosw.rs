@@ -89,9 +89,6 @@ const DENSE_WEIGHT: f64 = 2.0;
 const KEEP_STEP: f64 = 1.2;
 /// Accepted steps a Jacobian serves at most.
 const MAX_AGE: usize = 50;
-const SAFETY: f64 = 0.9;
-const FAC_MIN: f64 = 0.2;
-const FAC_MAX: f64 = 6.0;
 /// The estimate is of order 2: the local error goes as `h^3`.
 const EXPONENT: f64 = 1.0 / 3.0;
 
@@ -355,20 +352,10 @@ impl RosW {
                     self.age = None;
                     continue;
                 }
-                h = if err.is_finite() {
-                    h / (err.powf(EXPONENT) / SAFETY).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN)
-                } else {
-                    h * 0.1
-                };
+                h = if err.is_finite() { h / rosenbrock::step_factor(err, EXPONENT) } else { h * 0.1 };
                 continue;
             }
-            let mut fac = (err.powf(EXPONENT) / SAFETY).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN);
-            if let Some((h_prev, err_prev)) = self.previous {
-                let predicted =
-                    (h_prev / h * (err * err / err_prev).powf(EXPONENT) / SAFETY).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN);
-                fac = fac.max(predicted);
-            }
-            self.previous = Some((h, err.max(1e-2)));
+            let fac = rosenbrock::accepted_factor(err, h, &mut self.previous, EXPONENT);
             let [y0, f0, ..] = &mut self.cont;
             y0.copy_from_slice(&self.y);
             f0.copy_from_slice(&self.f);
