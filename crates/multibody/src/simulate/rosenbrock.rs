@@ -2,7 +2,7 @@
 //! `∂f/∂y` and `∂f/∂t` by forward differences, the matrix
 //! `W = I/(hγ) - J` factored, and the step-size control.
 
-use super::integrator::{OdeSystem, Stats};
+use super::integrator::{initial_step, OdeSystem, Stats, Tolerances};
 use crate::math::dense::lu;
 
 /// `∂f/∂y` at `(t, y)` into `jac` (n x n, row-major): the system's own
@@ -94,4 +94,26 @@ pub(super) fn accepted_factor(err: f64, h: f64, previous: &mut Option<(f64, f64)
     }
     *previous = Some((h, err.max(1e-2)));
     fac
+}
+
+/// A (re)start at `(t, y)`: `f(t, y)` into `f`, and the largest step and
+/// Hairer's first step for an estimate of exponent `exponent`, as
+/// `(h_max, h)`; `horizon` is the largest step without `dtmax`.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn begin<S: OdeSystem>(
+    sys: &mut S,
+    t: f64,
+    y: &[f64],
+    f: &mut [f64],
+    tol: &Tolerances,
+    horizon: f64,
+    exponent: f64,
+    scratch: (&mut [f64], &mut [f64]),
+    stats: &mut Stats,
+) -> Result<(f64, f64), S::Error> {
+    stats.evaluations += 1;
+    sys.rhs(t, y, f)?;
+    let h_max = if tol.dtmax > 0.0 { tol.dtmax } else { horizon.abs() };
+    let h = initial_step(sys, t, y, f, tol, h_max, exponent, scratch, stats)?;
+    Ok((h_max, h))
 }

@@ -44,9 +44,7 @@
 //!
 //! All memory is allocated in [`RosW::new`]; stepping allocates nothing.
 
-use super::integrator::{
-    finish_step, initial_step, DenseStep, Failure, Observer, OdeSystem, Reached, Stats, Stopped, Tolerances,
-};
+use super::integrator::{finish_step, DenseStep, Failure, Observer, OdeSystem, Reached, Stats, Stopped, Tolerances};
 use super::rosenbrock;
 use crate::math::dense::lu_solve;
 
@@ -260,18 +258,10 @@ impl RosW {
     ) -> Result<(), Stopped<S::Error>> {
         self.y.copy_from_slice(y);
         self.t = t;
-        let stop = |failure, stats| Err(Stopped { t, failure, stats });
-        self.stats.evaluations += 1;
-        if let Err(e) = sys.rhs(t, &self.y, &mut self.f) {
-            return stop(Failure::Rhs(e), self.stats);
-        }
-        self.h_max = if self.tol.dtmax > 0.0 { self.tol.dtmax } else { horizon.abs() };
         let scratch = (&mut self.arg[..], &mut self.u[0][..]);
-        self.h = match initial_step(sys, t, &self.y, &self.f, &self.tol, self.h_max, EXPONENT, scratch, &mut self.stats)
-        {
-            Ok(h) => h,
-            Err(e) => return stop(Failure::Rhs(e), self.stats),
-        };
+        let begun =
+            rosenbrock::begin(sys, t, &self.y, &mut self.f, &self.tol, horizon, EXPONENT, scratch, &mut self.stats);
+        (self.h_max, self.h) = begun.map_err(|e| Stopped { t, failure: Failure::Rhs(e), stats: self.stats })?;
         self.age = None;
         self.w_h = f64::NAN;
         self.f_t_at = f64::NAN;
