@@ -263,8 +263,12 @@ fn newton_step(jacobian: &Jacobian, b: usize, n: usize, ws: &mut Workspace) -> b
             lu_solve(matrix, n, &ws.newton_pivots[..n], &mut ws.newton_step[..n], &mut ws.newton_work[..n]);
             true
         }
-        Jacobian::Constant { factors, pivots } => {
-            lu_solve(factors, n, pivots, &mut ws.newton_step[..n], &mut ws.newton_work[..n]);
+        Jacobian::Constant { inverse } => {
+            let (step, work) = (&mut ws.newton_step[..n], &mut ws.newton_work[..n]);
+            work.copy_from_slice(step);
+            for (s, row) in step.iter_mut().zip(inverse.chunks_exact(n)) {
+                *s = row.iter().zip(work.iter()).map(|(a, b)| a * b).sum();
+            }
             true
         }
         Jacobian::Sparse { entries, lu: compiled } => {

@@ -83,8 +83,9 @@ pub enum Jacobian {
     /// them: a large block with a few unknowns an equation.
     Sparse { entries: Vec<Reg>, lu: Box<SparseLu> },
     /// A small linear block whose coefficients are numbers (a circuit of
-    /// resistors and op-amps): factored once, when compiled.
-    Constant { factors: Vec<f64>, pivots: Vec<usize> },
+    /// resistors and op-amps): inverted once, when compiled (row-major),
+    /// so that each solve is one product.
+    Constant { inverse: Vec<f64> },
 }
 
 /// A block of equations that are solved together, with the ops that

@@ -431,8 +431,8 @@ pub(super) fn generate(
                             dense[i * k + j] = d;
                         }
                         largest_factors = largest_factors.max(k * k);
-                        match constant_factors(&dense, k, linear) {
-                            Some((factors, pivots)) => Jacobian::Constant { factors, pivots },
+                        match constant_inverse(&dense, k, linear) {
+                            Some(inverse) => Jacobian::Constant { inverse },
                             None => Jacobian::Dense(dense.iter().map(|d| em.emit(d, &reg)).collect()),
                         }
                     }
@@ -666,16 +666,29 @@ fn reinit_target(
     ))
 }
 
-/// The LU factors of a linear block's Jacobian whose entries are all
+/// The inverse of a linear block's Jacobian whose entries are all
 /// numbers, or `None` (entries that vary, a nonlinear block, or singular:
 /// left to the evaluation, which reports it where it happens).
-fn constant_factors(dense: &[S], k: usize, linear: bool) -> Option<(Vec<f64>, Vec<usize>)> {
+fn constant_inverse(dense: &[S], k: usize, linear: bool) -> Option<Vec<f64>> {
     if !linear {
         return None;
     }
     let mut factors = dense.iter().map(|d| d.as_const()).collect::<Option<Vec<f64>>>()?;
     let mut pivots = vec![0; k];
-    crate::math::dense::lu(&mut factors, k, &mut pivots).then_some((factors, pivots))
+    if !crate::math::dense::lu(&mut factors, k, &mut pivots) {
+        return None;
+    }
+    // Column by column from the factors; stored row-major.
+    let (mut inverse, mut column, mut work) = (vec![0.0; k * k], vec![0.0; k], vec![0.0; k]);
+    for j in 0..k {
+        column.fill(0.0);
+        column[j] = 1.0;
+        crate::math::dense::lu_solve(&factors, k, &pivots, &mut column, &mut work);
+        for (i, x) in column.iter().enumerate() {
+            inverse[i * k + j] = *x;
+        }
+    }
+    Some(inverse)
 }
 
 /// The closed form of unknown `x` from residual `r = 0`, if `r` is
