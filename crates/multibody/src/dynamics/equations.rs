@@ -230,6 +230,11 @@ impl System {
         }
     }
 
+    /// The code only the outputs read, after the right-hand side.
+    pub(crate) fn run_output_equations(&self, ws: &mut Workspace) {
+        run_ops(&self.equations.output_ops, &self.equations.samples, ws);
+    }
+
     /// Copies the equations' states from `x` into their registers.
     #[inline]
     pub(crate) fn load_equation_states(&self, ws: &mut Workspace, x: &[f64]) {

@@ -145,6 +145,45 @@ impl Op {
         })
     }
 
+    /// The registers the instruction reads.
+    pub fn sources(self) -> impl Iterator<Item = Reg> {
+        let read: [Option<Reg>; 3] = match self {
+            Op::Copy(_, a) | Op::Neg(_, a) | Op::Call(_, _, a) | Op::Not(_, a) | Op::Store(_, a) => {
+                [Some(a), None, None]
+            }
+            Op::Add(_, a, b)
+            | Op::Sub(_, a, b)
+            | Op::Mul(_, a, b)
+            | Op::Div(_, a, b)
+            | Op::Pow(_, a, b)
+            | Op::Call2(_, _, a, b)
+            | Op::Compare(_, _, a, b)
+            | Op::And(_, a, b)
+            | Op::Or(_, a, b)
+            | Op::Relation { a, b, .. } => [Some(a), Some(b), None],
+            Op::Select(_, c, a, b) => [Some(c), Some(a), Some(b)],
+            Op::Fire { cond: a, .. } | Op::Change { value: a, .. } => [Some(a), None, None],
+            Op::Assign { src, fire, .. } | Op::Reinit { src, fire, .. } => [Some(src), Some(fire), None],
+            // (`Sample` and `Fire` read the time too, which no instruction writes.)
+            Op::Load(..) | Op::Initial(_) | Op::LoadPre(..) | Op::Sample { .. } => [None; 3],
+        };
+        read.into_iter().flatten()
+    }
+
+    /// Whether the instruction does more than write its register: it
+    /// stores a signal, watches for events or acts at them.
+    pub fn has_effects(self) -> bool {
+        matches!(
+            self,
+            Op::Store(..)
+                | Op::Relation { .. }
+                | Op::Fire { .. }
+                | Op::Change { .. }
+                | Op::Assign { .. }
+                | Op::Reinit { .. }
+        )
+    }
+
     /// The register the instruction writes (a store, an assignment and a
     /// re-initialization write none).
     pub fn dst(mut self) -> Option<Reg> {

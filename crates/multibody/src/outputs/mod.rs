@@ -197,6 +197,7 @@ impl Mechanism {
             &exact[..]
         };
         self.rhs(ws, t, y, &mut scratch.dy)?;
+        self.system.run_output_equations(ws);
         self.system.world_poses(ws);
         // True link accelerations: the ABA ran in a frame falling with gravity.
         for w in ws.links.iter_mut() {

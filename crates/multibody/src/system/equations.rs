@@ -120,6 +120,9 @@ pub struct EquationProgram {
     /// The register of each state's rate, in state order.
     pub rates: Vec<Reg>,
     pub ops: Vec<Op>,
+    /// The code only the outputs read (the rest of a circuit's pin
+    /// voltages): run after the right-hand side where outputs are recorded.
+    pub output_ops: Vec<Op>,
     pub blocks: Vec<EquationBlock>,
     /// Where each block runs: before the signal block with this position
     /// in the evaluation order (the number of blocks runs it after them all).

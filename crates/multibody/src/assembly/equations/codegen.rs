@@ -517,7 +517,7 @@ pub(super) fn generate(
         .filter(|(_, v)| matches!(v.role, Role::Declared(_)))
         .map(|(i, v)| (v.name.clone(), reg[i]))
         .collect();
-    let program = EquationProgram {
+    let mut program = EquationProgram {
         registers: em.w.registers,
         constants: em.w.preset,
         gathers,
@@ -536,7 +536,10 @@ pub(super) fn generate(
         when_actions,
         reinits,
         samples: em.events.samples,
+        output_ops: Vec::new(),
     };
+    super::fold::fold(&mut program, &mut reg);
+    super::liveness::split_output_code(&mut program, &reg);
     events.indicators.append(&mut em.events.indicators);
     events.discrete_start.append(&mut em.events.discrete);
     Ok((program, reg))

@@ -61,6 +61,7 @@ fn residuals(m: &Mechanism, ws: &mut Workspace, init: &Initial, y: &[f64], out: 
     for (reg, terms) in &init.rates {
         ws.registers[*reg as usize] = terms.iter().map(|&(i, c)| c * dy[i]).sum();
     }
+    m.system.run_output_equations(ws);
     for (r, e) in out.iter_mut().zip(&init.residuals) {
         *r = evaluate(e, t0, &|&v| ws.registers[init.registers[v] as usize]);
     }

@@ -16,7 +16,9 @@
 
 mod codegen;
 mod couplings;
+mod fold;
 mod initial;
+mod liveness;
 mod reduce;
 mod servo;
 mod sort;
