@@ -438,7 +438,8 @@ impl Instance {
         if (t - now).abs() > 1e-9 * now.abs().max(1.0) {
             return Err(format!("the step starts at t = {t}, but the FMU stands at t = {now}"));
         }
-        sim.advance_to(t + h)
+        // `t` may round a little below where the FMU stands: never back.
+        sim.advance_to((t + h).max(now))
             .map_err(|stopped| format!("the simulation stopped at t = {}: {}", stopped.time, stopped.reason))
     }
 

@@ -88,6 +88,10 @@ def test_inputs_outputs_state_and_reset():
     sim.step_until(1.0)
     assert len(sim.result()) == 101
     assert sim.event_count == 0
+    # Back in time: refused, and the simulator stays at 1.0 (it did nothing, silently).
+    with pytest.raises(multibody.SimulationError, match="steps forward only"):
+        sim.step_until(0.2)
+    assert sim.time == 1.0 and len(sim.result()) == 101
     sim.reset()
     assert sim.time == 0.0 and list(sim.state) == [0.0, 0.0] and sim.inputs == {"tau": 0.0}
     assert len(sim.result()) == 0

@@ -126,6 +126,24 @@ fn set_state_and_reset() {
     assert_eq!(sim.solution().len(), 11);
 }
 
+/// Asked for an earlier time, the simulator says it steps forward only
+/// (it did nothing without a word, and a host went on as if it stood
+/// there), and stays where it was.
+#[test]
+fn stepping_back_is_refused_and_the_simulator_stays() {
+    let mechanism = driven_inertia().assemble().unwrap();
+    let options = SimulationOptions { stop: 1.0, saveat: 0.1, ..Default::default() };
+    let mut sim = Simulator::new(&mechanism, &options).unwrap();
+    sim.set_state(&[0.0, 2.0]).unwrap();
+    sim.step_until(0.5).unwrap();
+    let (state, samples) = (sim.state().to_vec(), sim.solution().len());
+    let e = sim.step_until(0.2).unwrap_err();
+    assert!(e.reason.contains("stands at t = 0.5") && e.reason.contains("forward only"), "{}", e.reason);
+    assert_eq!((sim.time(), sim.state(), sim.solution().len()), (0.5, &state[..], samples));
+    // The same time again is no step at all, and no error.
+    sim.step_until(0.5).unwrap();
+}
+
 #[test]
 fn bad_names_say_what_was_meant() {
     let mechanism = driven_inertia().assemble().unwrap();

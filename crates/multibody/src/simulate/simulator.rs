@@ -1124,6 +1124,15 @@ impl<'m> Simulator<'m> {
         if !target.is_finite() {
             return Err(self.stopped(StepError::Caller(format!("cannot step until t = {target}")), self.t));
         }
+        if target < self.t {
+            // Doing nothing here would leave a host believing it stood at `target`.
+            let reason = format!(
+                "the simulator stands at t = {}, after t = {target}: it steps forward only (reset() starts it again \
+                 from the start)",
+                self.t
+            );
+            return Err(self.stopped(StepError::Caller(reason), self.t));
+        }
         if self.recorder.next == 0 && !self.recorder.off {
             let mut recorder = Recorder { mechanism: &self.mechanism, state: &mut self.recorder, sink, progress: None };
             let (t, y) = (self.t, self.y.clone());
