@@ -146,8 +146,13 @@ impl Op {
     }
 
     /// The registers the instruction reads.
-    pub fn sources(self) -> impl Iterator<Item = Reg> {
-        let read: [Option<Reg>; 3] = match self {
+    pub fn sources(mut self) -> impl Iterator<Item = Reg> {
+        self.sources_mut().map(|r| r.copied()).into_iter().flatten()
+    }
+
+    /// The registers the instruction reads, to renumber them.
+    pub fn sources_mut(&mut self) -> [Option<&mut Reg>; 3] {
+        match self {
             Op::Copy(_, a) | Op::Neg(_, a) | Op::Call(_, _, a) | Op::Not(_, a) | Op::Store(_, a) => {
                 [Some(a), None, None]
             }
@@ -165,9 +170,8 @@ impl Op {
             Op::Fire { cond: a, .. } | Op::Change { value: a, .. } => [Some(a), None, None],
             Op::Assign { src, fire, .. } | Op::Reinit { src, fire, .. } => [Some(src), Some(fire), None],
             // (`Sample` and `Fire` read the time too, which no instruction writes.)
-            Op::Load(..) | Op::Initial(_) | Op::LoadPre(..) | Op::Sample { .. } => [None; 3],
-        };
-        read.into_iter().flatten()
+            Op::Load(..) | Op::Initial(_) | Op::LoadPre(..) | Op::Sample { .. } => [None, None, None],
+        }
     }
 
     /// Whether the instruction does more than write its register: it

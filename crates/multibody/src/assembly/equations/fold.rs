@@ -184,33 +184,8 @@ fn external_writes(program: &EquationProgram) -> Vec<Reg> {
 
 /// Applies `f` to each register the instruction reads.
 fn map_sources(op: &mut Op, mut f: impl FnMut(Reg) -> Reg) {
-    let mut g = |r: &mut Reg| *r = f(*r);
-    match op {
-        Op::Copy(_, a) | Op::Neg(_, a) | Op::Call(_, _, a) | Op::Not(_, a) | Op::Store(_, a) => g(a),
-        Op::Add(_, a, b)
-        | Op::Sub(_, a, b)
-        | Op::Mul(_, a, b)
-        | Op::Div(_, a, b)
-        | Op::Pow(_, a, b)
-        | Op::Call2(_, _, a, b)
-        | Op::Compare(_, _, a, b)
-        | Op::And(_, a, b)
-        | Op::Or(_, a, b)
-        | Op::Relation { a, b, .. } => {
-            g(a);
-            g(b);
-        }
-        Op::Select(_, c, a, b) => {
-            g(c);
-            g(a);
-            g(b);
-        }
-        Op::Fire { cond: a, .. } | Op::Change { value: a, .. } => g(a),
-        Op::Assign { src, fire, .. } | Op::Reinit { src, fire, .. } => {
-            g(src);
-            g(fire);
-        }
-        Op::Load(..) | Op::Initial(_) | Op::LoadPre(..) | Op::Sample { .. } => {}
+    for r in op.sources_mut().into_iter().flatten() {
+        *r = f(*r);
     }
 }
 
