@@ -41,7 +41,8 @@ pub(super) fn split_output_code(program: &mut EquationProgram, vars: &[Reg]) {
     for range in whole {
         kept[range].fill(true);
     }
-    let dynamics_needs = mark(ops, &mut kept, &mut needed, true);
+    mark(ops, &mut kept, &mut needed, true);
+    let dynamics_needs = kept;
     // What the variables and outputs need besides.
     let mut wanted = dynamics_needs.clone();
     let mut needed = vec![false; program.registers];
@@ -85,8 +86,8 @@ pub(super) fn split_output_code(program: &mut EquationProgram, vars: &[Reg]) {
 /// Marks the ops that write a `needed` register (and, with `effects`,
 /// those that store or watch for events), and what they read, backwards
 /// from the last; again while a pass finds more (a solve's code can read
-/// what a later range writes first). Returns the marks.
-fn mark(ops: &[Op], kept: &mut [bool], needed: &mut [bool], effects: bool) -> Vec<bool> {
+/// what a later range writes first).
+fn mark(ops: &[Op], kept: &mut [bool], needed: &mut [bool], effects: bool) {
     loop {
         let mut changed = false;
         for (i, &op) in ops.iter().enumerate().rev() {
@@ -101,7 +102,7 @@ fn mark(ops: &[Op], kept: &mut [bool], needed: &mut [bool], effects: bool) -> Ve
             }
         }
         if !changed {
-            return kept.to_vec();
+            return;
         }
     }
 }
@@ -135,6 +136,21 @@ mod tests {
         assert_eq!(program.output_ops, vec![Op::Neg(4, 3)]);
         assert_eq!(program.blocks[0].before, 0..1);
         assert_eq!((program.when_conditions.clone(), program.when_actions.clone()), (1..1, 1..1));
+    }
+
+    /// What neither the dynamics nor a variable reads is dropped.
+    #[test]
+    fn code_nothing_reads_is_dropped() {
+        let mut program = EquationProgram {
+            registers: 5,
+            rates: vec![3],
+            ops: vec![Op::Add(3, 1, 2), Op::Neg(4, 3)],
+            when_conditions: 2..2,
+            when_actions: 2..2,
+            ..EquationProgram::default()
+        };
+        split_output_code(&mut program, &[]);
+        assert_eq!((program.ops.len(), program.output_ops.len()), (1, 0));
     }
 
     /// A store and what it reads stay, though no rate reads them.
