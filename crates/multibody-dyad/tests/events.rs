@@ -261,6 +261,48 @@ fn bounces_that_pile_up_stop_the_run_with_a_clear_message() {
     assert!(error.partial.time().last().is_some_and(|&t| t > 4.0), "the samples before are kept");
 }
 
+/// A torque that is +1 while `sin(2 pi 1000 t) > 0` and -1 otherwise, on
+/// a unit inertia: the speed is a triangle wave that is 0 at every whole
+/// millisecond, the angle gains 2.5e-7 rad per period (exactly 5e-4 after
+/// 2 s). Between events the relation holds its value, so nothing in the
+/// derivatives bounds the steps: they grew past whole periods, their ends
+/// agreed, and the run ended at w = 0.987 without a word. The stages that
+/// saw the other sign now find the crossings, and the steps are held short.
+#[test]
+fn a_relation_that_swings_faster_than_the_steps_is_followed() {
+    let (mechanism, options) = load(
+        "square.dyad",
+        r#"
+example component SquareTorque
+  inertia = RotationalComponents.Inertia(J = 1)
+  torque = RotationalComponents.Sources.Torque()
+  u = RealOutput()
+relations
+  u = if sin(2 * pi * 1000 * time) > 0 then 1 else -1
+  connect(u, torque.tau)
+  connect(torque.spline, inertia.spline_a)
+end
+analysis SquareRun
+  extends TransientAnalysis(stop = 2, saveat = 0.1)
+  model = SquareTorque()
+end
+"#,
+    );
+    let solution = mechanism.simulate(&options).unwrap();
+    let (w, phi) = (solution.get("inertia.w").unwrap(), solution.get("inertia.phi").unwrap());
+    // Every 0.1 s is a whole number of periods: w = 0, phi = 2.5e-7 per period.
+    for (&t, (&w, &phi)) in solution.time().iter().zip(w.iter().zip(phi)) {
+        let periods = (t * 1000.0).round();
+        assert!(w.abs() < 1e-9, "w = {w} at t = {t} (0 at whole periods)");
+        assert!((phi - 2.5e-7 * periods).abs() < 1e-9, "phi = {phi} at t = {t}, {} expected", 2.5e-7 * periods);
+    }
+    assert!(
+        solution.warnings().iter().any(|w| w.contains("changed sign and back within one step")),
+        "the run says why its steps are short: {:?}",
+        solution.warnings()
+    );
+}
+
 /// `sample(start, interval)` in a `when`: a zero-order hold of `sin(time)`
 /// at 0.1, 0.35, 0.6, 0.85 s, fired once at each instant (time events), and
 /// the integral of the held value against its closed form.

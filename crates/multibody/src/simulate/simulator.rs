@@ -210,6 +210,19 @@ struct Indicators {
     /// The indicator that changed sign at the last event located: one of
     /// the model's, or past them, the Euler-angle joint of that number.
     last: Option<usize>,
+    /// The earliest time after `since` at which an evaluation of the
+    /// integrator (a stage) saw an indicator on the other sign: a step
+    /// whose ends agree may still hold crossings (an even number of them).
+    inside: Option<f64>,
+    /// Where the step being taken starts.
+    since: f64,
+    /// Once a step held crossings its ends did not show, the steps are
+    /// held to a quarter of the span to the stage that saw them, for the
+    /// rest of the run: an indicator that swings that fast (a relation on
+    /// `sin(w t)`) is then met once per step, each crossing found in turn.
+    bound: Option<f64>,
+    /// The indicator and time of a hidden crossing not yet told.
+    untold: Option<(usize, f64)>,
 }
 
 impl Indicators {
@@ -281,7 +294,12 @@ impl OdeSystem for Dynamics<'_> {
         self.mechanism.system.states.start.len()
     }
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), StepError> {
-        Ok(self.mechanism.rhs(self.ws, t, y, dy)?)
+        self.mechanism.rhs(self.ws, t, y, dy)?;
+        let ind = &mut *self.indicators;
+        if t > ind.since && ind.inside.is_none_or(|at| t < at) && ind.changed(&self.ws.indicators).is_some() {
+            ind.inside = Some(t);
+        }
+        Ok(())
     }
 
     fn jacobian(&mut self, t: f64, y: &[f64], jac: &mut [f64]) -> Result<bool, StepError> {
@@ -301,6 +319,8 @@ impl OdeSystem for Dynamics<'_> {
         let (t0, t1) = step.span();
         let mut ind = std::mem::take(self.indicators);
         let located = self.first_change(step, t0, t1, end_evaluated, &mut ind);
+        // The next step's stages are looked at afresh.
+        (ind.inside, ind.since) = (None, located.as_ref().ok().copied().flatten().unwrap_or(t1));
         *self.indicators = ind;
         located
     }
@@ -338,6 +358,23 @@ impl Dynamics<'_> {
                 if let Some(k) = chart_crossed(self.charts, &ind.y) {
                     (hi, which) = (t, Some(ind.above.len() + k));
                     break;
+                }
+            }
+        }
+        // Ends that agree, but a stage inside saw the other sign: on the
+        // dense output there too, the crossings between are found (the
+        // first of them where the stage was the first past it).
+        if which.is_none() && model {
+            if let Some(at) = ind.inside.filter(|&at| at > t0 && at < t1) {
+                step.interpolate(at, &mut ind.y);
+                self.mechanism.rhs(self.ws, at, &ind.y, &mut ind.dy)?;
+                if let Some(k) = ind.changed(&self.ws.indicators) {
+                    (hi, which) = (at, Some(k));
+                    let bound = 0.25 * (at - t0);
+                    if ind.bound.is_none() {
+                        ind.untold = Some((k, t0));
+                    }
+                    ind.bound = Some(ind.bound.map_or(bound, |b| b.min(bound)));
                 }
             }
         }
@@ -1047,6 +1084,7 @@ impl<'m> Simulator<'m> {
         self.recorded.clear();
         self.columns = OnceLock::new();
         self.notes.clear();
+        self.indicators = Indicators::default();
         self.events = 0;
         self.last_event = None;
         self.begin().map_err(|e| self.stopped(e, self.options.start).reason)
@@ -1243,13 +1281,17 @@ impl<'m> Simulator<'m> {
         if !self.started {
             let frozen =
                 system.mechanism.system.states.start.is_empty() || system.mechanism.system.friction_holds(system.ws);
-            stepper.set_dtmax(match self.frozen_dtmax {
+            let dtmax = match self.frozen_dtmax {
                 Some(bound) if frozen => bound,
                 // Sliding: no bound, but a bound all the same (of any
                 // size), so that the first step after a break-away starts
                 // at a step the time resolves (see `initial_step`).
                 Some(_) if self.options.dtmax == 0.0 => f64::MAX,
                 _ => self.options.dtmax,
+            };
+            stepper.set_dtmax(match system.indicators.bound {
+                Some(bound) if dtmax == 0.0 || bound < dtmax => bound,
+                _ => dtmax,
             });
             let started = if self.input_changed {
                 stepper.restart(&mut system, self.t, &self.y, horizon)
@@ -1346,13 +1388,26 @@ impl<'m> Simulator<'m> {
         self.event_iteration(true)?;
         self.switch_charts()?;
         self.started = false;
+        if let Some((k, t0)) = self.indicators.untold.take() {
+            let note = format!(
+                "{} changed sign and back within one step from t = {t0:.6} s (its ends agreed): the crossings \
+                 were found on the step's dense output, and the steps are held to {:.3e} s from then on so that \
+                 each is met in turn",
+                self.indicator_name(k),
+                self.indicators.bound.unwrap_or(f64::NAN)
+            );
+            self.notes.push(note);
+            if let Some(solution) = self.columns.get_mut() {
+                solution.set_warnings(self.notes.clone());
+            }
+        }
         Ok(())
     }
 
     /// Why a run stopped where events pile up (the last made by indicator
     /// `k`, `span` seconds before).
     fn piling_up(&self, k: Option<usize>, span: f64) -> String {
-        let which = k.map_or("a source's switching time".to_string(), |k| format!("`{}`", self.indicator_name(k)));
+        let which = k.map_or("a source's switching time".to_string(), |k| self.indicator_name(k));
         format!(
             "the events pile up ({} events so far, the last {span:.1e} s before, at {which}): a bounce that loses \
              energy geometrically, or a condition that switches back and forth. Stop it with a condition that \
@@ -1413,6 +1468,7 @@ impl<'m> Simulator<'m> {
             mechanism.rhs(&mut self.ws, t, &self.y, &mut ind.dy)?;
             ind.above.clear();
             ind.above.extend(self.ws.indicators.iter().map(|&g| g > 0.0));
+            (ind.inside, ind.since) = (None, t);
         }
         Ok(())
     }
