@@ -110,7 +110,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
                 )?;
             }
             for w in &report.warnings {
-                say!("warning: {w}");
+                say!("warning: {}", lowered.with_places(package.sources(), w));
             }
             print_final_states(&mechanism, &kept);
             Ok(())

@@ -156,7 +156,7 @@ impl Package {
             if stop.is_some() { Some(&mut on_step) } else { None };
         match mechanism.simulate_into(&mechanism.states().start, &options, &mut samples, progress) {
             Ok(report) => {
-                samples.warnings = report.warnings;
+                samples.warnings = report.warnings.iter().map(|w| lowered.with_places(self.sources(), w)).collect();
                 Ok(samples)
             }
             Err(stopped) => {

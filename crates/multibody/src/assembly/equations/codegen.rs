@@ -115,7 +115,7 @@ impl Leaves<VarId> for Program<'_> {
                 let dst = w.register();
                 let events = &mut *self.events;
                 let indicator = (events.first_indicator + events.indicators.len()) as u32;
-                events.indicators.push(format!("the relation in `{}`", events.label));
+                events.indicators.push(format!("the relation in {}", events.label));
                 let slot = events.discrete_slot(0.0);
                 w.ops.push(Op::Relation { cmp: *cmp, dst, a, b, indicator, slot });
                 Leaf::Written(dst)
