@@ -155,6 +155,27 @@ fn an_euler_body_runs_through_its_singularity_with_a_note() {
     }
 }
 
+/// A warning of the run about a relation names the equation as written
+/// and where it is (it named an internal `#0`).
+#[test]
+fn a_warning_about_a_relation_shows_the_equation_and_its_place() {
+    let dir = scratch("relation_warning");
+    std::fs::write(
+        dir.join("square.dyad"),
+        "component SquareTorque\n  inertia = RotationalComponents.Inertia(J = 1)\n  torque = \
+         RotationalComponents.Sources.Torque()\n  u = RealOutput()\nrelations\n  u = if sin(2 * pi * 1000 * time) \
+         > 0 then 1 else -1\n  connect(u, torque.tau)\n  connect(torque.spline, inertia.spline_a)\nend\nanalysis \
+         SquareRun\n  extends TransientAnalysis(stop = 0.01)\n  model = SquareTorque()\nend\n",
+    )
+    .unwrap();
+    let o = multibody(&dir, &["run", "square.dyad", "--out", "result.csv"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let all = format!("{}{}", stdout(&o), stderr(&o));
+    assert!(all.contains("the relation in `u = if sin(2 * pi * 1000 * time) > 0 then 1 else -1` ("), "{all}");
+    assert!(all.contains("square.dyad:6:3)"), "{all}");
+    assert!(!all.contains("#0"), "{all}");
+}
+
 #[test]
 fn a_failed_simulation_keeps_what_it_computed_as_partial_and_exits_with_3() {
     let dir = scratch("partial");
