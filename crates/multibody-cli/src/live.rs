@@ -14,6 +14,13 @@ const MODULE: &str = "multibody_web.wasm";
 pub fn live(args: &LiveArgs) -> Result<(), Failure> {
     output::outputs_are_safe(&args.selection.files, &[("--out", Some(&args.out))])?;
     let wasm_path = module_path(args.wasm.as_deref())?;
+    if output::same_file(&args.out, &wasm_path) {
+        return Err(Failure::Usage(format!(
+            "`--out {}`: it would write over the WebAssembly module the page is built from; choose another path \
+             for the page",
+            args.out.display()
+        )));
+    }
     let package = read_package(&args.selection.files)?;
     let target = choose(&package, &args.selection)?;
     let overrides = overrides(&args.values.params, &args.values.initials)?;

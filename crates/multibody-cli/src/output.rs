@@ -387,6 +387,11 @@ fn special_kind(meta: &std::fs::Metadata) -> &'static str {
     "a special file"
 }
 
+/// Whether `a` and `b` name one file (through links; either may not exist yet).
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    comparable(a) == comparable(b)
+}
+
 /// The absolute form of a path, through links, for comparing files that
 /// may not exist yet (their folder is resolved).
 fn comparable(path: &Path) -> PathBuf {

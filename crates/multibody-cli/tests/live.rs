@@ -233,6 +233,13 @@ fn the_command_refuses_before_writing() {
     let over = multibody(&dir, &["live", "model.dyad", "-o", "model.dyad", "--wasm", &module]);
     assert_eq!(code(&over), 2);
     assert_eq!(std::fs::read_to_string(&copy).unwrap(), std::fs::read_to_string(&model).unwrap());
+    // Nor the module it reads (it wrote the page over it).
+    let own = dir.join("own.wasm");
+    std::fs::copy(&module, &own).unwrap();
+    let over = multibody(&dir, &["live", &model, "-o", "own.wasm", "--wasm", "./own.wasm"]);
+    assert_eq!(code(&over), 2);
+    assert!(stderr(&over).contains("would write over the WebAssembly module"), "{}", stderr(&over));
+    assert_eq!(std::fs::read(&own).unwrap(), std::fs::read(&module).unwrap());
 }
 
 /// One axis of the industrial robot (a folder of model files) in the live
