@@ -93,6 +93,30 @@ fn robot_package(dir: &std::path::Path, mesh: &str) -> std::path::PathBuf {
     path
 }
 
+/// A `package://` name that climbs out of its package (`..`) is not read
+/// (it resolved upward to any file, `/etc/passwd` included, without a word).
+#[test]
+fn a_package_path_that_leaves_its_package_is_refused_at_its_place() {
+    let dir = scratch("urdf-mesh-upward");
+    // A file the climb would reach: pkg/secret.stl, beside the package.
+    let urdf = robot_package(&dir, "package://arm_description/../secret.stl");
+    std::fs::copy(dir.join("pkg/arm_description/meshes/tip.stl"), dir.join("pkg/secret.stl")).unwrap();
+    for mesh in ["package://arm_description/../secret.stl", "package://../../../../etc/passwd"] {
+        let text = std::fs::read_to_string(&urdf).unwrap();
+        let text = text.replace("package://arm_description/../secret.stl", mesh);
+        let path = urdf.with_file_name(format!("upward{}.urdf", mesh.len()));
+        std::fs::write(&path, text).unwrap();
+        let out = multibody(&dir, &["import", &path.display().to_string(), "-o", "upward.dyad"]);
+        assert_eq!(code(&out), 1, "{}", stderr(&out));
+        let err = stderr(&out);
+        assert!(
+            err.contains(&format!(":9:23: error: the mesh `{mesh}` is not read: a `package://NAME/...` path")),
+            "{err}"
+        );
+        assert!(!dir.join("upward.dyad").exists());
+    }
+}
+
 #[test]
 fn meshes_are_found_through_their_package_or_reported_at_their_place() {
     let dir = scratch("urdf-meshes");

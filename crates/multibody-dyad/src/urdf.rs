@@ -648,11 +648,17 @@ pub struct MissingMesh {
     pub at: Pos,
     pub filename: String,
     pub looked: Vec<PathBuf>,
+    /// Why the name is not looked for at all (it leaves its package).
+    pub refused: Option<&'static str>,
 }
 
 impl MissingMesh {
     /// `file:line:col: {severity}: the mesh ... is not found (looked for ...)`.
     pub fn render(&self, file: &str, severity: &str) -> String {
+        if let Some(why) = self.refused {
+            let (line, col, name) = (self.at.line, self.at.col, &self.filename);
+            return format!("{file}:{line}:{col}: {severity}: the mesh `{name}` is not read: {why}");
+        }
         let mut looked: Vec<String> = self.looked.iter().take(3).map(|p| p.display().to_string()).collect();
         if self.looked.len() > 3 {
             looked.push(format!("{} more places", self.looked.len() - 3));
@@ -710,6 +716,14 @@ pub fn resolve_meshes(robot: &mut Robot, search: &MeshSearch) -> Vec<MissingMesh
         let mut looked = Vec::new();
         let candidate = if let Some(rest) = filename.strip_prefix("package://") {
             let (package, inside) = rest.split_once('/').unwrap_or((rest, ""));
+            // `package://../../etc/passwd` would climb out of any package.
+            let leaves = |p: &str| p.split(['/', '\\']).any(|part| part == "..") || Path::new(p).is_absolute();
+            if package.is_empty() || package == "." || leaves(package) || leaves(inside) {
+                let why = "a `package://NAME/...` path names a file inside the package NAME, and `..` or an \
+                           absolute path would leave it; write the package's name and the path inside it";
+                missing.push(MissingMesh { at: *at, filename: filename.clone(), looked, refused: Some(why) });
+                continue;
+            }
             package_folder(package, search, &mut looked).map(|dir| dir.join(inside))
         } else if let Some(absolute) = filename.strip_prefix("file://") {
             Some(PathBuf::from(absolute))
@@ -721,9 +735,9 @@ pub fn resolve_meshes(robot: &mut Robot, search: &MeshSearch) -> Vec<MissingMesh
             Some(file) => {
                 looked.clear();
                 looked.push(file);
-                missing.push(MissingMesh { at: *at, filename: filename.clone(), looked });
+                missing.push(MissingMesh { at: *at, filename: filename.clone(), looked, refused: None });
             }
-            None => missing.push(MissingMesh { at: *at, filename: filename.clone(), looked }),
+            None => missing.push(MissingMesh { at: *at, filename: filename.clone(), looked, refused: None }),
         }
     }
     missing
