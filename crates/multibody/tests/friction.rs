@@ -302,6 +302,22 @@ fn a_mass_with_stops_slides_into_a_stop_stays_and_is_pushed_to_the_other() {
     assert!(sim.event_count() < 20, "{} events", sim.event_count());
 }
 
+/// Started past a stop (centre at 5 where the stop holds it at 0.8), the
+/// mass was put on the stop by the first event and its start value lost
+/// without a word; a start on the stop itself is the stop's to hold.
+#[test]
+fn a_mass_started_past_its_stop_is_refused_and_one_on_it_is_held() {
+    let mut model = mass_with_stops(&[("height", 0.0)], &[]);
+    model.component_mut("mass").unwrap().initial("s", 5.0);
+    let mechanism = model.assemble().unwrap();
+    let e = mechanism.simulate(&options(1.0)).unwrap_err();
+    assert!(e.reason.contains("the start is 4.200000 past the upper stop of mass"), "{}", e.reason);
+    let mut model = mass_with_stops(&[("height", 0.0)], &[]);
+    model.component_mut("mass").unwrap().initial("s", -0.8);
+    let solution = model.assemble().unwrap().simulate(&options(1.0)).unwrap();
+    assert_eq!(solution.get("mass.s").unwrap().last(), Some(&-0.8));
+}
+
 #[test]
 fn stribeck_friction_stops_a_mass_at_the_time_its_curve_gives() {
     // Sliding from v0 without a push: m dv/dt = -(F_prop v + F_C + F_S

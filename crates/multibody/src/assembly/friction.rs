@@ -44,7 +44,7 @@ pub fn elements(
             ]);
             debug_assert_eq!(events.indicators.len() - indicator, FRICTION_INDICATORS);
             let stop_indicator = law.stops.map(|_| {
-                events.indicators.extend([format!("{name}: the upper stop"), format!("{name}: the lower stop")]);
+                events.indicators.extend([format!("the upper stop of {name}"), format!("the lower stop of {name}")]);
                 events.indicators.len() - 2
             });
             if law.stops.is_some() && b.coordinate().is_none() {

@@ -698,6 +698,7 @@ impl<'m> Simulator<'m> {
         // Prescribed positions and speeds start where their signals are.
         self.mechanism.impose_drives(&mut self.ws, self.t, &mut self.y);
         self.ws.discrete.copy_from_slice(&self.mechanism.system.events.discrete_start);
+        self.refuse_start_past_stops()?;
         // Assembly started the state on the constraints already. What
         // `initial()` decides settles first; then the model goes on from
         // there as at any event (Modelica's first stored values).
@@ -716,6 +717,31 @@ impl<'m> Simulator<'m> {
         self.input_changed = false;
         self.ahead = false;
         self.piled = (0, f64::NEG_INFINITY);
+        Ok(())
+    }
+
+    /// A mass that starts past one of its hard stops would be put on it
+    /// by the first event without a word (a start value lost): refused.
+    fn refuse_start_past_stops(&mut self) -> Result<(), StepError> {
+        let system = &self.mechanism.system;
+        let stops: Vec<usize> = system.frictions.iter().filter_map(|f| f.stop_indicator).collect();
+        if stops.is_empty() {
+            return Ok(());
+        }
+        let mut dy = vec![0.0; self.y.len()];
+        self.mechanism.rhs(&mut self.ws, self.t, &self.y, &mut dy)?;
+        for slot in stops.into_iter().flat_map(|s| [s, s + 1]) {
+            // The indicator is how far past the stop the mass stands.
+            let past = self.ws.indicators[slot];
+            if past > 1e-9 {
+                return Err(StepError::Caller(format!(
+                    "the start is {past:.6} past {}: a mass between hard stops must start between them (the \
+                     stop would move it there at once and its start value would be lost); give it a start \
+                     value inside",
+                    self.indicator_name(slot)
+                )));
+            }
+        }
         Ok(())
     }
 
