@@ -212,6 +212,27 @@ fn a_one_way_clutch_drives_its_load_forward_only_and_catches_it_again() {
     }
 }
 
+/// Started with its load lagging (b at -1 rad/s, a at rest), the clutch
+/// is locked at once: the two sides take one speed as in a plastic
+/// impact, which keeps the momentum, J_A * 0 + J_B * (-1) = (J_A + J_B) w.
+/// (They were averaged at the end of the first step: w = -0.5, momentum
+/// lost.) A note says so.
+#[test]
+fn a_one_way_clutch_started_lagging_locks_keeping_the_momentum() {
+    let mut model = one_way_drive(1.0);
+    model.component_mut("b").unwrap().initial("w", -1.0);
+    let mechanism = model.assemble().unwrap();
+    let solution = mechanism.simulate(&options(0.5)).unwrap();
+    let w = -J_B / (J_A + J_B);
+    // Then torque 1 on both: w + t / (J_A + J_B).
+    for (k, &t) in solution.time().iter().enumerate() {
+        let exact = w + t / (J_A + J_B);
+        let (wa, wb) = (solution.get("a.w").unwrap()[k], solution.get("b.w").unwrap()[k]);
+        assert!((wa - exact).abs() < 1e-9 && (wb - exact).abs() < 1e-9, "t = {t}: {wa}, {wb}, not {exact}");
+    }
+    assert!(solution.warnings().iter().any(|n| n.contains("plastic impact") && n.contains("b.w -1 ->")));
+}
+
 /// A mass with stops pushed by `push` (a Step's parameters) from rest at 0.
 fn mass_with_stops(push: &[(&str, f64)], friction: &[(&str, f64)]) -> Model {
     let mut model = Model::new("stops");

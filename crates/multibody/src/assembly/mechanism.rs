@@ -265,7 +265,7 @@ impl Mechanism {
 
     /// Moves `y` onto the constraints at time `t`; see [`System::project`].
     pub fn project(&self, ws: &mut Workspace, t: f64, y: &mut [f64]) -> Result<bool, DynamicsError> {
-        self.system.project(ws, t, y)
+        self.system.project(ws, t, y, false)
     }
 
     /// Sets the coordinates that drives know exactly (prescribed positions

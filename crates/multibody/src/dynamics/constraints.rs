@@ -707,7 +707,15 @@ impl System {
     /// Moves `y` onto the constraints: positions by Newton steps of least
     /// norm, then velocities by removing their constraint-violating part.
     /// Returns whether anything changed.
-    pub fn project(&self, ws: &mut Workspace, t: f64, y: &mut [f64]) -> Result<bool, DynamicsError> {
+    ///
+    /// With `impact` (at an event, where a friction element locks or a
+    /// `reinit` moved the state, the velocities may be far off), the
+    /// velocity step is a plastic impact: the change of least kinetic
+    /// energy, which keeps the momentum no constraint acts on (a one-way
+    /// clutch catching its load shares the momentum, as colliding bodies
+    /// do); between events, a drift of the size of the tolerances, the
+    /// least-norm step.
+    pub fn project(&self, ws: &mut Workspace, t: f64, y: &mut [f64], impact: bool) -> Result<bool, DynamicsError> {
         if self.constraint_rows == 0 {
             return Ok(false);
         }
@@ -749,7 +757,9 @@ impl System {
         }
         self.velocity_residual(ws, y)?;
         if ws.lambda.iter().any(|v| *v != 0.0) {
-            self.least_norm_step(ws, free, false);
+            if !(impact && self.impact_step(ws, free)) {
+                self.least_norm_step(ws, free, false);
+            }
             for i in 0..nv {
                 y[nq + i] += ws.du[i];
             }
@@ -813,6 +823,49 @@ impl System {
         for i in 0..nv {
             ws.du[i] = -(0..m).map(|r| ws.jac[r * nv + i] * ws.lambda[r]).sum::<f64>();
         }
+    }
+
+    /// The velocity step of a plastic impact, `du = -M_a^-1 J' (J M_a^-1
+    /// J')^+ e` with the velocity residuals `e` in `ws.lambda` (at the
+    /// kinematics of the last pass): the least kinetic energy `du' M du`
+    /// among the steps that remove them (`M_a = M + w J'J` gives the same
+    /// step, and is definite where the constraints hold what has no
+    /// mass). False, and nothing done, where `M_a` is not definite.
+    fn impact_step(&self, ws: &mut Workspace, free: Option<&[bool]>) -> bool {
+        let (nv, m) = (self.states.nv, self.constraint_rows);
+        if let Some(free) = free {
+            for row in ws.jac[..m * nv].chunks_exact_mut(nv) {
+                for (x, &is_free) in row.iter_mut().zip(free) {
+                    if !is_free {
+                        *x = 0.0;
+                    }
+                }
+            }
+        }
+        self.augmented_mass_matrix(ws);
+        if !cholesky(&mut ws.mass, nv) {
+            return false;
+        }
+        // Y' = M_a^-1 J', then the Schur complement J Y'.
+        let mut y_rows = std::mem::take(&mut ws.y_rows);
+        y_rows[..m * nv].copy_from_slice(&ws.jac[..m * nv]);
+        for r in 0..m {
+            cholesky_solve(&ws.mass, nv, &mut y_rows[r * nv..(r + 1) * nv]);
+        }
+        for r in 0..m {
+            for s in 0..=r {
+                let v: f64 = (0..nv).map(|i| ws.jac[r * nv + i] * y_rows[s * nv + i]).sum();
+                ws.schur[r * m + s] = v;
+                ws.schur[s * m + r] = v;
+            }
+        }
+        let rank = ldlt_pivoted(&mut ws.schur, m, &mut ws.perm, RANK_TOLERANCE);
+        ldlt_solve(&ws.schur, m, &ws.perm, rank, &mut ws.lambda, &mut ws.work);
+        for i in 0..nv {
+            ws.du[i] = -(0..m).map(|r| y_rows[r * nv + i] * ws.lambda[r]).sum::<f64>();
+        }
+        ws.y_rows = y_rows;
+        true
     }
 
     /// `q <- q (+) du`: moves the positions by the velocity-coordinate step

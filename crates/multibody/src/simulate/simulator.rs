@@ -707,6 +707,7 @@ impl<'m> Simulator<'m> {
         self.ws.initial = false;
         settled?;
         self.event_iteration(false)?;
+        self.start_impact()?;
         self.charts = self.watch_charts();
         // A start near the singular configuration moves to a chart at once.
         self.switch_charts()?;
@@ -717,6 +718,32 @@ impl<'m> Simulator<'m> {
         self.input_changed = false;
         self.ahead = false;
         self.piled = (0, f64::NEG_INFINITY);
+        Ok(())
+    }
+
+    /// Speeds that the constraints holding at the start do not allow (a
+    /// one-way clutch started with its load lagging, so locked at once)
+    /// change at the start as in a plastic impact, which keeps the
+    /// momentum (they were averaged at the end of the first step); a note
+    /// says which speeds changed.
+    fn start_impact(&mut self) -> Result<(), StepError> {
+        let before = self.y.clone();
+        if !self.mechanism.system.project(&mut self.ws, self.t, &mut self.y, true)? {
+            return Ok(());
+        }
+        let names = &self.mechanism.system.states.names;
+        let moved: Vec<String> = (0..self.y.len())
+            .filter(|&i| (self.y[i] - before[i]).abs() > 1e-9 * (1.0 + before[i].abs()))
+            .map(|i| format!("{} {} -> {}", names[i], before[i], self.y[i]))
+            .collect();
+        if !moved.is_empty() {
+            self.notes.push(format!(
+                "the start state does not meet the constraints that hold at the start (a friction element or \
+                 clutch locked there, a loop): it was moved onto them at once, as by a plastic impact that keeps \
+                 the momentum: {}",
+                moved.join(", ")
+            ));
+        }
         Ok(())
     }
 
@@ -1488,7 +1515,7 @@ impl<'m> Simulator<'m> {
             self.recorder.ws.discrete.copy_from_slice(&self.ws.discrete);
         }
         if project || !self.ws.reinits.is_empty() {
-            mechanism.project(&mut self.ws, t, &mut self.y)?;
+            mechanism.system.project(&mut self.ws, t, &mut self.y, true)?;
         }
         if !mechanism.system.events.indicators.is_empty() {
             mechanism.rhs(&mut self.ws, t, &self.y, &mut ind.dy)?;
