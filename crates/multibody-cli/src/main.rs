@@ -181,7 +181,7 @@ pub struct SweepArgs {
     #[arg(long, value_name = "PATTERN", num_args = 1..)]
     pub signals: Vec<String>,
     /// How many runs at once (default: one per core)
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = parse_jobs)]
     pub jobs: Option<usize>,
 }
 
@@ -296,5 +296,15 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(failure) => failure.report(),
+    }
+}
+
+/// `--jobs N`: a whole number of runs at once, 1 or more (clap's own
+/// message for `-1` suggested `-- -1`).
+fn parse_jobs(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<i64>() {
+        Ok(n) if n >= 1 => Ok(n as usize),
+        Ok(n) => Err(format!("{n} runs at once cannot be: give 1 or more (the default is one per core)")),
+        Err(_) => Err(format!("`{text}` is not a whole number of runs: give 1 or more, e.g. --jobs 4")),
     }
 }
