@@ -23,6 +23,9 @@ pub fn read_package(paths: &[PathBuf]) -> Result<Package, Failure> {
             files.push(path.clone());
         }
     }
+    // A file named twice (or through a folder and by itself) is one file.
+    let mut seen = std::collections::HashSet::new();
+    files.retain(|file| seen.insert(std::fs::canonicalize(file).unwrap_or_else(|_| file.clone())));
     let mut package = Package::new();
     let mut errors = Vec::new();
     for file in &files {

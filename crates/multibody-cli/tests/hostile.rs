@@ -236,6 +236,30 @@ fn sweep_threads_are_capped_by_runs_and_cores() {
     assert!(err.contains("3 runs of 3 ran"), "{err}");
 }
 
+/// `--jobs -1` got clap's advice to write `-- -1`, and `--jobs 0` ran on
+/// one thread without a word: both now say what a job count is.
+#[test]
+fn a_job_count_below_one_is_refused_with_what_to_give() {
+    let dir = scratch("sweep-jobs-negative");
+    let pendulum = example("pendulum.dyad");
+    for jobs in ["-1", "0"] {
+        let o = multibody(&dir, &["sweep", &pendulum, "--param", "body.m=1,2", "--jobs", jobs]);
+        assert_eq!(code(&o), 2, "{}", stderr(&o));
+        assert!(stderr(&o).contains(&format!("{jobs} runs at once cannot be: give 1 or more")), "{}", stderr(&o));
+    }
+}
+
+/// A file given twice (by two spellings of its path) is read once: its
+/// analysis was listed twice among those to choose from.
+#[test]
+fn a_file_given_twice_is_read_once() {
+    let dir = scratch("file-twice");
+    let pendulum = example("pendulum.dyad");
+    let again = format!("{}/../examples/pendulum.dyad", example("").trim_end_matches('/'));
+    let o = multibody(&dir, &["run", &pendulum, &again, "--stop", "0.1", "-o", "twice.csv"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+}
+
 /// A model "file" that is a FIFO nobody writes to blocked for ever; a
 /// device (`/dev/zero`) was read without end. The FIFO is given up after a
 /// few seconds with a message, the device refused; a FIFO that is written
