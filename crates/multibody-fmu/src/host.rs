@@ -4,9 +4,24 @@
 //! host). Null pointers are accepted where their size is zero.
 
 use crate::instance::Instance;
+use std::collections::HashSet;
 use std::ffi::{c_char, c_int, c_void, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
+use std::sync::Mutex;
+
+/// The instances handed out and not yet freed, by address: a handle freed
+/// twice, or used after it was freed, is refused instead of touching freed
+/// memory (a second `fmi2FreeInstance` aborted the host with a double free).
+static LIVE: Mutex<Option<HashSet<usize>>> = Mutex::new(None);
+
+fn live() -> std::sync::MutexGuard<'static, Option<HashSet<usize>>> {
+    LIVE.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+fn is_live(c: *mut c_void) -> bool {
+    live().as_ref().is_some_and(|set| set.contains(&(c as usize)))
+}
 
 /// `fmi2Status` and `fmi3Status` have the same values.
 pub type Status = c_int;
@@ -63,6 +78,9 @@ pub fn log(logger: Logger, environment: *mut c_void, name: &CStr, status: Status
 /// Runs `f` on the instance behind `c`: an error is logged and gives
 /// Error (the instance then refuses to go on until reset); a panic Fatal.
 pub unsafe fn with(c: *mut c_void, call: &str, f: impl FnOnce(&mut Component) -> Result<Status, String>) -> Status {
+    if !is_live(c) {
+        return ERROR;
+    }
     let Some(component) = (c as *mut Component).as_mut() else { return ERROR };
     match catch_unwind(AssertUnwindSafe(|| f(component))) {
         Ok(Ok(status)) => status,
@@ -103,7 +121,9 @@ pub fn instantiate(
                     component.log(WARNING, "logStatusWarning", w);
                 }
             }
-            Box::into_raw(component) as *mut c_void
+            let handle = Box::into_raw(component) as *mut c_void;
+            live().get_or_insert_with(HashSet::new).insert(handle as usize);
+            handle
         }
         Ok(Err(message)) => {
             log(logger, environment, &name, ERROR, "logStatusError", &format!("{call}: {message}"));
@@ -124,7 +144,8 @@ pub fn instantiate(
 }
 
 pub unsafe fn free(c: *mut c_void) {
-    if !c.is_null() {
+    let known = live().as_mut().is_some_and(|set| set.remove(&(c as usize)));
+    if known {
         let _ = catch_unwind(|| drop(Box::from_raw(c as *mut Component)));
     }
 }

@@ -210,6 +210,10 @@ fn bad_calls_give_errors_with_messages_never_a_crash() {
         assert_eq!(fmi2DoStep(c, 0.5, 0.1, 1), ERROR);
         assert!(logged("the step starts at t = 0.5, but the FMU stands at t = 0.1"));
         fmi2FreeInstance(c);
+        // Freed twice, or used once freed: refused, not a double free
+        // (which aborted the host).
+        fmi2FreeInstance(c);
+        assert_eq!(fmi2DoStep(c, 0.1, 0.1, 1), ERROR);
         // Null instances.
         fmi2FreeInstance(std::ptr::null_mut());
         assert_eq!(fmi2DoStep(std::ptr::null_mut(), 0.0, 0.1, 1), ERROR);
