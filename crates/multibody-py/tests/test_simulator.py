@@ -109,6 +109,18 @@ def test_bad_names_are_value_errors_with_the_name_meant():
         sim.set_state([1.0, 2.0, 3.0])
     with pytest.raises(ValueError, match="no signal matches"):
         sim.result("nothing*")
+    # Values of the wrong kind name what they were given for (they said
+    # "must be real number, not str" or "'str' object has no attribute 'items'").
+    with pytest.raises(TypeError, match="the input 'tau' must be a number, not str 'high'"):
+        sim.set_input("tau", "high")
+    with pytest.raises(TypeError, match="the state 'rev.phi' must be a number, not str 'x'"):
+        sim.set_state({"rev.phi": "x"})
+    with pytest.raises(TypeError, match="params maps names to numbers"):
+        multibody.load(PENDULUM).simulate(params="x")
+    with pytest.raises(TypeError, match=r"initial\['rev.w'\] must be a number"):
+        multibody.load(PENDULUM).simulate(initial={"rev.w": None})
+    with pytest.raises(ValueError, match="too large for a double"):
+        sim.set_input("tau", 10**400)
 
 
 def test_a_simulation_that_stops_raises_with_its_time_and_partial_result():

@@ -173,8 +173,8 @@ class Model:
         names = self._signal_names(signals)
         columns = _call(
             self._native.simulate,
-            _pairs(params),
-            _pairs(initial),
+            _pairs(params, "params"),
+            _pairs(initial, "initial"),
             names,
             stop=stop,
             saveat=saveat,
@@ -212,7 +212,7 @@ class Model:
         if len(starts) != len(sets):
             raise ValueError(f"{len(sets)} sets of parameters but {len(starts)} sets of start values")
         names = self._signal_names(signals)
-        pairs = [(_pairs(p), _pairs(i)) for p, i in zip(sets, starts)]
+        pairs = [(_pairs(p, "params"), _pairs(i, "initial")) for p, i in zip(sets, starts)]
         def entries(out: list) -> list:
             return [
                 None if r is None else _wrap_error(r) if isinstance(r, BaseException) else Result(*r) for r in out
@@ -393,8 +393,8 @@ class Simulator:
         self.model = model
         self._native = _call(
             model._native.simulator,
-            _pairs(params),
-            _pairs(initial),
+            _pairs(params, "params"),
+            _pairs(initial, "initial"),
             stop=stop,
             saveat=saveat,
             abstol=abstol,
@@ -417,7 +417,7 @@ class Simulator:
 
     def set_input(self, name: str, value: float) -> None:
         """Sets the input ``name``; it holds the value until set again."""
-        self._native.set_input(name, value)
+        self._native.set_input(name, _number(value, f"the input {name!r}"))
 
     @property
     def inputs(self) -> Dict[str, float]:
@@ -448,9 +448,13 @@ class Simulator:
         some states by name (a dict); the integrator starts again from it."""
         if isinstance(y, Mapping):
             for name, value in y.items():
-                self._native.set_state_value(str(name), float(value))
+                self._native.set_state_value(str(name), _number(value, f"the state {name!r}"))
         else:
-            self._native.set_state([float(v) for v in np.asarray(y, dtype=np.float64).ravel()])
+            try:
+                values = np.asarray(y, dtype=np.float64).ravel()
+            except (TypeError, ValueError):
+                raise TypeError(f"set_state takes numbers (or a dict of names to numbers), not {y!r}") from None
+            self._native.set_state([float(v) for v in values])
 
     @property
     def state_names(self) -> List[str]:
@@ -510,7 +514,7 @@ class Simulator:
         inputs' values; raises ``LinearizationError`` naming the rates that
         did not settle when there is none near."""
         residual, iterations, values = self._native.steady_state(
-            list(free_inputs), _pairs(fixed_outputs), abstol, reltol
+            list(free_inputs), _pairs(fixed_outputs, "fixed_outputs"), abstol, reltol
         )
         return {"residual": residual, "iterations": iterations, "inputs": dict(values)}
 
@@ -642,8 +646,24 @@ def _glob(name: str, pattern: str) -> bool:
     return fnmatch.fnmatchcase(name, pattern.replace("[", "[[]"))
 
 
-def _pairs(values: Optional[Mapping[str, float]]) -> List[tuple]:
-    return [(str(k), float(v)) for k, v in (values or {}).items()]
+def _pairs(values: Optional[Mapping[str, float]], argument: str) -> List[tuple]:
+    if values is None:
+        return []
+    if not isinstance(values, Mapping):
+        raise TypeError(
+            f"{argument} maps names to numbers, like {{\"body.m\": 2.0}}; got {type(values).__name__} {values!r}"
+        )
+    return [(str(k), _number(v, f"{argument}[{k!r}]")) for k, v in values.items()]
+
+
+def _number(value, what: str) -> float:
+    """``value`` as a float, or an error that names ``what`` it was given for."""
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{what} must be a number, not {type(value).__name__} {value!r}") from None
+    except OverflowError:
+        raise ValueError(f"{what} = {value!r} is too large for a double") from None
 
 
 def _call(function, *args, **kwargs):
