@@ -153,7 +153,7 @@ def test_an_euler_body_steps_through_its_singularity_with_one_note():
         assert len(notes) == 1 and "`body`" in notes[0], result.warnings
 
 
-def test_ctrl_c_stops_step_until_and_the_simulator_goes_on():
+def test_ctrl_c_stops_step_until_and_the_simulator_goes_on(interruptible):
     """Ctrl-C during step_until() (the GIL released) stops it after its
     current step with KeyboardInterrupt, the time reached and the states
     recorded attached; the simulator stays there and steps on."""
