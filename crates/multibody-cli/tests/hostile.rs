@@ -85,6 +85,27 @@ fn a_run_writes_its_results_whatever_happens_to_its_console() {
     assert!(dir.join("r.partial.csv").exists());
 }
 
+/// Steps that collapse said only "the step size fell to 0" and named
+/// nothing: an input table that jumps to 1e300, an elastic backlash of
+/// stiffness 1e308. The stop now names the state the steps could not
+/// follow, and what to look at.
+#[test]
+fn a_step_size_that_collapses_names_the_state_it_could_not_follow() {
+    let dir = scratch("step-collapse");
+    std::fs::write(dir.join("big.csv"), "time,tau\n0,0\n1,1e300\n3,1e300\n").unwrap();
+    let o = multibody(&dir, &["run", &example("controlled_pendulum.dyad"), "--input", "tau=big.csv", "--stop", "3"]);
+    assert_eq!(code(&o), 3, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("the step size fell to"), "{err}");
+    assert!(err.contains("in `rev.w` above all"), "{err}");
+    assert!(err.contains("a table's huge value or slope"), "{err}");
+    let o = multibody(&dir, &["run", &example("elasto_backlash.dyad"), "--param", "backlash.c=1e308"]);
+    assert_eq!(code(&o), 3, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("the step size fell to") && err.contains("w` above all"), "{err}");
+    assert!(err.contains("a stiffness near the largest number"), "{err}");
+}
+
 /// `multibody` with `args` in `dir`, its output captured.
 fn multibody(dir: &Path, args: &[&str]) -> Output {
     multibody_with(dir, args, Stdio::piped(), Stdio::piped())

@@ -243,3 +243,51 @@ fn a_four_bar_driven_past_its_dead_point_stops_there_naming_the_loop() {
     let kept = stopped.partial.time();
     assert!(kept.len() > 40 && *kept.last().unwrap() <= stopped.time, "the samples before the stop are kept");
 }
+
+/// The same four-bar built of spatial joints about z (a planar loop of
+/// spatial joints: 3 of its 5 cut equations repeat the others). Here the
+/// loop stays closed up to the dead point and the speeds it asks for grow
+/// without bound, so the steps collapse there instead of the projection
+/// failing: the stop must still name the loop and say why, not only that
+/// the step size fell.
+#[test]
+fn a_spatial_four_bar_driven_to_its_dead_point_names_the_loop_where_the_steps_collapse() {
+    let mut m = Model::new("spatial_dead_point");
+    m.add("world", "World");
+    m.add("ground", "FixedTranslation").set("r", [1.2, 0.0, 0.0]);
+    m.add("j1", "Revolute").set("axisflange", true).initial("phi", std::f64::consts::FRAC_PI_3);
+    for j in ["j2", "j3", "j4"] {
+        m.add(j, "Revolute");
+    }
+    for (name, length) in [("crank", 1.0), ("coupler", 1.0), ("rocker", 0.5)] {
+        m.add(name, "BodyShape")
+            .set("r", [length, 0.0, 0.0])
+            .set("m", 1.0)
+            .set("I_11", 0.01)
+            .set("I_22", 0.01)
+            .set("I_33", 0.01);
+    }
+    m.add("drive", "RotationalComponents.Speed").set("exact", true);
+    m.add("speed", "BlockComponents.Constant").set("k", 1.0);
+    m.connect(["world.frame_b", "j1.frame_a", "ground.frame_a"]);
+    m.connect(["j1.frame_b", "crank.frame_a"]);
+    m.connect(["crank.frame_b", "j2.frame_a"]);
+    m.connect(["j2.frame_b", "coupler.frame_a"]);
+    m.connect(["coupler.frame_b", "j3.frame_a"]);
+    m.connect(["ground.frame_b", "j4.frame_a"]);
+    m.connect(["j4.frame_b", "rocker.frame_a"]);
+    m.connect(["rocker.frame_b", "j3.frame_b"]);
+    m.connect(["speed.y", "drive.w_ref"]);
+    m.connect(["drive.spline", "j1.axis"]);
+    m.connect(["drive.support", "j1.support"]);
+    let options = SimulationOptions { stop: 1.0, saveat: 0.01, ..Default::default() };
+    let stopped = m.assemble().unwrap().simulate(&options).unwrap_err();
+    let message = stopped.to_string();
+    // The crank reaches the dead point when its tip is 1.5 from the pivot.
+    let dead_point = (0.19f64 / 2.4).acos() - std::f64::consts::FRAC_PI_3;
+    eprintln!("spatial four-bar at its dead point ({dead_point:.6} s): {message}");
+    assert!((stopped.time - dead_point).abs() < 1e-3, "stopped at {}, not at {dead_point}", stopped.time);
+    for expected in ["loop", "`j1`", "`j4`", "singular configuration", "dead point"] {
+        assert!(message.contains(expected), "`{expected}` missing from: {message}");
+    }
+}

@@ -347,6 +347,19 @@ impl Mechanism {
         self.system.states.names.get(self.system.states.nq + dof).map_or("?", String::as_str)
     }
 
+    /// A constraint in words: the loop it closes and the joints around it,
+    /// the motion prescribed there, or the wheel's contact.
+    pub(crate) fn loop_name(&self, constraint: usize) -> String {
+        let cut = &self.components[self.system.constraints[constraint].component].name;
+        let info = self.loops.get(constraint);
+        let joints = info.map(|l| l.joints.iter().map(|j| format!("`{j}`")).collect::<Vec<_>>().join(", "));
+        match info {
+            Some(l) if l.prescribed => format!("the motion the equations prescribe at `{cut}`"),
+            Some(l) if l.wheel_contact.is_some() => format!("the contact of the wheel `{cut}`"),
+            _ => format!("the loop closed at `{cut}` (through {})", joints.unwrap_or_default()),
+        }
+    }
+
     /// Explains a dynamics error in the model's terms.
     pub fn describe(&self, error: &DynamicsError) -> String {
         let name = |link: usize| self.owner_of_link(link).unwrap_or("a 1-D part").to_string();
@@ -375,14 +388,7 @@ impl Mechanism {
             ),
             DynamicsError::NotFinite => "a value became infinite or NaN (the motion blew up)".into(),
             DynamicsError::LoopOpen { constraint, residual } => {
-                let cut = &self.components[self.system.constraints[constraint].component].name;
-                let info = self.loops.get(constraint);
-                let joints = info.map(|l| l.joints.iter().map(|j| format!("`{j}`")).collect::<Vec<_>>().join(", "));
-                let what = match info {
-                    Some(l) if l.prescribed => format!("the motion the equations prescribe at `{cut}`"),
-                    Some(l) if l.wheel_contact.is_some() => format!("the contact of the wheel `{cut}`"),
-                    _ => format!("the loop closed at `{cut}` (through {})", joints.unwrap_or_default()),
-                };
+                let what = self.loop_name(constraint);
                 format!(
                     "{what} cannot close: its equations stay violated by {residual:.3e} (m or rad) after \
                      projection. The motion reached a configuration it cannot take, such as a crank driven past \

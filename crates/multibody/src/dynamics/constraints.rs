@@ -896,6 +896,38 @@ impl System {
         self.free_coordinates.iter().filter(|free| **free).count() - self.constraint_rank(ws)
     }
 
+    /// How close the loops are to a singular configuration at the state
+    /// `y`: the constraint Jacobian's singular value at the rank the model
+    /// was assembled with, as a fraction of its largest, and the
+    /// constraint that its direction loads most. A dead point drives the
+    /// fraction to zero. `None` without constraints. (For diagnosis only:
+    /// it allocates.)
+    pub(crate) fn loop_singularity(
+        &self,
+        ws: &mut Workspace,
+        y: &[f64],
+    ) -> Result<Option<(usize, f64)>, DynamicsError> {
+        let (nv, m) = (self.states.nv, self.constraint_rows);
+        let free: Vec<usize> = (0..nv).filter(|&i| self.free_coordinates.get(i).copied().unwrap_or(true)).collect();
+        let rank = free.len().saturating_sub(self.dof);
+        if m == 0 || rank == 0 || self.constraints.is_empty() {
+            return Ok(None);
+        }
+        self.constraint_state(ws, y)?;
+        let jac = nalgebra::DMatrix::from_fn(m, free.len(), |r, k| ws.jac[r * nv + free[k]]);
+        let svd = jac.svd(true, false);
+        let mut order: Vec<usize> = (0..svd.singular_values.len()).collect();
+        order.sort_by(|&a, &b| svd.singular_values[b].total_cmp(&svd.singular_values[a]));
+        let (Some(&largest), Some(&weakest)) = (order.first(), order.get(rank - 1)) else { return Ok(None) };
+        let fraction = svd.singular_values[weakest] / svd.singular_values[largest].max(f64::MIN_POSITIVE);
+        let Some(u) = svd.u.as_ref() else { return Ok(None) };
+        let loaded = |c: &Constraint| (c.row..c.row + c.rows).map(|r| u[(r, weakest)].powi(2)).sum::<f64>();
+        let constraint = (0..self.constraints.len())
+            .max_by(|&a, &b| loaded(&self.constraints[a]).total_cmp(&loaded(&self.constraints[b])))
+            .unwrap_or(0);
+        Ok(Some((constraint, fraction)))
+    }
+
     /// Rank of the constraint Jacobian at the workspace's state.
     pub(crate) fn constraint_rank(&self, ws: &mut Workspace) -> usize {
         let (nv, m) = (self.states.nv, self.constraint_rows);

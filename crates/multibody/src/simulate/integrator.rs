@@ -112,8 +112,9 @@ pub enum Failure<E> {
     Rhs(E),
     /// The observer asked to stop.
     Observer(E),
-    /// The step size fell below what the floating-point time can resolve.
-    StepTooSmall { h: f64 },
+    /// The step size fell below what the floating-point time can resolve;
+    /// `attempt` is the end state of the last step tried.
+    StepTooSmall { h: f64, attempt: Vec<f64> },
     /// The state became infinite or NaN.
     NotFinite,
 }

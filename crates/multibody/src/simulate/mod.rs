@@ -28,6 +28,7 @@ pub use simulator::{EventUpdate, Shared, Simulator};
 pub use solution::{glob, CsvWriter, Rows, Solution};
 
 use crate::assembly::Mechanism;
+use crate::dynamics::Workspace;
 
 /// The integration method.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -250,6 +251,10 @@ const ERROR_SUM_LIMIT: f64 = 1e4;
 /// Above this many bytes, a solution's room for all samples is not
 /// reserved up front (it grows as the samples come).
 const RESERVE_LIMIT: f64 = 256e6;
+/// A loop whose constraints' weakest direction (at the rank it was
+/// assembled with) is below this fraction of the strongest, where the
+/// steps collapse, is at its singular configuration.
+const SINGULAR_LOOP: f64 = 1e-3;
 
 /// Makes room in `solution` for the samples of the output grid from
 /// `options.start` to `options.stop`, when it is known and not too large:
@@ -321,9 +326,19 @@ impl Mechanism {
         self.system.next_time_event(t)
     }
 
-    /// Why the step size collapsed, as far as the run can tell: tolerances
-    /// finer than rounding where they are, else the motion.
-    pub(crate) fn step_too_small(&self, h: f64, options: &SimulationOptions) -> String {
+    /// Why the step size collapsed at the state `y`, with `attempt` the end
+    /// of the last step tried, as far as the run can tell: tolerances finer
+    /// than rounding where they are, a loop at a singular configuration,
+    /// else the state the steps tried to move most for its tolerance.
+    pub(crate) fn step_too_small(
+        &self,
+        h: f64,
+        options: &SimulationOptions,
+        ws: &mut Workspace,
+        t: f64,
+        y: &[f64],
+        attempt: &[f64],
+    ) -> String {
         if options.abstol < 1e-14 || options.reltol < 1e-13 {
             return format!(
                 "the step size fell to {h:e}, too small to make progress: the tolerances (abstol = {:e}, reltol = \
@@ -332,11 +347,60 @@ impl Mechanism {
                 options.abstol, options.reltol
             );
         }
-        format!(
-            "the step size fell to {h:e}, too small to make progress: the motion changes faster than the \
-             integrator can follow here (a singular configuration, a force that grows without bound, or a \
-             stiff element)"
-        )
+        let fell = format!("the step size fell to {h:e}, too small to make progress");
+        if let Ok(Some((constraint, fraction))) = self.system.loop_singularity(ws, y) {
+            if fraction < SINGULAR_LOOP {
+                return format!(
+                    "{fell}: {} is at a singular configuration (its constraints have all but lost a rank: the \
+                     weakest direction is {fraction:.1e} of the strongest), where the motion asked of it needs \
+                     unbounded speeds, such as a crank driven to the dead point of its linkage. Change what drives \
+                     it, or the lengths, so that the motion stays away from it",
+                    self.loop_name(constraint)
+                );
+            }
+        }
+        // The state the failed steps moved most, in units of its tolerance
+        // (a value that became infinite or NaN first of all); where no step
+        // was tried (the first step's size came out as zero), an Euler step
+        // of a few rounding units of time from the derivative there.
+        let moved = |i: usize, to: &[f64]| {
+            let d = (to[i] - y[i]).abs() / (options.abstol + options.reltol * y[i].abs());
+            if d.is_nan() {
+                f64::INFINITY
+            } else {
+                d
+            }
+        };
+        let most = |to: &[f64]| {
+            (0..y.len().min(to.len()))
+                .filter(|&i| moved(i, to) > 1.0)
+                .max_by(|&a, &b| moved(a, to).total_cmp(&moved(b, to)))
+        };
+        let mut probe = attempt.to_vec();
+        let mut found = most(attempt);
+        if found.is_none() {
+            let dt = 1e-8 * t.abs().max(1.0);
+            let mut dy = vec![0.0; y.len()];
+            if self.rhs(ws, t + dt, y, &mut dy).is_ok() {
+                probe = y.iter().zip(&dy).map(|(y, d)| y + dt * d).collect();
+                found = most(&probe);
+            }
+        }
+        match found {
+            Some(i) => format!(
+                "{fell}: the motion changes faster than the integrator can follow here, in `{}` above all (a step \
+                 tried moved it from {:.6e} to {:.6e}). Look at what drives it: a singular configuration, a force \
+                 that grows without bound (a source's or a table's huge value or slope, a stiffness near the largest \
+                 number), or a stiff element (try --alg Rodas4)",
+                self.system.states.names.get(i).map_or("?", String::as_str),
+                y[i],
+                probe[i]
+            ),
+            None => format!(
+                "{fell}: the motion changes faster than the integrator can follow here (a singular configuration, a \
+                 force that grows without bound, or a stiff element)"
+            ),
+        }
     }
 
     /// Warnings about a run that met its error control step by step but

@@ -261,7 +261,7 @@ impl Rodas4 {
         while self.t < tf {
             let t = self.t;
             if 0.1 * h.abs() <= t.abs() * f64::EPSILON * 4.0 {
-                return stop(t, Failure::StepTooSmall { h }, self.stats);
+                return stop(t, Failure::StepTooSmall { h, attempt: self.y_new.clone() }, self.stats);
             }
             let last = t + 1.01 * h >= tf;
             if last {

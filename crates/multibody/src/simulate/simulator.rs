@@ -1405,10 +1405,13 @@ impl<'m> Simulator<'m> {
         self.started = false;
         let reason = match failure {
             Failure::Rhs(e) | Failure::Observer(e) => return self.stopped(e, t),
-            Failure::StepTooSmall { h } => match self.last_event {
+            Failure::StepTooSmall { h, attempt } => match self.last_event {
                 // Steps that collapse right after an event: the events pile up.
                 Some((te, k)) if t - te <= 1e-6 * t.abs().max(1.0) => self.piling_up(k, t - te),
-                _ => self.mechanism.step_too_small(h, &self.options),
+                _ => {
+                    let y = self.stepper.state().to_vec();
+                    self.mechanism.step_too_small(h, &self.options, &mut self.ws, t, &y, &attempt)
+                }
             },
             Failure::NotFinite => self.mechanism.describe(&DynamicsError::NotFinite),
         };
