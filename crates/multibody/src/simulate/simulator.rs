@@ -38,6 +38,9 @@ pub use exchange::EventUpdate;
 
 /// Passes of one event iteration before it is declared not to settle.
 const EVENT_ITERATIONS: usize = 50;
+/// At most this many rounds of the event iteration and the projection
+/// onto the constraints that follows it, at one event.
+const EVENT_PROJECTIONS: usize = 3;
 /// Events within so short a time (relative to the time, at least 1 s)
 /// that, this many in a row, mean the events pile up (Zeno behaviour, or an
 /// indicator that chatters).
@@ -1474,59 +1477,83 @@ impl<'m> Simulator<'m> {
 
     /// Evaluates the dynamics at the time and state reached with relations
     /// as they are, until no discrete value changes (applying `reinit`s);
-    /// then moves the state onto the constraints and takes the indicators'
-    /// signs from there (at the start, only where a `reinit` moved it).
+    /// then moves the state onto the constraints (at the start, only where
+    /// a `reinit` moved it) and, where that moved it, reads the relations
+    /// again there: a relation at its crossing (two pistons turning at the
+    /// same instant, one of them found by the other's event) may lie on
+    /// either side before and after, and a mode taken on one side with the
+    /// indicator's sign taken on the other would never be met again. The
+    /// indicators' signs are taken from the final state.
     fn event_iteration(&mut self, project: bool) -> Result<(), StepError> {
-        let mechanism = &*self.mechanism;
-        let (t, n) = (self.t, self.y.len());
-        let ind = &mut self.indicators;
-        ind.dy.resize(n, 0.0);
-        ind.y.resize(n, 0.0);
-        let discrete = !mechanism.system.events.discrete_start.is_empty();
-        if discrete || !mechanism.system.events.indicators.is_empty() {
-            self.ws.at_event = true;
-            let mut settled = false;
-            for _ in 0..EVENT_ITERATIONS {
-                self.ws.discrete_pre.copy_from_slice(&self.ws.discrete);
-                self.ws.reinits.clear();
-                let evaluated = mechanism.rhs(&mut self.ws, t, &self.y, &mut ind.dy);
-                if let Err(e) = evaluated {
-                    self.ws.at_event = false;
-                    return Err(e.into());
-                }
-                for &(k, value) in &self.ws.reinits {
-                    self.y[k] = value;
-                }
-                if self.ws.discrete == self.ws.discrete_pre && self.ws.reinits.is_empty() {
-                    settled = true;
-                    break;
-                }
+        let n = self.y.len();
+        self.indicators.dy.resize(n, 0.0);
+        self.indicators.y.resize(n, 0.0);
+        let events = &self.mechanism.system.events;
+        let (discrete, relations) = (!events.discrete_start.is_empty(), !events.indicators.is_empty());
+        let mut project = project;
+        for _ in 0..EVENT_PROJECTIONS {
+            let reinitialized = if discrete || relations { self.settle_discrete()? } else { false };
+            if !(project || reinitialized) {
+                break;
             }
-            self.ws.at_event = false;
-            if !settled {
-                let names = &mechanism.system.events.indicators;
-                let changing: Vec<&str> = (0..self.ws.discrete.len())
-                    .filter(|&k| self.ws.discrete[k] != self.ws.discrete_pre[k])
-                    .filter_map(|k| names.get(k).map(String::as_str))
-                    .collect();
-                return Err(StepError::Events(format!(
-                    "the event iteration at t = {t} does not settle after {EVENT_ITERATIONS} passes: the modes keep \
-                     changing ({}). The conditions contradict each other at this instant",
-                    if changing.is_empty() { "reinit".to_string() } else { changing.join(", ") }
-                )));
+            project = false;
+            let moved = self.mechanism.system.project(&mut self.ws, self.t, &mut self.y, true)?;
+            if !moved || !discrete {
+                break;
             }
-            self.recorder.ws.discrete.copy_from_slice(&self.ws.discrete);
         }
-        if project || !self.ws.reinits.is_empty() {
-            mechanism.system.project(&mut self.ws, t, &mut self.y, true)?;
-        }
-        if !mechanism.system.events.indicators.is_empty() {
-            mechanism.rhs(&mut self.ws, t, &self.y, &mut ind.dy)?;
+        if relations {
+            let ind = &mut self.indicators;
+            self.mechanism.rhs(&mut self.ws, self.t, &self.y, &mut ind.dy)?;
             ind.above.clear();
             ind.above.extend(self.ws.indicators.iter().map(|&g| g > 0.0));
-            (ind.inside, ind.since) = (None, t);
+            (ind.inside, ind.since) = (None, self.t);
         }
         Ok(())
+    }
+
+    /// The event iteration proper: evaluations with relations as they are
+    /// at the time and state reached, until no discrete value changes.
+    /// Returns whether a `reinit` moved the state.
+    fn settle_discrete(&mut self) -> Result<bool, StepError> {
+        let mechanism = &*self.mechanism;
+        let t = self.t;
+        let dy = &mut self.indicators.dy;
+        let mut reinitialized = false;
+        self.ws.at_event = true;
+        let mut settled = false;
+        for _ in 0..EVENT_ITERATIONS {
+            self.ws.discrete_pre.copy_from_slice(&self.ws.discrete);
+            self.ws.reinits.clear();
+            let evaluated = mechanism.rhs(&mut self.ws, t, &self.y, dy);
+            if let Err(e) = evaluated {
+                self.ws.at_event = false;
+                return Err(e.into());
+            }
+            for &(k, value) in &self.ws.reinits {
+                self.y[k] = value;
+                reinitialized = true;
+            }
+            if self.ws.discrete == self.ws.discrete_pre && self.ws.reinits.is_empty() {
+                settled = true;
+                break;
+            }
+        }
+        self.ws.at_event = false;
+        if !settled {
+            let names = &mechanism.system.events.indicators;
+            let changing: Vec<&str> = (0..self.ws.discrete.len())
+                .filter(|&k| self.ws.discrete[k] != self.ws.discrete_pre[k])
+                .filter_map(|k| names.get(k).map(String::as_str))
+                .collect();
+            return Err(StepError::Events(format!(
+                "the event iteration at t = {t} does not settle after {EVENT_ITERATIONS} passes: the modes keep \
+                 changing ({}). The conditions contradict each other at this instant",
+                if changing.is_empty() { "reinit".to_string() } else { changing.join(", ") }
+            )));
+        }
+        self.recorder.ws.discrete.copy_from_slice(&self.ws.discrete);
+        Ok(reinitialized)
     }
 
     /// The warnings and counts of a run that reached its end.
