@@ -367,24 +367,7 @@ fn not_a_special_file(option: &str, given: &Path, name: &Path, how: &str) -> Res
 }
 
 fn special_kind(meta: &std::fs::Metadata) -> &'static str {
-    if meta.is_dir() {
-        return "a folder";
-    }
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        let ty = meta.file_type();
-        if ty.is_char_device() || ty.is_block_device() {
-            return "a device";
-        }
-        if ty.is_fifo() {
-            return "a FIFO (named pipe)";
-        }
-        if ty.is_socket() {
-            return "a socket";
-        }
-    }
-    "a special file"
+    multibody::files::Kind::of(meta).map_or("a regular file", multibody::files::Kind::describe)
 }
 
 /// Whether `a` and `b` name one file (through links; either may not exist yet).

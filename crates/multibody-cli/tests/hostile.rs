@@ -90,6 +90,45 @@ fn multibody(dir: &Path, args: &[&str]) -> Output {
     multibody_with(dir, args, Stdio::piped(), Stdio::piped())
 }
 
+/// `multibody` with `args` in `dir`, its output captured, killed (and the
+/// test failed) if it is still running after `seconds`: for the cases that
+/// used to hang. The bound is generous; it is no measure of speed.
+fn multibody_within(dir: &Path, args: &[&str], seconds: u64) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_multibody"))
+        .args(args)
+        .current_dir(dir)
+        .env("NO_COLOR", "1")
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the multibody binary runs");
+    // Read both pipes on threads of their own, so that a full pipe does not stop the child.
+    let mut out = child.stdout.take().unwrap();
+    let mut err = child.stderr.take().unwrap();
+    let out = std::thread::spawn(move || {
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(&mut out, &mut bytes).map(|_| bytes)
+    });
+    let err = std::thread::spawn(move || {
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(&mut err, &mut bytes).map(|_| bytes)
+    });
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(seconds);
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("`multibody {}` still ran after {seconds} s (killed)", args.join(" "));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    Output { status, stdout: out.join().unwrap().unwrap(), stderr: err.join().unwrap().unwrap() }
+}
+
 /// A model file `r.partial.dyad` and `--out r.dyad`: a failing run would
 /// keep its partial CSV as `r.partial.dyad`, over the model. Refused before
 /// the run; the model file stays.
@@ -286,6 +325,38 @@ fn a_model_from_a_fifo_without_writer_or_a_device_is_refused() {
     writer.join().unwrap().unwrap();
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     assert!(String::from_utf8_lossy(&o.stdout).contains("analysis PendulumSimulation"));
+}
+
+/// `--input tau=PATH` with PATH a FIFO nobody writes to blocked for ever in
+/// open(). It is read through the model files' way: given up after a few
+/// seconds with a message naming the option and the path; a device is
+/// refused; a FIFO that is written to reads as a file.
+#[test]
+fn an_input_table_from_a_fifo_without_writer_or_a_device_is_refused() {
+    let dir = scratch("fifo-input-table");
+    let model = example("controlled_pendulum.dyad");
+    let fifo = dir.join("tau.csv");
+    assert!(Command::new("mkfifo").arg(&fifo).status().expect("mkfifo runs").success());
+    let o = multibody_within(&dir, &["run", &model, "--input", "tau=tau.csv", "--stop", "1", "--out", "r.csv"], 60);
+    assert_eq!(code(&o), 4, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("--input tau=tau.csv: nothing writes to the FIFO tau.csv (waited 5 s)"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!stderr(&o).contains("Simulating"), "{}", stderr(&o));
+    let o = multibody_within(&dir, &["run", &model, "--input", "tau=/dev/zero", "--stop", "1", "--out", "r.csv"], 60);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("--input tau=/dev/zero: /dev/zero is a device, not a table"), "{}", stderr(&o));
+    let o = multibody(&dir, &["run", &model, "--input", "tau=.", "--stop", "1", "--out", "r.csv"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("--input tau=.: . is a folder, not a table"), "{}", stderr(&o));
+    // A writer: the table reads as from a file.
+    let writer = std::thread::spawn(move || std::fs::write(fifo, "time,tau\n0,0\n1,0\n"));
+    let o = multibody_within(&dir, &["run", &model, "--input", "tau=tau.csv", "--stop", "1", "--out", "r.csv"], 60);
+    writer.join().unwrap().unwrap();
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(dir.join("r.csv").exists());
 }
 
 /// Starts `multibody` with `args` in `dir` and waits until its stderr has
