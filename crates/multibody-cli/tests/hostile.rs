@@ -394,6 +394,33 @@ fn a_long_input_table_costs_its_rows_not_their_square() {
     }
 }
 
+/// `linearize --at t=1e300` simulated towards 1e300 s, keeping every
+/// sample on the way in memory (5 GB after 8 s). A time whose samples
+/// cannot fit is refused as `run` refuses such a `--stop`: before any work
+/// on the analysis's grid, and by the pace of the first steps when every
+/// step is kept (`--model`, saveat = 0). A time within reach still works.
+#[test]
+fn linearize_at_a_time_out_of_reach_is_refused() {
+    let dir = scratch("linearize-far");
+    let pendulum = example("pendulum.dyad");
+    let o = multibody_within(&dir, &["linearize", &pendulum, "--at", "t=1e300", "--out", "l.json"], 60);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("--at t=1e300: the simulation to t = 1e300 keeps every signal every 0.01 s"), "{err}");
+    assert!(err.contains("give an earlier time (the analysis stops at t = 5 s), or a longer --saveat"), "{err}");
+    assert!(!err.contains("000000000"), "numbers are written short: {err}");
+    let args = ["linearize", &pendulum, "--model", "Pendulum", "--at", "t=1e300", "--out", "l.json"];
+    let o = multibody_within(&dir, &args, 60);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("--at t=1e300: the simulation keeps every signal at every step (saveat = 0)"), "{err}");
+    assert!(err.contains("give an earlier time, or a --saveat"), "{err}");
+    assert!(!dir.join("l.json").exists());
+    let o = multibody_within(&dir, &["linearize", &pendulum, "--at", "t=2", "--out", "l.json"], 60);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(dir.join("l.json").exists());
+}
+
 /// Starts `multibody` with `args` in `dir` and waits until its stderr has
 /// said `ready`; gives the child and the rest of its stderr to read.
 fn start_until(

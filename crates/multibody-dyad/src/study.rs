@@ -408,6 +408,8 @@ pub fn check_memory(
 /// Bytes for people: "117.0 MB".
 pub fn bytes(x: f64) -> String {
     match x {
+        // `--stop 1e300` asks for a number of 290 digits.
+        x if x >= 1e15 => format!("{:.1e} TB", x / 1e12),
         x if x >= 1e12 => format!("{:.1} TB", x / 1e12),
         x if x >= 1e9 => format!("{:.1} GB", x / 1e9),
         x if x >= 1e6 => format!("{:.1} MB", x / 1e6),
