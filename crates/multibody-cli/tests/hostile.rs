@@ -421,6 +421,46 @@ fn linearize_at_a_time_out_of_reach_is_refused() {
     assert!(dir.join("l.json").exists());
 }
 
+/// A mesh file (ShapefileVisualizer) that is a FIFO blocked `run
+/// --animate` for ever, deaf to SIGTERM; named by a URDF, it was reported
+/// "not found". Meshes are opened through the model files' safe open: the
+/// FIFO is left out with a warning that says what it is, and the URDF's
+/// message says the path is no regular file.
+#[test]
+fn a_mesh_that_is_a_fifo_is_named_as_such_and_does_not_block() {
+    let dir = scratch("fifo-mesh");
+    std::fs::copy(example("mesh_pendulum.dyad"), dir.join("mesh_pendulum.dyad")).unwrap();
+    std::fs::create_dir_all(dir.join("meshes")).unwrap();
+    assert!(Command::new("mkfifo").arg(dir.join("meshes/bob.obj")).status().expect("mkfifo runs").success());
+    let args = ["run", "mesh_pendulum.dyad", "--stop", "0.1", "--animate", "p.html", "--out", "r.csv"];
+    let o = multibody_within(&dir, &args, 60);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("is not drawn: it is a FIFO (named pipe), not a regular file; give the path of a mesh file"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(dir.join("p.html").exists());
+    // Named by a URDF: found, but no mesh.
+    assert!(Command::new("mkfifo").arg(dir.join("tip.stl")).status().expect("mkfifo runs").success());
+    let urdf = "<robot name=\"meshed\">\n  <link name=\"base\"/>\n  <joint name=\"hinge\" type=\"continuous\">\n    \
+                <parent link=\"base\"/><child link=\"arm\"/><axis xyz=\"0 1 0\"/>\n  </joint>\n  <link name=\"arm\">\n    \
+                <inertial><mass value=\"1\"/><inertia ixx=\"0.01\" ixy=\"0\" ixz=\"0\" iyy=\"0.1\" iyz=\"0\" izz=\"0.1\"/>\
+                </inertial>\n    <visual><geometry><mesh filename=\"tip.stl\"/></geometry></visual>\n  </link>\n</robot>\n";
+    std::fs::write(dir.join("meshed.urdf"), urdf).unwrap();
+    let o = multibody_within(&dir, &["import", "meshed.urdf", "-o", "meshed.dyad"], 60);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("meshed.urdf:8:23: error: the mesh `tip.stl` is not read: ./tip.stl is a FIFO (named pipe), not a regular file"),
+        "{err}"
+    );
+    assert!(!err.contains("not found") && !err.contains("--package-dir"), "{err}");
+    let o = multibody_within(&dir, &["run", "meshed.urdf", "--stop", "0.1", "--animate", "u.html", "-o", "u.csv"], 60);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(stderr(&o).contains("is a FIFO (named pipe), not a regular file"), "{}", stderr(&o));
+}
+
 /// Starts `multibody` with `args` in `dir` and waits until its stderr has
 /// said `ready`; gives the child and the rest of its stderr to read.
 fn start_until(

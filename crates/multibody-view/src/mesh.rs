@@ -21,8 +21,13 @@
 //! axis becomes z (as ROS tools read robot meshes); `Z_UP`, or none, is
 //! taken as written.
 
+use multibody::files::{self, Fifo, OpenError};
 use std::collections::HashMap;
 use std::path::Path;
+
+/// The most an OBJ file's material library is read of (it is not drawn).
+#[cfg(feature = "meshes")]
+const MATERIALS_MAX_BYTES: u64 = 16 << 20;
 
 /// Faces that turn less than this from each other share their normals.
 pub const CREASE_DEGREES: f64 = 30.0;
@@ -70,15 +75,29 @@ impl Format {
 }
 
 /// Reads the mesh file at `path`; the error says why it cannot be drawn.
+/// The file is opened through [`multibody::files`]: a FIFO, a device or a
+/// folder is refused as not a regular file (reading a FIFO nobody writes
+/// to blocked the page for ever, deaf to SIGTERM).
 pub fn load(path: &Path) -> Result<MeshData, String> {
     let Some(format) = Format::of(path) else {
         return Err("not a mesh file this page reads: use .stl, .obj or .dae".into());
     };
-    let bytes = std::fs::read(path).map_err(|e| match e.kind() {
-        std::io::ErrorKind::NotFound => "no such file".to_string(),
-        _ => format!("cannot read it: {e}"),
-    })?;
+    let bytes = files::read(path, Fifo::Refuse, u64::MAX).map_err(|e| unreadable(&e))?;
     parse(&bytes, path, format)
+}
+
+/// Why a mesh file could not be read, as the end of "the mesh ... is not
+/// drawn: ...".
+fn unreadable(e: &OpenError) -> String {
+    match e {
+        OpenError::Io(e) if e.kind() == std::io::ErrorKind::NotFound => "no such file".to_string(),
+        OpenError::Io(e) => format!("cannot read it: {e}"),
+        OpenError::NotAFile(kind) => {
+            format!("it is {}, not a regular file; give the path of a mesh file", kind.describe())
+        }
+        OpenError::NoWriter { waited } => format!("nothing wrote to it in {} s", waited.as_secs()),
+        OpenError::TooLarge { limit, .. } => format!("it holds more than {limit} bytes"),
+    }
 }
 
 /// Parses the bytes of a mesh file of `format`; `path` names it in errors
@@ -115,7 +134,8 @@ fn read_corners(bytes: &[u8], path: &Path, format: Format) -> Result<Corners, St
             Format::Collada => loader.load_collada_from_slice(bytes, path),
             // Materials are not drawn: a missing material library is no error.
             Format::Obj => loader.load_obj_from_slice_with_reader(bytes, path, |p: &Path| {
-                Ok::<_, std::io::Error>(std::fs::read(p).unwrap_or_default())
+                // Through the safe open too: a FIFO named as the library would block.
+                Ok::<_, std::io::Error>(files::read(p, Fifo::Refuse, MATERIALS_MAX_BYTES).unwrap_or_default())
             }),
         }
     });
