@@ -129,6 +129,37 @@ fn multibody_within(dir: &Path, args: &[&str], seconds: u64) -> Output {
     Output { status, stdout: out.join().unwrap().unwrap(), stderr: err.join().unwrap().unwrap() }
 }
 
+/// A resource limit of a child process (`ulimit -v`, `ulimit -f`).
+#[derive(Clone, Copy)]
+enum Limit {
+    /// The most address space, bytes.
+    Memory(u64),
+    /// The largest file it may write, bytes.
+    FileSize(u64),
+}
+
+/// `multibody` with `args` in `dir` under `limit`, its output captured.
+fn multibody_limited(dir: &Path, args: &[&str], limit: Limit) -> Output {
+    use std::os::unix::process::CommandExt;
+    let mut command = Command::new(env!("CARGO_BIN_EXE_multibody"));
+    command.args(args).current_dir(dir).env("NO_COLOR", "1").stdin(Stdio::null());
+    // SAFETY: setrlimit is async-signal-safe; the closure touches nothing else.
+    unsafe {
+        command.pre_exec(move || {
+            let (resource, bytes) = match limit {
+                Limit::Memory(bytes) => (libc::RLIMIT_AS, bytes),
+                Limit::FileSize(bytes) => (libc::RLIMIT_FSIZE, bytes),
+            };
+            let value = libc::rlimit { rlim_cur: bytes as libc::rlim_t, rlim_max: bytes as libc::rlim_t };
+            if libc::setrlimit(resource, &value) != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        });
+    }
+    command.output().expect("the multibody binary runs")
+}
+
 /// A model file `r.partial.dyad` and `--out r.dyad`: a failing run would
 /// keep its partial CSV as `r.partial.dyad`, over the model. Refused before
 /// the run; the model file stays.
@@ -459,6 +490,51 @@ fn a_mesh_that_is_a_fifo_is_named_as_such_and_does_not_block() {
     let o = multibody_within(&dir, &["run", "meshed.urdf", "--stop", "0.1", "--animate", "u.html", "-o", "u.csv"], 60);
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     assert!(stderr(&o).contains("is a FIFO (named pipe), not a regular file"), "{}", stderr(&o));
+}
+
+/// A 2 GB binary STL was read whole (8.6 GB of memory) before the triangle
+/// budget dropped it. Its header's count is checked first, and the file
+/// left out unread with the budget's message: the run goes on within
+/// 1.5 GB of address space, where reading the file would fail. (The file
+/// is sparse: it takes no disk.)
+#[test]
+fn a_huge_mesh_is_refused_by_its_header_without_being_read() {
+    let dir = scratch("huge-mesh");
+    let text = std::fs::read_to_string(example("mesh_pendulum.dyad")).unwrap();
+    assert!(text.contains("\"meshes/bob.obj\""), "mesh_pendulum.dyad no longer names meshes/bob.obj");
+    std::fs::write(dir.join("huge.dyad"), text.replace("\"meshes/bob.obj\"", "\"huge.stl\"")).unwrap();
+    let triangles: u32 = 40_000_000;
+    let mut header = vec![b' '; 80];
+    header[..10].copy_from_slice(b"binary stl");
+    header.extend_from_slice(&triangles.to_le_bytes());
+    let file = std::fs::File::create(dir.join("huge.stl")).unwrap();
+    std::io::Write::write_all(&mut &file, &header).unwrap();
+    file.set_len(84 + 50 * u64::from(triangles)).unwrap();
+    drop(file);
+    let args = ["run", "huge.dyad", "--stop", "0.1", "--animate", "p.html", "--out", "r.csv"];
+    let o = multibody_limited(&dir, &args, Limit::Memory(1536 << 20));
+    assert_eq!(o.status.code(), Some(0), "{:?}: {}", o.status, stderr(&o));
+    assert!(
+        stderr(&o).contains(
+            "huge.stl is not drawn: it has 40000000 triangles, and the page's budget of 1000000 triangles of \
+             meshes has 1000000 left; simplify (decimate) the mesh"
+        ),
+        "{}",
+        stderr(&o)
+    );
+    // Any other 2 GB mesh is refused by its size.
+    std::fs::rename(dir.join("huge.stl"), dir.join("huge.obj")).unwrap();
+    std::fs::write(dir.join("huge.dyad"), text.replace("\"meshes/bob.obj\"", "\"huge.obj\"")).unwrap();
+    let o = multibody_limited(&dir, &args, Limit::Memory(1536 << 20));
+    assert_eq!(o.status.code(), Some(0), "{:?}: {}", o.status, stderr(&o));
+    assert!(
+        stderr(&o).contains(
+            "huge.obj is not drawn: it is 2000000084 bytes long, more than 1000000 triangles take in any mesh \
+             format read (512 bytes each), and the page's budget"
+        ),
+        "{}",
+        stderr(&o)
+    );
 }
 
 /// Starts `multibody` with `args` in `dir` and waits until its stderr has
