@@ -537,6 +537,39 @@ fn a_huge_mesh_is_refused_by_its_header_without_being_read() {
     );
 }
 
+/// A run past the file size limit (`ulimit -f`) was killed by SIGXFSZ with
+/// no message, its temporary file left behind. The signal is ignored: the
+/// write fails, the message names the file and the limit, and no file is
+/// left, temporary or partial.
+#[test]
+fn a_file_size_limit_is_an_error_that_names_the_file_and_leaves_nothing() {
+    let dir = scratch("file-size-limit");
+    let pendulum = example("pendulum.dyad");
+    // 500 samples of 103 signals are about 1 MB; the limit is 100 kB.
+    let o = multibody_limited(&dir, &["run", &pendulum, "--out", "r.csv"], Limit::FileSize(100 << 10));
+    assert_eq!(o.status.code(), Some(4), "{:?}: {}", o.status, stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains(
+            "error: cannot write r.csv: it reached the file size limit of this process (`ulimit -f`, 102.4 kB); \
+             raise the limit (`ulimit -f unlimited`), or write less"
+        ),
+        "{err}"
+    );
+    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert!(left.is_empty(), "left behind: {left:?}");
+    // A page too: written whole or not at all.
+    let o = multibody_limited(
+        &dir,
+        &["run", &pendulum, "--signals", "rev.phi", "--animate", "p.html", "--out", "r.csv"],
+        Limit::FileSize(20 << 10),
+    );
+    assert_eq!(o.status.code(), Some(4), "{:?}: {}", o.status, stderr(&o));
+    assert!(stderr(&o).contains("error: cannot write p.html: it reached the file size limit"), "{}", stderr(&o));
+    assert!(no_temporary_files(&dir).is_empty(), "{:?}", no_temporary_files(&dir));
+    assert!(!dir.join("p.html").exists());
+}
+
 /// Starts `multibody` with `args` in `dir` and waits until its stderr has
 /// said `ready`; gives the child and the rest of its stderr to read.
 fn start_until(
