@@ -570,6 +570,42 @@ fn a_file_size_limit_is_an_error_that_names_the_file_and_leaves_nothing() {
     assert!(!dir.join("p.html").exists());
 }
 
+/// 1000 files each defining a component `C` gave "choose a component with
+/// --model NAME (C, C, C, ...)", naming no duplicate (and `--model C` then
+/// showed only the first two). The message says which files define it, the
+/// first few and how many more, and how to choose: a name is defined once
+/// among the files read, so give only the file meant.
+#[test]
+fn a_name_defined_in_many_files_says_which_and_how_to_choose() {
+    let dir = scratch("many-definitions");
+    std::fs::create_dir_all(dir.join("many")).unwrap();
+    for k in 0..1000 {
+        let text = format!("component C\n  world = MultibodyComponents.World()\n  p{k} = MultibodyComponents.Fixed()\nend\n");
+        std::fs::write(dir.join(format!("many/c{k:04}.dyad")), text).unwrap();
+    }
+    let o = multibody(&dir, &["check", "many"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains(
+            "error: `C` is defined in 1000 files (many/c0000.dyad:1:1, many/c0001.dyad:1:1, many/c0002.dyad:1:1 \
+             and 997 more); a name is defined once among the files read: give only the file that defines the `C` \
+             you mean, or rename the others"
+        ),
+        "{err}"
+    );
+    assert!(!err.contains("C, C"), "{err}");
+    let o = multibody(&dir, &["check", "many", "--model", "C"]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("error: `C` is defined 1000 times"), "{err}");
+    assert!(err.contains("many/c0003.dyad:1:11") && err.contains("and 996 more"), "{err}");
+    assert!(err.contains("give only the file that defines the `C` you mean"), "{err}");
+    // One of them, given alone, is checked.
+    let o = multibody(&dir, &["check", "many/c0007.dyad"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+}
+
 /// Starts `multibody` with `args` in `dir` and waits until its stderr has
 /// said `ready`; gives the child and the rest of its stderr to read.
 fn start_until(
