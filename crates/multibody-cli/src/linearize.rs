@@ -185,7 +185,16 @@ impl Reach {
             Some(_) => None,
             None => Some((budget / row).floor().max(1.0)),
         };
-        Ok(Self { given: given.to_string(), at, start: options.start, most_steps, steps: 0.0, signals, budget, refused: None })
+        Ok(Self {
+            given: given.to_string(),
+            at,
+            start: options.start,
+            most_steps,
+            steps: 0.0,
+            signals,
+            budget,
+            refused: None,
+        })
     }
 
     /// Counts a step that reached `now`; an error stops the simulation.

@@ -2,9 +2,9 @@
 
 use crate::exit::{color, Failure};
 use crate::Selection;
+use multibody::files::{self, Fifo, OpenError, FIFO_WAIT};
 use multibody_dyad::{Diagnostic, Lowered, Override, Package};
 use std::path::{Path, PathBuf};
-use multibody::files::{self, Fifo, OpenError, FIFO_WAIT};
 
 pub use multibody_dyad::Target;
 

@@ -467,7 +467,8 @@ fn a_mesh_that_is_a_fifo_is_named_as_such_and_does_not_block() {
     let o = multibody_within(&dir, &args, 60);
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("is not drawn: it is a FIFO (named pipe), not a regular file; give the path of a mesh file"),
+        stderr(&o)
+            .contains("is not drawn: it is a FIFO (named pipe), not a regular file; give the path of a mesh file"),
         "{}",
         stderr(&o)
     );
@@ -580,7 +581,8 @@ fn a_name_defined_in_many_files_says_which_and_how_to_choose() {
     let dir = scratch("many-definitions");
     std::fs::create_dir_all(dir.join("many")).unwrap();
     for k in 0..1000 {
-        let text = format!("component C\n  world = MultibodyComponents.World()\n  p{k} = MultibodyComponents.Fixed()\nend\n");
+        let text =
+            format!("component C\n  world = MultibodyComponents.World()\n  p{k} = MultibodyComponents.Fixed()\nend\n");
         std::fs::write(dir.join(format!("many/c{k:04}.dyad")), text).unwrap();
     }
     let o = multibody(&dir, &["check", "many"]);

@@ -154,14 +154,14 @@ fn defined_again(name: &str, first: Span, again: Span, files: &[&File]) -> Diagn
     let places: Vec<Span> = files
         .iter()
         .flat_map(|f| &f.items)
-        .filter_map(|item| match item {
-            Item::Component(c) => Some((&c.name, c.header)),
-            Item::Analysis(a) => Some((&a.name, a.header)),
-            Item::TypeAlias(t) => Some((&t.name, t.span)),
-            Item::Connector(c) => Some((&c.name, c.header)),
+        .map(|item| match item {
+            Item::Component(c) => &c.name,
+            Item::Analysis(a) => &a.name,
+            Item::TypeAlias(t) => &t.name,
+            Item::Connector(c) => &c.name,
         })
-        .filter(|(n, _)| n.name == name)
-        .map(|(n, _)| n.span)
+        .filter(|n| n.name == name)
+        .map(|n| n.span)
         .collect();
     let one_file = places.iter().all(|p| p.file == again.file);
     let mut d = Diagnostic::error(if places.len() == 2 {
