@@ -70,10 +70,15 @@ pub fn urdf_as_dyad(
         }
     }
     if meshes.required && !missing.is_empty() {
-        say!(
-            "help: name the folder that holds the package with --package-dir (or ROS_PACKAGE_PATH), or import \
-             without meshes with --no-meshes"
-        );
+        if missing.iter().all(|m| m.not_a_file.is_some()) {
+            // Found, but not files: no folder to name.
+            say!("help: name mesh files in the URDF, or import without meshes with --no-meshes");
+        } else {
+            say!(
+                "help: name the folder that holds the package with --package-dir (or ROS_PACKAGE_PATH), or import \
+                 without meshes with --no-meshes"
+            );
+        }
         return Err(Failure::Model);
     }
     let dyad = urdf::to_dyad(&robot, &file, options);

@@ -5,6 +5,7 @@
 //! integrator stops exactly at each).
 
 use crate::exit::Failure;
+use multibody::files::{self, Fifo, OpenError, FIFO_WAIT};
 use multibody::{Model, SimulationOptions, Value};
 use std::path::Path;
 
@@ -28,8 +29,7 @@ pub fn drive(model: &mut Model, given: &[String], options: &SimulationOptions) -
         if !inputs.contains(&name) {
             return Err(Failure::Usage(unknown_input(name, &inputs)));
         }
-        let path = Path::new(file);
-        let text = std::fs::read_to_string(path).map_err(|e| Failure::Io(format!("cannot read {file}: {e}")))?;
+        let text = read_table(name, file)?;
         let rows = parse_table(file, &text).map_err(Failure::Usage)?;
         check_span(file, &rows, options).map_err(Failure::Usage)?;
         let component = model.components.iter_mut().find(|c| c.name == name).expect("found above");
@@ -38,6 +38,40 @@ pub fn drive(model: &mut Model, given: &[String], options: &SimulationOptions) -
         done.push(name);
     }
     Ok(())
+}
+
+/// The most a table may hold: 1 GB is some 30 million rows.
+const TABLE_MAX_BYTES: u64 = 1 << 30;
+
+/// The text of the table of `--input NAME=FILE`, read through
+/// [`multibody::files::read`]: a FIFO (`<(...)`) is read once something
+/// writes to it, within `FIFO_WAIT` (opening one that nothing writes to
+/// blocked for ever); a folder, a device or a socket is refused.
+fn read_table(name: &str, file: &str) -> Result<String, Failure> {
+    let option = format!("--input {name}={file}");
+    let bytes = files::read(Path::new(file), Fifo::Wait(FIFO_WAIT), TABLE_MAX_BYTES).map_err(|e| match e {
+        OpenError::Io(e) => Failure::Io(format!("{option}: cannot read {file}: {e}")),
+        OpenError::NotAFile(kind) => Failure::Usage(format!(
+            "{option}: {file} is {}, not a table; give the path of a CSV file of time and value",
+            kind.describe()
+        )),
+        OpenError::NoWriter { waited } => Failure::Io(format!(
+            "{option}: nothing writes to the FIFO {file} (waited {} s); start the program that writes the table \
+             first, or give the path of a CSV file",
+            waited.as_secs()
+        )),
+        OpenError::TooLarge { .. } => Failure::Usage(format!(
+            "{option}: {file} holds more than {} MB, more than a table of time and value this command reads; \
+             thin the table out (linear interpolation needs a row only where the slope changes)",
+            TABLE_MAX_BYTES >> 20
+        )),
+    })?;
+    String::from_utf8(bytes).map_err(|e| {
+        Failure::Usage(format!(
+            "{option}: {file} is not UTF-8 text (byte {}); write the table as CSV text",
+            e.utf8_error().valid_up_to()
+        ))
+    })
 }
 
 fn unknown_input(name: &str, inputs: &[&str]) -> String {

@@ -8,6 +8,7 @@ use crate::output::{outputs_are_safe, write_atomically};
 use crate::run::{command_line_options, number};
 use crate::LinearizeArgs;
 use multibody::{Derivatives, Linearization, LinearizeOptions, Simulator, SteadyStateOptions};
+use multibody_dyad::study::{bytes, count};
 use multibody_dyad::Study;
 use std::path::{Path, PathBuf};
 
@@ -98,7 +99,12 @@ pub fn linearize(args: &LinearizeArgs) -> Result<(), Failure> {
                     number(options.start)
                 )));
             }
-            sim.step_until(t).map_err(|s| stopped(s.reason, s.time))?;
+            let mut reach = Reach::new(&args.at, t, &options, mechanism.signals().len())?;
+            let mut progress = |now: f64| reach.step(now);
+            sim.step_until_with(t, Some(&mut progress)).map_err(|s| match reach.refused.take() {
+                Some(message) => Failure::Usage(message),
+                None => stopped(s.reason, s.time),
+            })?;
             format!("at t = {} along the simulation", number(t))
         }
         At::Steady => {
@@ -129,6 +135,93 @@ pub fn linearize(args: &LinearizeArgs) -> Result<(), Failure> {
         say!("Wrote {}", bode.display());
     }
     Ok(())
+}
+
+/// Steps after which the pace of a simulation with `saveat = 0` tells
+/// whether `--at` is within reach.
+const PACE_STEPS: f64 = 1000.0;
+
+/// Whether the time of `--at t=T` can be reached. The simulation to it
+/// keeps every signal in memory on the output grid (every integrator step
+/// when `saveat = 0`), as a `run --stop T` with views does; it is refused
+/// as `run` refuses such a stop: before any work when the grid's samples
+/// would pass the memory budget, and with `saveat = 0`, once the steps
+/// taken reach it or their pace says they would by far (`--at t=1e300`
+/// simulated towards 1e300 s, filling memory).
+struct Reach {
+    /// `t=T` as given.
+    given: String,
+    at: f64,
+    start: f64,
+    /// The most steps whose samples fit the budget (`saveat = 0`); `None`
+    /// when the grid was checked.
+    most_steps: Option<f64>,
+    steps: f64,
+    signals: usize,
+    budget: f64,
+    /// Why the simulation was stopped, once it was.
+    refused: Option<String>,
+}
+
+impl Reach {
+    fn new(given: &str, at: f64, options: &multibody::SimulationOptions, signals: usize) -> Result<Self, Failure> {
+        let budget = multibody_dyad::study::memory_budget();
+        let row = (signals + 1) as f64 * 8.0;
+        let to_at = multibody::SimulationOptions { stop: at, ..options.clone() };
+        let most_steps = match multibody_dyad::study::grid_samples(&to_at) {
+            Some(samples) if samples * row > budget => {
+                return Err(Failure::Usage(format!(
+                    "--at {given}: the simulation to t = {} keeps every signal every {} s, {} samples × {signals} \
+                     signals: {} in memory, more than the {} this command may use (half the memory available); \
+                     give an earlier time (the analysis stops at t = {} s), or a longer --saveat",
+                    number(at),
+                    number(options.saveat),
+                    count(samples),
+                    bytes(samples * row),
+                    bytes(budget),
+                    number(options.stop)
+                )))
+            }
+            Some(_) => None,
+            None => Some((budget / row).floor().max(1.0)),
+        };
+        Ok(Self {
+            given: given.to_string(),
+            at,
+            start: options.start,
+            most_steps,
+            steps: 0.0,
+            signals,
+            budget,
+            refused: None,
+        })
+    }
+
+    /// Counts a step that reached `now`; an error stops the simulation.
+    fn step(&mut self, now: f64) -> Result<(), String> {
+        let Some(most) = self.most_steps else { return Ok(()) };
+        self.steps += 1.0;
+        let done = (now - self.start) / (self.at - self.start);
+        let needed = if done > 0.0 { self.steps / done } else { f64::INFINITY };
+        let out_of_reach = self.steps >= most || (self.steps >= PACE_STEPS && needed > 100.0 * most);
+        if !out_of_reach {
+            return Ok(());
+        }
+        let row = (self.signals + 1) as f64 * 8.0;
+        self.refused = Some(format!(
+            "--at {}: the simulation keeps every signal at every step (saveat = 0), and after {} steps it \
+             has reached t = {} s: at that pace t = {} takes about {} steps, {} in memory, more than the {} \
+             this command may use (half the memory available); give an earlier time, or a --saveat",
+            self.given,
+            count(self.steps),
+            number(now),
+            number(self.at),
+            count(needed),
+            bytes(needed * row),
+            bytes(self.budget)
+        ));
+        Err("out of reach".into())
+    }
 }
 
 /// The result files may not overwrite a model file, nor each other.

@@ -2,9 +2,9 @@
 
 use crate::exit::{color, Failure};
 use crate::Selection;
+use multibody::files::{self, Fifo, OpenError, FIFO_WAIT};
 use multibody_dyad::{Diagnostic, Lowered, Override, Package};
 use std::path::{Path, PathBuf};
-use std::time::Duration;
 
 pub use multibody_dyad::Target;
 
@@ -69,80 +69,33 @@ fn named_folder(file: &Path) -> PathBuf {
     std::fs::canonicalize(file).unwrap_or_else(|_| file.to_path_buf())
 }
 
-/// How long a FIFO (a named pipe, `/dev/stdin` from a pipe, `<(...)`) may
-/// wait for the program that writes to it.
-const FIFO_WAIT: Duration = Duration::from_secs(5);
-/// The most a FIFO may give: a model file is text, far smaller.
-const FIFO_MAX_BYTES: u64 = 256 << 20;
+/// The most a model file may hold: a model file is text, far smaller.
+const MODEL_MAX_BYTES: u64 = 256 << 20;
 
-/// The bytes of a model file. A regular file is read; a FIFO is read once
-/// something writes to it, within `FIFO_WAIT` (with no writer, opening it
-/// blocks for ever) and up to `FIFO_MAX_BYTES`; a device (`/dev/zero`, a
-/// terminal) or a socket is refused, for it would block or never end.
+/// The bytes of a model file, through [`multibody::files::read`]: a FIFO
+/// is read once something writes to it, within `FIFO_WAIT` (with no
+/// writer, opening it blocks for ever); a device (`/dev/zero`, a terminal)
+/// or a socket is refused, for it would block or never end.
 fn read_model_file(path: &Path) -> Result<Vec<u8>, Failure> {
-    let cannot = |e: std::io::Error| Failure::Io(format!("cannot read {}: {e}", path.display()));
-    let meta = std::fs::metadata(path).map_err(cannot)?;
-    if meta.is_file() {
-        return std::fs::read(path).map_err(cannot);
-    }
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        let ty = meta.file_type();
-        if ty.is_fifo() {
-            return read_fifo(path);
-        }
-        let what = if ty.is_char_device() || ty.is_block_device() {
-            "a device"
-        } else if ty.is_socket() {
-            "a socket"
-        } else {
-            "not a file"
-        };
-        Err(Failure::Usage(format!("{} is {what}, not a model file; give the path of a .dyad file", path.display())))
-    }
-    #[cfg(not(unix))]
-    std::fs::read(path).map_err(cannot)
-}
-
-/// Reads a FIFO on a thread of its own, so that a FIFO nobody writes to
-/// is given up after `FIFO_WAIT` instead of blocking the command for ever.
-fn read_fifo(path: &Path) -> Result<Vec<u8>, Failure> {
-    use std::io::Read;
-    use std::sync::mpsc;
-    let (opened, opened_here) = mpsc::channel();
-    let (read, read_here) = mpsc::channel();
-    let reading = path.to_path_buf();
-    std::thread::spawn(move || {
-        let file = std::fs::File::open(&reading);
-        let _ = opened.send(());
-        let bytes = file.and_then(|f| {
-            let mut bytes = Vec::new();
-            f.take(FIFO_MAX_BYTES + 1).read_to_end(&mut bytes).map(|_| bytes)
-        });
-        let _ = read.send(bytes);
-    });
-    if opened_here.recv_timeout(FIFO_WAIT).is_err() {
-        // The thread stays blocked in open(); it ends with the command.
-        return Err(Failure::Io(format!(
+    files::read(path, Fifo::Wait(FIFO_WAIT), MODEL_MAX_BYTES).map_err(|e| match e {
+        OpenError::Io(e) => Failure::Io(format!("cannot read {}: {e}", path.display())),
+        OpenError::NotAFile(kind) => Failure::Usage(format!(
+            "{} is {}, not a model file; give the path of a .dyad file",
+            path.display(),
+            kind.describe()
+        )),
+        OpenError::NoWriter { waited } => Failure::Io(format!(
             "nothing writes to the FIFO {} (waited {} s); start the program that writes the model first, or give \
              the path of a .dyad file",
             path.display(),
-            FIFO_WAIT.as_secs()
-        )));
-    }
-    let bytes = read_here
-        .recv()
-        .unwrap_or_else(|_| Err(std::io::Error::other("the reading thread ended")))
-        .map_err(|e| Failure::Io(format!("cannot read {}: {e}", path.display())))?;
-    if bytes.len() as u64 > FIFO_MAX_BYTES {
-        return Err(Failure::Usage(format!(
-            "{} gave more than {} MB, far more than a model file; give the path of a .dyad file",
+            waited.as_secs()
+        )),
+        OpenError::TooLarge { .. } => Failure::Usage(format!(
+            "{} holds more than {} MB, far more than a model file; give the path of a .dyad file",
             path.display(),
-            FIFO_MAX_BYTES >> 20
-        )));
-    }
-    Ok(bytes)
+            MODEL_MAX_BYTES >> 20
+        )),
+    })
 }
 
 fn collect_dyad_files(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), Failure> {

@@ -281,6 +281,7 @@ pub struct FmuArgs {
 }
 
 fn main() -> ExitCode {
+    ignore_file_size_signal();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(args) => run::run(&args),
@@ -296,6 +297,19 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(failure) => failure.report(),
+    }
+}
+
+/// A write past the file size limit (`ulimit -f`) sends SIGXFSZ, which
+/// ended the command with no message and left its temporary file behind.
+/// Ignored, the write fails with EFBIG instead: the command says which
+/// file hit the limit and removes the temporary file.
+fn ignore_file_size_signal() {
+    #[cfg(unix)]
+    // SAFETY: sets the disposition of one signal to "ignore", before any
+    // thread of ours starts; no handler runs.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
     }
 }
 

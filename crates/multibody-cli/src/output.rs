@@ -63,7 +63,7 @@ pub fn partial_path(path: &Path) -> PathBuf {
 /// Writes a file whole or not at all: into a temporary file in the same
 /// folder, renamed to `path` once `write` succeeded.
 pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<(), Failure> {
-    let io = |e: std::io::Error| Failure::Io(format!("cannot write {}: {e}", path.display()));
+    let io = |e: std::io::Error| cannot_write(path, &e);
     let file = temporary_beside(path).map_err(io)?;
     let mut writer = BufWriter::new(file);
     write(&mut writer).map_err(io)?;
@@ -83,13 +83,45 @@ pub fn write_table_streaming(
     names: &[&str],
     fill: impl FnOnce(&mut TableWriter) -> std::io::Result<bool>,
 ) -> Result<PathBuf, Failure> {
-    let io = |e: std::io::Error| Failure::Io(format!("cannot write {}: {e}", path.display()));
+    let io = |e: std::io::Error| cannot_write(path, &e);
     let file = temporary_beside(path).map_err(io)?;
     let mut table = TableWriter::new(Format::of(path), file, keys, names).map_err(io)?;
     let complete = fill(&mut table).map_err(io)?;
     let name = if complete { path.to_path_buf() } else { partial_path(path) };
     table.finish().map_err(io)?.persist(&name).map_err(|e| io(e.error))?;
     Ok(name)
+}
+
+/// The failure of writing `path`.
+pub fn cannot_write(path: &Path, e: &std::io::Error) -> Failure {
+    Failure::Io(format!("cannot write {}: {}", path.display(), write_error(e)))
+}
+
+/// What went wrong in a write: the system's error, or for a file that
+/// passed the file size limit (EFBIG, `ulimit -f`; SIGXFSZ is ignored at
+/// startup, see `main`), the limit and what to do.
+pub fn write_error(e: &std::io::Error) -> String {
+    if e.kind() != std::io::ErrorKind::FileTooLarge {
+        return e.to_string();
+    }
+    let limit = file_size_limit().map_or(String::new(), |b| format!(", {}", bytes(b)));
+    format!(
+        "it reached the file size limit of this process (`ulimit -f`{limit}); raise the limit (`ulimit -f \
+         unlimited`), or write less"
+    )
+}
+
+/// The most bytes this process may write to a file, when it is limited.
+fn file_size_limit() -> Option<f64> {
+    #[cfg(unix)]
+    {
+        let mut limit = libc::rlimit { rlim_cur: 0, rlim_max: 0 };
+        // SAFETY: getrlimit writes the struct it is given, nothing else.
+        let got = unsafe { libc::getrlimit(libc::RLIMIT_FSIZE, &mut limit) };
+        (got == 0 && limit.rlim_cur != libc::RLIM_INFINITY).then_some(limit.rlim_cur as f64)
+    }
+    #[cfg(not(unix))]
+    None
 }
 
 /// A temporary file in the folder of `path` (created if missing), readable
@@ -189,6 +221,8 @@ impl Budget {
 /// too when the views need them.
 pub struct StreamingCsv {
     csv: Option<TableWriter>,
+    /// The file the table is for, named when a write fails during the run.
+    path: PathBuf,
     /// Column of each written signal in the full row.
     picks: Vec<usize>,
     values: Vec<f64>,
@@ -217,7 +251,7 @@ impl StreamingCsv {
     /// Starts the CSV (header) under a temporary name beside `path`;
     /// `keep` is the memory budget for keeping every signal for the views.
     pub fn create(path: &Path, mechanism: &Mechanism, signals: &[String], keep: Option<f64>) -> Result<Self, Failure> {
-        let io = |e: std::io::Error| Failure::Io(format!("cannot write {}: {e}", path.display()));
+        let io = |e: std::io::Error| cannot_write(path, &e);
         let all = mechanism.signals();
         let names: Vec<String> = all.iter().map(|s| s.name.clone()).collect();
         let index: std::collections::HashMap<&str, usize> =
@@ -229,6 +263,7 @@ impl StreamingCsv {
         let solution = keep.map(|_| Solution::new(names.clone(), all.iter().map(|s| s.unit).collect()));
         Ok(Self {
             csv: Some(csv),
+            path: path.to_path_buf(),
             values: vec![0.0; picks.len()],
             picks,
             error: None,
@@ -241,10 +276,11 @@ impl StreamingCsv {
     /// gives what was kept. A write error during the run is reported here;
     /// the temporary file is removed then.
     pub fn finish(&mut self, path: &Path) -> Result<Kept, Failure> {
-        let io = |e: std::io::Error| Failure::Io(format!("cannot write {}: {e}", path.display()));
+        let io = |e: std::io::Error| cannot_write(path, &e);
         let csv = self.csv.take().expect("the CSV is finished once");
         if let Some(e) = self.error.take() {
-            return Err(io(e));
+            // Failed during the run: the file it was for, not the name it would have been kept under.
+            return Err(cannot_write(&self.path, &e));
         }
         csv.finish().map_err(io)?.persist(path).map_err(|e| io(e.error))?;
         let mut kept = std::mem::take(&mut self.kept);
@@ -265,7 +301,11 @@ impl SampleSink for StreamingCsv {
         }
         let csv = self.csv.as_mut().expect("samples come before the CSV is finished");
         if let Err(e) = csv.row(&[], t, &self.values) {
-            let reason = format!("cannot write the CSV: {e}");
+            // The file and what to do are said when the run has ended.
+            let reason = match e.kind() {
+                std::io::ErrorKind::FileTooLarge => "cannot write the CSV: it reached the file size limit".to_string(),
+                _ => format!("cannot write the CSV: {e}"),
+            };
             self.error = Some(e);
             return Err(reason);
         }
@@ -367,24 +407,7 @@ fn not_a_special_file(option: &str, given: &Path, name: &Path, how: &str) -> Res
 }
 
 fn special_kind(meta: &std::fs::Metadata) -> &'static str {
-    if meta.is_dir() {
-        return "a folder";
-    }
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        let ty = meta.file_type();
-        if ty.is_char_device() || ty.is_block_device() {
-            return "a device";
-        }
-        if ty.is_fifo() {
-            return "a FIFO (named pipe)";
-        }
-        if ty.is_socket() {
-            return "a socket";
-        }
-    }
-    "a special file"
+    multibody::files::Kind::of(meta).map_or("a regular file", multibody::files::Kind::describe)
 }
 
 /// Whether `a` and `b` name one file (through links; either may not exist yet).

@@ -111,6 +111,76 @@ fn multibody(dir: &Path, args: &[&str]) -> Output {
     multibody_with(dir, args, Stdio::piped(), Stdio::piped())
 }
 
+/// `multibody` with `args` in `dir`, its output captured, killed (and the
+/// test failed) if it is still running after `seconds`: for the cases that
+/// used to hang. The bound is generous; it is no measure of speed.
+fn multibody_within(dir: &Path, args: &[&str], seconds: u64) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_multibody"))
+        .args(args)
+        .current_dir(dir)
+        .env("NO_COLOR", "1")
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the multibody binary runs");
+    // Read both pipes on threads of their own, so that a full pipe does not stop the child.
+    let mut out = child.stdout.take().unwrap();
+    let mut err = child.stderr.take().unwrap();
+    let out = std::thread::spawn(move || {
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(&mut out, &mut bytes).map(|_| bytes)
+    });
+    let err = std::thread::spawn(move || {
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(&mut err, &mut bytes).map(|_| bytes)
+    });
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(seconds);
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("`multibody {}` still ran after {seconds} s (killed)", args.join(" "));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    Output { status, stdout: out.join().unwrap().unwrap(), stderr: err.join().unwrap().unwrap() }
+}
+
+/// A resource limit of a child process (`ulimit -v`, `ulimit -f`).
+#[derive(Clone, Copy)]
+enum Limit {
+    /// The most address space, bytes.
+    Memory(u64),
+    /// The largest file it may write, bytes.
+    FileSize(u64),
+}
+
+/// `multibody` with `args` in `dir` under `limit`, its output captured.
+fn multibody_limited(dir: &Path, args: &[&str], limit: Limit) -> Output {
+    use std::os::unix::process::CommandExt;
+    let mut command = Command::new(env!("CARGO_BIN_EXE_multibody"));
+    command.args(args).current_dir(dir).env("NO_COLOR", "1").stdin(Stdio::null());
+    // SAFETY: setrlimit is async-signal-safe; the closure touches nothing else.
+    unsafe {
+        command.pre_exec(move || {
+            let (resource, bytes) = match limit {
+                Limit::Memory(bytes) => (libc::RLIMIT_AS, bytes),
+                Limit::FileSize(bytes) => (libc::RLIMIT_FSIZE, bytes),
+            };
+            let value = libc::rlimit { rlim_cur: bytes as libc::rlim_t, rlim_max: bytes as libc::rlim_t };
+            if libc::setrlimit(resource, &value) != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        });
+    }
+    command.output().expect("the multibody binary runs")
+}
+
 /// A model file `r.partial.dyad` and `--out r.dyad`: a failing run would
 /// keep its partial CSV as `r.partial.dyad`, over the model. Refused before
 /// the run; the model file stays.
@@ -307,6 +377,256 @@ fn a_model_from_a_fifo_without_writer_or_a_device_is_refused() {
     writer.join().unwrap().unwrap();
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     assert!(String::from_utf8_lossy(&o.stdout).contains("analysis PendulumSimulation"));
+}
+
+/// `--input tau=PATH` with PATH a FIFO nobody writes to blocked for ever in
+/// open(). It is read through the model files' way: given up after a few
+/// seconds with a message naming the option and the path; a device is
+/// refused; a FIFO that is written to reads as a file.
+#[test]
+fn an_input_table_from_a_fifo_without_writer_or_a_device_is_refused() {
+    let dir = scratch("fifo-input-table");
+    let model = example("controlled_pendulum.dyad");
+    let fifo = dir.join("tau.csv");
+    assert!(Command::new("mkfifo").arg(&fifo).status().expect("mkfifo runs").success());
+    let o = multibody_within(&dir, &["run", &model, "--input", "tau=tau.csv", "--stop", "1", "--out", "r.csv"], 60);
+    assert_eq!(code(&o), 4, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("--input tau=tau.csv: nothing writes to the FIFO tau.csv (waited 5 s)"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!stderr(&o).contains("Simulating"), "{}", stderr(&o));
+    let o = multibody_within(&dir, &["run", &model, "--input", "tau=/dev/zero", "--stop", "1", "--out", "r.csv"], 60);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("--input tau=/dev/zero: /dev/zero is a device, not a table"), "{}", stderr(&o));
+    let o = multibody(&dir, &["run", &model, "--input", "tau=.", "--stop", "1", "--out", "r.csv"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("--input tau=.: . is a folder, not a table"), "{}", stderr(&o));
+    // A writer: the table reads as from a file.
+    let writer = std::thread::spawn(move || std::fs::write(fifo, "time,tau\n0,0\n1,0\n"));
+    let o = multibody_within(&dir, &["run", &model, "--input", "tau=tau.csv", "--stop", "1", "--out", "r.csv"], 60);
+    writer.join().unwrap().unwrap();
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(dir.join("r.csv").exists());
+}
+
+/// An `--input` table cost the square of its rows: at every row (a time
+/// event) the next event was found by scanning the whole table (10^4 rows:
+/// 0.6 s, 10^5: 25 s, these 4 * 10^5 some 400 s; now well under a second).
+/// The integral of the interpolated `u = t^2` is checked against its closed
+/// form: the chords of t^2 on rows h apart add h^2/6 to t^3/3 at t = 1.
+#[test]
+fn a_long_input_table_costs_its_rows_not_their_square() {
+    let dir = scratch("long-input-table");
+    let model = "component Acc\n  u = RealInput()\n  variable x::Real = initial 0\nrelations\n  der(x) = u\nend\n\n\
+                 example component Top\n  u = RealInput()\n  acc = Acc()\nrelations\n  connect(u, acc.u)\nend\n";
+    std::fs::write(dir.join("acc.dyad"), model).unwrap();
+    let rows = 400_000;
+    let mut table = String::from("time,u\n");
+    for k in 0..=rows {
+        let t = k as f64 / rows as f64;
+        table.push_str(&format!("{t},{}\n", t * t));
+    }
+    std::fs::write(dir.join("u.csv"), table).unwrap();
+    let args = ["run", "acc.dyad", "--input", "u=u.csv", "--stop", "1", "--saveat", "0.125", "--out", "r.csv"];
+    let o = multibody_within(&dir, &args, 60);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let csv = std::fs::read_to_string(dir.join("r.csv")).unwrap();
+    let samples: Vec<Vec<f64>> =
+        csv.lines().skip(1).map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect();
+    assert_eq!(samples.len(), 9, "{csv}");
+    let h = 1.0 / rows as f64;
+    // Columns: time, u.y, acc.x, acc.u. At t = k/8 (rows of the table) u is t^2.
+    for row in &samples {
+        let t = row[0];
+        assert!((row[1] - t * t).abs() < 1e-12, "u at t = {t}: {}", row[1]);
+        let x = t * t * t / 3.0 + t * h * h / 6.0;
+        assert!((row[2] - x).abs() < 1e-9, "x at t = {t}: {} against {x}", row[2]);
+    }
+}
+
+/// `linearize --at t=1e300` simulated towards 1e300 s, keeping every
+/// sample on the way in memory (5 GB after 8 s). A time whose samples
+/// cannot fit is refused as `run` refuses such a `--stop`: before any work
+/// on the analysis's grid, and by the pace of the first steps when every
+/// step is kept (`--model`, saveat = 0). A time within reach still works.
+#[test]
+fn linearize_at_a_time_out_of_reach_is_refused() {
+    let dir = scratch("linearize-far");
+    let pendulum = example("pendulum.dyad");
+    let o = multibody_within(&dir, &["linearize", &pendulum, "--at", "t=1e300", "--out", "l.json"], 60);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("--at t=1e300: the simulation to t = 1e300 keeps every signal every 0.01 s"), "{err}");
+    assert!(err.contains("give an earlier time (the analysis stops at t = 5 s), or a longer --saveat"), "{err}");
+    assert!(!err.contains("000000000"), "numbers are written short: {err}");
+    let args = ["linearize", &pendulum, "--model", "Pendulum", "--at", "t=1e300", "--out", "l.json"];
+    let o = multibody_within(&dir, &args, 60);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("--at t=1e300: the simulation keeps every signal at every step (saveat = 0)"), "{err}");
+    assert!(err.contains("give an earlier time, or a --saveat"), "{err}");
+    assert!(!dir.join("l.json").exists());
+    let o = multibody_within(&dir, &["linearize", &pendulum, "--at", "t=2", "--out", "l.json"], 60);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(dir.join("l.json").exists());
+}
+
+/// A mesh file (ShapefileVisualizer) that is a FIFO blocked `run
+/// --animate` for ever, deaf to SIGTERM; named by a URDF, it was reported
+/// "not found". Meshes are opened through the model files' safe open: the
+/// FIFO is left out with a warning that says what it is, and the URDF's
+/// message says the path is no regular file.
+#[test]
+fn a_mesh_that_is_a_fifo_is_named_as_such_and_does_not_block() {
+    let dir = scratch("fifo-mesh");
+    std::fs::copy(example("mesh_pendulum.dyad"), dir.join("mesh_pendulum.dyad")).unwrap();
+    std::fs::create_dir_all(dir.join("meshes")).unwrap();
+    assert!(Command::new("mkfifo").arg(dir.join("meshes/bob.obj")).status().expect("mkfifo runs").success());
+    let args = ["run", "mesh_pendulum.dyad", "--stop", "0.1", "--animate", "p.html", "--out", "r.csv"];
+    let o = multibody_within(&dir, &args, 60);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(
+        stderr(&o)
+            .contains("is not drawn: it is a FIFO (named pipe), not a regular file; give the path of a mesh file"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(dir.join("p.html").exists());
+    // Named by a URDF: found, but no mesh.
+    assert!(Command::new("mkfifo").arg(dir.join("tip.stl")).status().expect("mkfifo runs").success());
+    let urdf = "<robot name=\"meshed\">\n  <link name=\"base\"/>\n  <joint name=\"hinge\" type=\"continuous\">\n    \
+                <parent link=\"base\"/><child link=\"arm\"/><axis xyz=\"0 1 0\"/>\n  </joint>\n  <link name=\"arm\">\n    \
+                <inertial><mass value=\"1\"/><inertia ixx=\"0.01\" ixy=\"0\" ixz=\"0\" iyy=\"0.1\" iyz=\"0\" izz=\"0.1\"/>\
+                </inertial>\n    <visual><geometry><mesh filename=\"tip.stl\"/></geometry></visual>\n  </link>\n</robot>\n";
+    std::fs::write(dir.join("meshed.urdf"), urdf).unwrap();
+    let o = multibody_within(&dir, &["import", "meshed.urdf", "-o", "meshed.dyad"], 60);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("meshed.urdf:8:23: error: the mesh `tip.stl` is not read: ./tip.stl is a FIFO (named pipe), not a regular file"),
+        "{err}"
+    );
+    assert!(!err.contains("not found") && !err.contains("--package-dir"), "{err}");
+    let o = multibody_within(&dir, &["run", "meshed.urdf", "--stop", "0.1", "--animate", "u.html", "-o", "u.csv"], 60);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(stderr(&o).contains("is a FIFO (named pipe), not a regular file"), "{}", stderr(&o));
+}
+
+/// A 2 GB binary STL was read whole (8.6 GB of memory) before the triangle
+/// budget dropped it. Its header's count is checked first, and the file
+/// left out unread with the budget's message: the run goes on within
+/// 1.5 GB of address space, where reading the file would fail. (The file
+/// is sparse: it takes no disk.)
+#[test]
+fn a_huge_mesh_is_refused_by_its_header_without_being_read() {
+    let dir = scratch("huge-mesh");
+    let text = std::fs::read_to_string(example("mesh_pendulum.dyad")).unwrap();
+    assert!(text.contains("\"meshes/bob.obj\""), "mesh_pendulum.dyad no longer names meshes/bob.obj");
+    std::fs::write(dir.join("huge.dyad"), text.replace("\"meshes/bob.obj\"", "\"huge.stl\"")).unwrap();
+    let triangles: u32 = 40_000_000;
+    let mut header = vec![b' '; 80];
+    header[..10].copy_from_slice(b"binary stl");
+    header.extend_from_slice(&triangles.to_le_bytes());
+    let file = std::fs::File::create(dir.join("huge.stl")).unwrap();
+    std::io::Write::write_all(&mut &file, &header).unwrap();
+    file.set_len(84 + 50 * u64::from(triangles)).unwrap();
+    drop(file);
+    let args = ["run", "huge.dyad", "--stop", "0.1", "--animate", "p.html", "--out", "r.csv"];
+    let o = multibody_limited(&dir, &args, Limit::Memory(1536 << 20));
+    assert_eq!(o.status.code(), Some(0), "{:?}: {}", o.status, stderr(&o));
+    assert!(
+        stderr(&o).contains(
+            "huge.stl is not drawn: it has 40000000 triangles, and the page's budget of 1000000 triangles of \
+             meshes has 1000000 left; simplify (decimate) the mesh"
+        ),
+        "{}",
+        stderr(&o)
+    );
+    // Any other 2 GB mesh is refused by its size.
+    std::fs::rename(dir.join("huge.stl"), dir.join("huge.obj")).unwrap();
+    std::fs::write(dir.join("huge.dyad"), text.replace("\"meshes/bob.obj\"", "\"huge.obj\"")).unwrap();
+    let o = multibody_limited(&dir, &args, Limit::Memory(1536 << 20));
+    assert_eq!(o.status.code(), Some(0), "{:?}: {}", o.status, stderr(&o));
+    assert!(
+        stderr(&o).contains(
+            "huge.obj is not drawn: it is 2000000084 bytes long, more than 1000000 triangles take in any mesh \
+             format read (512 bytes each), and the page's budget"
+        ),
+        "{}",
+        stderr(&o)
+    );
+}
+
+/// A run past the file size limit (`ulimit -f`) was killed by SIGXFSZ with
+/// no message, its temporary file left behind. The signal is ignored: the
+/// write fails, the message names the file and the limit, and no file is
+/// left, temporary or partial.
+#[test]
+fn a_file_size_limit_is_an_error_that_names_the_file_and_leaves_nothing() {
+    let dir = scratch("file-size-limit");
+    let pendulum = example("pendulum.dyad");
+    // 500 samples of 103 signals are about 1 MB; the limit is 100 kB.
+    let o = multibody_limited(&dir, &["run", &pendulum, "--out", "r.csv"], Limit::FileSize(100 << 10));
+    assert_eq!(o.status.code(), Some(4), "{:?}: {}", o.status, stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains(
+            "error: cannot write r.csv: it reached the file size limit of this process (`ulimit -f`, 102.4 kB); \
+             raise the limit (`ulimit -f unlimited`), or write less"
+        ),
+        "{err}"
+    );
+    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert!(left.is_empty(), "left behind: {left:?}");
+    // A page too: written whole or not at all.
+    let o = multibody_limited(
+        &dir,
+        &["run", &pendulum, "--signals", "rev.phi", "--animate", "p.html", "--out", "r.csv"],
+        Limit::FileSize(20 << 10),
+    );
+    assert_eq!(o.status.code(), Some(4), "{:?}: {}", o.status, stderr(&o));
+    assert!(stderr(&o).contains("error: cannot write p.html: it reached the file size limit"), "{}", stderr(&o));
+    assert!(no_temporary_files(&dir).is_empty(), "{:?}", no_temporary_files(&dir));
+    assert!(!dir.join("p.html").exists());
+}
+
+/// 1000 files each defining a component `C` gave "choose a component with
+/// --model NAME (C, C, C, ...)", naming no duplicate (and `--model C` then
+/// showed only the first two). The message says which files define it, the
+/// first few and how many more, and how to choose: a name is defined once
+/// among the files read, so give only the file meant.
+#[test]
+fn a_name_defined_in_many_files_says_which_and_how_to_choose() {
+    let dir = scratch("many-definitions");
+    std::fs::create_dir_all(dir.join("many")).unwrap();
+    for k in 0..1000 {
+        let text =
+            format!("component C\n  world = MultibodyComponents.World()\n  p{k} = MultibodyComponents.Fixed()\nend\n");
+        std::fs::write(dir.join(format!("many/c{k:04}.dyad")), text).unwrap();
+    }
+    let o = multibody(&dir, &["check", "many"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains(
+            "error: `C` is defined in 1000 files (many/c0000.dyad:1:1, many/c0001.dyad:1:1, many/c0002.dyad:1:1 \
+             and 997 more); a name is defined once among the files read: give only the file that defines the `C` \
+             you mean, or rename the others"
+        ),
+        "{err}"
+    );
+    assert!(!err.contains("C, C"), "{err}");
+    let o = multibody(&dir, &["check", "many", "--model", "C"]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("error: `C` is defined 1000 times"), "{err}");
+    assert!(err.contains("many/c0003.dyad:1:11") && err.contains("and 996 more"), "{err}");
+    assert!(err.contains("give only the file that defines the `C` you mean"), "{err}");
+    // One of them, given alone, is checked.
+    let o = multibody(&dir, &["check", "many/c0007.dyad"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
 }
 
 /// Starts `multibody` with `args` in `dir` and waits until its stderr has

@@ -50,6 +50,11 @@ impl Package {
                 Err(missing("component", name, &components))
             };
         }
+        // Asked to choose among names of which one is defined more than once:
+        // no choice by name can tell them apart.
+        if let Some(message) = self.defined_more_than_once() {
+            return Err(message);
+        }
         match analyses.as_slice() {
             [one] => return Ok(Target::Analysis(one.to_string())),
             [] => {}
@@ -69,6 +74,42 @@ impl Package {
                 Err(format!("the files have no analysis; choose a component with --model NAME ({})", many.join(", ")))
             }
         }
+    }
+
+    /// The first name that the files define more than once, with where
+    /// (the first few places, then how many more), and how to choose: a
+    /// name is defined once among the files read (1000 files each defining
+    /// `C` were offered as "--model NAME (C, C, C, ...)").
+    fn defined_more_than_once(&self) -> Option<String> {
+        const SHOWN: usize = 3;
+        let definitions = self.definitions();
+        let mut counts: std::collections::HashMap<&str, usize> = std::collections::HashMap::new();
+        for d in &definitions {
+            *counts.entry(d.name.as_str()).or_default() += 1;
+        }
+        let repeated = definitions.iter().find(|d| counts[d.name.as_str()] > 1)?;
+        let places: Vec<_> = definitions.iter().filter(|d| d.name == repeated.name).map(|d| d.span).collect();
+        let mut files: Vec<_> = places.iter().map(|span| span.file).collect();
+        files.dedup();
+        let mut shown: Vec<String> = places.iter().take(SHOWN).map(|&span| self.sources().location(span)).collect();
+        if places.len() > SHOWN {
+            shown.push(format!("{} more", places.len() - SHOWN));
+        }
+        let last = shown.pop().unwrap_or_default();
+        let list = if shown.is_empty() { last } else { format!("{} and {last}", shown.join(", ")) };
+        let name = &repeated.name;
+        let (where_, what) = if files.len() == 1 {
+            (format!("{} times in one file", places.len()), "rename all but one of them".to_string())
+        } else {
+            (
+                format!("in {} files", files.len()),
+                format!(
+                    "a name is defined once among the files read: give only the file that defines the `{name}` \
+                     you mean, or rename the others"
+                ),
+            )
+        };
+        Some(format!("`{name}` is defined {where_} ({list}); {what}"))
     }
 
     /// When the target assembles without `overrides` and not with one of
@@ -408,6 +449,8 @@ pub fn check_memory(
 /// Bytes for people: "117.0 MB".
 pub fn bytes(x: f64) -> String {
     match x {
+        // `--stop 1e300` asks for a number of 290 digits.
+        x if x >= 1e15 => format!("{:.1e} TB", x / 1e12),
         x if x >= 1e12 => format!("{:.1} TB", x / 1e12),
         x if x >= 1e9 => format!("{:.1} GB", x / 1e9),
         x if x >= 1e6 => format!("{:.1} MB", x / 1e6),

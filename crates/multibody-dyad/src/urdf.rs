@@ -650,6 +650,9 @@ pub struct MissingMesh {
     pub looked: Vec<PathBuf>,
     /// Why the name is not looked for at all (it leaves its package).
     pub refused: Option<&'static str>,
+    /// What the path found names when it is not a regular file (a FIFO, a
+    /// folder, a device): it was found, but is no mesh to read.
+    pub not_a_file: Option<multibody::files::Kind>,
 }
 
 impl MissingMesh {
@@ -658,6 +661,15 @@ impl MissingMesh {
         if let Some(why) = self.refused {
             let (line, col, name) = (self.at.line, self.at.col, &self.filename);
             return format!("{file}:{line}:{col}: {severity}: the mesh `{name}` is not read: {why}");
+        }
+        if let (Some(kind), Some(path)) = (self.not_a_file, self.looked.first()) {
+            let (line, col, name) = (self.at.line, self.at.col, &self.filename);
+            return format!(
+                "{file}:{line}:{col}: {severity}: the mesh `{name}` is not read: {} is {}, not a regular file; \
+                 give the path of a mesh file",
+                path.display(),
+                kind.describe()
+            );
         }
         let mut looked: Vec<String> = self.looked.iter().take(3).map(|p| p.display().to_string()).collect();
         if self.looked.len() > 3 {
@@ -721,7 +733,13 @@ pub fn resolve_meshes(robot: &mut Robot, search: &MeshSearch) -> Vec<MissingMesh
             if package.is_empty() || package == "." || leaves(package) || leaves(inside) {
                 let why = "a `package://NAME/...` path names a file inside the package NAME, and `..` or an \
                            absolute path would leave it; write the package's name and the path inside it";
-                missing.push(MissingMesh { at: *at, filename: filename.clone(), looked, refused: Some(why) });
+                missing.push(MissingMesh {
+                    at: *at,
+                    filename: filename.clone(),
+                    looked,
+                    refused: Some(why),
+                    not_a_file: None,
+                });
                 continue;
             }
             package_folder(package, search, &mut looked).map(|dir| dir.join(inside))
@@ -733,11 +751,19 @@ pub fn resolve_meshes(robot: &mut Robot, search: &MeshSearch) -> Vec<MissingMesh
         match candidate {
             Some(file) if file.is_file() => *path = Some(file),
             Some(file) => {
+                // A FIFO or a folder there is found, but no mesh: said so, not "not found".
+                let not_a_file = std::fs::metadata(&file).ok().and_then(|m| multibody::files::Kind::of(&m));
                 looked.clear();
                 looked.push(file);
-                missing.push(MissingMesh { at: *at, filename: filename.clone(), looked, refused: None });
+                missing.push(MissingMesh { at: *at, filename: filename.clone(), looked, refused: None, not_a_file });
             }
-            None => missing.push(MissingMesh { at: *at, filename: filename.clone(), looked, refused: None }),
+            None => missing.push(MissingMesh {
+                at: *at,
+                filename: filename.clone(),
+                looked,
+                refused: None,
+                not_a_file: None,
+            }),
         }
     }
     missing

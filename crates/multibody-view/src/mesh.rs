@@ -21,8 +21,13 @@
 //! axis becomes z (as ROS tools read robot meshes); `Z_UP`, or none, is
 //! taken as written.
 
+use multibody::files::{self, Fifo, OpenError};
 use std::collections::HashMap;
 use std::path::Path;
+
+/// The most an OBJ file's material library is read of (it is not drawn).
+#[cfg(feature = "meshes")]
+const MATERIALS_MAX_BYTES: u64 = 16 << 20;
 
 /// Faces that turn less than this from each other share their normals.
 pub const CREASE_DEGREES: f64 = 30.0;
@@ -70,15 +75,91 @@ impl Format {
 }
 
 /// Reads the mesh file at `path`; the error says why it cannot be drawn.
+/// The file is opened through [`multibody::files`]: a FIFO, a device or a
+/// folder is refused as not a regular file (reading a FIFO nobody writes
+/// to blocked the page for ever, deaf to SIGTERM).
 pub fn load(path: &Path) -> Result<MeshData, String> {
+    load_within(path, usize::MAX).map_err(|e| match e {
+        LoadError::Triangles(n) => format!("it has {n} triangles"),
+        LoadError::Bytes(size) => format!("it holds {size} bytes"),
+        LoadError::Unreadable(why) => why,
+    })
+}
+
+/// Bytes a triangle takes at most in the files read, about: a binary STL
+/// 50, an ASCII STL some 250 with long numbers, OBJ and Collada less (they
+/// share vertices). A file larger than this many bytes a triangle allowed
+/// is refused unread.
+pub const MAX_BYTES_PER_TRIANGLE: u64 = 512;
+
+/// Why a mesh file was not read.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LoadError {
+    /// A binary STL whose header gives more triangles than allowed.
+    Triangles(usize),
+    /// A file of more bytes than the triangles allowed take
+    /// ([`MAX_BYTES_PER_TRIANGLE`] each).
+    Bytes(u64),
+    /// Any other reason, as the end of "the mesh ... is not drawn: ...".
+    Unreadable(String),
+}
+
+/// Reads the mesh file at `path` if it can hold no more than
+/// `most_triangles` triangles: a binary STL's header tells its count, any
+/// file's size a bound (a 2 GB STL was read whole, 8.6 GB of memory,
+/// before the triangle budget dropped it). Nothing more than the header is
+/// read of a file refused.
+pub fn load_within(path: &Path, most_triangles: usize) -> Result<MeshData, LoadError> {
     let Some(format) = Format::of(path) else {
-        return Err("not a mesh file this page reads: use .stl, .obj or .dae".into());
+        return Err(LoadError::Unreadable("not a mesh file this page reads: use .stl, .obj or .dae".into()));
     };
-    let bytes = std::fs::read(path).map_err(|e| match e.kind() {
-        std::io::ErrorKind::NotFound => "no such file".to_string(),
-        _ => format!("cannot read it: {e}"),
-    })?;
-    parse(&bytes, path, format)
+    let unreadable = |e: &OpenError| LoadError::Unreadable(unreadable(e));
+    let opened = files::open(path, Fifo::Refuse).map_err(|e| unreadable(&e))?;
+    let (mut file, size) = (opened.file, opened.size.unwrap_or(0));
+    let io = |e: std::io::Error| LoadError::Unreadable(format!("cannot read it: {e}"));
+    if format == Format::Stl {
+        if let Some(count) = binary_stl_triangles(&mut file, size).map_err(io)? {
+            if count > most_triangles as u64 {
+                return Err(LoadError::Triangles(usize::try_from(count).unwrap_or(usize::MAX)));
+            }
+        }
+    }
+    if size > (most_triangles as u64).saturating_mul(MAX_BYTES_PER_TRIANGLE) {
+        return Err(LoadError::Bytes(size));
+    }
+    use std::io::{Read, Seek};
+    file.seek(std::io::SeekFrom::Start(0)).map_err(io)?;
+    let mut bytes = Vec::with_capacity(size as usize);
+    file.read_to_end(&mut bytes).map_err(io)?;
+    parse(&bytes, path, format).map_err(LoadError::Unreadable)
+}
+
+/// The triangle count of a binary STL, read from its header: an 80-byte
+/// title, the count (u32, little-endian), then 50 bytes a triangle; `None`
+/// when the file's `size` does not match that layout (ASCII STL).
+fn binary_stl_triangles(file: &mut std::fs::File, size: u64) -> std::io::Result<Option<u64>> {
+    use std::io::Read;
+    if size < 84 {
+        return Ok(None);
+    }
+    let mut header = [0u8; 84];
+    file.read_exact(&mut header)?;
+    let count = u64::from(u32::from_le_bytes([header[80], header[81], header[82], header[83]]));
+    Ok((84 + 50 * count == size).then_some(count))
+}
+
+/// Why a mesh file could not be read, as the end of "the mesh ... is not
+/// drawn: ...".
+fn unreadable(e: &OpenError) -> String {
+    match e {
+        OpenError::Io(e) if e.kind() == std::io::ErrorKind::NotFound => "no such file".to_string(),
+        OpenError::Io(e) => format!("cannot read it: {e}"),
+        OpenError::NotAFile(kind) => {
+            format!("it is {}, not a regular file; give the path of a mesh file", kind.describe())
+        }
+        OpenError::NoWriter { waited } => format!("nothing wrote to it in {} s", waited.as_secs()),
+        OpenError::TooLarge { limit, .. } => format!("it holds more than {limit} bytes"),
+    }
 }
 
 /// Parses the bytes of a mesh file of `format`; `path` names it in errors
@@ -115,7 +196,8 @@ fn read_corners(bytes: &[u8], path: &Path, format: Format) -> Result<Corners, St
             Format::Collada => loader.load_collada_from_slice(bytes, path),
             // Materials are not drawn: a missing material library is no error.
             Format::Obj => loader.load_obj_from_slice_with_reader(bytes, path, |p: &Path| {
-                Ok::<_, std::io::Error>(std::fs::read(p).unwrap_or_default())
+                // Through the safe open too: a FIFO named as the library would block.
+                Ok::<_, std::io::Error>(files::read(p, Fifo::Refuse, MATERIALS_MAX_BYTES).unwrap_or_default())
             }),
         }
     });

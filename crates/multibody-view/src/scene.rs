@@ -249,17 +249,26 @@ impl MeshFiles {
         if let Some(known) = self.by_path.get(path) {
             return known.clone();
         }
-        let result = mesh::load(path).and_then(|m| {
+        let left = MAX_MESH_TRIANGLES - self.triangles;
+        // Too large files are refused before they are read, with the budget's message.
+        let loaded = mesh::load_within(path, left).map_err(|e| match e {
+            mesh::LoadError::Triangles(n) => over_budget(&format!("it has {n} triangles"), left),
+            mesh::LoadError::Bytes(size) => over_budget(
+                &format!(
+                    "it is {size} bytes long, more than {left} triangles take in any mesh format read ({} bytes \
+                     each)",
+                    mesh::MAX_BYTES_PER_TRIANGLE
+                ),
+                left,
+            ),
+            mesh::LoadError::Unreadable(why) => why,
+        });
+        let result = loaded.and_then(|m| {
             if m.triangles() == 0 {
                 return Err("it has no triangles".to_string());
             }
-            if self.triangles + m.triangles() > MAX_MESH_TRIANGLES {
-                return Err(format!(
-                    "it has {} triangles, and the page's budget of {MAX_MESH_TRIANGLES} triangles of meshes has \
-                     {} left; simplify (decimate) the mesh",
-                    m.triangles(),
-                    MAX_MESH_TRIANGLES - self.triangles
-                ));
+            if m.triangles() > left {
+                return Err(over_budget(&format!("it has {} triangles", m.triangles()), left));
             }
             self.triangles += m.triangles();
             self.loaded.push((path.display().to_string(), m));
@@ -268,6 +277,15 @@ impl MeshFiles {
         self.by_path.insert(path.to_path_buf(), result.clone());
         result
     }
+}
+
+/// "{what}, and the page's budget of ... triangles of meshes has {left}
+/// left; simplify (decimate) the mesh".
+fn over_budget(what: &str, left: usize) -> String {
+    format!(
+        "{what}, and the page's budget of {MAX_MESH_TRIANGLES} triangles of meshes has {left} left; simplify \
+         (decimate) the mesh"
+    )
 }
 
 /// Samples the motion of `shapes` in `solution` at about `fps` frames per

@@ -28,10 +28,13 @@
 // numeric model); dynamics; components; assembly; outputs; simulate;
 // linear (linear models and steady states of a simulator). Each
 // imports only from its own layer and those below (`tests/layers.rs`).
+// `files` (opening the files a user names, safely) stands apart: it
+// uses no other module.
 pub mod assembly;
 pub mod components;
 pub mod dynamics;
 mod error;
+pub mod files;
 pub mod linear;
 pub mod math;
 mod model;

@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 /// re-exports only and is exempt.
 const LAYERS: &[(&str, usize)] = &[
     ("math", 0),
+    ("files", 0),
     ("error", 1),
     ("model", 1),
     ("system", 2),

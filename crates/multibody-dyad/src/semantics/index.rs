@@ -61,7 +61,8 @@ impl<'a> Index<'a> {
             }
         }
         let mut seen: HashMap<&'a str, Span> = HashMap::new();
-        for file in files {
+        let files_read: Vec<&'a File> = files.into_iter().collect();
+        for &file in &files_read {
             for item in &file.items {
                 let (name, span) = match item {
                     Item::Component(c) => (&c.name, c.header),
@@ -73,10 +74,7 @@ impl<'a> Index<'a> {
                     index.packages.insert(span.file, package.as_str());
                 }
                 if let Some(first) = seen.insert(name.name.as_str(), span) {
-                    return Err(Diagnostic::error(format!("`{}` is defined twice", name.name))
-                        .primary(name.span, "defined again here")
-                        .secondary(first, "first defined here")
-                        .help("rename one of the definitions"));
+                    return Err(defined_again(&name.name, first, name.span, &files_read));
                 }
                 match item {
                     Item::Component(c) => index.components.insert(c.name.name.clone(), c).map(|_| ()),
@@ -144,5 +142,48 @@ impl<'a> Index<'a> {
             }
             _ => None,
         }
+    }
+}
+
+/// The error of a name defined again (at `again`) after
+/// `first`: with how many definitions it has in all the files read, the
+/// next few of them shown, and how to choose when they are in several
+/// files (1000 files each defining `C` named only the first two).
+fn defined_again(name: &str, first: Span, again: Span, files: &[&File]) -> Diagnostic {
+    const SHOWN: usize = 2;
+    let places: Vec<Span> = files
+        .iter()
+        .flat_map(|f| &f.items)
+        .map(|item| match item {
+            Item::Component(c) => &c.name,
+            Item::Analysis(a) => &a.name,
+            Item::TypeAlias(t) => &t.name,
+            Item::Connector(c) => &c.name,
+        })
+        .filter(|n| n.name == name)
+        .map(|n| n.span)
+        .collect();
+    let one_file = places.iter().all(|p| p.file == again.file);
+    let mut d = Diagnostic::error(if places.len() == 2 {
+        format!("`{name}` is defined twice")
+    } else {
+        format!("`{name}` is defined {} times", places.len())
+    })
+    .primary(again, "defined again here")
+    .secondary(first, "first defined here");
+    let later: Vec<&Span> = places.iter().skip_while(|&&p| p != again).skip(1).collect();
+    for span in later.iter().take(SHOWN) {
+        d = d.secondary(**span, "and here");
+    }
+    if later.len() > SHOWN {
+        d = d.note(format!("and {} more", later.len() - SHOWN));
+    }
+    if one_file {
+        d.help("rename one of the definitions")
+    } else {
+        d.help(format!(
+            "a name is defined once among the files read: give only the file that defines the `{name}` you mean, \
+             or rename the others"
+        ))
     }
 }
