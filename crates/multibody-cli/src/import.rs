@@ -76,6 +76,11 @@ pub fn urdf_as_dyad(
         );
         return Err(Failure::Model);
     }
+    // Too large a robot is said about the URDF, before its model is made.
+    urdf::check_size(&robot, options).map_err(|e| {
+        eprintln!("{}", e.render(&file));
+        Failure::Model
+    })?;
     let dyad = urdf::to_dyad(&robot, &file, options);
     Ok((robot, dyad))
 }

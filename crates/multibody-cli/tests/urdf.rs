@@ -174,3 +174,56 @@ fn mimic_joints_are_imported_as_couplings() {
     assert!(text.contains("right_finger.axis.phi = -1.0 * left_finger.axis.phi + 0.01"), "{text}");
     assert!(text.contains("tip.axis.s = 0.02 * right_finger.axis.phi + 0"), "{text}");
 }
+
+/// A chain of `n` links after a massless base, each on a revolute joint.
+fn chain_urdf(n: usize) -> String {
+    let mut s = format!("<robot name=\"chain{n}\">\n<link name=\"base\"/>\n");
+    for i in 0..n {
+        let parent = if i == 0 { "base".to_string() } else { format!("l{}", i - 1) };
+        s += &format!(
+            "<link name=\"l{i}\"><inertial><mass value=\"1\"/><origin xyz=\"0 0 0.05\"/><inertia ixx=\"0.01\" \
+             ixy=\"0\" ixz=\"0\" iyy=\"0.01\" iyz=\"0\" izz=\"0.01\"/></inertial></link>\n<joint name=\"j{i}\" \
+             type=\"revolute\"><parent link=\"{parent}\"/><child link=\"l{i}\"/><origin xyz=\"0 0 0.1\"/><axis \
+             xyz=\"0 1 0\"/></joint>\n"
+        );
+    }
+    s + "</robot>\n"
+}
+
+/// Reading a robot took n² steps (each place counted from the start of the
+/// file): 20,000 links took half a minute before being refused, in the
+/// model file that was never written. The limit is said about the URDF.
+#[test]
+fn a_robot_too_large_for_a_model_is_refused_at_its_urdf() {
+    let dir = scratch("urdf-too-large");
+    std::fs::write(dir.join("chain20000.urdf"), chain_urdf(20_000)).unwrap();
+    let out = multibody(&dir, &["import", "chain20000.urdf"]);
+    let err = stderr(&out);
+    assert_eq!(code(&out), 1, "{err}");
+    assert!(
+        err.contains(
+            "chain20000.urdf:1:1: error: the robot has 20001 links and 20000 joints: its model would have 40002 \
+             components, and a model has at most 20000"
+        ),
+        "{err}"
+    );
+    assert!(err.contains("help: the world, each link, each joint, each shape and each damper is a component"), "{err}");
+    assert!(!err.contains("chain20000.dyad"), "{err}");
+    assert!(!dir.join("chain20000.dyad").exists());
+    // `run` reads the URDF the same way.
+    let out = multibody(&dir, &["run", "chain20000.urdf"]);
+    assert_eq!(code(&out), 1, "{}", stderr(&out));
+    assert!(stderr(&out).contains("chain20000.urdf:1:1: error: the robot has 20001 links"), "{}", stderr(&out));
+}
+
+/// The largest chain a model holds (10,000 links, 9,999 joints and the
+/// world) imports: the import is linear in the links.
+#[test]
+fn the_largest_robot_a_model_holds_imports() {
+    let dir = scratch("urdf-largest");
+    std::fs::write(dir.join("chain.urdf"), chain_urdf(9_999)).unwrap();
+    let out = multibody(&dir, &["import", "chain.urdf"]);
+    assert_eq!(code(&out), 0, "{}", stderr(&out));
+    assert!(stderr(&out).contains("chain9999: 10000 links, 9999 joints → chain.dyad (9999 degrees of freedom"));
+    assert!(std::fs::read_to_string(dir.join("chain.dyad")).unwrap().contains("j9998 = MultibodyComponents"));
+}

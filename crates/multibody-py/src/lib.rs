@@ -77,9 +77,13 @@ fn load_sources(sources: Vec<(String, String)>, analysis: Option<String>, model:
 #[pyo3(signature = (text, file, floating = false))]
 fn load_urdf(text: String, file: String, floating: bool) -> PyResult<Model> {
     use multibody_dyad::urdf;
-    let robot = urdf::parse(&text)
-        .map_err(|e| ModelError::new_err((e.render(&file), file.clone(), e.at.line as usize, e.at.col as usize)))?;
-    let dyad = urdf::to_dyad(&robot, &file, &urdf::ImportOptions { floating, ..Default::default() });
+    let error = |e: urdf::UrdfError| {
+        ModelError::new_err((e.render(&file), file.clone(), e.at.line as usize, e.at.col as usize))
+    };
+    let robot = urdf::parse(&text).map_err(error)?;
+    let options = urdf::ImportOptions { floating, ..Default::default() };
+    urdf::check_size(&robot, &options).map_err(error)?;
+    let dyad = urdf::to_dyad(&robot, &file, &options);
     load_text(dyad, format!("{file}.dyad"), None, None)
 }
 

@@ -29,7 +29,7 @@ use std::collections::HashMap;
 /// How deeply user components may nest.
 const MAX_NESTING: usize = 32;
 /// How many library components one model may have.
-const MAX_COMPONENTS: usize = 20_000;
+pub const MAX_COMPONENTS: usize = 20_000;
 /// What a declaration's kind names.
 #[derive(Clone)]
 enum Kind<'a> {
