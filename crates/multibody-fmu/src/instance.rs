@@ -2,7 +2,7 @@
 //! initialization, and the simulator it runs, in safe Rust. The C
 //! functions (`fmi2`) only translate to and from this.
 
-use crate::model::{token, Loaded, Settings, Source, MODEL_FOLDER, SETTINGS_FILE};
+use crate::model::{check_token, Loaded, Settings, Source, DESCRIPTION_FILE, MODEL_FOLDER, SETTINGS_FILE};
 use multibody::{Mechanism, SimulationOptions, Simulator};
 use std::path::Path;
 use std::sync::Arc;
@@ -56,8 +56,9 @@ pub struct Instance {
 }
 
 impl Instance {
-    /// Loads the model stored in `resources`, checking that it is the one
-    /// the FMU was exported with (`token`).
+    /// Loads the model stored in `resources`, checking that it and the
+    /// description beside `resources` are the ones the FMU was exported
+    /// with (`token`).
     pub fn new(resources: &Path, expected_token: &str, kind: Kind) -> Result<Instance, String> {
         let read = |path: &Path| {
             std::fs::read_to_string(path).map_err(|e| format!("cannot read the FMU's {}: {e}", path.display()))
@@ -74,15 +75,12 @@ impl Instance {
             }
             files.push((name.clone(), read(&resources.join(MODEL_FOLDER).join(name))?));
         }
-        let actual = token(&settings_json, &files);
-        if actual != expected_token {
-            return Err(format!(
-                "token mismatch: the FMU's description has the token {expected_token}, but its model files and \
-                 this runtime ({}) give {actual}: the files in resources/ were edited after the export, or the \
-                 binary is another version. Export the FMU again",
-                crate::model::RUNTIME_ID
-            ));
-        }
+        // The description is beside resources/ in the unzipped FMU.
+        let folder = resources.parent().ok_or_else(|| {
+            format!("the resource folder {} has no parent, where {DESCRIPTION_FILE} would be", resources.display())
+        })?;
+        let description = read(&folder.join(DESCRIPTION_FILE))?;
+        check_token(expected_token, &settings_json, &files, &description)?;
         let loaded = Loaded::load(&files, &settings)?;
         let n = loaded.interface.variables.len();
         let inputs =

@@ -5,7 +5,7 @@
 //! tests/test_fmu.py.)
 
 use multibody_fmu::fmi2::*;
-use multibody_fmu::model::{MODEL_FOLDER, SETTINGS_FILE};
+use multibody_fmu::model::{DESCRIPTION_FILE, MODEL_FOLDER, SETTINGS_FILE};
 use multibody_fmu::Export;
 use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
 use std::path::{Path, PathBuf};
@@ -50,9 +50,11 @@ fn export_of(model: &str) -> Export {
     Export::prepare(&[(model.to_string(), text)], None, None, Vec::new(), None, None).unwrap()
 }
 
-/// The resources folder of an FMU of `model`, and its token.
+/// The resources folder of an FMU of `model` (its description beside
+/// it), and its token.
 fn unpacked(model: &str, dir: &Path) -> (PathBuf, String) {
     let export = export_of(model);
+    std::fs::write(dir.join(DESCRIPTION_FILE), export.model_description()).unwrap();
     let resources = dir.join("resources");
     std::fs::create_dir_all(resources.join(MODEL_FOLDER)).unwrap();
     std::fs::write(resources.join(SETTINGS_FILE), &export.settings_json).unwrap();
@@ -218,6 +220,36 @@ fn bad_calls_give_errors_with_messages_never_a_crash() {
         fmi2FreeInstance(std::ptr::null_mut());
         assert_eq!(fmi2DoStep(std::ptr::null_mut(), 0.0, 0.1, 1), ERROR);
     }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// A description whose value references were swapped ran with the
+/// variables mixed up: the token covered `resources/` only.
+#[test]
+fn an_edited_description_is_refused_at_instantiation() {
+    let dir = temp("edited-description");
+    let (resources, token) = unpacked("double_pendulum.dyad", &dir);
+    let description = std::fs::read_to_string(dir.join(DESCRIPTION_FILE)).unwrap();
+    let swapped = description
+        .replacen("valueReference=\"1\"", "valueReference=\"@\"", 1)
+        .replacen("valueReference=\"2\"", "valueReference=\"1\"", 1)
+        .replacen("valueReference=\"@\"", "valueReference=\"2\"", 1);
+    assert_ne!(swapped, description);
+    std::fs::write(dir.join(DESCRIPTION_FILE), &swapped).unwrap();
+    assert!(instantiate(&resources, &token, 1).is_null());
+    assert!(logged("token mismatch: the FMU's modelDescription.xml was edited after the export"));
+    // A description without the token is refused too.
+    std::fs::write(dir.join(DESCRIPTION_FILE), description.replace(&token, "")).unwrap();
+    assert!(instantiate(&resources, &token, 0).is_null());
+    // No description beside resources/: said with its path.
+    std::fs::remove_file(dir.join(DESCRIPTION_FILE)).unwrap();
+    assert!(instantiate(&resources, &token, 1).is_null());
+    assert!(logged("modelDescription.xml: No such file"));
+    // The description as exported is accepted.
+    std::fs::write(dir.join(DESCRIPTION_FILE), &description).unwrap();
+    let c = instantiate(&resources, &token, 1);
+    assert!(!c.is_null());
+    unsafe { fmi2FreeInstance(c) };
     let _ = std::fs::remove_dir_all(dir);
 }
 
