@@ -1,6 +1,7 @@
 //! One instance of an FMU: its model, the values set before
 //! initialization, and the simulator it runs, in safe Rust. The C
-//! functions (`fmi2`) only translate to and from this.
+//! functions (`fmi2`, `fmi3`) only translate to and from this, and put
+//! their own name before its messages (which name no function).
 
 use crate::model::{check_token, Loaded, Settings, Source, DESCRIPTION_FILE, MODEL_FOLDER, SETTINGS_FILE};
 use multibody::{Mechanism, SimulationOptions, Simulator};
@@ -120,7 +121,7 @@ impl Instance {
     }
 
     pub fn setup_experiment(&mut self, tolerance: Option<f64>, start: f64, stop: Option<f64>) -> Result<(), String> {
-        self.expect(&[Phase::Instantiated], "fmi2SetupExperiment")?;
+        self.expect(&[Phase::Instantiated])?;
         if let Some(tol) = tolerance {
             if !(tol > 0.0 && tol < 1.0) {
                 return Err(format!("the tolerance must be between 0 and 1, not {tol}"));
@@ -136,7 +137,7 @@ impl Instance {
     }
 
     pub fn enter_initialization(&mut self) -> Result<(), String> {
-        self.expect(&[Phase::Instantiated], "fmi2EnterInitializationMode")?;
+        self.expect(&[Phase::Instantiated])?;
         self.phase = Phase::Initialization;
         Ok(())
     }
@@ -144,7 +145,7 @@ impl Instance {
     /// Builds the simulator from the values set (the model lowered and
     /// assembled again if any parameter or start value changed).
     pub fn exit_initialization(&mut self) -> Result<(), String> {
-        self.expect(&[Phase::Initialization], "fmi2ExitInitializationMode")?;
+        self.expect(&[Phase::Initialization])?;
         self.simulator = None;
         self.ensure_simulator()?;
         self.phase = Phase::Event;
@@ -187,12 +188,27 @@ impl Instance {
         Ok(self.simulator.as_mut().expect("made just now"))
     }
 
-    fn expect(&self, phases: &[Phase], call: &str) -> Result<(), String> {
+    /// The call is allowed in `phases`. The message names no function:
+    /// the C function the host called (FMI 2 or 3) is put before it.
+    fn expect(&self, phases: &[Phase]) -> Result<(), String> {
         if phases.contains(&self.phase) {
             Ok(())
         } else {
-            Err(format!("{call} is not allowed now (the instance is {:?})", self.phase))
+            Err(self.not_now())
         }
+    }
+
+    fn not_now(&self) -> String {
+        let state = match (self.phase, self.kind) {
+            (Phase::Instantiated, _) => "instantiated, and its initialization has not begun",
+            (Phase::Initialization, _) => "in initialization mode",
+            (Phase::Event, Kind::ModelExchange) => "in event mode",
+            (Phase::Event, Kind::CoSimulation) => "in step mode",
+            (Phase::Continuous, _) => "in continuous-time mode",
+            (Phase::Terminated, _) => "terminated",
+            (Phase::Failed, _) => "stopped by an earlier error: reset it or free it",
+        };
+        format!("not allowed now: the instance is {state}")
     }
 
     pub fn get_real(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), String> {
@@ -291,9 +307,9 @@ impl Instance {
         Ok(())
     }
 
-    fn running(&mut self, call: &str) -> Result<&mut Simulator<'static>, String> {
+    fn running(&mut self) -> Result<&mut Simulator<'static>, String> {
         if matches!(self.phase, Phase::Instantiated | Phase::Terminated | Phase::Failed) {
-            return Err(format!("{call} is not allowed now (the instance is {:?})", self.phase));
+            return Err(self.not_now());
         }
         self.ensure_simulator()
     }
@@ -301,16 +317,16 @@ impl Instance {
     // Model exchange.
 
     pub fn set_time(&mut self, t: f64) -> Result<(), String> {
-        self.running("fmi2SetTime")?.set_time(t);
+        self.running()?.set_time(t);
         Ok(())
     }
 
     pub fn set_states(&mut self, x: &[f64]) -> Result<(), String> {
-        self.running("fmi2SetContinuousStates")?.set_continuous_state(x)
+        self.running()?.set_continuous_state(x)
     }
 
     pub fn get_states(&mut self, x: &mut [f64]) -> Result<(), String> {
-        let sim = self.running("fmi2GetContinuousStates")?;
+        let sim = self.running()?;
         if x.len() != sim.state().len() {
             return Err(format!("the model has {} states, not {}", sim.state().len(), x.len()));
         }
@@ -319,27 +335,27 @@ impl Instance {
     }
 
     pub fn derivatives(&mut self, dx: &mut [f64]) -> Result<(), String> {
-        self.running("fmi2GetDerivatives")?.derivatives(dx)
+        self.running()?.derivatives(dx)
     }
 
     pub fn indicators(&mut self, g: &mut [f64]) -> Result<(), String> {
-        self.running("fmi2GetEventIndicators")?.indicators(g)
+        self.running()?.indicators(g)
     }
 
     pub fn enter_event_mode(&mut self) -> Result<(), String> {
-        self.expect(&[Phase::Continuous, Phase::Event], "fmi2EnterEventMode")?;
+        self.expect(&[Phase::Continuous, Phase::Event])?;
         self.phase = Phase::Event;
         Ok(())
     }
 
     pub fn new_discrete_states(&mut self) -> Result<EventInfo, String> {
-        self.expect(&[Phase::Event], "fmi2NewDiscreteStates")?;
-        let update = self.running("fmi2NewDiscreteStates")?.update_at_event()?;
+        self.expect(&[Phase::Event])?;
+        let update = self.running()?.update_at_event()?;
         Ok(EventInfo { values_changed: update.state_changed, next_event_time: update.next_time_event })
     }
 
     pub fn enter_continuous_time_mode(&mut self) -> Result<(), String> {
-        self.expect(&[Phase::Event], "fmi2EnterContinuousTimeMode")?;
+        self.expect(&[Phase::Event])?;
         self.phase = Phase::Continuous;
         Ok(())
     }
@@ -374,7 +390,7 @@ impl Instance {
                 (None, None) => return Err(format!("no variable has the value reference {vr}")),
             }
         }
-        let x0 = self.running("fmi2GetDirectionalDerivative")?.state().to_vec();
+        let x0 = self.running()?.state().to_vec();
         let u0 = self.inputs.clone();
         let size = |v: &[f64]| v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
         let scale =
@@ -389,7 +405,7 @@ impl Instance {
                     self.set_input_value(k, u0[k] + step * d)?;
                 }
             }
-            self.running("fmi2GetDirectionalDerivative")?.set_continuous_state(&x)?;
+            self.running()?.set_continuous_state(&x)?;
             self.get_real(unknowns, values)
         };
         let n = unknowns.len();
@@ -405,7 +421,7 @@ impl Instance {
         for (i, &u) in u0.iter().enumerate() {
             self.set_input_value(i, u)?;
         }
-        self.running("fmi2GetDirectionalDerivative")?.set_continuous_state(&x0)?;
+        self.running()?.set_continuous_state(&x0)?;
         evaluated?;
         for (k, o) in out.iter_mut().enumerate() {
             let d_h = (plus[k] - minus[k]) / (2.0 * h);
@@ -427,11 +443,11 @@ impl Instance {
 
     /// One communication step from `t` (the time reached) by `h`.
     pub fn do_step(&mut self, t: f64, h: f64) -> Result<(), String> {
-        self.expect(&[Phase::Event], "fmi2DoStep")?;
+        self.expect(&[Phase::Event])?;
         if !(h >= 0.0 && h.is_finite()) {
             return Err(format!("the communication step must be 0 or positive, not {h}"));
         }
-        let sim = self.running("fmi2DoStep")?;
+        let sim = self.running()?;
         let now = sim.time();
         if (t - now).abs() > 1e-9 * now.abs().max(1.0) {
             return Err(format!("the step starts at t = {t}, but the FMU stands at t = {now}"));
