@@ -49,6 +49,9 @@ pub fn urdf_as_dyad(
             urdf::skipped_effect(&s.tag)
         );
     }
+    for w in &robot.warnings {
+        say!("{}", w.render(&file));
+    }
     if meshes.leave_out {
         for link in &mut robot.links {
             link.visuals.retain(|v| !matches!(v.geometry, urdf::Geometry::Mesh { .. }));

@@ -227,3 +227,39 @@ fn the_largest_robot_a_model_holds_imports() {
     assert!(stderr(&out).contains("chain9999: 10000 links, 9999 joints → chain.dyad (9999 degrees of freedom"));
     assert!(std::fs::read_to_string(dir.join("chain.dyad")).unwrap().contains("j9998 = MultibodyComponents"));
 }
+
+/// A link's inertia no rigid body can have (Modelica's robot has one) is
+/// imported as given, with a warning at its `<inertial>` naming the link
+/// and the moments; `run` on the URDF says it once, about the URDF.
+#[test]
+fn an_inertia_no_rigid_body_has_is_warned_about_at_its_link() {
+    let dir = scratch("urdf-inertia");
+    let urdf = "<robot name=\"r\">\n<link name=\"base\"/>\n<link name=\"arm\">\n  <inertial><mass value=\"1\"/>\
+                <inertia ixx=\"0.001\" ixy=\"0\" ixz=\"0\" iyy=\"1.16\" iyz=\"0\" izz=\"0.001\"/></inertial>\n</link>\n\
+                <link name=\"plate\">\n  <inertial><mass value=\"1\"/><inertia ixx=\"0.1\" ixy=\"0\" ixz=\"0\" \
+                iyy=\"0.2\" iyz=\"0\" izz=\"0.3\"/></inertial>\n</link>\n\
+                <joint name=\"j\" type=\"revolute\"><parent link=\"base\"/><child link=\"arm\"/><axis xyz=\"0 0 1\"/></joint>\n\
+                <joint name=\"k\" type=\"fixed\"><parent link=\"arm\"/><child link=\"plate\"/></joint>\n</robot>\n";
+    std::fs::write(dir.join("r.urdf"), urdf).unwrap();
+    let out = multibody(&dir, &["import", "r.urdf"]);
+    let err = stderr(&out);
+    assert_eq!(code(&out), 0, "{err}");
+    assert!(
+        err.contains(
+            "r.urdf:4:3: warning: no rigid mass distribution has the inertia of the link `arm`: its principal moments \
+             0.001, 0.001 and 1.16 kg.m2 break the triangle inequality (1.16 > 0.001 + 0.001)"
+        ),
+        "{err}"
+    );
+    assert!(err.contains("the robot is imported with the inertia as given"), "{err}");
+    assert_eq!(err.matches("warning").count(), 1, "{err}");
+    assert!(dir.join("r.dyad").exists());
+    let out = multibody(&dir, &["run", "r.urdf", "--stop", "0.1"]);
+    let err = stderr(&out);
+    assert_eq!(code(&out), 0, "{err}");
+    assert_eq!(err.matches("no rigid mass distribution").count(), 1, "{err}");
+    assert!(err.contains("r.urdf:4:3: warning"), "{err}");
+    // The model file the import wrote says it at the body.
+    let out = multibody(&dir, &["check", "r.dyad"]);
+    assert!(stderr(&out).contains("warning: no rigid mass distribution has the inertia of `arm`"), "{}", stderr(&out));
+}

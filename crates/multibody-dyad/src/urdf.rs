@@ -167,6 +167,25 @@ pub struct Skipped {
     pub count: usize,
 }
 
+/// Data the import takes as it is, but doubts: said with its place.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UrdfWarning {
+    pub at: Pos,
+    pub message: String,
+    pub help: Option<String>,
+}
+
+impl UrdfWarning {
+    /// `file:line:col: warning: message` and the help, as the command prints it.
+    pub fn render(&self, file: &str) -> String {
+        let mut s = format!("{file}:{}:{}: warning: {}", self.at.line, self.at.col, self.message);
+        if let Some(h) = &self.help {
+            let _ = write!(s, "\n  help: {h}");
+        }
+        s
+    }
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Robot {
     pub name: String,
@@ -178,6 +197,7 @@ pub struct Robot {
     /// The link no joint moves.
     pub root: usize,
     pub skipped: Vec<Skipped>,
+    pub warnings: Vec<UrdfWarning>,
 }
 
 /// Lines and columns of places in a text. roxmltree's `text_pos_at`
@@ -272,6 +292,7 @@ pub fn parse(text: &str) -> Result<Robot, UrdfError> {
     if links.is_empty() {
         return Err(UrdfError::new(pos(root), "the robot has no `<link>`"));
     }
+    let warnings = links.iter().filter_map(impossible_inertia).collect();
     for visual in links.iter_mut().flat_map(|l| l.visuals.iter_mut()).filter(|v| v.color.is_none()) {
         visual.color = visual.material.as_ref().and_then(|m| materials.get(m)).copied();
     }
@@ -350,6 +371,28 @@ pub fn parse(text: &str) -> Result<Robot, UrdfError> {
         joints,
         root: root_link,
         skipped,
+        warnings,
+    })
+}
+
+/// A link's inertia that no rigid body can have: taken as it is (real
+/// robots' data has some), with a warning at its `<inertial>`.
+fn impossible_inertia(link: &Link) -> Option<UrdfWarning> {
+    let inertial = link.inertial.as_ref()?;
+    let [xx, xy, xz, yy, yz, zz] = inertial.inertia;
+    let doubt = multibody::components::ImpossibleInertia::of([xx, yy, zz, xy, xz, yz])?;
+    Some(UrdfWarning {
+        at: inertial.at,
+        message: format!(
+            "no rigid mass distribution has the inertia of the link `{}`: {}",
+            link.name,
+            doubt.describe()
+        ),
+        help: Some(
+            "a rigid body's largest principal moment is at most the sum of the other two; the robot is imported \
+             with the inertia as given, but check ixx ... izz"
+                .into(),
+        ),
     })
 }
 

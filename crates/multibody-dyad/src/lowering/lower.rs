@@ -22,7 +22,7 @@ use crate::semantics::types;
 use crate::syntax::ast::*;
 use crate::syntax::source::Span;
 use crate::Lowered;
-use multibody::components::{lookup, registry, ComponentSpec, ConnectorType};
+use multibody::components::{lookup, registry, ComponentSpec, ConnectorType, ImpossibleInertia, INERTIA_PARAMS};
 use multibody::{Model, SimulationOptions};
 use std::collections::HashMap;
 
@@ -1306,6 +1306,20 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 (None, false) => {}
             }
         }
+        if let Some(doubt) = impossible_inertia(spec, &params, &initial, &guess) {
+            self.warnings.push(
+                Diagnostic::warning(format!(
+                    "no rigid mass distribution has the inertia of `{name}`: {}",
+                    doubt.describe()
+                ))
+                .primary(decl.span, "no rigid body has this inertia")
+                .help(
+                    "a rigid body's largest principal moment is at most the sum of the other two; the model runs \
+                     with the inertia as given, but check I_11 ... I_32 (about the centre of mass, resolved in \
+                     frame_a)",
+                ),
+            );
+        }
         let instance = self.model.add(name, spec.kind);
         for (p, v) in params {
             instance.set(&p, v);
@@ -1318,6 +1332,32 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         }
         Ok(())
     }
+}
+
+/// The inertia of a library component that has one (`I_11 ... I_32`,
+/// given or by default), when no rigid body can have it. One decided by
+/// the initialization (a start value or a guess) is not known here.
+fn impossible_inertia(
+    spec: &ComponentSpec,
+    params: &[(String, multibody::Value)],
+    initial: &[(String, multibody::Value)],
+    guess: &[(String, multibody::Value)],
+) -> Option<ImpossibleInertia> {
+    let mut values = [0.0; 6];
+    for (value, name) in values.iter_mut().zip(INERTIA_PARAMS.map(|p| p.name)) {
+        if initial.iter().chain(guess).any(|(p, _)| p == name) {
+            return None;
+        }
+        *value = match params.iter().find(|(p, _)| p == name).map(|(_, v)| v) {
+            Some(multibody::Value::Number(x)) => *x,
+            Some(_) => return None,
+            None => match spec.param(name)?.default {
+                multibody::components::Default::Number(x) => x,
+                _ => return None,
+            },
+        };
+    }
+    ImpossibleInertia::of(values)
 }
 
 /// A parameter with a guess and no value (none given here either) is

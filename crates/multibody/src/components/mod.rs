@@ -79,6 +79,7 @@ pub use crate::system::laws::{
     resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, RotationLock, SignalSource, SlipLaw, WheelContact,
 };
 pub use crate::system::{DriveLevel, DriveMap, SignalLaw};
+pub use body::{ImpossibleInertia, INERTIA_PARAMS};
 pub use params::ParamSet;
 pub use spec::{ComponentSpec, ConnectorSpec, ConnectorType, Default, ParamSpec, ParamType, Shape, VarSpec};
 pub use world::WorldSettings;
