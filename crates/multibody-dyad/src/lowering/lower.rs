@@ -1623,10 +1623,10 @@ fn resolve_kind<'a>(index: &Index<'a>, kind: &Path) -> Result<Kind<'a>, Diagnost
     let text = kind.text();
     // Inside a library package, a short name is that package's component
     // (unless the files define one of that name).
-    if let Some(package) = index.packages.get(&kind.span.file) {
-        if !text.contains('.') && !index.components.contains_key(text.as_str()) {
+    if let Some(package) = index.package_of(kind.span.file) {
+        if !text.contains('.') && index.get_component(&text).is_none() {
             let full = format!("{package}.{text}");
-            if let Some(def) = index.components.get(full.as_str()) {
+            if let Some(def) = index.get_component(&full) {
                 return Ok(Kind::User(def));
             }
             if let Some(spec) = lookup(&full) {
@@ -1635,7 +1635,7 @@ fn resolve_kind<'a>(index: &Index<'a>, kind: &Path) -> Result<Kind<'a>, Diagnost
         }
     }
     // The files' and the library's components, then the engine's.
-    if let Some(def) = index.components.get(text.as_str()) {
+    if let Some(def) = index.get_component(&text) {
         return Ok(Kind::User(def));
     }
     if let (Some(def), None) = (index.component(&text), lookup(&text)) {
@@ -1653,12 +1653,8 @@ fn resolve_kind<'a>(index: &Index<'a>, kind: &Path) -> Result<Kind<'a>, Diagnost
             .help("analyses simulate components; use a component here"));
     }
     let bare = multibody::components::canonical_kind(&text);
-    let candidates: Vec<&str> = registry()
-        .iter()
-        .map(|s| s.kind)
-        .chain(index.components.keys().map(String::as_str))
-        .chain(index.connectors.keys().map(String::as_str))
-        .collect();
+    let candidates: Vec<&str> =
+        registry().iter().map(|s| s.kind).chain(index.component_names()).chain(index.connector_names()).collect();
     let mut d = Diagnostic::error(format!("unknown component kind `{text}`"))
         .primary(kind.span, "not a library component or a component of these files");
     if let Some(s) = did_you_mean(&bare, candidates.iter().copied()) {

@@ -296,7 +296,10 @@ pub fn canonical_kind(kind: &str) -> String {
     let bare = kind.strip_prefix("MultibodyComponents.").unwrap_or(kind);
     let mut bare = bare.to_string();
     for level in [".Components.", ".Sources.", ".Sensors.", ".Math.", ".Continuous.", ".Nonlinear."] {
-        bare = bare.replace(level, ".");
+        // Each lowering looks up every kind: no new string where nothing changes.
+        if bare.contains(level) {
+            bare = bare.replace(level, ".");
+        }
     }
     let other_names = [
         // The translational library re-exports the rack and pinion.
