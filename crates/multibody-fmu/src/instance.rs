@@ -76,13 +76,18 @@ impl Instance {
             }
             files.push((name.clone(), read(&resources.join(MODEL_FOLDER).join(name))?));
         }
-        // The description is beside resources/ in the unzipped FMU.
-        let folder = resources.parent().ok_or_else(|| {
-            format!("the resource folder {} has no parent, where {DESCRIPTION_FILE} would be", resources.display())
-        })?;
-        let description = read(&folder.join(DESCRIPTION_FILE))?;
-        check_token(expected_token, &settings_json, &files, &description)?;
-        let loaded = Loaded::load(&files, &settings)?;
+        // The description is beside resources/ in the unzipped FMU, unless
+        // the host unpacked only what the FMI standard says the FMU reads.
+        let beside = resources.parent().map(|folder| folder.join(DESCRIPTION_FILE)).filter(|path| path.is_file());
+        let description = beside.as_deref().map(read).transpose()?;
+        check_token(expected_token, &settings_json, &files, description.as_deref())?;
+        let mut loaded = Loaded::load(&files, &settings)?;
+        if description.is_none() {
+            loaded.warnings.push(format!(
+                "{DESCRIPTION_FILE} is not beside resources/ (the host unpacked only part of the FMU): the token \
+                 checked the model files, not the description"
+            ));
+        }
         let n = loaded.interface.variables.len();
         let inputs =
             loaded.interface.inputs.iter().map(|&vr| loaded.interface.variables[vr].start.unwrap_or(0.0)).collect();

@@ -110,33 +110,35 @@ pub fn without_token(description: &str, token: &str) -> String {
 }
 
 /// Whether the token the host gave is the one of these files and this
-/// description; else what differs, and what to do.
+/// description; else what differs, and what to do. Without the
+/// description (a host that unpacked only `resources/` and `binaries/`,
+/// as FMPy does) the files' half of the token is checked.
 pub fn check_token(
     expected: &str,
     settings_json: &str,
     files: &[(String, String)],
-    description: &str,
+    description: Option<&str>,
 ) -> Result<(), String> {
-    let actual = token(settings_json, files, &without_token(description, expected));
-    // The description carries the token it was digested with.
-    if actual == expected && description.contains(&format!("\"{expected}\"")) {
-        return Ok(());
-    }
-    // The same first half: the model files are the exported ones, and the
-    // description is what changed.
     let half = |t: &str| t.chars().filter(char::is_ascii_hexdigit).take(16).collect::<String>();
-    if half(&actual).len() == 16 && half(&actual) == half(expected) {
-        return Err(format!(
+    let actual = token(settings_json, files, &without_token(description.unwrap_or_default(), expected));
+    // The files' half: the model files are the exported ones.
+    let files_agree = half(expected).len() == 16 && half(&actual) == half(expected);
+    match description {
+        // The description carries the token it was digested with.
+        Some(description) if actual == expected && description.contains(&format!("\"{expected}\"")) => Ok(()),
+        None if files_agree => Ok(()),
+        Some(_) if files_agree => Err(format!(
             "token mismatch: the FMU's {DESCRIPTION_FILE} was edited after the export (its token {expected} covers \
              the description too): its variables may no longer be the model's (value references, causalities, \
              starts). Export the FMU again instead of editing its description"
-        ));
+        )),
+        _ => Err(format!(
+            "token mismatch: the FMU's description has the token {expected}, but its model files and this runtime \
+             ({RUNTIME_ID}) give {}: the files in resources/ were edited after the export, or the binary is another \
+             version. Export the FMU again",
+            if description.is_some() { actual } else { format!("{{{}...}}", &half(&actual)[..8]) }
+        )),
     }
-    Err(format!(
-        "token mismatch: the FMU's description has the token {expected}, but its {DESCRIPTION_FILE}, its model files \
-         and this runtime ({RUNTIME_ID}) give {actual}: the description or the files in resources/ were edited after \
-         the export, or the binary is another version. Export the FMU again"
-    ))
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
