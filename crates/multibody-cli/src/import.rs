@@ -49,6 +49,9 @@ pub fn urdf_as_dyad(
             urdf::skipped_effect(&s.tag)
         );
     }
+    for w in &robot.warnings {
+        say!("{}", w.render(&file));
+    }
     if meshes.leave_out {
         for link in &mut robot.links {
             link.visuals.retain(|v| !matches!(v.geometry, urdf::Geometry::Mesh { .. }));
@@ -81,6 +84,11 @@ pub fn urdf_as_dyad(
         }
         return Err(Failure::Model);
     }
+    // Too large a robot is said about the URDF, before its model is made.
+    urdf::check_size(&robot, options).map_err(|e| {
+        eprintln!("{}", e.render(&file));
+        Failure::Model
+    })?;
     let dyad = urdf::to_dyad(&robot, &file, options);
     Ok((robot, dyad))
 }

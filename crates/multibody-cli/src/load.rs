@@ -118,7 +118,9 @@ pub fn lower(package: &Package, target: &Target, overrides: &[Override]) -> Resu
     let lowered = package.lower_target(target, overrides);
     match lowered {
         Ok(l) => {
-            print_diagnostics(package, &l.warnings);
+            let warnings: Vec<Diagnostic> =
+                l.warnings.iter().filter(|d| !said_about_the_urdf(package, d)).cloned().collect();
+            print_diagnostics(package, &warnings);
             Ok(l)
         }
         Err(d) => {
@@ -129,6 +131,15 @@ pub fn lower(package: &Package, target: &Target, overrides: &[Override]) -> Resu
             Err(Failure::Model)
         }
     }
+}
+
+/// A warning about the model made of a URDF file that reading the URDF
+/// gave already, at the link (an inertia no rigid body has).
+fn said_about_the_urdf(package: &Package, d: &Diagnostic) -> bool {
+    let made_of_urdf = |span: multibody_dyad::Span| {
+        package.sources().name(span.file).strip_suffix(".dyad").is_some_and(|f| crate::import::is_urdf(Path::new(f)))
+    };
+    d.primary_span().is_some_and(made_of_urdf) && d.message.starts_with("no rigid mass distribution has the inertia")
 }
 
 /// Assembles the lowered model; a failure is blamed on a command-line

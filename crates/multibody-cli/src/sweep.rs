@@ -75,32 +75,49 @@ pub fn sweep(args: &SweepArgs) -> Result<(), Failure> {
     let started = Instant::now();
     let keys: Vec<&str> = std::iter::once("run").chain(axes.iter().map(|a| a.name.as_str())).collect();
     let signal_names: Vec<&str> = signals.iter().map(String::as_str).collect();
-    // The runs go a few per thread at a time, and each batch into the table
-    // in order before the next starts: memory holds a batch, not the sweep.
+    // The runs go in batches, each into the table in order before the next
+    // starts: memory holds a batch, not the sweep. A CSV table's rows are
+    // rendered by the threads that computed them; the table only copies
+    // them in.
+    let batch = batch_size(&options, keys.len() + 1 + signals.len(), jobs);
     let (mut finished, mut failed, mut samples) = (0, 0, 0);
     let out = write_table_streaming(&out, &keys, &signal_names, |table| {
-        for (batch, chunk) in sets.chunks(4 * jobs).enumerate() {
-            let runs: Vec<Option<Result<Samples, String>>> = pool.install(|| {
+        let render = table.takes_rendered_rows();
+        for (number, chunk) in sets.chunks(batch).enumerate() {
+            let first = number * batch;
+            let runs: Vec<Option<Result<Finished, String>>> = pool.install(|| {
                 chunk
                     .par_iter()
-                    .map(|set| {
+                    .enumerate()
+                    .map(|(j, set)| {
                         if interrupted.load(Ordering::Relaxed) {
                             return None;
                         }
                         let run = simulate(&package, &target, set, &args.options, &signals, &interrupted)?;
                         bar.inc(1);
-                        Some(run)
+                        Some(run.map(|run| {
+                            if render {
+                                let rows = csv_rows(first + j, set, &run, signals.len());
+                                Finished::Rendered { samples: run.time.len(), rows }
+                            } else {
+                                Finished::Values(run)
+                            }
+                        }))
                     })
                     .collect()
             });
-            for (j, (set, run)) in chunk.iter().zip(&runs).enumerate() {
-                let k = batch * 4 * jobs + j;
+            for (j, (set, run)) in chunk.iter().zip(runs).enumerate() {
+                let k = first + j;
                 match run {
-                    Some(Ok(run)) => {
+                    Some(Ok(Finished::Rendered { samples: count, rows })) => {
+                        finished += 1;
+                        samples += count;
+                        table.rendered_rows(&rows)?;
+                    }
+                    Some(Ok(Finished::Values(run))) => {
                         finished += 1;
                         samples += run.time.len();
-                        let key_values: Vec<f64> =
-                            std::iter::once((k + 1) as f64).chain(set.iter().map(number_of)).collect();
+                        let key_values = key_values(k, set);
                         for (t, row) in run.time.iter().zip(run.values.chunks_exact(signals.len().max(1))) {
                             table.row(&key_values, *t, row)?;
                         }
@@ -146,6 +163,43 @@ pub fn sweep(args: &SweepArgs) -> Result<(), Failure> {
         return Err(Failure::Simulation);
     }
     Ok(())
+}
+
+/// A run that finished: its rows rendered for a CSV table, or its values.
+enum Finished {
+    Rendered { samples: usize, rows: Vec<u8> },
+    Values(Samples),
+}
+
+/// About this many values of samples are held per batch (16 MB, and
+/// about twice that as CSV text).
+const BATCH_VALUES: f64 = (1 << 21) as f64;
+
+/// How many runs go in one batch: enough that the threads seldom wait for
+/// each other and for the table between batches (with four runs per
+/// thread, short runs spent about half their time waiting), few enough
+/// that a batch's samples stay near [`BATCH_VALUES`] (long runs go one
+/// per thread).
+fn batch_size(options: &SimulationOptions, columns: usize, jobs: usize) -> usize {
+    // Without an output grid (saveat = 0) a run's samples are not known:
+    // as if a thousand.
+    let per_run = multibody_dyad::study::grid_samples(options).unwrap_or(1000.0) * columns.max(1) as f64;
+    ((BATCH_VALUES / per_run) as usize).clamp(jobs, 256 * jobs)
+}
+
+/// The run's number (from 1) and its values: the first columns of its rows.
+fn key_values(k: usize, set: &[Override]) -> Vec<f64> {
+    std::iter::once((k + 1) as f64).chain(set.iter().map(number_of)).collect()
+}
+
+/// Run `k`'s rows as the CSV table writes them.
+fn csv_rows(k: usize, set: &[Override], run: &Samples, width: usize) -> Vec<u8> {
+    let keys = key_values(k, set);
+    let mut rows = Vec::with_capacity(run.time.len() * 20 * (keys.len() + 1 + width));
+    for (t, row) in run.time.iter().zip(run.values.chunks_exact(width.max(1))) {
+        multibody::simulate::csv_row(&mut rows, &keys, *t, row).expect("writing into memory does not fail");
+    }
+    rows
 }
 
 /// One parameter (or start value) and its values.

@@ -52,6 +52,22 @@ impl TableWriter {
         }
     }
 
+    /// Whether rows may be rendered before they are written
+    /// ([`multibody::simulate::csv_row`], on the threads that computed
+    /// them) and added with [`TableWriter::rendered_rows`].
+    pub fn takes_rendered_rows(&self) -> bool {
+        matches!(self, TableWriter::Csv(_))
+    }
+
+    /// Rows rendered by [`multibody::simulate::csv_row`] (a CSV table only).
+    pub fn rendered_rows(&mut self, rows: &[u8]) -> io::Result<()> {
+        match self {
+            TableWriter::Csv(csv) => csv.rendered_rows(rows),
+            #[cfg(feature = "parquet")]
+            TableWriter::Parquet(_) => Err(io::Error::other("a Parquet table takes values, not rendered rows")),
+        }
+    }
+
     /// About the memory writing `samples` rows of `columns` columns in
     /// `format` holds (a CSV streams: a buffer).
     pub fn memory(format: Format, samples: f64, columns: usize) -> f64 {

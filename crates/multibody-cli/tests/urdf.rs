@@ -174,3 +174,92 @@ fn mimic_joints_are_imported_as_couplings() {
     assert!(text.contains("right_finger.axis.phi = -1.0 * left_finger.axis.phi + 0.01"), "{text}");
     assert!(text.contains("tip.axis.s = 0.02 * right_finger.axis.phi + 0"), "{text}");
 }
+
+/// A chain of `n` links after a massless base, each on a revolute joint.
+fn chain_urdf(n: usize) -> String {
+    let mut s = format!("<robot name=\"chain{n}\">\n<link name=\"base\"/>\n");
+    for i in 0..n {
+        let parent = if i == 0 { "base".to_string() } else { format!("l{}", i - 1) };
+        s += &format!(
+            "<link name=\"l{i}\"><inertial><mass value=\"1\"/><origin xyz=\"0 0 0.05\"/><inertia ixx=\"0.01\" \
+             ixy=\"0\" ixz=\"0\" iyy=\"0.01\" iyz=\"0\" izz=\"0.01\"/></inertial></link>\n<joint name=\"j{i}\" \
+             type=\"revolute\"><parent link=\"{parent}\"/><child link=\"l{i}\"/><origin xyz=\"0 0 0.1\"/><axis \
+             xyz=\"0 1 0\"/></joint>\n"
+        );
+    }
+    s + "</robot>\n"
+}
+
+/// Reading a robot took n² steps (each place counted from the start of the
+/// file): 20,000 links took half a minute before being refused, in the
+/// model file that was never written. The limit is said about the URDF.
+#[test]
+fn a_robot_too_large_for_a_model_is_refused_at_its_urdf() {
+    let dir = scratch("urdf-too-large");
+    std::fs::write(dir.join("chain20000.urdf"), chain_urdf(20_000)).unwrap();
+    let out = multibody(&dir, &["import", "chain20000.urdf"]);
+    let err = stderr(&out);
+    assert_eq!(code(&out), 1, "{err}");
+    assert!(
+        err.contains(
+            "chain20000.urdf:1:1: error: the robot has 20001 links and 20000 joints: its model would have 40002 \
+             components, and a model has at most 20000"
+        ),
+        "{err}"
+    );
+    assert!(err.contains("help: the world, each link, each joint, each shape and each damper is a component"), "{err}");
+    assert!(!err.contains("chain20000.dyad"), "{err}");
+    assert!(!dir.join("chain20000.dyad").exists());
+    // `run` reads the URDF the same way.
+    let out = multibody(&dir, &["run", "chain20000.urdf"]);
+    assert_eq!(code(&out), 1, "{}", stderr(&out));
+    assert!(stderr(&out).contains("chain20000.urdf:1:1: error: the robot has 20001 links"), "{}", stderr(&out));
+}
+
+/// The largest chain a model holds (10,000 links, 9,999 joints and the
+/// world) imports: the import is linear in the links.
+#[test]
+fn the_largest_robot_a_model_holds_imports() {
+    let dir = scratch("urdf-largest");
+    std::fs::write(dir.join("chain.urdf"), chain_urdf(9_999)).unwrap();
+    let out = multibody(&dir, &["import", "chain.urdf"]);
+    assert_eq!(code(&out), 0, "{}", stderr(&out));
+    assert!(stderr(&out).contains("chain9999: 10000 links, 9999 joints → chain.dyad (9999 degrees of freedom"));
+    assert!(std::fs::read_to_string(dir.join("chain.dyad")).unwrap().contains("j9998 = MultibodyComponents"));
+}
+
+/// A link's inertia no rigid body can have (Modelica's robot has one) is
+/// imported as given, with a warning at its `<inertial>` naming the link
+/// and the moments; `run` on the URDF says it once, about the URDF.
+#[test]
+fn an_inertia_no_rigid_body_has_is_warned_about_at_its_link() {
+    let dir = scratch("urdf-inertia");
+    let urdf = "<robot name=\"r\">\n<link name=\"base\"/>\n<link name=\"arm\">\n  <inertial><mass value=\"1\"/>\
+                <inertia ixx=\"0.001\" ixy=\"0\" ixz=\"0\" iyy=\"1.16\" iyz=\"0\" izz=\"0.001\"/></inertial>\n</link>\n\
+                <link name=\"plate\">\n  <inertial><mass value=\"1\"/><inertia ixx=\"0.1\" ixy=\"0\" ixz=\"0\" \
+                iyy=\"0.2\" iyz=\"0\" izz=\"0.3\"/></inertial>\n</link>\n\
+                <joint name=\"j\" type=\"revolute\"><parent link=\"base\"/><child link=\"arm\"/><axis xyz=\"0 0 1\"/></joint>\n\
+                <joint name=\"k\" type=\"fixed\"><parent link=\"arm\"/><child link=\"plate\"/></joint>\n</robot>\n";
+    std::fs::write(dir.join("r.urdf"), urdf).unwrap();
+    let out = multibody(&dir, &["import", "r.urdf"]);
+    let err = stderr(&out);
+    assert_eq!(code(&out), 0, "{err}");
+    assert!(
+        err.contains(
+            "r.urdf:4:3: warning: no rigid mass distribution has the inertia of the link `arm`: its principal moments \
+             0.001, 0.001 and 1.16 kg.m2 break the triangle inequality (1.16 > 0.001 + 0.001)"
+        ),
+        "{err}"
+    );
+    assert!(err.contains("the robot is imported with the inertia as given"), "{err}");
+    assert_eq!(err.matches("warning").count(), 1, "{err}");
+    assert!(dir.join("r.dyad").exists());
+    let out = multibody(&dir, &["run", "r.urdf", "--stop", "0.1"]);
+    let err = stderr(&out);
+    assert_eq!(code(&out), 0, "{err}");
+    assert_eq!(err.matches("no rigid mass distribution").count(), 1, "{err}");
+    assert!(err.contains("r.urdf:4:3: warning"), "{err}");
+    // The model file the import wrote says it at the body.
+    let out = multibody(&dir, &["check", "r.dyad"]);
+    assert!(stderr(&out).contains("warning: no rigid mass distribution has the inertia of `arm`"), "{}", stderr(&out));
+}

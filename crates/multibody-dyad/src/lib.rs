@@ -303,7 +303,7 @@ impl Package {
     /// Lowers the analysis `name` with parameters or start values of its
     /// model given from outside the files (they win over the files').
     pub fn lower_analysis_with(&self, name: &str, overrides: &[Override]) -> Result<Lowered, Diagnostic> {
-        let index = semantics::index::Index::new(stdlib::files(), &self.files)?;
+        let index = semantics::index::Index::new(&self.files)?;
         let analysis = index.analyses.get(name).copied().ok_or_else(|| self.not_found(name, "analysis"))?;
         lowering::lower::Lowerer::analysis(&index, analysis, overrides)
     }
@@ -316,8 +316,8 @@ impl Package {
     /// Lowers the component `name` with parameters or start values given
     /// from outside the files.
     pub fn lower_component_with(&self, name: &str, overrides: &[Override]) -> Result<Lowered, Diagnostic> {
-        let index = semantics::index::Index::new(stdlib::files(), &self.files)?;
-        let def = index.components.get(name).copied().ok_or_else(|| self.not_found(name, "component"))?;
+        let index = semantics::index::Index::new(&self.files)?;
+        let def = index.get_component(name).ok_or_else(|| self.not_found(name, "component"))?;
         lowering::lower::Lowerer::component(&index, def, overrides)
     }
 

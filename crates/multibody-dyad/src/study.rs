@@ -186,8 +186,13 @@ impl Package {
             }
         }
         // The samples stay in memory (and are copied once where they go):
-        // a run that cannot fit is refused before it starts.
-        check_memory(&options, 1, names.len() + 1, 2.0, memory_budget()).map_err(RunError::Options)?;
+        // a run that cannot fit is refused before it starts. A small one
+        // fits anywhere: reading what the machine has (four files of /proc
+        // and /sys) took longer than a short run of a sweep.
+        let columns = names.len() + 1;
+        if grid_samples(&options).is_some_and(|n| n * columns as f64 * 8.0 * 2.0 > SMALL_RUN) {
+            check_memory(&options, 1, columns, 2.0, memory_budget()).map_err(RunError::Options)?;
+        }
         let mut samples = Samples { names, time: Vec::new(), values: Vec::new(), picks, warnings: Vec::new() };
         let mut on_step = |_t: f64| match stop {
             Some(stop) if stop() => Err("interrupted".to_string()),
@@ -384,6 +389,9 @@ pub fn threads_for(runs: usize, asked: Option<usize>) -> usize {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     asked.unwrap_or(cores).min(cores).min(runs).max(1)
 }
+
+/// The bytes of samples a run may hold without asking the machine.
+const SMALL_RUN: f64 = 1e6;
 
 /// Where the machine does not say how much memory it has.
 const DEFAULT_MEMORY: f64 = 4e9;

@@ -10,8 +10,13 @@
 //! `angle` about `n`; an `<inertial>`'s inertia is rotated into the link
 //! frame. URDF is z-up: the World's gravity points along -z.
 
+use std::cell::Cell;
+use std::collections::{HashMap, HashSet};
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
+
+/// How many components a model may have: the lowering refuses more.
+pub use crate::lowering::lower::MAX_COMPONENTS;
 
 /// A place in the URDF file (1-based).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -162,15 +167,69 @@ pub struct Skipped {
     pub count: usize,
 }
 
+/// Data the import takes as it is, but doubts: said with its place.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UrdfWarning {
+    pub at: Pos,
+    pub message: String,
+    pub help: Option<String>,
+}
+
+impl UrdfWarning {
+    /// `file:line:col: warning: message` and the help, as the command prints it.
+    pub fn render(&self, file: &str) -> String {
+        let mut s = format!("{file}:{}:{}: warning: {}", self.at.line, self.at.col, self.message);
+        if let Some(h) = &self.help {
+            let _ = write!(s, "\n  help: {h}");
+        }
+        s
+    }
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Robot {
     pub name: String,
+    /// The place of `<robot>`.
+    pub at: Pos,
     pub links: Vec<Link>,
     /// In the file's order.
     pub joints: Vec<Joint>,
     /// The link no joint moves.
     pub root: usize,
     pub skipped: Vec<Skipped>,
+    pub warnings: Vec<UrdfWarning>,
+}
+
+/// Lines and columns of places in a text. roxmltree's `text_pos_at`
+/// counts from the start of the text at each call, which made reading a
+/// robot of n links take n² steps; this finds the line by bisection and
+/// counts the column on from the place asked for before when it can.
+struct Places<'t> {
+    text: &'t str,
+    /// The byte where each line starts.
+    lines: Vec<usize>,
+    /// The last place asked for: its byte and its column (1-based).
+    last: Cell<(usize, u32)>,
+}
+
+impl<'t> Places<'t> {
+    fn new(text: &'t str) -> Self {
+        let mut lines = vec![0];
+        lines.extend(text.bytes().enumerate().filter(|&(_, b)| b == b'\n').map(|(k, _)| k + 1));
+        Places { text, lines, last: Cell::new((0, 1)) }
+    }
+
+    /// As roxmltree counts: lines from 1, columns in characters from 1.
+    fn at(&self, byte: usize) -> Pos {
+        let byte = byte.min(self.text.len());
+        let line = self.lines.partition_point(|&start| start <= byte) - 1;
+        let start = self.lines[line];
+        let (last, last_col) = self.last.get();
+        let (from, col) = if last >= start && last <= byte { (last, last_col) } else { (start, 1) };
+        let col = col + self.text[from..byte].chars().count() as u32;
+        self.last.set((byte, col));
+        Pos { line: line as u32 + 1, col }
+    }
 }
 
 /// Reads and checks a URDF file.
@@ -179,10 +238,8 @@ pub fn parse(text: &str) -> Result<Robot, UrdfError> {
         let p = e.pos();
         UrdfError::new(Pos { line: p.row, col: p.col }, format!("this is not well-formed XML: {e}"))
     })?;
-    let pos = |n: roxmltree::Node| {
-        let p = doc.text_pos_at(n.range().start);
-        Pos { line: p.row, col: p.col }
-    };
+    let places = Places::new(text);
+    let pos = |n: roxmltree::Node| places.at(n.range().start);
     let root = doc.root_element();
     if root.tag_name().name() != "robot" {
         return Err(UrdfError::new(
@@ -191,29 +248,42 @@ pub fn parse(text: &str) -> Result<Robot, UrdfError> {
         )
         .help("a URDF file describes one `<robot name=\"...\">`"));
     }
+    // Too many parts for one model is said before any is read.
+    let count = |tag: &str| root.children().filter(|n| n.is_element() && n.tag_name().name() == tag).count();
+    let (link_count, joint_count) = (count("link"), count("joint"));
+    if 1 + link_count + joint_count > MAX_COMPONENTS {
+        return Err(too_many_components(pos(root), link_count, joint_count, 1 + link_count + joint_count));
+    }
     let mut skipped: Vec<Skipped> = Vec::new();
-    let mut skip = |tag: &str, at: Pos| match skipped.iter_mut().find(|s| s.tag == tag) {
-        Some(s) => s.count += 1,
-        None => skipped.push(Skipped { tag: tag.to_string(), at, count: 1 }),
+    let mut skipped_at: HashMap<String, usize> = HashMap::new();
+    let mut skip = |tag: &str, at: Pos| match skipped_at.get(tag) {
+        Some(&k) => skipped[k].count += 1,
+        None => {
+            skipped_at.insert(tag.to_string(), skipped.len());
+            skipped.push(Skipped { tag: tag.to_string(), at, count: 1 });
+        }
     };
     let mut links: Vec<Link> = Vec::new();
+    let mut link_index: HashMap<String, usize> = HashMap::new();
     let mut raw_joints = Vec::new();
-    // The robot's named materials, which visuals may name.
-    let mut materials: Vec<(String, [f64; 4])> = Vec::new();
+    // The robot's named materials, which visuals may name (the first of a
+    // name counts).
+    let mut materials: HashMap<String, [f64; 4]> = HashMap::new();
     for node in root.children().filter(|n| n.is_element()) {
         match node.tag_name().name() {
             "link" => {
                 let link = read_link(node, &pos, &mut skip)?;
-                if let Some(other) = links.iter().find(|l| l.name == link.name) {
+                if let Some(&other) = link_index.get(&link.name) {
                     return Err(UrdfError::new(link.at, format!("a second link named `{}`", link.name))
-                        .help(format!("the first is at line {}", other.at.line)));
+                        .help(format!("the first is at line {}", links[other].at.line)));
                 }
+                link_index.insert(link.name.clone(), links.len());
                 links.push(link);
             }
             "joint" => raw_joints.push(node),
             "material" => {
                 if let (Some(name), Some(color)) = read_material(node, &pos)? {
-                    materials.push((name, color));
+                    materials.entry(name).or_insert(color);
                 }
             }
             other => skip(other, pos(node)),
@@ -222,18 +292,21 @@ pub fn parse(text: &str) -> Result<Robot, UrdfError> {
     if links.is_empty() {
         return Err(UrdfError::new(pos(root), "the robot has no `<link>`"));
     }
+    let warnings = links.iter().filter_map(impossible_inertia).collect();
     for visual in links.iter_mut().flat_map(|l| l.visuals.iter_mut()).filter(|v| v.color.is_none()) {
-        let named = visual.material.as_ref().and_then(|m| materials.iter().find(|(n, _)| n == m));
-        visual.color = named.map(|(_, c)| *c);
+        visual.color = visual.material.as_ref().and_then(|m| materials.get(m)).copied();
     }
     let mut joints: Vec<Joint> = Vec::new();
+    let mut joint_index: HashMap<String, usize> = HashMap::new();
+    // The joint that moves each link.
+    let mut parent_joint: Vec<Option<usize>> = vec![None; links.len()];
     for node in raw_joints {
-        let joint = read_joint(node, &links, &pos, &mut skip)?;
-        if let Some(other) = joints.iter().find(|j| j.name == joint.name) {
+        let joint = read_joint(node, &links, &link_index, &pos, &mut skip)?;
+        if let Some(&other) = joint_index.get(&joint.name) {
             return Err(UrdfError::new(joint.at, format!("a second joint named `{}`", joint.name))
-                .help(format!("the first is at line {}", other.at.line)));
+                .help(format!("the first is at line {}", joints[other].at.line)));
         }
-        if let Some(other) = joints.iter().find(|j| j.child == joint.child) {
+        if let Some(other) = parent_joint[joint.child].map(|k| &joints[k]) {
             return Err(UrdfError::new(
                 joint.at,
                 format!(
@@ -243,6 +316,8 @@ pub fn parse(text: &str) -> Result<Robot, UrdfError> {
             )
             .help("each link is the child of at most one joint; a closed chain cannot be written in URDF"));
         }
+        joint_index.insert(joint.name.clone(), joints.len());
+        parent_joint[joint.child] = Some(joints.len());
         joints.push(joint);
     }
     // A fixed joint does not move: a mimic on it (Talos's grippers have
@@ -252,13 +327,13 @@ pub fn parse(text: &str) -> Result<Robot, UrdfError> {
             skip("mimic", m.at);
         }
     }
-    check_mimics(&joints)?;
+    check_mimics(&joints, &joint_index)?;
     // The root: the one link no joint moves; a loop leaves none.
-    let roots: Vec<usize> = (0..links.len()).filter(|&l| !joints.iter().any(|j| j.child == l)).collect();
+    let roots: Vec<usize> = (0..links.len()).filter(|&l| parent_joint[l].is_none()).collect();
     let root_link = match roots.as_slice() {
         [one] => *one,
         [] => {
-            return Err(loop_error(&links, &joints));
+            return Err(loop_error(&links, &joints, &parent_joint));
         }
         many => {
             let names: Vec<String> = many.iter().map(|&l| format!("`{}`", links[l].name)).collect();
@@ -274,25 +349,121 @@ pub fn parse(text: &str) -> Result<Robot, UrdfError> {
         }
     };
     // Every link reached from the root (a loop elsewhere leaves some out).
+    let mut children: Vec<Vec<usize>> = vec![Vec::new(); links.len()];
+    for j in &joints {
+        children[j.parent].push(j.child);
+    }
     let mut reached = vec![false; links.len()];
     let mut stack = vec![root_link];
     while let Some(l) = stack.pop() {
         if std::mem::replace(&mut reached[l], true) {
             continue;
         }
-        stack.extend(joints.iter().filter(|j| j.parent == l).map(|j| j.child));
+        stack.extend(children[l].iter().rev());
     }
     if reached.iter().any(|r| !r) {
-        return Err(loop_error(&links, &joints));
+        return Err(loop_error(&links, &joints, &parent_joint));
     }
-    Ok(Robot { name: root.attribute("name").unwrap_or("robot").to_string(), links, joints, root: root_link, skipped })
+    Ok(Robot {
+        name: root.attribute("name").unwrap_or("robot").to_string(),
+        at: pos(root),
+        links,
+        joints,
+        root: root_link,
+        skipped,
+        warnings,
+    })
+}
+
+/// A link's inertia that no rigid body can have: taken as it is (real
+/// robots' data has some), with a warning at its `<inertial>`.
+fn impossible_inertia(link: &Link) -> Option<UrdfWarning> {
+    let inertial = link.inertial.as_ref()?;
+    let [xx, xy, xz, yy, yz, zz] = inertial.inertia;
+    let doubt = multibody::components::ImpossibleInertia::of([xx, yy, zz, xy, xz, yz])?;
+    Some(UrdfWarning {
+        at: inertial.at,
+        message: format!(
+            "no rigid mass distribution has the inertia of the link `{}`: {}",
+            link.name,
+            doubt.describe()
+        ),
+        help: Some(
+            "a rigid body's largest principal moment is at most the sum of the other two; the robot is imported \
+             with the inertia as given, but check ixx ... izz"
+                .into(),
+        ),
+    })
+}
+
+/// A robot whose model would have more components than a model may have.
+fn too_many_components(at: Pos, links: usize, joints: usize, components: usize) -> UrdfError {
+    UrdfError::new(
+        at,
+        format!(
+            "the robot has {links} links and {joints} joints: its model would have {components} components, and a \
+             model has at most {MAX_COMPONENTS}"
+        ),
+    )
+    .help(
+        "the world, each link, each joint, each shape and each damper is a component: split the robot into URDF \
+         files of fewer links (or leave its meshes out with --no-meshes, if the shapes are what is too many)",
+    )
+}
+
+/// How many components [`to_dyad`] makes of the robot: the world, a
+/// component per link, per joint, per visual drawn, per placed planar or
+/// floating joint and per damper.
+pub fn component_count(robot: &Robot, options: &ImportOptions) -> usize {
+    let visuals = robot
+        .links
+        .iter()
+        .flat_map(|l| &l.visuals)
+        .filter(|v| !matches!(v.geometry, Geometry::Mesh { path: None, .. }))
+        .count();
+    let placed = robot.joints.iter().filter(|j| matches!(j.kind, JointKind::Planar | JointKind::Floating)).count();
+    let dampers =
+        robot.joints.iter().filter(|j| options.damping && j.damping > 0.0 && j.kind.has_one_coordinate()).count();
+    1 + robot.links.len() + robot.joints.len() + visuals + placed + dampers
+}
+
+/// The robot's model is not larger than a model may be: said at
+/// `<robot>`, before the model is written.
+pub fn check_size(robot: &Robot, options: &ImportOptions) -> Result<(), UrdfError> {
+    let n = component_count(robot, options);
+    if n > MAX_COMPONENTS {
+        return Err(too_many_components(robot.at, robot.links.len(), robot.joints.len(), n));
+    }
+    Ok(())
 }
 
 /// Each mimic names a joint that exists and moves, the follower moves too,
 /// and no chain of mimics comes back to where it started.
-fn check_mimics(joints: &[Joint]) -> Result<(), UrdfError> {
-    let leader = |j: &Joint| j.mimic.as_ref().and_then(|m| joints.iter().position(|o| o.name == m.joint));
-    for j in joints {
+fn check_mimics(joints: &[Joint], index: &HashMap<String, usize>) -> Result<(), UrdfError> {
+    let leader = |j: &Joint| j.mimic.as_ref().and_then(|m| index.get(&m.joint).copied());
+    // The joints on a circle of mimics: each joint has one leader at most,
+    // so a walk from each joint not yet seen finds them in one pass.
+    let mut on_circle = vec![false; joints.len()];
+    let mut state = vec![0u8; joints.len()]; // 0 not seen, 1 on this walk, 2 done
+    let mut walk = Vec::new();
+    for start in 0..joints.len() {
+        let mut at = Some(start);
+        while let Some(k) = at.filter(|&k| state[k] == 0) {
+            state[k] = 1;
+            walk.push(k);
+            at = leader(&joints[k]);
+        }
+        if let Some(k) = at.filter(|&k| state[k] == 1) {
+            let from = walk.iter().position(|&w| w == k).unwrap_or(0);
+            for &w in &walk[from..] {
+                on_circle[w] = true;
+            }
+        }
+        for w in walk.drain(..) {
+            state[w] = 2;
+        }
+    }
+    for (k, j) in joints.iter().enumerate() {
         let Some(m) = &j.mimic else { continue };
         let Some(l) = leader(j) else {
             return Err(UrdfError::new(
@@ -313,21 +484,19 @@ fn check_mimics(joints: &[Joint]) -> Result<(), UrdfError> {
                 format!("the mimic of `{}` has a multiplier or offset that is not a finite number", j.name),
             ));
         }
-        let mut chain = vec![j.name.as_str()];
-        let mut at = l;
-        while let Some(next) = leader(&joints[at]) {
-            chain.push(joints[at].name.as_str());
-            if joints[at].name == j.name {
-                return Err(UrdfError::new(
-                    m.at,
-                    format!("the mimic joints {} follow each other in a circle", chain.join(" -> ")),
-                )
-                .help("one joint of the chain must move on its own"));
+        if on_circle[k] {
+            let mut chain = vec![j.name.as_str()];
+            let mut at = l;
+            while at != k {
+                chain.push(joints[at].name.as_str());
+                at = leader(&joints[at]).unwrap_or(k);
             }
-            if chain.len() > joints.len() {
-                break;
-            }
-            at = next;
+            chain.push(j.name.as_str());
+            return Err(UrdfError::new(
+                m.at,
+                format!("the mimic joints {} follow each other in a circle", chain.join(" -> ")),
+            )
+            .help("one joint of the chain must move on its own"));
         }
     }
     Ok(())
@@ -335,12 +504,12 @@ fn check_mimics(joints: &[Joint]) -> Result<(), UrdfError> {
 
 /// The joints of a loop, for the message: from a link not reached, up its
 /// parents until one repeats.
-fn loop_error(links: &[Link], joints: &[Joint]) -> UrdfError {
-    let parent_joint = |l: usize| joints.iter().position(|j| j.child == l);
+fn loop_error(links: &[Link], joints: &[Joint], parent_joint: &[Option<usize>]) -> UrdfError {
     let mut seen = Vec::new();
-    let mut link = (0..links.len()).find(|&l| parent_joint(l).is_some()).unwrap_or(0);
-    while let Some(j) = parent_joint(link) {
-        if seen.contains(&j) {
+    let mut seen_before = vec![false; joints.len()];
+    let mut link = (0..links.len()).find(|&l| parent_joint[l].is_some()).unwrap_or(0);
+    while let Some(j) = parent_joint[link] {
+        if std::mem::replace(&mut seen_before[j], true) {
             let start = seen.iter().position(|&s| s == j).unwrap_or(0);
             let cycle: Vec<String> = seen[start..].iter().map(|&k: &usize| format!("`{}`", joints[k].name)).collect();
             return UrdfError::new(joints[j].at, format!("the joints {} form a loop", cycle.join(" → ")))
@@ -445,6 +614,7 @@ fn read_visual(
 fn read_joint(
     node: roxmltree::Node,
     links: &[Link],
+    link_index: &HashMap<String, usize>,
     pos: &PosOf,
     skip: &mut dyn FnMut(&str, Pos),
 ) -> Result<Joint, UrdfError> {
@@ -465,7 +635,7 @@ fn read_joint(
         let e = element(node, tag)
             .ok_or_else(|| UrdfError::new(pos(node), format!("the joint `{name}` has no `<{tag} link=\"...\"/>`")))?;
         let wanted = required(e, "link", pos)?;
-        links.iter().position(|l| l.name == wanted).ok_or_else(|| {
+        link_index.get(wanted).copied().ok_or_else(|| {
             let hint = crate::diagnostics::did_you_mean(wanted, links.iter().map(|l| l.name.as_str()));
             let mut err = UrdfError::new(
                 pos(e),
@@ -930,7 +1100,8 @@ const RESERVED: &[&str] = &[
 
 /// A Dyad identifier for each name, unique, as close to it as can be.
 fn identifiers<'a>(names: impl Iterator<Item = (&'a str, &'static str)>) -> Vec<String> {
-    let mut used: Vec<String> = Vec::new();
+    let mut ids: Vec<String> = Vec::new();
+    let mut used: HashSet<String> = HashSet::new();
     for (name, kind) in names {
         let mut id: String =
             name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' }).collect();
@@ -949,9 +1120,10 @@ fn identifiers<'a>(names: impl Iterator<Item = (&'a str, &'static str)>) -> Vec<
             id = format!("{base}_{kind}{k}");
             k += 1;
         }
-        used.push(id);
+        used.insert(id.clone());
+        ids.push(id);
     }
-    used
+    ids
 }
 
 fn num(x: f64) -> String {
@@ -1012,7 +1184,7 @@ pub fn to_dyad(robot: &Robot, file: &str, options: &ImportOptions) -> String {
     let mut relations: Vec<String> = Vec::new();
     // The connectors at each link's frame.
     let mut at_link: Vec<Vec<String>> = vec![Vec::new(); robot.links.len()];
-    let mut used = link_ids.iter().chain(&joint_ids).cloned().collect::<Vec<_>>();
+    let mut used = link_ids.iter().chain(&joint_ids).cloned().collect::<HashSet<_>>();
     let mut fresh = |base: String| {
         let mut id = base.clone();
         let mut k = 2;
@@ -1020,9 +1192,11 @@ pub fn to_dyad(robot: &Robot, file: &str, options: &ImportOptions) -> String {
             id = format!("{base}{k}");
             k += 1;
         }
-        used.push(id.clone());
+        used.insert(id.clone());
         id
     };
+    let joint_index: HashMap<&str, usize> =
+        robot.joints.iter().enumerate().rev().map(|(k, j)| (j.name.as_str(), k)).collect();
     declarations.push("  world = MultibodyComponents.World(n = [0, 0, -1])".into());
     for (l, link) in robot.links.iter().enumerate() {
         let id = &link_ids[l];
@@ -1183,7 +1357,7 @@ pub fn to_dyad(robot: &Robot, file: &str, options: &ImportOptions) -> String {
         }
         at_link[joint.child].push(format!("{id}.frame_b"));
         if let Some(m) = mimic {
-            let leader = robot.joints.iter().position(|o| o.name == m.joint).expect("checked by parse");
+            let leader = joint_index[m.joint.as_str()];
             let coordinate = |kind: JointKind| if kind == JointKind::Prismatic { "s" } else { "phi" };
             relations.push(format!(
                 "  \"Mimic (line {}): `{}` = {} * `{}` + {}\"\n  {id}.axis.{} = {} * {}.axis.{} + {}",
@@ -1215,6 +1389,7 @@ pub fn to_dyad(robot: &Robot, file: &str, options: &ImportOptions) -> String {
     if !options.floating {
         at_link[robot.root].insert(0, "world.frame_b".into());
     }
+    debug_assert_eq!(declarations.len(), component_count(robot, options), "one declaration per component");
     let mut connects: Vec<String> = Vec::new();
     // A link with one connector (a floating root alone) needs no connect.
     for connectors in at_link.iter().filter(|c| c.len() >= 2) {

@@ -204,7 +204,7 @@ fn controlled_pendulum() {
     m.add("tau", "Input").set("start", 0.0);
     m.add("world", "World");
     m.add("rev", "Revolute").set("n", [0.0, 0.0, 1.0]).initial("phi", 0.0).initial("w", 0.0);
-    m.add("body", "Body").set("m", 1.0).set("r_cm", [0.5, 0.0, 0.0]).set("I_33", 0.02);
+    m.add("body", "Body").set("m", 1.0).set("r_cm", [0.5, 0.0, 0.0]).set("I_22", 0.02).set("I_33", 0.02);
     m.add("motor", "RotationalComponents.Torque");
     m.add("angle_sensor", "RotationalComponents.AngleSensor");
     m.add("speed_sensor", "RotationalComponents.SpeedSensor");
@@ -243,7 +243,7 @@ fn linear_analysis() {
             .set("axisflange", true)
             .initial("phi", phi0)
             .initial("w", 0.0);
-        m.add("body", "Body").set("m", 1.0).set("r_cm", [0.5, 0.0, 0.0]).set("I_33", 0.02);
+        m.add("body", "Body").set("m", 1.0).set("r_cm", [0.5, 0.0, 0.0]).set("I_22", 0.02).set("I_33", 0.02);
         m.add("damper", "RotationalComponents.Damper").set("d", 0.3);
         m.add("motor", "RotationalComponents.Torque");
         m.add("angle_sensor", "RotationalComponents.AngleSensor");
@@ -300,7 +300,7 @@ fn geared_servo() {
     m.add("motor", "Revolute").set("n", [0.0, 1.0, 0.0]).initial("phi", 0.0).initial("w", 0.0);
     m.add("rotor", "Body").set("m", 0.5).set("r_cm", [0.0, 0.0, 0.0]).set("I_22", 0.002);
     m.add("table", "Revolute").set("n", [0.0, 1.0, 0.0]);
-    m.add("load", "Body").set("m", 2.0).set("r_cm", [0.3, 0.0, 0.0]).set("I_22", 0.01);
+    m.add("load", "Body").set("m", 2.0).set("r_cm", [0.3, 0.0, 0.0]).set("I_22", 0.01).set("I_33", 0.01);
     m.add("gear", "RotationalComponents.IdealGear").set("ratio", 4.0);
     m.add("angle", "RotationalComponents.AngleSensor");
     m.add("speed", "RotationalComponents.SpeedSensor");

@@ -494,3 +494,58 @@ fn equations_of_thousands_of_terms_run() {
     }
     assert!(worst < 1e-12, "long sums and products are off by {worst:e} (relative)");
 }
+
+/// An inertia no rigid body can have (a principal moment above the sum of
+/// the other two) is taken as given, with a warning at the body that names
+/// it and its moments; flat plates and thin rods reach the bound and are
+/// not warned about. Modelica's industrial robot has such a link
+/// (0.001, 1.16, 0.001), so it is not refused.
+#[test]
+fn an_inertia_no_rigid_body_has_is_warned_about_at_the_body() {
+    let text = r#"
+component Holder
+  parameter I::Real = 2
+  frame_a = Frame3D()
+  shaft = MultibodyComponents.BodyShape(r = [0.5, 0, 0], m = 1, I_11 = I, I_22 = 0, I_33 = 0)
+relations
+  connect(frame_a, shaft.frame_a)
+end
+
+example component Arm
+  world = MultibodyComponents.World()
+  joint = MultibodyComponents.Revolute(n = [0, 0, 1], phi(initial = 0.1))
+  link = MultibodyComponents.Body(m = 1, r_cm = [0.5, 0, 0], I_11 = 0.001, I_22 = 1.16, I_33 = 0.001)
+  joint2 = MultibodyComponents.Revolute(n = [0, 0, 1])
+  rod = MultibodyComponents.Body(m = 1, r_cm = [0.5, 0, 0], I_11 = 0, I_22 = 0.02, I_33 = 0.02)
+  plate = MultibodyComponents.Body(m = 1, I_11 = 0.1, I_22 = 0.2, I_33 = 0.3)
+  turned = MultibodyComponents.Body(m = 1, I_11 = 1, I_22 = 1, I_33 = 1, I_21 = 0.9)
+  held = Holder()
+relations
+  connect(world.frame_b, joint.frame_a)
+  connect(joint.frame_b, link.frame_a, joint2.frame_a, plate.frame_a, turned.frame_a, held.frame_a)
+  connect(joint2.frame_b, rod.frame_a)
+end
+"#;
+    let p = package(&[("arm.dyad", text)]);
+    let l = p.lower_component("Arm").unwrap_or_else(|d| panic!("{}", d.render(p.sources(), false)));
+    let rendered: Vec<String> = l.warnings.iter().map(|w| w.render(p.sources(), false)).collect();
+    assert_eq!(rendered.len(), 3, "{rendered:#?}");
+    let link = &rendered[0];
+    assert!(
+        link.starts_with(
+            "warning: no rigid mass distribution has the inertia of `link`: its principal moments 0.001, 0.001 and \
+             1.16 kg.m2 break the triangle inequality (1.16 > 0.001 + 0.001)"
+        ),
+        "{link}"
+    );
+    assert!(link.contains("arm.dyad:13:3"), "{link}");
+    assert!(link.contains("the model runs with the inertia as given"), "{link}");
+    assert!(rendered[1].contains("of `turned`: its principal moments 0.1, 1 and 1.9 kg.m2"), "{}", rendered[1]);
+    // Inside a user component: the instance's name, at the declaration.
+    assert!(rendered[2].contains("of `held.shaft`: its principal moments 0, 0 and 2 kg.m2"), "{}", rendered[2]);
+    assert!(rendered[2].contains("arm.dyad:5:3"), "{}", rendered[2]);
+    // Taken as given: the model assembles and runs.
+    let mechanism = l.assemble().unwrap_or_else(|d| panic!("{}", d.render(p.sources(), false)));
+    let options = multibody::SimulationOptions { stop: 0.1, saveat: 0.05, ..Default::default() };
+    mechanism.simulate(&options).unwrap();
+}

@@ -516,3 +516,47 @@ fn an_undamped_ur5_conserves_energy() {
     assert!(drift < 1e-9, "the energy drifts by {drift:.1e} of the largest kinetic energy {scale:.1} J over 5 s");
     println!("UR5, 5 s undamped: energy within {drift:.1e} of the largest kinetic energy ({scale:.1} J)");
 }
+
+/// Places are counted as roxmltree counts them (columns in characters),
+/// on a file of one line too, and for a place before the last one asked
+/// for (the joints are read after every link).
+#[test]
+fn places_on_one_long_line_are_right() {
+    let e = error_of("<robot name=\"ré\"><link name=\"a\"/><link name=\"a\"/></robot>");
+    assert!(e.starts_with("bad.urdf:1:34: error: a second link named `a`"), "{e}");
+    let e = error_of(
+        "<robot name=\"ré\"><link name=\"a\"/><joint name=\"j\" type=\"fixed\"><parent link=\"a\"/><child \
+         link=\"b\"/></joint><link name=\"c\"/></robot>",
+    );
+    assert!(e.starts_with("bad.urdf:1:81: error: the joint `j` names the child link `b`"), "{e}");
+}
+
+/// A robot whose shapes make its model too large is refused at `<robot>`,
+/// with the count and the limit, before its model is made.
+#[test]
+fn a_robot_too_large_for_a_model_is_refused_with_the_count() {
+    let mut text = String::from("<robot name=\"r\">\n<link name=\"l0\"/>\n");
+    for i in 1..5000 {
+        let shape = "<visual><geometry><sphere radius=\"0.1\"/></geometry></visual>";
+        text += &format!(
+            "<link name=\"l{i}\">{shape}{shape}{shape}</link><joint name=\"j{i}\" type=\"fixed\"><parent \
+             link=\"l{}\"/><child link=\"l{i}\"/></joint>\n",
+            i - 1
+        );
+    }
+    text += "</robot>\n";
+    let robot = urdf::parse(&text).unwrap();
+    assert_eq!(urdf::component_count(&robot, &ImportOptions::default()), 1 + 5000 + 4999 + 3 * 4999);
+    let e = urdf::check_size(&robot, &ImportOptions::default()).unwrap_err().render("r.urdf");
+    assert!(
+        e.starts_with(
+            "r.urdf:1:1: error: the robot has 5000 links and 4999 joints: its model would have 24997 components, \
+             and a model has at most 20000"
+        ),
+        "{e}"
+    );
+    // Fewer shapes fit.
+    let smaller = text.replacen("<visual><geometry><sphere radius=\"0.1\"/></geometry></visual>", "", 4997 * 3);
+    let robot = urdf::parse(&smaller).unwrap();
+    assert!(urdf::check_size(&robot, &ImportOptions::default()).is_ok());
+}

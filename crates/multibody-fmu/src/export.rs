@@ -3,7 +3,7 @@
 //! zipping.
 
 use crate::description::{model_description, Header, Kinds, Version};
-use crate::model::{token, Loaded, Settings, MODEL_FOLDER, SETTINGS_FILE};
+use crate::model::{token, Loaded, Settings, DESCRIPTION_FILE, MODEL_FOLDER, SETTINGS_FILE};
 use std::io::{Cursor, Write};
 use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, ZipWriter};
@@ -67,9 +67,11 @@ impl Export {
             _ => Version::Fmi2,
         });
         let settings_json = settings.to_json();
-        let token = token(&settings_json, &files);
         let identifier = identifier(&loaded.lowered.name);
-        Ok(Export { loaded, files, settings_json, token, identifier, kinds, version })
+        let mut export = Export { loaded, files, settings_json, token: String::new(), identifier, kinds, version };
+        // The token covers the description, written without it.
+        export.token = token(&export.settings_json, &export.files, &export.model_description());
+        Ok(export)
     }
 
     pub fn model_description(&self) -> String {
@@ -95,7 +97,7 @@ impl Export {
             zip.start_file(name, deflated.compression_level(level)).map_err(|e| format!("cannot zip {name}: {e}"))?;
             zip.write_all(bytes).map_err(|e| format!("cannot zip {name}: {e}"))
         };
-        add("modelDescription.xml", self.model_description().as_bytes())?;
+        add(DESCRIPTION_FILE, self.model_description().as_bytes())?;
         add(&format!("binaries/{}/{}{LIBRARY_SUFFIX}", platform_folder(self.version), self.identifier), runtime)?;
         add(&format!("resources/{SETTINGS_FILE}"), self.settings_json.as_bytes())?;
         for (name, text) in &self.files {

@@ -174,14 +174,18 @@ pub unsafe extern "C" fn fmi3SetFloat64(c: *mut c_void, vr: *const Vr, nvr: usiz
     })
 }
 
+/// A getter or setter of a type the FMU has no variables of: fine for no
+/// values, an error otherwise.
+unsafe fn only_float64(c: *mut c_void, call: &str, nvr: usize) -> Status {
+    with(c, call, |_| if nvr == 0 { Ok(OK) } else { Err("the FMU has only Float64 variables".into()) })
+}
+
 /// The getters and setters of the types the FMU has no variables of.
 macro_rules! only_float64 {
     ($($name:ident($value:ty);)*) => {$(
         #[no_mangle]
         pub unsafe extern "C" fn $name(c: *mut c_void, _vr: *const Vr, nvr: usize, _v: $value, _n: usize) -> Status {
-            with(c, stringify!($name), |_| {
-                if nvr == 0 { Ok(OK) } else { Err("the FMU has only Float64 variables".into()) }
-            })
+            only_float64(c, stringify!($name), nvr)
         }
     )*};
 }
@@ -214,25 +218,25 @@ only_float64! {
 #[no_mangle]
 pub unsafe extern "C" fn fmi3GetBinary(
     c: *mut c_void,
-    vr: *const Vr,
+    _vr: *const Vr,
     nvr: usize,
     _sizes: *mut usize,
     _v: *mut *const u8,
-    n: usize,
+    _n: usize,
 ) -> Status {
-    fmi3GetUInt8(c, vr, nvr, std::ptr::null_mut(), n)
+    only_float64(c, "fmi3GetBinary", nvr)
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi3SetBinary(
     c: *mut c_void,
-    vr: *const Vr,
+    _vr: *const Vr,
     nvr: usize,
     _sizes: *const usize,
     _v: *const *const u8,
-    n: usize,
+    _n: usize,
 ) -> Status {
-    fmi3SetUInt8(c, vr, nvr, std::ptr::null(), n)
+    only_float64(c, "fmi3SetBinary", nvr)
 }
 
 /// What the description does not claim: an error with a message.

@@ -1,8 +1,9 @@
 //! One instance of an FMU: its model, the values set before
 //! initialization, and the simulator it runs, in safe Rust. The C
-//! functions (`fmi2`) only translate to and from this.
+//! functions (`fmi2`, `fmi3`) only translate to and from this, and put
+//! their own name before its messages (which name no function).
 
-use crate::model::{token, Loaded, Settings, Source, MODEL_FOLDER, SETTINGS_FILE};
+use crate::model::{check_token, Loaded, Settings, Source, DESCRIPTION_FILE, MODEL_FOLDER, SETTINGS_FILE};
 use multibody::{Mechanism, SimulationOptions, Simulator};
 use std::path::Path;
 use std::sync::Arc;
@@ -56,8 +57,9 @@ pub struct Instance {
 }
 
 impl Instance {
-    /// Loads the model stored in `resources`, checking that it is the one
-    /// the FMU was exported with (`token`).
+    /// Loads the model stored in `resources`, checking that it and the
+    /// description beside `resources` are the ones the FMU was exported
+    /// with (`token`).
     pub fn new(resources: &Path, expected_token: &str, kind: Kind) -> Result<Instance, String> {
         let read = |path: &Path| {
             std::fs::read_to_string(path).map_err(|e| format!("cannot read the FMU's {}: {e}", path.display()))
@@ -74,16 +76,18 @@ impl Instance {
             }
             files.push((name.clone(), read(&resources.join(MODEL_FOLDER).join(name))?));
         }
-        let actual = token(&settings_json, &files);
-        if actual != expected_token {
-            return Err(format!(
-                "token mismatch: the FMU's description has the token {expected_token}, but its model files and \
-                 this runtime ({}) give {actual}: the files in resources/ were edited after the export, or the \
-                 binary is another version. Export the FMU again",
-                crate::model::RUNTIME_ID
+        // The description is beside resources/ in the unzipped FMU, unless
+        // the host unpacked only what the FMI standard says the FMU reads.
+        let beside = resources.parent().map(|folder| folder.join(DESCRIPTION_FILE)).filter(|path| path.is_file());
+        let description = beside.as_deref().map(read).transpose()?;
+        check_token(expected_token, &settings_json, &files, description.as_deref())?;
+        let mut loaded = Loaded::load(&files, &settings)?;
+        if description.is_none() {
+            loaded.warnings.push(format!(
+                "{DESCRIPTION_FILE} is not beside resources/ (the host unpacked only part of the FMU): the token \
+                 checked the model files, not the description"
             ));
         }
-        let loaded = Loaded::load(&files, &settings)?;
         let n = loaded.interface.variables.len();
         let inputs =
             loaded.interface.inputs.iter().map(|&vr| loaded.interface.variables[vr].start.unwrap_or(0.0)).collect();
@@ -122,7 +126,7 @@ impl Instance {
     }
 
     pub fn setup_experiment(&mut self, tolerance: Option<f64>, start: f64, stop: Option<f64>) -> Result<(), String> {
-        self.expect(&[Phase::Instantiated], "fmi2SetupExperiment")?;
+        self.expect(&[Phase::Instantiated])?;
         if let Some(tol) = tolerance {
             if !(tol > 0.0 && tol < 1.0) {
                 return Err(format!("the tolerance must be between 0 and 1, not {tol}"));
@@ -138,7 +142,7 @@ impl Instance {
     }
 
     pub fn enter_initialization(&mut self) -> Result<(), String> {
-        self.expect(&[Phase::Instantiated], "fmi2EnterInitializationMode")?;
+        self.expect(&[Phase::Instantiated])?;
         self.phase = Phase::Initialization;
         Ok(())
     }
@@ -146,7 +150,7 @@ impl Instance {
     /// Builds the simulator from the values set (the model lowered and
     /// assembled again if any parameter or start value changed).
     pub fn exit_initialization(&mut self) -> Result<(), String> {
-        self.expect(&[Phase::Initialization], "fmi2ExitInitializationMode")?;
+        self.expect(&[Phase::Initialization])?;
         self.simulator = None;
         self.ensure_simulator()?;
         self.phase = Phase::Event;
@@ -189,12 +193,27 @@ impl Instance {
         Ok(self.simulator.as_mut().expect("made just now"))
     }
 
-    fn expect(&self, phases: &[Phase], call: &str) -> Result<(), String> {
+    /// The call is allowed in `phases`. The message names no function:
+    /// the C function the host called (FMI 2 or 3) is put before it.
+    fn expect(&self, phases: &[Phase]) -> Result<(), String> {
         if phases.contains(&self.phase) {
             Ok(())
         } else {
-            Err(format!("{call} is not allowed now (the instance is {:?})", self.phase))
+            Err(self.not_now())
         }
+    }
+
+    fn not_now(&self) -> String {
+        let state = match (self.phase, self.kind) {
+            (Phase::Instantiated, _) => "instantiated, and its initialization has not begun",
+            (Phase::Initialization, _) => "in initialization mode",
+            (Phase::Event, Kind::ModelExchange) => "in event mode",
+            (Phase::Event, Kind::CoSimulation) => "in step mode",
+            (Phase::Continuous, _) => "in continuous-time mode",
+            (Phase::Terminated, _) => "terminated",
+            (Phase::Failed, _) => "stopped by an earlier error: reset it or free it",
+        };
+        format!("not allowed now: the instance is {state}")
     }
 
     pub fn get_real(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), String> {
@@ -293,9 +312,9 @@ impl Instance {
         Ok(())
     }
 
-    fn running(&mut self, call: &str) -> Result<&mut Simulator<'static>, String> {
+    fn running(&mut self) -> Result<&mut Simulator<'static>, String> {
         if matches!(self.phase, Phase::Instantiated | Phase::Terminated | Phase::Failed) {
-            return Err(format!("{call} is not allowed now (the instance is {:?})", self.phase));
+            return Err(self.not_now());
         }
         self.ensure_simulator()
     }
@@ -303,16 +322,16 @@ impl Instance {
     // Model exchange.
 
     pub fn set_time(&mut self, t: f64) -> Result<(), String> {
-        self.running("fmi2SetTime")?.set_time(t);
+        self.running()?.set_time(t);
         Ok(())
     }
 
     pub fn set_states(&mut self, x: &[f64]) -> Result<(), String> {
-        self.running("fmi2SetContinuousStates")?.set_continuous_state(x)
+        self.running()?.set_continuous_state(x)
     }
 
     pub fn get_states(&mut self, x: &mut [f64]) -> Result<(), String> {
-        let sim = self.running("fmi2GetContinuousStates")?;
+        let sim = self.running()?;
         if x.len() != sim.state().len() {
             return Err(format!("the model has {} states, not {}", sim.state().len(), x.len()));
         }
@@ -321,27 +340,27 @@ impl Instance {
     }
 
     pub fn derivatives(&mut self, dx: &mut [f64]) -> Result<(), String> {
-        self.running("fmi2GetDerivatives")?.derivatives(dx)
+        self.running()?.derivatives(dx)
     }
 
     pub fn indicators(&mut self, g: &mut [f64]) -> Result<(), String> {
-        self.running("fmi2GetEventIndicators")?.indicators(g)
+        self.running()?.indicators(g)
     }
 
     pub fn enter_event_mode(&mut self) -> Result<(), String> {
-        self.expect(&[Phase::Continuous, Phase::Event], "fmi2EnterEventMode")?;
+        self.expect(&[Phase::Continuous, Phase::Event])?;
         self.phase = Phase::Event;
         Ok(())
     }
 
     pub fn new_discrete_states(&mut self) -> Result<EventInfo, String> {
-        self.expect(&[Phase::Event], "fmi2NewDiscreteStates")?;
-        let update = self.running("fmi2NewDiscreteStates")?.update_at_event()?;
+        self.expect(&[Phase::Event])?;
+        let update = self.running()?.update_at_event()?;
         Ok(EventInfo { values_changed: update.state_changed, next_event_time: update.next_time_event })
     }
 
     pub fn enter_continuous_time_mode(&mut self) -> Result<(), String> {
-        self.expect(&[Phase::Event], "fmi2EnterContinuousTimeMode")?;
+        self.expect(&[Phase::Event])?;
         self.phase = Phase::Continuous;
         Ok(())
     }
@@ -376,7 +395,7 @@ impl Instance {
                 (None, None) => return Err(format!("no variable has the value reference {vr}")),
             }
         }
-        let x0 = self.running("fmi2GetDirectionalDerivative")?.state().to_vec();
+        let x0 = self.running()?.state().to_vec();
         let u0 = self.inputs.clone();
         let size = |v: &[f64]| v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
         let scale =
@@ -391,7 +410,7 @@ impl Instance {
                     self.set_input_value(k, u0[k] + step * d)?;
                 }
             }
-            self.running("fmi2GetDirectionalDerivative")?.set_continuous_state(&x)?;
+            self.running()?.set_continuous_state(&x)?;
             self.get_real(unknowns, values)
         };
         let n = unknowns.len();
@@ -407,7 +426,7 @@ impl Instance {
         for (i, &u) in u0.iter().enumerate() {
             self.set_input_value(i, u)?;
         }
-        self.running("fmi2GetDirectionalDerivative")?.set_continuous_state(&x0)?;
+        self.running()?.set_continuous_state(&x0)?;
         evaluated?;
         for (k, o) in out.iter_mut().enumerate() {
             let d_h = (plus[k] - minus[k]) / (2.0 * h);
@@ -429,11 +448,11 @@ impl Instance {
 
     /// One communication step from `t` (the time reached) by `h`.
     pub fn do_step(&mut self, t: f64, h: f64) -> Result<(), String> {
-        self.expect(&[Phase::Event], "fmi2DoStep")?;
+        self.expect(&[Phase::Event])?;
         if !(h >= 0.0 && h.is_finite()) {
             return Err(format!("the communication step must be 0 or positive, not {h}"));
         }
-        let sim = self.running("fmi2DoStep")?;
+        let sim = self.running()?;
         let now = sim.time();
         if (t - now).abs() > 1e-9 * now.abs().max(1.0) {
             return Err(format!("the step starts at t = {t}, but the FMU stands at t = {now}"));

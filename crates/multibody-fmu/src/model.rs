@@ -60,27 +60,85 @@ impl Settings {
     }
 }
 
-/// The token of an FMU (FMI 2's `guid`): a digest of the runtime's
-/// identity, the settings and every model file, written as a GUID.
-pub fn token(settings_json: &str, files: &[(String, String)]) -> String {
-    // Two FNV-1a digests with different bases: a check that the files are
-    // the ones exported, not a signature.
-    let mut a: u64 = 0xcbf2_9ce4_8422_2325;
-    let mut b: u64 = 0x6c62_272e_07bb_0142;
-    let mut feed = |bytes: &[u8]| {
+/// The FMU's description, beside `resources/`.
+pub const DESCRIPTION_FILE: &str = "modelDescription.xml";
+
+/// FNV-1a over each piece (each ended by 0xff), from the base `basis`.
+fn digest<'a>(basis: u64, prime: u64, pieces: impl IntoIterator<Item = &'a [u8]>) -> u64 {
+    let mut h = basis;
+    for bytes in pieces {
         for &x in bytes.iter().chain(&[0xff]) {
-            a = (a ^ x as u64).wrapping_mul(0x0100_0000_01b3);
-            b = (b ^ x as u64).wrapping_mul(0x0000_0100_0000_01b3 ^ 0x5bd1_e995);
+            h = (h ^ x as u64).wrapping_mul(prime);
         }
-    };
-    feed(RUNTIME_ID.as_bytes());
-    feed(settings_json.as_bytes());
-    for (name, text) in files {
-        feed(name.as_bytes());
-        feed(text.as_bytes());
     }
+    h
+}
+
+/// The pieces of the files' half of the token: the runtime's identity,
+/// the settings and every model file.
+fn file_pieces<'a>(settings_json: &'a str, files: &'a [(String, String)]) -> Vec<&'a [u8]> {
+    let mut pieces = vec![RUNTIME_ID.as_bytes(), settings_json.as_bytes()];
+    for (name, text) in files {
+        pieces.push(name.as_bytes());
+        pieces.push(text.as_bytes());
+    }
+    pieces
+}
+
+/// The token of an FMU (FMI 2's `guid`, FMI 3's `instantiationToken`),
+/// written as a GUID: its first half a digest of the runtime's identity,
+/// the settings and every model file; its second half a digest of those
+/// and of the model description, written with an empty token
+/// ([`without_token`]). An edited description (value references
+/// swapped, a start changed) no longer matches its token.
+pub fn token(settings_json: &str, files: &[(String, String)], description: &str) -> String {
+    // FNV-1a: a check that the files are the ones exported, not a
+    // signature. The multipliers are odd: an even one (the second was)
+    // shifts all but the last 64 bytes out of the digest.
+    let pieces = file_pieces(settings_json, files);
+    let a = digest(0xcbf2_9ce4_8422_2325, 0x0100_0000_01b3, pieces.iter().copied());
+    let b =
+        digest(0x6c62_272e_07bb_0142, 0x9e37_79b9_7f4a_7c15, pieces.iter().copied().chain([description.as_bytes()]));
     let h = format!("{a:016x}{b:016x}");
     format!("{{{}-{}-{}-{}-{}}}", &h[0..8], &h[8..12], &h[12..16], &h[16..20], &h[20..32])
+}
+
+/// The description as it was digested: the token's attribute (the first
+/// `"token"`) emptied.
+pub fn without_token(description: &str, token: &str) -> String {
+    description.replacen(&format!("\"{token}\""), "\"\"", 1)
+}
+
+/// Whether the token the host gave is the one of these files and this
+/// description; else what differs, and what to do. Without the
+/// description (a host that unpacked only `resources/` and `binaries/`,
+/// as FMPy does) the files' half of the token is checked.
+pub fn check_token(
+    expected: &str,
+    settings_json: &str,
+    files: &[(String, String)],
+    description: Option<&str>,
+) -> Result<(), String> {
+    let half = |t: &str| t.chars().filter(char::is_ascii_hexdigit).take(16).collect::<String>();
+    let actual = token(settings_json, files, &without_token(description.unwrap_or_default(), expected));
+    // The files' half: the model files are the exported ones.
+    let files_agree = half(expected).len() == 16 && half(&actual) == half(expected);
+    match description {
+        // The description carries the token it was digested with.
+        Some(description) if actual == expected && description.contains(&format!("\"{expected}\"")) => Ok(()),
+        None if files_agree => Ok(()),
+        Some(_) if files_agree => Err(format!(
+            "token mismatch: the FMU's {DESCRIPTION_FILE} was edited after the export (its token {expected} covers \
+             the description too): its variables may no longer be the model's (value references, causalities, \
+             starts). Export the FMU again instead of editing its description"
+        )),
+        _ => Err(format!(
+            "token mismatch: the FMU's description has the token {expected}, but its model files and this runtime \
+             ({RUNTIME_ID}) give {}: the files in resources/ were edited after the export, or the binary is another \
+             version. Export the FMU again",
+            if description.is_some() { actual } else { format!("{{{}...}}", &half(&actual)[..8]) }
+        )),
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -5,7 +5,7 @@
 //! tests/test_fmu.py.)
 
 use multibody_fmu::fmi2::*;
-use multibody_fmu::model::{MODEL_FOLDER, SETTINGS_FILE};
+use multibody_fmu::model::{DESCRIPTION_FILE, MODEL_FOLDER, SETTINGS_FILE};
 use multibody_fmu::Export;
 use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
 use std::path::{Path, PathBuf};
@@ -50,9 +50,11 @@ fn export_of(model: &str) -> Export {
     Export::prepare(&[(model.to_string(), text)], None, None, Vec::new(), None, None).unwrap()
 }
 
-/// The resources folder of an FMU of `model`, and its token.
+/// The resources folder of an FMU of `model` (its description beside
+/// it), and its token.
 fn unpacked(model: &str, dir: &Path) -> (PathBuf, String) {
     let export = export_of(model);
+    std::fs::write(dir.join(DESCRIPTION_FILE), export.model_description()).unwrap();
     let resources = dir.join("resources");
     std::fs::create_dir_all(resources.join(MODEL_FOLDER)).unwrap();
     std::fs::write(resources.join(SETTINGS_FILE), &export.settings_json).unwrap();
@@ -193,7 +195,9 @@ fn bad_calls_give_errors_with_messages_never_a_crash() {
         fmi2Reset(c);
         // Steps before initialization.
         assert_eq!(fmi2DoStep(c, 0.0, 0.1, 1), ERROR);
-        assert!(logged("fmi2DoStep is not allowed now"));
+        assert!(logged(
+            "fmi2DoStep: not allowed now: the instance is instantiated, and its initialization has not begun"
+        ));
         fmi2Reset(c);
         // A parameter refused by the model: the model's own message.
         assert_eq!(fmi2EnterInitializationMode(c), OK);
@@ -218,6 +222,38 @@ fn bad_calls_give_errors_with_messages_never_a_crash() {
         fmi2FreeInstance(std::ptr::null_mut());
         assert_eq!(fmi2DoStep(std::ptr::null_mut(), 0.0, 0.1, 1), ERROR);
     }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// A description whose value references were swapped ran with the
+/// variables mixed up: the token covered `resources/` only.
+#[test]
+fn an_edited_description_is_refused_at_instantiation() {
+    let dir = temp("edited-description");
+    let (resources, token) = unpacked("double_pendulum.dyad", &dir);
+    let description = std::fs::read_to_string(dir.join(DESCRIPTION_FILE)).unwrap();
+    let swapped = description
+        .replacen("valueReference=\"1\"", "valueReference=\"@\"", 1)
+        .replacen("valueReference=\"2\"", "valueReference=\"1\"", 1)
+        .replacen("valueReference=\"@\"", "valueReference=\"2\"", 1);
+    assert_ne!(swapped, description);
+    std::fs::write(dir.join(DESCRIPTION_FILE), &swapped).unwrap();
+    assert!(instantiate(&resources, &token, 1).is_null());
+    assert!(logged("token mismatch: the FMU's modelDescription.xml was edited after the export"));
+    // A description without the token is refused too.
+    std::fs::write(dir.join(DESCRIPTION_FILE), description.replace(&token, "")).unwrap();
+    assert!(instantiate(&resources, &token, 0).is_null());
+    // No description beside resources/ (FMPy unpacks only resources/ and
+    // binaries/): the files are checked, and they are the exported ones.
+    std::fs::remove_file(dir.join(DESCRIPTION_FILE)).unwrap();
+    let c = instantiate(&resources, &token, 1);
+    assert!(!c.is_null());
+    unsafe { fmi2FreeInstance(c) };
+    // The description as exported is accepted.
+    std::fs::write(dir.join(DESCRIPTION_FILE), &description).unwrap();
+    let c = instantiate(&resources, &token, 1);
+    assert!(!c.is_null());
+    unsafe { fmi2FreeInstance(c) };
     let _ = std::fs::remove_dir_all(dir);
 }
 
@@ -289,5 +325,69 @@ fn fmi_3_steps_as_fmi_2_does_and_refuses_a_wrong_token() {
         fmi3FreeInstance(three);
         fmi2FreeInstance(two);
     }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// FMI 3.0 calls refused for the instance's state named FMI 2.0 functions
+/// (`fmi3DoStep: fmi2DoStep is not allowed now`): each message names the
+/// function the host called.
+#[test]
+fn fmi_3_messages_name_the_fmi_3_function_called() {
+    use multibody_fmu::fmi3::*;
+    let dir = temp("fmi3-names");
+    let (resources, token) = unpacked("double_pendulum.dyad", &dir);
+    let path = CString::new(format!("{}/", resources.display())).unwrap();
+    let (name, token) = (CString::new("names").unwrap(), CString::new(token).unwrap());
+    let logger = Some(logger3 as multibody_fmu::fmi3::LogMessage);
+    let (none, env) = (std::ptr::null(), std::ptr::null_mut());
+    let said = |part: &str| MESSAGES3.lock().unwrap().iter().any(|m| m.contains(part));
+    unsafe {
+        let me = fmi3InstantiateModelExchange(name.as_ptr(), token.as_ptr(), path.as_ptr(), false, false, env, logger);
+        assert!(!me.is_null());
+        let mut dx = [0.0; 4];
+        assert_eq!(fmi3GetContinuousStateDerivatives(me, dx.as_mut_ptr(), 4), ERROR);
+        assert!(said("fmi3GetContinuousStateDerivatives: not allowed now: the instance is instantiated"));
+        fmi3Reset(me);
+        assert_eq!(fmi3SetTime(me, 0.5), ERROR);
+        assert!(said("fmi3SetTime: not allowed now: the instance is instantiated"));
+        fmi3Reset(me);
+        assert_eq!(fmi3EnterInitializationMode(me, false, 0.0, 0.0, false, 0.0), OK);
+        assert_eq!(fmi3EnterInitializationMode(me, false, 0.0, 0.0, false, 0.0), ERROR);
+        assert!(said("fmi3EnterInitializationMode: not allowed now: the instance is in initialization mode"));
+        fmi3Reset(me);
+        assert_eq!(fmi3EnterInitializationMode(me, false, 0.0, 0.0, false, 0.0), OK);
+        assert_eq!(fmi3ExitInitializationMode(me), OK);
+        assert_eq!(fmi3EnterContinuousTimeMode(me), OK);
+        let (mut a, mut b, mut c, mut d, mut e, mut t) = (false, false, false, false, false, 0.0);
+        assert_eq!(fmi3UpdateDiscreteStates(me, &mut a, &mut b, &mut c, &mut d, &mut e, &mut t), ERROR);
+        assert!(said("fmi3UpdateDiscreteStates: not allowed now: the instance is in continuous-time mode"));
+        fmi3FreeInstance(me);
+
+        let cs = fmi3InstantiateCoSimulation(
+            name.as_ptr(),
+            token.as_ptr(),
+            path.as_ptr(),
+            false,
+            false,
+            false,
+            false,
+            none,
+            0,
+            env,
+            logger,
+            std::ptr::null(),
+        );
+        assert!(!cs.is_null());
+        let (mut event, mut stop, mut early, mut reached) = (false, false, false, 0.0);
+        assert_eq!(fmi3DoStep(cs, 0.0, 0.1, true, &mut event, &mut stop, &mut early, &mut reached), ERROR);
+        assert!(said("fmi3DoStep: not allowed now: the instance is instantiated"));
+        fmi3Reset(cs);
+        assert_eq!(fmi3GetBinary(cs, [0].as_ptr(), 1, std::ptr::null_mut(), std::ptr::null_mut(), 1), ERROR);
+        assert!(said("fmi3GetBinary: the FMU has only Float64 variables"));
+        fmi3FreeInstance(cs);
+    }
+    let messages = MESSAGES3.lock().unwrap();
+    assert!(!messages.iter().any(|m| m.contains("fmi2")), "{messages:?}");
+    drop(messages);
     let _ = std::fs::remove_dir_all(dir);
 }

@@ -252,6 +252,36 @@ def test_an_edited_model_file_refuses_to_instantiate(tmp_path, fmi):
     assert any("token mismatch" in m for m in messages), messages
 
 
+@VERSIONS
+def test_an_edited_description_refuses_to_instantiate(tmp_path, fmi):
+    """A description whose value references were swapped ran with its
+    variables mixed up: the token covered resources/ only. Unpacked whole
+    (as the FMI standard has it), such an FMU refuses to instantiate."""
+    fmu = export(tmp_path, DOUBLE_PENDULUM, "dp", fmi=fmi)
+    folder = Path(fmpy.extract(str(fmu), unzipdir=str(tmp_path / "unpacked")))
+    description = folder / "modelDescription.xml"
+    text = description.read_text()
+    swapped = (
+        text.replace('valueReference="1"', 'valueReference="@"', 1)
+        .replace('valueReference="2"', 'valueReference="1"', 1)
+        .replace('valueReference="@"', 'valueReference="2"', 1)
+    )
+    assert swapped != text
+    description.write_text(swapped)
+    messages = []
+
+    def logger(*args):
+        messages.append(args[-1].decode())
+
+    with pytest.raises(Exception):
+        fmpy.simulate_fmu(str(folder), fmi_type="CoSimulation", stop_time=0.1, logger=logger)
+    assert any("modelDescription.xml was edited after the export" in m for m in messages), messages
+    # As exported, the unpacked FMU runs.
+    description.write_text(text)
+    result = fmpy.simulate_fmu(str(folder), fmi_type="CoSimulation", stop_time=0.1)
+    assert result["time"][-1] == pytest.approx(0.1)
+
+
 def test_a_model_without_inputs_or_outputs_exports_with_a_warning(tmp_path):
     done = multibody("fmu", DOUBLE_PENDULUM, "-o", tmp_path / "dp.fmu")
     assert "no inputs and no outputs" in done.stderr + done.stdout

@@ -10,11 +10,11 @@ use multibody::simulate::Shared;
 use multibody::SimulationOptions;
 use multibody_dyad::{DefinitionKind, Diagnostic, OptionOverrides, Override, Package, RunError, Samples, Target};
 use pyo3::create_exception;
-use pyo3::exceptions::{PyException, PyValueError};
+use pyo3::exceptions::{PyException, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 use rayon::prelude::*;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, MutexGuard, TryLockError};
 
 create_exception!(_multibody, MultibodyError, PyException, "Base of the errors of this package.");
 create_exception!(
@@ -77,9 +77,13 @@ fn load_sources(sources: Vec<(String, String)>, analysis: Option<String>, model:
 #[pyo3(signature = (text, file, floating = false))]
 fn load_urdf(text: String, file: String, floating: bool) -> PyResult<Model> {
     use multibody_dyad::urdf;
-    let robot = urdf::parse(&text)
-        .map_err(|e| ModelError::new_err((e.render(&file), file.clone(), e.at.line as usize, e.at.col as usize)))?;
-    let dyad = urdf::to_dyad(&robot, &file, &urdf::ImportOptions { floating, ..Default::default() });
+    let error = |e: urdf::UrdfError| {
+        ModelError::new_err((e.render(&file), file.clone(), e.at.line as usize, e.at.col as usize))
+    };
+    let robot = urdf::parse(&text).map_err(error)?;
+    let options = urdf::ImportOptions { floating, ..Default::default() };
+    urdf::check_size(&robot, &options).map_err(error)?;
+    let dyad = urdf::to_dyad(&robot, &file, &options);
     load_text(dyad, format!("{file}.dyad"), None, None)
 }
 
@@ -322,7 +326,7 @@ impl Model {
         let mechanism = Arc::new(mechanism);
         let sim = py.detach(|| multibody::Simulator::new(Shared::Owned(mechanism), &options));
         match sim {
-            Ok(sim) => Ok(Simulator { sim }),
+            Ok(sim) => Ok(Simulator { sim: Mutex::new(sim) }),
             Err(stopped) => Err(stopped_error(py, &stopped, None)),
         }
     }
@@ -419,10 +423,28 @@ impl Model {
 }
 
 /// A model being simulated, advanced on request (the Rust `Simulator`
-/// over a mechanism it shares).
-#[pyclass(module = "multibody._multibody")]
+/// over a mechanism it shares). One thread uses it at a time: a call from
+/// another thread while one runs (a step releases the GIL) is refused
+/// with a `RuntimeError` that says so, not pyo3's "Already borrowed".
+#[pyclass(frozen, module = "multibody._multibody")]
 struct Simulator {
-    sim: multibody::Simulator<'static>,
+    sim: Mutex<multibody::Simulator<'static>>,
+}
+
+impl Simulator {
+    /// The simulator, or the error of a simulator in use elsewhere. A
+    /// call that panicked left it usable (each call leaves it whole or
+    /// reports its own error), so a poisoned lock is taken as it is.
+    fn sim(&self) -> PyResult<MutexGuard<'_, multibody::Simulator<'static>>> {
+        match self.sim.try_lock() {
+            Ok(sim) => Ok(sim),
+            Err(TryLockError::Poisoned(poisoned)) => Ok(poisoned.into_inner()),
+            Err(TryLockError::WouldBlock) => Err(PyRuntimeError::new_err(
+                "this Simulator is being used by another thread (a step releases the GIL while it runs); a \
+                 Simulator is not shared between threads: make one per thread, or hold a lock around its use",
+            )),
+        }
+    }
 }
 
 /// The `SimulationError` of a simulator that stopped: its message, time,
@@ -483,8 +505,9 @@ fn columns_of<'py>(py: Python<'py>, sim: &multibody::Simulator, names: &[String]
 impl Simulator {
     /// Integrates to exactly `t`, handling the events on the way; the GIL
     /// is released meanwhile.
-    fn step_until(&mut self, py: Python<'_>, t: f64) -> PyResult<()> {
-        let sim = &mut self.sim;
+    fn step_until(&self, py: Python<'_>, t: f64) -> PyResult<()> {
+        let mut guard = self.sim()?;
+        let sim: &mut multibody::Simulator<'static> = &mut guard;
         let (result, raised) = py.detach(|| {
             let interrupts = Interrupts::new();
             let mut progress = |_t: f64| if interrupts.came() { Err("interrupted".to_string()) } else { Ok(()) };
@@ -496,84 +519,87 @@ impl Simulator {
             // Ctrl-C: the handler's exception with the time reached and the
             // states recorded; the simulator stays there and can go on.
             (Err(stopped), Some(raised)) => {
-                let partial = columns_of(py, &self.sim, self.sim.state_names())?;
+                let partial = columns_of(py, sim, sim.state_names())?;
                 let message = format!("interrupted at t = {}", stopped.time);
                 raised.value(py).setattr("args", (message, stopped.time, partial))?;
                 Err(raised)
             }
-            (Err(stopped), None) => Err(stopped_error(py, &stopped, Some(&self.sim))),
+            (Err(stopped), None) => Err(stopped_error(py, &stopped, Some(sim))),
         }
     }
 
     /// Sets an input; it holds this value until set again.
-    fn set_input(&mut self, name: &str, value: f64) -> PyResult<()> {
-        self.sim.set_input(name, value).map_err(PyValueError::new_err)
+    fn set_input(&self, name: &str, value: f64) -> PyResult<()> {
+        self.sim()?.set_input(name, value).map_err(PyValueError::new_err)
     }
 
     /// The inputs and the values they hold, in model order.
-    fn inputs(&self) -> Vec<(String, f64)> {
-        let names: Vec<String> = self.sim.input_names().iter().map(|n| n.to_string()).collect();
-        names.into_iter().map(|n| (n.clone(), self.sim.input(&n).unwrap_or(f64::NAN))).collect()
+    fn inputs(&self) -> PyResult<Vec<(String, f64)>> {
+        let sim = self.sim()?;
+        let names: Vec<String> = sim.input_names().iter().map(|n| n.to_string()).collect();
+        Ok(names.into_iter().map(|n| (n.clone(), sim.input(&n).unwrap_or(f64::NAN))).collect())
     }
 
     /// The outputs at the time and state reached.
-    fn outputs(&mut self) -> PyResult<Vec<(String, f64)>> {
-        self.sim.outputs().map_err(PyValueError::new_err)
+    fn outputs(&self) -> PyResult<Vec<(String, f64)>> {
+        self.sim()?.outputs().map_err(PyValueError::new_err)
     }
 
     /// The time reached.
-    fn time(&self) -> f64 {
-        self.sim.time()
+    fn time(&self) -> PyResult<f64> {
+        Ok(self.sim()?.time())
     }
 
     /// The state reached (in the order of `state_names`).
-    fn state(&self) -> Vec<f64> {
-        self.sim.state().to_vec()
+    fn state(&self) -> PyResult<Vec<f64>> {
+        Ok(self.sim()?.state().to_vec())
     }
 
-    fn state_names(&self) -> Vec<String> {
-        self.sim.state_names().to_vec()
+    fn state_names(&self) -> PyResult<Vec<String>> {
+        Ok(self.sim()?.state_names().to_vec())
     }
 
     /// Sets the whole state; the integrator starts again from it.
-    fn set_state(&mut self, y: Vec<f64>) -> PyResult<()> {
-        self.sim.set_state(&y).map_err(PyValueError::new_err)
+    fn set_state(&self, y: Vec<f64>) -> PyResult<()> {
+        self.sim()?.set_state(&y).map_err(PyValueError::new_err)
     }
 
     /// Sets one state by its name.
-    fn set_state_value(&mut self, name: &str, value: f64) -> PyResult<()> {
-        self.sim.set_state_value(name, value).map_err(PyValueError::new_err)
+    fn set_state_value(&self, name: &str, value: f64) -> PyResult<()> {
+        self.sim()?.set_state_value(name, value).map_err(PyValueError::new_err)
     }
 
     /// Any variable of the model (a column of the results) now.
-    fn get(&mut self, name: &str) -> PyResult<f64> {
-        self.sim.value(name).map_err(PyValueError::new_err)
+    fn get(&self, name: &str) -> PyResult<f64> {
+        self.sim()?.value(name).map_err(PyValueError::new_err)
     }
 
     /// Several variables at once (one evaluation).
-    fn get_many(&mut self, names: Vec<String>) -> PyResult<Vec<f64>> {
-        self.sim.values(&names).map_err(PyValueError::new_err)
+    fn get_many(&self, names: Vec<String>) -> PyResult<Vec<f64>> {
+        self.sim()?.values(&names).map_err(PyValueError::new_err)
     }
 
     /// Every signal of the model, by name.
-    fn signals(&self) -> Vec<String> {
-        self.sim.signal_names().to_vec()
+    fn signals(&self) -> PyResult<Vec<String>> {
+        Ok(self.sim()?.signal_names().to_vec())
     }
 
     /// The samples recorded so far of `names` (the states when empty).
     fn result<'py>(&self, py: Python<'py>, names: Vec<String>) -> PyResult<Columns<'py>> {
-        let names = if names.is_empty() { self.sim.state_names().to_vec() } else { names };
-        columns_of(py, &self.sim, &names)
+        let sim = self.sim()?;
+        let names = if names.is_empty() { sim.state_names().to_vec() } else { names };
+        columns_of(py, &sim, &names)
     }
 
     /// Back to the start: state, time, inputs; the samples are dropped.
-    fn reset(&mut self) -> PyResult<()> {
-        self.sim.reset().map_err(|why| SimulationError::new_err((why, self.sim.time(), Option::<()>::None)))
+    fn reset(&self) -> PyResult<()> {
+        let mut sim = self.sim()?;
+        sim.reset().map_err(|why| SimulationError::new_err((why, sim.time(), Option::<()>::None)))
     }
 
     /// How many events were handled.
-    fn event_count(&self) -> usize {
-        self.sim.event_count()
+    fn event_count(&self) -> PyResult<usize> {
+        Ok(self.sim()?.event_count())
     }
 
     /// The linear model at the time and state reached: state, input and
@@ -598,7 +624,8 @@ impl Simulator {
             }
         };
         let options = multibody::LinearizeOptions { inputs, outputs, derivatives };
-        let sim = &self.sim;
+        let guard = self.sim()?;
+        let sim: &multibody::Simulator<'static> = &guard;
         let lin = py.detach(|| sim.linearize(&options)).map_err(linearize_error)?;
         let rows = |m: &nalgebra::DMatrix<f64>| -> Vec<Vec<f64>> {
             (0..m.nrows()).map(|r| (0..m.ncols()).map(|c| m[(r, c)]).collect()).collect()
@@ -615,7 +642,7 @@ impl Simulator {
     /// steps taken, and the free inputs' values.
     #[pyo3(signature = (free_inputs, fixed_outputs, abstol = 1e-8, reltol = 1e-8))]
     fn steady_state(
-        &mut self,
+        &self,
         py: Python<'_>,
         free_inputs: Vec<String>,
         fixed_outputs: Vec<(String, f64)>,
@@ -624,7 +651,8 @@ impl Simulator {
     ) -> PyResult<SteadyTuple> {
         let options =
             multibody::SteadyStateOptions { free_inputs, fixed_outputs, abstol, reltol, ..Default::default() };
-        let sim = &mut self.sim;
+        let mut guard = self.sim()?;
+        let sim: &mut multibody::Simulator<'static> = &mut guard;
         let found = py.detach(|| sim.steady_state(&options)).map_err(linearize_error)?;
         Ok((found.residual, found.iterations, found.inputs))
     }

@@ -178,3 +178,53 @@ def test_ctrl_c_stops_step_until_and_the_simulator_goes_on(interruptible):
     assert len(e.partial.time) > 1 and e.partial.time[-1] <= e.time
     sim.step_until(e.time + 1.0)
     assert sim.time == e.time + 1.0
+
+
+def test_a_simulator_used_by_two_threads_says_so(interruptible):
+    """A second thread that steps (or reads) a Simulator while another
+    thread's step_until runs (the GIL released) gets a RuntimeError that
+    says what to do, not pyo3's "Already borrowed"; the first run goes on.
+    The main thread is stopped by Ctrl-C once the second has tried."""
+    import os
+    import signal
+    import threading
+    import time
+
+    sim = multibody.load(ROOT / "examples" / "double_pendulum.dyad").simulator(saveat=1.0)
+    refused = []
+
+    def second():
+        deadline = time.monotonic() + 20.0
+        try:
+            while time.monotonic() < deadline:
+                try:
+                    sim.time  # works until the main thread's step holds it
+                except RuntimeError as e:
+                    refused.append(e)
+                    break
+                time.sleep(0.001)
+            if refused:
+                try:
+                    sim.step_until(1.0)
+                except RuntimeError as e:
+                    refused.append(e)
+        finally:
+            os.kill(os.getpid(), signal.SIGINT)
+
+    helper = threading.Thread(target=second)
+    helper.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            sim.step_until(1e6)
+    finally:
+        helper.join()
+    assert len(refused) == 2, refused
+    for e in refused:
+        assert type(e) is RuntimeError
+        assert "this Simulator is being used by another thread" in str(e), e
+        assert "make one per thread" in str(e), e
+        assert "borrowed" not in str(e)
+    # The simulator is whole and goes on in one thread.
+    t = sim.time
+    sim.step_until(t + 0.5)
+    assert sim.time == t + 0.5

@@ -22,14 +22,14 @@ use crate::semantics::types;
 use crate::syntax::ast::*;
 use crate::syntax::source::Span;
 use crate::Lowered;
-use multibody::components::{lookup, registry, ComponentSpec, ConnectorType};
+use multibody::components::{lookup, registry, ComponentSpec, ConnectorType, ImpossibleInertia, INERTIA_PARAMS};
 use multibody::{Model, SimulationOptions};
 use std::collections::HashMap;
 
 /// How deeply user components may nest.
 const MAX_NESTING: usize = 32;
 /// How many library components one model may have.
-const MAX_COMPONENTS: usize = 20_000;
+pub const MAX_COMPONENTS: usize = 20_000;
 /// What a declaration's kind names.
 #[derive(Clone)]
 enum Kind<'a> {
@@ -1306,6 +1306,20 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                 (None, false) => {}
             }
         }
+        if let Some(doubt) = impossible_inertia(spec, &params, &initial, &guess) {
+            self.warnings.push(
+                Diagnostic::warning(format!(
+                    "no rigid mass distribution has the inertia of `{name}`: {}",
+                    doubt.describe()
+                ))
+                .primary(decl.span, "no rigid body has this inertia")
+                .help(
+                    "a rigid body's largest principal moment is at most the sum of the other two; the model runs \
+                     with the inertia as given, but check I_11 ... I_32 (about the centre of mass, resolved in \
+                     frame_a)",
+                ),
+            );
+        }
         let instance = self.model.add(name, spec.kind);
         for (p, v) in params {
             instance.set(&p, v);
@@ -1318,6 +1332,32 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         }
         Ok(())
     }
+}
+
+/// The inertia of a library component that has one (`I_11 ... I_32`,
+/// given or by default), when no rigid body can have it. One decided by
+/// the initialization (a start value or a guess) is not known here.
+fn impossible_inertia(
+    spec: &ComponentSpec,
+    params: &[(String, multibody::Value)],
+    initial: &[(String, multibody::Value)],
+    guess: &[(String, multibody::Value)],
+) -> Option<ImpossibleInertia> {
+    let mut values = [0.0; 6];
+    for (value, name) in values.iter_mut().zip(INERTIA_PARAMS.map(|p| p.name)) {
+        if initial.iter().chain(guess).any(|(p, _)| p == name) {
+            return None;
+        }
+        *value = match params.iter().find(|(p, _)| p == name).map(|(_, v)| v) {
+            Some(multibody::Value::Number(x)) => *x,
+            Some(_) => return None,
+            None => match spec.param(name)?.default {
+                multibody::components::Default::Number(x) => x,
+                _ => return None,
+            },
+        };
+    }
+    ImpossibleInertia::of(values)
 }
 
 /// A parameter with a guess and no value (none given here either) is
@@ -1583,10 +1623,10 @@ fn resolve_kind<'a>(index: &Index<'a>, kind: &Path) -> Result<Kind<'a>, Diagnost
     let text = kind.text();
     // Inside a library package, a short name is that package's component
     // (unless the files define one of that name).
-    if let Some(package) = index.packages.get(&kind.span.file) {
-        if !text.contains('.') && !index.components.contains_key(text.as_str()) {
+    if let Some(package) = index.package_of(kind.span.file) {
+        if !text.contains('.') && index.get_component(&text).is_none() {
             let full = format!("{package}.{text}");
-            if let Some(def) = index.components.get(full.as_str()) {
+            if let Some(def) = index.get_component(&full) {
                 return Ok(Kind::User(def));
             }
             if let Some(spec) = lookup(&full) {
@@ -1595,7 +1635,7 @@ fn resolve_kind<'a>(index: &Index<'a>, kind: &Path) -> Result<Kind<'a>, Diagnost
         }
     }
     // The files' and the library's components, then the engine's.
-    if let Some(def) = index.components.get(text.as_str()) {
+    if let Some(def) = index.get_component(&text) {
         return Ok(Kind::User(def));
     }
     if let (Some(def), None) = (index.component(&text), lookup(&text)) {
@@ -1613,12 +1653,8 @@ fn resolve_kind<'a>(index: &Index<'a>, kind: &Path) -> Result<Kind<'a>, Diagnost
             .help("analyses simulate components; use a component here"));
     }
     let bare = multibody::components::canonical_kind(&text);
-    let candidates: Vec<&str> = registry()
-        .iter()
-        .map(|s| s.kind)
-        .chain(index.components.keys().map(String::as_str))
-        .chain(index.connectors.keys().map(String::as_str))
-        .collect();
+    let candidates: Vec<&str> =
+        registry().iter().map(|s| s.kind).chain(index.component_names()).chain(index.connector_names()).collect();
     let mut d = Diagnostic::error(format!("unknown component kind `{text}`"))
         .primary(kind.span, "not a library component or a component of these files");
     if let Some(s) = did_you_mean(&bare, candidates.iter().copied()) {

@@ -41,7 +41,7 @@ pub fn components() -> Vec<(String, String)> {
 /// The description of the library component `name`
 /// (`BlockComponents.PID`, or a longer name of it).
 pub fn describe(name: &str) -> Option<Description> {
-    let index = Index::new(stdlib::files(), std::iter::empty()).ok()?;
+    let index = Index::new(std::iter::empty()).ok()?;
     let def = index.component(name)?;
     let library = stdlib::files()
         .iter()
@@ -73,6 +73,6 @@ pub fn describe(name: &str) -> Option<Description> {
             Declaration::Extends(_) => {}
         }
     }
-    let full = index.components.iter().find(|(_, c)| std::ptr::eq(**c, def)).map(|(n, _)| n.clone())?;
+    let full = index.components().find(|(_, c)| std::ptr::eq(*c, def)).map(|(n, _)| n.to_string())?;
     Some(Description { name: full, doc: def.doc.clone().unwrap_or_default(), parameters, connectors, parts, variables })
 }

@@ -9,7 +9,7 @@ use crate::reports::diagnostics::Diagnostic;
 use crate::syntax::ast::{Causality, ConnectorDef, Dim, ExprKind, FieldKind};
 use crate::syntax::source::Span;
 use multibody::components::ConnectorType;
-use std::rc::Rc;
+use std::sync::Arc;
 
 /// One field of a connector: `flow f::Force[3]` is `("f", [3], true)`.
 #[derive(Clone, Debug, PartialEq)]
@@ -33,7 +33,7 @@ pub struct ConnectorShape {
 }
 
 /// A shared connector type.
-pub type Connector = Rc<ConnectorShape>;
+pub type Connector = Arc<ConnectorShape>;
 
 /// The engine's connectors that a declaration may name, by their names.
 pub const ENGINE: [ConnectorType; 6] = [

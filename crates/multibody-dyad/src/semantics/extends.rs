@@ -47,7 +47,7 @@ fn merged<'a>(index: &Index<'a>, def: &'a ComponentDef, chain: &mut Vec<&'a str>
             }
             let mut d = Diagnostic::error(format!("`{}` is not a component of these files", e.base.text()))
                 .primary(e.base.span, "cannot extend it");
-            if let Some(s) = did_you_mean(&e.base.text(), index.components.keys().map(String::as_str)) {
+            if let Some(s) = did_you_mean(&e.base.text(), index.component_names()) {
                 d = d.help(s);
             } else {
                 d = d.help("a component extends a component of these files (`partial component Base ... end`); use a library component as a sub-component instead");

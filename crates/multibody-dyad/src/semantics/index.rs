@@ -1,65 +1,85 @@
 //! Every definition of a package by name: the components, analyses,
 //! type aliases and connectors of the files and the standard library.
+//! The standard library's part is made once per process; an index adds
+//! the package's files over it (a lowering makes one each time: a sweep
+//! lowers its model once per run).
 
 use crate::reports::diagnostics::Diagnostic;
 use crate::semantics::connectors::{Connector, ConnectorShape};
 use crate::syntax::ast::*;
-use crate::syntax::source::Span;
+use crate::syntax::source::{FileId, Span};
 use std::collections::HashMap;
-use std::rc::Rc;
+use std::sync::{Arc, OnceLock};
 
 /// The sub-packages of Dyad's libraries that name no component of their own.
 const SUBPACKAGES: &[&str] =
     &["Continuous", "Sources", "Math", "Nonlinear", "Interfaces", "Components", "Sensors", "Analog", "Basic", "Ideal"];
 
-/// Every definition of the package, by name (the standard library's with
-/// their library's name first: `BlockComponents.Integrator`).
+/// The standard library's definitions: components by their library's
+/// name (`BlockComponents.Integrator`), connectors by theirs and by their
+/// short names (`Dyad.Pin`, `Pin`), and the library of each of its files.
+struct Library {
+    components: HashMap<String, &'static ComponentDef>,
+    connectors: HashMap<String, Connector>,
+    packages: HashMap<FileId, &'static str>,
+}
+
+fn library() -> &'static Library {
+    static LIBRARY: OnceLock<Library> = OnceLock::new();
+    LIBRARY.get_or_init(|| {
+        let mut library = Library { components: HashMap::new(), connectors: HashMap::new(), packages: HashMap::new() };
+        for (name, file) in crate::stdlib::files() {
+            for item in &file.items {
+                match item {
+                    Item::Component(c) => {
+                        library.components.insert(format!("{name}.{}", c.name.name), c);
+                    }
+                    Item::Connector(c) => {
+                        let shape = ConnectorShape::of(c).unwrap_or_else(|d| {
+                            panic!("the standard library's {} is wrong: {}", c.name.name, d.message)
+                        });
+                        let shape = Arc::new(shape);
+                        library.connectors.insert(format!("{name}.{}", c.name.name), shape.clone());
+                        library.connectors.insert(c.name.name.clone(), shape);
+                    }
+                    _ => {}
+                }
+            }
+            if let (Some(package), Some(Item::Component(c))) = (&file.package, file.items.first()) {
+                library.packages.insert(c.header.file, package.as_str());
+            }
+        }
+        library
+    })
+}
+
+/// Every definition of the package, by name: the files' over the
+/// standard library's (a file's connector hides the library's of the same
+/// short name).
 pub struct Index<'a> {
-    pub components: HashMap<String, &'a ComponentDef>,
+    library: &'static Library,
+    /// The files' components.
+    components: HashMap<String, &'a ComponentDef>,
     pub analyses: HashMap<&'a str, &'a AnalysisDef>,
     pub aliases: HashMap<&'a str, &'a TypeAlias>,
-    /// The connector types: the standard library's by their short names
-    /// and with their library's (`Pin`, `Dyad.Pin`), the files' by theirs
-    /// (a file's connector hides the library's of the same name).
-    pub connectors: HashMap<String, Connector>,
-    /// The library package of each file inside one (see `File::package`).
-    pub packages: HashMap<crate::syntax::source::FileId, &'a str>,
+    /// The files' connector types.
+    connectors: HashMap<String, Connector>,
+    /// The library package of each of the files inside one (see `File::package`).
+    packages: HashMap<FileId, &'a str>,
 }
 
 impl<'a> Index<'a> {
-    /// Indexes the standard library and the package's files; a name
+    /// Indexes the package's files over the standard library; a name
     /// defined twice in the files is an error.
-    pub fn new(
-        libraries: &'a [(&'static str, File)],
-        files: impl IntoIterator<Item = &'a File>,
-    ) -> Result<Self, Diagnostic> {
+    pub fn new(files: impl IntoIterator<Item = &'a File>) -> Result<Self, Diagnostic> {
         let mut index = Index {
+            library: library(),
             components: HashMap::new(),
             analyses: HashMap::new(),
             aliases: HashMap::new(),
             connectors: HashMap::new(),
             packages: HashMap::new(),
         };
-        for (library, file) in libraries {
-            for item in &file.items {
-                match item {
-                    Item::Component(c) => {
-                        index.components.insert(format!("{library}.{}", c.name.name), c);
-                    }
-                    Item::Connector(c) => {
-                        let shape = Rc::new(ConnectorShape::of(c)?);
-                        index.connectors.insert(format!("{library}.{}", c.name.name), shape.clone());
-                        index.connectors.insert(c.name.name.clone(), shape);
-                    }
-                    _ => {}
-                }
-            }
-        }
-        for (_, file) in libraries {
-            if let (Some(package), Some(Item::Component(c))) = (&file.package, file.items.first()) {
-                index.packages.insert(c.header.file, package.as_str());
-            }
-        }
         let mut seen: HashMap<&'a str, Span> = HashMap::new();
         let files_read: Vec<&'a File> = files.into_iter().collect();
         for &file in &files_read {
@@ -81,7 +101,7 @@ impl<'a> Index<'a> {
                     Item::Analysis(a) => index.analyses.insert(&a.name.name, a).map(|_| ()),
                     Item::TypeAlias(t) => index.aliases.insert(&t.name.name, t).map(|_| ()),
                     Item::Connector(c) => {
-                        index.connectors.insert(c.name.name.clone(), Rc::new(ConnectorShape::of(c)?));
+                        index.connectors.insert(c.name.name.clone(), Arc::new(ConnectorShape::of(c)?));
                         Some(())
                     }
                 };
@@ -90,9 +110,36 @@ impl<'a> Index<'a> {
         Ok(index)
     }
 
+    /// The component of exactly this name (the files' by theirs, the
+    /// library's by its library's: `BlockComponents.Integrator`).
+    pub fn get_component(&self, name: &str) -> Option<&'a ComponentDef> {
+        self.components.get(name).copied().or_else(|| self.library.components.get(name).copied())
+    }
+
+    /// Every component's name (for suggestions).
+    pub fn component_names(&self) -> impl Iterator<Item = &str> {
+        self.components.keys().chain(self.library.components.keys()).map(String::as_str)
+    }
+
+    /// Every component with its name.
+    pub fn components(&self) -> impl Iterator<Item = (&str, &'a ComponentDef)> {
+        let library = self.library.components.iter().map(|(n, &c)| (n.as_str(), c));
+        self.components.iter().map(|(n, &c)| (n.as_str(), c)).chain(library)
+    }
+
+    /// Every connector type's name (for suggestions).
+    pub fn connector_names(&self) -> impl Iterator<Item = &str> {
+        self.connectors.keys().chain(self.library.connectors.keys()).map(String::as_str)
+    }
+
+    /// The library package a file is inside, if it is.
+    pub fn package_of(&self, file: FileId) -> Option<&'a str> {
+        self.packages.get(&file).copied().or_else(|| self.library.packages.get(&file).copied())
+    }
+
     /// The connector type `name` (`Pin`, `Dyad.Pin`).
     pub fn connector(&self, name: &str) -> Option<&Connector> {
-        self.connectors.get(name)
+        self.connectors.get(name).or_else(|| self.library.connectors.get(name))
     }
 
     /// The declared shape of each engine connector (`Dyad.Frame3D` is
@@ -101,7 +148,7 @@ impl<'a> Index<'a> {
         crate::semantics::connectors::ENGINE
             .into_iter()
             .filter_map(|t| {
-                let c = self.connectors.get(&format!("Dyad.{}", t.name()))?;
+                let c = self.connector(&format!("Dyad.{}", t.name()))?;
                 (c.engine == Some(t)).then(|| (t, c.clone()))
             })
             .collect()
@@ -109,15 +156,16 @@ impl<'a> Index<'a> {
 
     /// Whether a declaration of kind `kind` is a connector.
     pub fn is_connector(&self, kind: &Path) -> bool {
-        !self.components.contains_key(&kind.text()) && self.connectors.contains_key(&kind.text())
+        let text = kind.text();
+        self.get_component(&text).is_none() && self.connector(&text).is_some()
     }
 
     /// The component a path names where it is written: inside a library,
     /// a short name is that library's component first.
     pub fn component_at(&self, path: &Path) -> Option<&'a ComponentDef> {
         let text = path.text();
-        if let Some(package) = self.packages.get(&path.span.file).filter(|_| !text.contains('.')) {
-            if let Some(def) = self.components.get(&format!("{package}.{text}")) {
+        if let Some(package) = self.package_of(path.span.file).filter(|_| !text.contains('.')) {
+            if let Some(def) = self.get_component(&format!("{package}.{text}")) {
                 return Some(def);
             }
         }
@@ -127,18 +175,18 @@ impl<'a> Index<'a> {
     /// The component `name`, also by the library's longer names
     /// (`BlockComponents.Continuous.Integrator`).
     pub fn component(&self, name: &str) -> Option<&'a ComponentDef> {
-        if let Some(c) = self.components.get(name) {
+        if let Some(c) = self.get_component(name) {
             return Some(c);
         }
         if let Some(planar) = name.strip_prefix("MultibodyComponents.").filter(|n| n.starts_with("PlanarMechanics.")) {
-            return self.components.get(planar).copied();
+            return self.get_component(planar);
         }
         // Dyad's libraries file components in sub-packages
         // (`ElectricalComponents.Analog.Basic.Resistor`); ours keep them flat.
         let parts: Vec<&str> = name.split('.').collect();
         match parts.as_slice() {
             [library, middle @ .., rest] if !middle.is_empty() && middle.iter().all(|p| SUBPACKAGES.contains(p)) => {
-                self.components.get(&format!("{library}.{rest}")).copied()
+                self.get_component(&format!("{library}.{rest}"))
             }
             _ => None,
         }

@@ -31,7 +31,8 @@ pub const COMMON_PARAMS: [ParamSpec; 10] = [
     ParamSpec::real("specular_coefficient", 1.5, "", "Reflection of light in animations"),
 ];
 
-/// The inertia parameters, about the centre of mass, resolved in frame_a.
+/// The inertia parameters, about the centre of mass, resolved in frame_a
+/// (in the order [`ImpossibleInertia::of`] takes them).
 pub const INERTIA_PARAMS: [ParamSpec; 6] = [
     ParamSpec::real("I_11", 0.001, "kg.m2", "Element (1,1) of inertia tensor"),
     ParamSpec::real("I_22", 0.001, "kg.m2", "Element (2,2) of inertia tensor"),
@@ -164,6 +165,61 @@ static PARAMS: [ParamSpec; 21] = concat(
 const QUATERNION_STATES: StateNames = StateNames { q: &[("r_0", 3), ("Q_hat", 4)], u: &[("v_0", 3), ("w_a", 3)] };
 const EULER_STATES: StateNames = StateNames { q: &[("r_0", 3), ("phi", 3)], u: &[("v_0", 3), ("phid", 3)] };
 
+/// An inertia tensor no rigid body can have: its largest principal moment
+/// is more than the sum of the other two. Every mass distribution has
+/// `I_3 <= I_1 + I_2` (with equality for flat bodies), so such data is a
+/// mistake, but a tolerated one (Modelica's industrial robot has a link
+/// with the moments 0.001, 1.16, 0.001): the model runs with it, with a
+/// warning.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ImpossibleInertia {
+    /// The principal moments, smallest first.
+    pub moments: [f64; 3],
+}
+
+impl ImpossibleInertia {
+    /// Checks `[I_11, I_22, I_33, I_21, I_31, I_32]`. An excess within
+    /// 1e-9 of the trace is rounding (thin rods and flat plates reach the
+    /// bound exactly). An inertia that is not positive semi-definite is
+    /// another error, refused where the body is built.
+    pub fn of([i11, i22, i33, i21, i31, i32]: [f64; 6]) -> Option<ImpossibleInertia> {
+        let inertia = Mat3::new(i11, i21, i31, i21, i22, i32, i31, i32, i33);
+        if !inertia.iter().all(|x| x.is_finite()) {
+            return None;
+        }
+        let e = inertia.symmetric_eigenvalues();
+        let mut moments = [e[0], e[1], e[2]];
+        moments.sort_by(f64::total_cmp);
+        let trace = moments.iter().map(|x| x.abs()).sum::<f64>();
+        (moments[2] - (moments[0] + moments[1]) > 1e-9 * trace).then_some(ImpossibleInertia { moments })
+    }
+
+    /// "its principal moments 0.001, 0.001 and 1.16 kg.m2 break the
+    /// triangle inequality (1.16 > 0.001 + 0.001)".
+    pub fn describe(&self) -> String {
+        let [a, b, c] = self.moments.map(significant);
+        format!("its principal moments {a}, {b} and {c} kg.m2 break the triangle inequality ({c} > {a} + {b})")
+    }
+}
+
+/// `x` to 6 significant digits, without trailing zeros.
+fn significant(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let magnitude = x.abs().log10().floor() as i32;
+    if !(-5..=6).contains(&magnitude) {
+        return format!("{x:.5e}");
+    }
+    let decimals = (5 - magnitude).max(0) as usize;
+    let s = format!("{x:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
 /// Mass, centre of mass and inertia about the centre of mass (resolved in frame_a).
 #[derive(Clone, Copy, Debug)]
 pub struct MassProperties {
@@ -269,5 +325,31 @@ impl Component for RigidBody {
         if let Some(rot) = self.rotation {
             orientation::evaluate(rot, &ctx.joints[0], 3, 3, out);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ImpossibleInertia;
+
+    #[test]
+    fn impossible_inertias_are_told_from_flat_and_thin_bodies() {
+        // Modelica's industrial robot: the moments 0.001, 1.16, 0.001.
+        let robot = ImpossibleInertia::of([0.001, 1.16, 0.001, 0.0, 0.0, 0.0]).unwrap();
+        assert_eq!(robot.moments, [0.001, 0.001, 1.16]);
+        assert_eq!(
+            robot.describe(),
+            "its principal moments 0.001, 0.001 and 1.16 kg.m2 break the triangle inequality (1.16 > 0.001 + 0.001)"
+        );
+        // A thin rod (0, I, I) and a flat plate (a, b, a + b) reach the bound.
+        assert_eq!(ImpossibleInertia::of([0.0, 0.5, 0.5, 0.0, 0.0, 0.0]), None);
+        assert_eq!(ImpossibleInertia::of([1.0, 2.0, 3.0, 0.0, 0.0, 0.0]), None);
+        // The plate turned about z by 30 degrees (rounding in every element).
+        let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+        let (xx, yy, xy) = (c * c + 2.0 * s * s, s * s + 2.0 * c * c, (1.0 - 2.0) * c * s);
+        assert_eq!(ImpossibleInertia::of([xx, yy, 3.0, xy, 0.0, 0.0]), None);
+        // Off-diagonal elements can break it too.
+        assert!(ImpossibleInertia::of([1.0, 1.0, 1.0, 0.9, 0.0, 0.0]).is_some());
+        assert_eq!(ImpossibleInertia::of([0.0; 6]), None);
     }
 }

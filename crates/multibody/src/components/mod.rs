@@ -79,6 +79,7 @@ pub use crate::system::laws::{
     resolve_input, ConstraintKind, ForceLaw, Law1D, Resolve, RotationLock, SignalSource, SlipLaw, WheelContact,
 };
 pub use crate::system::{DriveLevel, DriveMap, SignalLaw};
+pub use body::{ImpossibleInertia, INERTIA_PARAMS};
 pub use params::ParamSet;
 pub use spec::{ComponentSpec, ConnectorSpec, ConnectorType, Default, ParamSpec, ParamType, Shape, VarSpec};
 pub use world::WorldSettings;
@@ -295,7 +296,10 @@ pub fn canonical_kind(kind: &str) -> String {
     let bare = kind.strip_prefix("MultibodyComponents.").unwrap_or(kind);
     let mut bare = bare.to_string();
     for level in [".Components.", ".Sources.", ".Sensors.", ".Math.", ".Continuous.", ".Nonlinear."] {
-        bare = bare.replace(level, ".");
+        // Each lowering looks up every kind: no new string where nothing changes.
+        if bare.contains(level) {
+            bare = bare.replace(level, ".");
+        }
     }
     let other_names = [
         // The translational library re-exports the rack and pinion.

@@ -25,7 +25,7 @@ mod solution;
 pub use integrator::{Stats, StiffStretch};
 pub(crate) use simulator::did_you_mean;
 pub use simulator::{EventUpdate, Shared, Simulator};
-pub use solution::{glob, CsvWriter, Rows, Solution};
+pub use solution::{csv_row, glob, CsvWriter, Rows, Solution};
 
 use crate::assembly::Mechanism;
 use crate::dynamics::Workspace;

@@ -247,14 +247,13 @@ impl<W: Write> CsvWriter<W> {
 
     /// One row of a table with keys: their values, the time, the signals.
     pub fn keyed_row(&mut self, keys: &[f64], t: f64, values: &[f64]) -> io::Result<()> {
-        for k in keys {
-            write!(self.out, "{k},")?;
-        }
-        write!(self.out, "{t}")?;
-        for x in values {
-            write!(self.out, ",{x}")?;
-        }
-        writeln!(self.out)
+        csv_row(&mut self.out, keys, t, values)
+    }
+
+    /// Rows written elsewhere with [`csv_row`] (by the threads that
+    /// computed them), added as they are.
+    pub fn rendered_rows(&mut self, rows: &[u8]) -> io::Result<()> {
+        self.out.write_all(rows)
     }
 
     /// The writer, flushed.
@@ -262,6 +261,19 @@ impl<W: Write> CsvWriter<W> {
         self.out.flush()?;
         Ok(self.out)
     }
+}
+
+/// One row of a [`CsvWriter`]'s table: the keys' values, the time, the
+/// signals.
+pub fn csv_row<W: Write>(out: &mut W, keys: &[f64], t: f64, values: &[f64]) -> io::Result<()> {
+    for k in keys {
+        write!(out, "{k},")?;
+    }
+    write!(out, "{t}")?;
+    for x in values {
+        write!(out, ",{x}")?;
+    }
+    writeln!(out)
 }
 
 /// Shell-style matching with `*` and `?`.
