@@ -1235,6 +1235,7 @@ impl<'a, 'i> Lowerer<'a, 'i> {
         let mut params = Vec::new();
         let mut initial = Vec::new();
         let mut guess = Vec::new();
+        let mut guess_spans: Vec<(String, Span)> = Vec::new();
         for m in modifiers {
             if m.has_nested
                 && spec.param(&m.name.name).is_some()
@@ -1292,6 +1293,9 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                                 span: decl.span,
                             });
                         }
+                        if attribute.name.name == "guess" {
+                            guess_spans.push((m.name.name.clone(), span));
+                        }
                         list.push((m.name.name.clone(), engine_value(&value, span, &m.name.name)?));
                     }
                 }
@@ -1304,6 +1308,19 @@ impl<'a, 'i> Lowerer<'a, 'i> {
                         )))
                 }
                 (None, false) => {}
+            }
+        }
+        // A guess beside a start value that holds: the start keeps the value.
+        for (variable, span) in guess_spans {
+            if initial.iter().any(|(n, _)| *n == variable) {
+                self.warnings.push(
+                    Diagnostic::warning(format!(
+                        "the guess of `{name}.{variable}` has no effect: its start value is given (`initial`), and \
+                         the start keeps it"
+                    ))
+                    .primary(span, "no effect")
+                    .help("give either `initial` (the start holds it) or `guess` (the start may move it), not both"),
+                );
             }
         }
         if let Some(doubt) = impossible_inertia(spec, &params, &initial, &guess) {

@@ -4,7 +4,7 @@
 use super::equations::Extra;
 use super::mechanism::CompiledComponent;
 use crate::components::planar_mechanics::world as planar_world;
-use crate::components::{lookup, registry, world, ComponentSpec, ParamSet, WorldSettings};
+use crate::components::{lookup, registry, without_effect, world, ComponentSpec, ParamSet, WorldSettings};
 use crate::error::closest;
 use crate::{Error, Model};
 use std::collections::HashSet;
@@ -47,9 +47,15 @@ pub fn world_settings(model: &Model) -> Result<WorldSettings, Error> {
 }
 
 /// Every component, built from validated parameters, in model order.
-pub fn build(model: &Model, world: &WorldSettings, extras: &[Extra]) -> Result<Vec<CompiledComponent>, Error> {
+pub fn build(
+    model: &Model,
+    world: &WorldSettings,
+    extras: &[Extra],
+    notes: &mut Vec<String>,
+) -> Result<Vec<CompiledComponent>, Error> {
     let mut names = HashSet::new();
     let mut built = Vec::with_capacity(model.components.len());
+    let world_defaults_read = world_defaults_read(model, world);
     let mut first_connector = 0;
     for instance in &model.components {
         if !names.insert(instance.name.as_str()) {
@@ -65,10 +71,23 @@ pub fn build(model: &Model, world: &WorldSettings, extras: &[Extra]) -> Result<V
         let parts = component.parts();
         let variables = component.variables();
         let plane = if spec.is_planar() { world.plane } else { crate::math::Transform::IDENTITY };
-        let shapes = (spec.shapes)(&params)
+        let shapes: Vec<_> = (spec.shapes)(&params)
             .into_iter()
             .map(|s| crate::components::shapes::Shape { plane, ..s.named(&instance.name) })
             .collect();
+        for param in spec.params {
+            if !without_effect::changed_from_default(&params, param.name) {
+                continue;
+            }
+            let context = without_effect::Context {
+                draws: !shapes.is_empty(),
+                draws_when_rendered: draws_when_rendered(instance, spec, world),
+                world_defaults_read: &world_defaults_read,
+            };
+            if let Some(why) = without_effect::reason(&params, param.name, &context) {
+                notes.push(format!("`{}.{}` has no effect: {why}", instance.name, param.name));
+            }
+        }
         built.push(CompiledComponent {
             name: instance.name.clone(),
             spec,
@@ -105,6 +124,63 @@ pub fn build(model: &Model, world: &WorldSettings, extras: &[Extra]) -> Result<V
         first_connector += spec.connectors.len();
     }
     Ok(built)
+}
+
+/// The World parameters that a component of the model takes a default
+/// from and uses (a parameter it does not give whose default is the
+/// World's, where it draws it). Looked at only when the World gives one of
+/// its `default_*` parameters: that is what the answer is for.
+fn world_defaults_read(model: &Model, world: &WorldSettings) -> Vec<&'static str> {
+    let gives_defaults = model.components.iter().any(|c| {
+        matches!(c.kind.as_str(), "World" | "PlanarMechanics.World")
+            && c.params.iter().any(|(n, _)| n.starts_with("default_"))
+    });
+    let mut read = Vec::new();
+    if !gives_defaults {
+        return read;
+    }
+    for instance in &model.components {
+        let Some(spec) = lookup(&instance.kind) else { continue };
+        let draws = ParamSet::resolve(instance, spec, world).is_ok_and(|p| !(spec.shapes)(&p).is_empty());
+        for p in spec.params {
+            if instance.params.iter().any(|(n, _)| n == p.name) || without_effect::not_drawn(spec.kind, p.name) {
+                continue;
+            }
+            match p.default {
+                crate::components::Default::World(name, _) if draws && !read.contains(&name) => read.push(name),
+                // A default computed from the World's (`length / world.default_width_fraction`).
+                crate::components::Default::Derived(how) => {
+                    for word in how.split(|c: char| !(c.is_alphanumeric() || c == '_')) {
+                        if let Some(known) = crate::components::world::SPEC.params.iter().find(|q| q.name == word) {
+                            if !read.contains(&known.name) {
+                                read.push(known.name);
+                            }
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+        // Read in the code: a BodyShape's width without one given.
+        if spec.kind == "BodyShape" && !instance.params.iter().any(|(n, _)| n == "width") {
+            read.push("default_width_fraction");
+        }
+    }
+    read
+}
+
+/// Whether the component draws anything in the animation when it is
+/// rendered (whatever its `render` says).
+fn draws_when_rendered(
+    instance: &crate::ComponentInstance,
+    spec: &'static ComponentSpec,
+    world: &WorldSettings,
+) -> bool {
+    let mut rendered = instance.clone();
+    if spec.param("render").is_some() {
+        rendered.set("render", true);
+    }
+    ParamSet::resolve(&rendered, spec, world).is_ok_and(|p| !(spec.shapes)(&p).is_empty())
 }
 
 /// Whether the component has 3-D frames (unknown kinds count as having

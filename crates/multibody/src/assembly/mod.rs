@@ -65,7 +65,9 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         &with_equations
     };
     let world = instances::world_settings(model)?;
-    let mut components = instances::build(model, &world, &plan.extras)?;
+    // Parameters given that change nothing here, said once each.
+    let mut without_effect = Vec::new();
+    let mut components = instances::build(model, &world, &plan.extras, &mut without_effect)?;
     let conn = connections::resolve(model, &components)?;
     let groups = links::rigid_groups(&components, &conn, world.plane)?;
     let fixed: Vec<bool> = model.components.iter().map(|c| !c.initial.is_empty()).collect();
@@ -73,7 +75,8 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
     for (n, node) in tree.nodes.iter_mut().enumerate() {
         node.connectors = conn.frame_nodes[n].clone();
     }
-    let mut warnings = groups.warnings.clone();
+    let mut warnings = without_effect;
+    warnings.extend(groups.warnings.iter().cloned());
 
     // Which links each component's joints and owners move (in part order),
     // or whose states it names; cut joints come with the constraints.
@@ -161,6 +164,7 @@ pub fn assemble(model: &Model) -> Result<Mechanism, Error> {
         constraints: &constraints,
     };
     let (program, initial_of_equations) = plan.compile(&context, &mut signals, &mut states, &mut events)?;
+    warnings.extend(program.notes.iter().cloned());
     checks::inertia_behind_every_joint(&components, &conn, &tree, &couplings, &states.start[..states.nq])?;
 
     // Start each massless group at the centre of the frames that hold it.

@@ -71,6 +71,7 @@ mod urdf_body;
 mod urdf_joint;
 mod visualizers;
 mod wheel_common;
+pub(crate) mod without_effect;
 pub mod world;
 mod world_force;
 mod world_torque;

@@ -92,6 +92,11 @@ impl<'a> ParamSet<'a> {
         self.values[index].as_ref()
     }
 
+    /// The value as given or defaulted (`None`: a derived default not given).
+    pub(crate) fn raw(&self, name: &str) -> Option<&Value> {
+        self.value(name)
+    }
+
     /// Whether the model set this parameter (rather than the default).
     pub fn is_given(&self, name: &str) -> bool {
         self.spec.params.iter().position(|p| p.name == name).is_some_and(|i| self.given[i])

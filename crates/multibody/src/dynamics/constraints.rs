@@ -792,6 +792,11 @@ impl System {
     /// residuals (`positions`) or the velocity residuals in `ws.lambda`.
     pub(crate) fn least_norm_step(&self, ws: &mut Workspace, free: Option<&[bool]>, positions: bool) {
         let (nv, m) = (self.states.nv, self.constraint_rows);
+        if nv == 0 {
+            // Nothing can move (a constraint on grounded frames): the
+            // residuals stay, and one that cannot close is reported as such.
+            return;
+        }
         if let Some(free) = free {
             for row in ws.jac[..m * nv].chunks_exact_mut(nv) {
                 for (x, &is_free) in row.iter_mut().zip(free) {

@@ -133,6 +133,8 @@ pub struct EquationProgram {
     pub largest_factors: usize,
     /// Every variable of the equations with its register, for outputs.
     pub outputs: Vec<(String, Reg)>,
+    /// What the compilation found worth a warning (guesses nothing reads).
+    pub notes: Vec<String>,
     /// Whether a gather reads frames (the kinematics then computes world poses).
     pub reads_frames: bool,
     /// `(constraint row, register)`: the multipliers of measured couplings

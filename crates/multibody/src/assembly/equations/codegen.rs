@@ -529,6 +529,7 @@ pub(super) fn generate(
         largest_block,
         largest_factors,
         outputs,
+        notes: Vec::new(),
         reads_frames,
         reactions,
         first_post,

@@ -902,7 +902,8 @@ impl Plan {
         let sorted = sort::sort(&pending, &reads)?;
         starts_of_computed_variables(&mut pending, &sorted.states);
         let (nq, nv) = (states.nq, states.nv);
-        let (program, registers) = codegen::generate(&pending, &reads, &sorted, ctx, signals, states, events)?;
+        let (mut program, registers) = codegen::generate(&pending, &reads, &sorted, ctx, signals, states, events)?;
+        program.notes = idle_guesses(&pending, &sorted.states, &registers, &program);
         let free: Vec<(usize, String)> = sorted
             .states
             .iter()
@@ -939,6 +940,42 @@ impl Plan {
         });
         Ok((program, initial))
     }
+}
+
+/// Guesses that nothing reads: on a variable the equations compute
+/// directly (no Newton solve has it among its unknowns; not a state), with
+/// no index reduction in the model (whose choice reads the start values).
+fn idle_guesses(
+    pending: &Pending,
+    states: &[VarId],
+    registers: &[crate::system::equations::Reg],
+    program: &EquationProgram,
+) -> Vec<String> {
+    if pending.dummy.iter().any(|&d| d) || program.blocks.iter().any(|b| !b.reduced.is_empty()) {
+        return Vec::new();
+    }
+    let iterated = |r: crate::system::equations::Reg| {
+        program.blocks.iter().any(
+            |b| matches!(&b.solve, crate::system::equations::Solve::Newton { unknowns, .. } if unknowns.contains(&r)),
+        )
+    };
+    let mut notes = Vec::new();
+    for v in VarId::all(pending.vars.len()) {
+        let Role::Declared(d) = pending.vars[v].role else { continue };
+        let declared = &pending.declared[d];
+        if declared.start.is_none() || declared.fixed || states.contains(&v) || pending.discrete_slot(v).is_some() {
+            continue;
+        }
+        if !iterated(registers[v]) {
+            notes.push(format!(
+                "the guess of `{}` has no effect: the equations compute it directly (no equation is solved for it \
+                 by iteration, and it is not a state); give a start value that holds (`initial`) to fix it at the \
+                 start, or leave the guess out",
+                declared.name
+            ));
+        }
+    }
+    notes
 }
 
 /// A start value given (`initial`) to a variable the equations compute is
