@@ -31,6 +31,22 @@ pub fn live(args: &LiveArgs) -> Result<(), Failure> {
     )?;
     let mechanism = assemble(&package, &target, &overrides, &lowered)?;
     chosen_signals(&mechanism, &args.signals)?;
+    // The page holds every signal of its first run: refused before the run
+    // when that cannot fit (a 2000-body chain to --stop 1e6 grew past 11 GB).
+    if let Some(samples) = multibody_dyad::study::grid_samples(&options) {
+        let (needed, budget) =
+            (samples * (mechanism.signals().len() + 1) as f64 * 8.0, output::Budget::of_this_machine());
+        if needed > budget.memory {
+            return Err(Failure::Usage(format!(
+                "the page holds every signal of its first run: {samples:.0} samples × {} signals take {}, more than \
+                 the {} this command may use (half the memory available); shorten --stop, or give the analysis a \
+                 longer saveat",
+                mechanism.signals().len(),
+                bytes(needed),
+                bytes(budget.memory)
+            )));
+        }
+    }
     let wasm = std::fs::read(&wasm_path)
         .map_err(|e| Failure::Io(format!("cannot read the WebAssembly module {}: {e}", wasm_path.display())))?;
     if !wasm.starts_with(b"\0asm") {

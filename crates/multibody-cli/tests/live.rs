@@ -240,6 +240,13 @@ fn the_command_refuses_before_writing() {
     assert_eq!(code(&over), 2);
     assert!(stderr(&over).contains("would write over the WebAssembly module"), "{}", stderr(&over));
     assert_eq!(std::fs::read(&own).unwrap(), std::fs::read(&module).unwrap());
+    // A first run whose samples cannot fit in memory is refused before it
+    // starts (a 2000-body chain to --stop 1e6 grew past 11 GB).
+    let far = multibody(&dir, &["live", &model, "--stop", "1e9", "-o", "far.html", "--wasm", &module]);
+    assert_eq!(code(&far), 2, "{}", stderr(&far));
+    assert!(stderr(&far).contains("the page holds every signal of its first run"), "{}", stderr(&far));
+    assert!(stderr(&far).contains("shorten --stop"), "{}", stderr(&far));
+    assert!(!dir.join("far.html").exists());
 }
 
 /// One axis of the industrial robot (a folder of model files) in the live

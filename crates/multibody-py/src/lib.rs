@@ -508,6 +508,20 @@ impl Simulator {
     fn step_until(&self, py: Python<'_>, t: f64) -> PyResult<()> {
         let mut guard = self.sim()?;
         let sim: &mut multibody::Simulator<'static> = &mut guard;
+        // The samples it would record must fit in memory, as simulate()'s do.
+        if let Some((samples, values)) = sim.samples_until(t) {
+            let (needed, budget) = (samples * values as f64 * 8.0, multibody_dyad::study::memory_budget());
+            if needed > budget {
+                return Err(PyValueError::new_err(format!(
+                    "step_until({t}) would record {samples:.3e} samples of {values} values ({}) from t = {}, more \
+                     than this process may fill ({}): step to an earlier time, read the results and call \
+                     reset() or go on in shorter stretches, or give a longer saveat",
+                    multibody_dyad::study::bytes(needed),
+                    sim.time(),
+                    multibody_dyad::study::bytes(budget)
+                )));
+            }
+        }
         let (result, raised) = py.detach(|| {
             let interrupts = Interrupts::new();
             let mut progress = |_t: f64| if interrupts.came() { Err("interrupted".to_string()) } else { Ok(()) };

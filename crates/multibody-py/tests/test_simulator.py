@@ -92,6 +92,11 @@ def test_inputs_outputs_state_and_reset():
     with pytest.raises(multibody.SimulationError, match="steps forward only"):
         sim.step_until(0.2)
     assert sim.time == 1.0 and len(sim.result()) == 101
+    # Far ahead: what it would record cannot fit in memory, refused before
+    # any step (it grew until the allocator aborted the process).
+    with pytest.raises(ValueError, match=r"step_until\(1e\+?300\) would record .* samples"):
+        sim.step_until(1e300)
+    assert sim.time == 1.0 and len(sim.result()) == 101
     sim.reset()
     assert sim.time == 0.0 and list(sim.state) == [0.0, 0.0] and sim.inputs == {"tau": 0.0}
     assert len(sim.result()) == 0

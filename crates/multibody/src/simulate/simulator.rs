@@ -786,6 +786,19 @@ impl<'m> Simulator<'m> {
         self.t
     }
 
+    /// The samples [`Simulator::step_until`] would record on the way to
+    /// `t` (the output grid's points after the time reached), and the
+    /// values each holds (time included); `None` where every step is
+    /// recorded (`saveat = 0`, a count not known in advance). For a host
+    /// to refuse a call its memory cannot hold before it starts.
+    pub fn samples_until(&self, t: f64) -> Option<(f64, usize)> {
+        let saveat = self.options.saveat;
+        if self.recorder.off || saveat <= 0.0 {
+            return None;
+        }
+        Some((((t - self.t) / saveat).ceil().max(0.0), self.recorded.width() + 1))
+    }
+
     /// The state reached, in the order of [`Simulator::state_names`]. A
     /// body whose Euler angles came near their singular configuration is
     /// integrated in a chart from then on (a note says so): its states
