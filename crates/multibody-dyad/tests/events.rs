@@ -374,3 +374,25 @@ fn sample_with_a_bad_interval_is_refused() {
         assert!(message.contains(expected) && message.contains("bad.dyad:6:"), "{message}");
     }
 }
+
+/// Events that pile up said "a source's switching time" or "a bounce" for
+/// what a user wrote wrong: a `sample` whose interval the time cannot tell
+/// apart now names it, and a `reinit` to NaN is named as such at once.
+#[test]
+fn a_sample_too_fine_and_a_reinit_to_nan_are_named() {
+    let run = |body: &str| {
+        let text = format!(
+            "example component Ev\n  variable x::Real = initial 0\n  variable n::Real = initial 0\nrelations\n  \
+             der(x) = 1\n{body}\nend\n\nanalysis EvRun\n  extends TransientAnalysis(stop = 2, saveat = 0.1)\n  model = Ev()\nend\n"
+        );
+        let (mechanism, options) = load("ev.dyad", &text);
+        mechanism.simulate(&options).unwrap_err()
+    };
+    let stopped = run("  when sample(0, 1e-300)\n    n = pre(n) + 1\n  end");
+    let message = stopped.to_string();
+    assert!(message.contains("at `sample(0, 1e-300)`: its instants come every 1e-300 s"), "{message}");
+    let stopped = run("  when x > 1\n    reinit(x, 0 / 0)\n    n = 1\n  end");
+    let message = stopped.to_string();
+    assert!(message.contains("a `reinit` of `x`") && message.contains("gives it NaN"), "{message}");
+    assert!((stopped.time - 1.0).abs() < 1e-9, "stopped at {}", stopped.time);
+}

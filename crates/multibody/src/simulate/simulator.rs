@@ -1479,6 +1479,24 @@ impl<'m> Simulator<'m> {
     /// Why a run stopped where events pile up (the last made by indicator
     /// `k`, `span` seconds before).
     fn piling_up(&self, k: Option<usize>, span: f64) -> String {
+        // A time event: a `sample` whose interval the time cannot resolve
+        // here says so; else a source's switching time.
+        let t = self.t;
+        let resolution = 4.0 * f64::EPSILON * t.abs().max(1.0);
+        let samples = &self.mechanism.system.equations.samples;
+        if let (None, Some(sample)) = (k, samples.iter().find(|s| s.interval <= 1e3 * resolution)) {
+            let short =
+                |x: f64| if x == 0.0 || (1e-4..1e6).contains(&x.abs()) { format!("{x}") } else { format!("{x:e}") };
+            return format!(
+                "the events pile up ({} events so far) at `sample({}, {})`: its instants come every {} s, closer \
+                 than the time of this run can be told apart (about {resolution:.1e} s); give `sample` an interval \
+                 many times larger",
+                self.events,
+                short(sample.start),
+                short(sample.interval),
+                short(sample.interval)
+            );
+        }
         let which = k.map_or("a source's switching time".to_string(), |k| self.indicator_name(k));
         format!(
             "the events pile up ({} events so far, the last {span:.1e} s before, at {which}): a bounce that loses \
@@ -1544,6 +1562,14 @@ impl<'m> Simulator<'m> {
                 return Err(e.into());
             }
             for &(k, value) in &self.ws.reinits {
+                if !value.is_finite() {
+                    self.ws.at_event = false;
+                    let name = mechanism.system.states.names.get(k).map_or("?", String::as_str);
+                    return Err(StepError::Events(format!(
+                        "a `reinit` of `{name}` at t = {t} gives it {value}: the expression it is given is not \
+                         finite there (0/0, a division by zero, a root of a negative number); check it"
+                    )));
+                }
                 self.y[k] = value;
                 reinitialized = true;
             }
