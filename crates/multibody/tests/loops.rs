@@ -291,3 +291,50 @@ fn a_spatial_four_bar_driven_to_its_dead_point_names_the_loop_where_the_steps_co
         assert!(message.contains(expected), "`{expected}` missing from: {message}");
     }
 }
+
+/// A parallelogram four-bar (crank and rocker 1, coupler and ground 2)
+/// started at its change point, all bars on one line: there the loop's
+/// constraints lose a rank, and the start counted 2 degrees of freedom
+/// without a word (linearizing there gave a 4-state model). The assembly
+/// now says the start is a singular configuration, naming the loop; a step
+/// away from it, nothing is said.
+#[test]
+fn a_loop_started_at_its_change_point_is_said_to_be_singular() {
+    let parallelogram = |phi: f64| {
+        let mut m = Model::new("parallelogram");
+        m.add("world", "World").set("g", 0.0);
+        m.add("ground", "FixedTranslation").set("r", [2.0, 0.0, 0.0]);
+        m.add("j1", "Revolute").initial("phi", phi).initial("w", 1.0);
+        for j in ["j2", "j3", "j4"] {
+            m.add(j, "Revolute");
+        }
+        for (name, length) in [("crank", 1.0), ("coupler", 2.0), ("rocker", 1.0)] {
+            m.add(name, "BodyShape")
+                .set("r", [length, 0.0, 0.0])
+                .set("m", 1.0)
+                .set("I_11", 0.01)
+                .set("I_22", 0.01)
+                .set("I_33", 0.01);
+        }
+        m.connect(["world.frame_b", "j1.frame_a", "ground.frame_a"]);
+        m.connect(["j1.frame_b", "crank.frame_a"]);
+        m.connect(["crank.frame_b", "j2.frame_a"]);
+        m.connect(["j2.frame_b", "coupler.frame_a"]);
+        m.connect(["coupler.frame_b", "j3.frame_a"]);
+        m.connect(["ground.frame_b", "j4.frame_a"]);
+        m.connect(["j4.frame_b", "rocker.frame_a"]);
+        m.connect(["rocker.frame_b", "j3.frame_b"]);
+        m.assemble().unwrap()
+    };
+    let at = parallelogram(0.0);
+    let said: Vec<&String> = at.warnings().iter().filter(|w| w.contains("singular configuration")).collect();
+    assert_eq!(said.len(), 1, "{:?}", at.warnings());
+    assert!(
+        said[0].contains("the loop closed at") && said[0].contains("`j1`") && said[0].contains("change point"),
+        "{}",
+        said[0]
+    );
+    let away = parallelogram(0.3);
+    assert_eq!(away.degrees_of_freedom(), 1);
+    assert!(away.warnings().iter().all(|w| !w.contains("singular configuration")), "{:?}", away.warnings());
+}

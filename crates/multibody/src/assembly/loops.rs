@@ -217,7 +217,55 @@ pub fn close(mechanism: &mut Mechanism) -> Result<(), Error> {
     mechanism.system.states.start = y;
     mechanism.loops = loop_reports(mechanism, &mut ws);
     mechanism.system.dof = mechanism.system.free_degrees_of_freedom(&mut ws);
+    if let Some(warning) = singular_start(mechanism, &mut ws) {
+        mechanism.warnings.push(warning);
+    }
     Ok(())
+}
+
+/// A start at a singular configuration of a loop (a parallelogram at its
+/// change point, a crank at a dead point): there the constraints lose a
+/// rank, so the start counts more degrees of freedom than the mechanism has
+/// anywhere near it. Compared with the rank a small step away.
+fn singular_start(mechanism: &Mechanism, ws: &mut Workspace) -> Option<String> {
+    let system = &mechanism.system;
+    let nv = system.states.nv;
+    if system.constraints.is_empty() || nv == 0 {
+        return None;
+    }
+    let rank_of = |ws: &mut Workspace, y: &[f64]| -> Option<Vec<usize>> {
+        system.constraint_state(ws, y).ok()?;
+        let free: Vec<usize> = (0..nv).filter(|&i| system.free_coordinates.get(i).copied().unwrap_or(true)).collect();
+        Some(
+            system
+                .constraints
+                .iter()
+                .map(|c| {
+                    let rows =
+                        nalgebra::DMatrix::from_fn(c.rows, free.len(), |r, k| ws.jac[(c.row + r) * nv + free[k]]);
+                    rows.rank(1e-9 * rows.amax().max(f64::MIN_POSITIVE))
+                })
+                .collect(),
+        )
+    };
+    let y = system.states.start.clone();
+    let here = rank_of(ws, &y)?;
+    let mut near = y.clone();
+    ws.du[..nv].iter_mut().enumerate().for_each(|(i, d)| *d = 1e-4 * (1.0 + 0.37 * i as f64));
+    system.retract(&mut near, ws);
+    let there = rank_of(ws, &near)?;
+    let lost: Vec<String> =
+        here.iter().zip(&there).enumerate().filter(|(_, (h, t))| h < t).map(|(c, _)| mechanism.loop_name(c)).collect();
+    (!lost.is_empty()).then(|| {
+        format!(
+            "the start is a singular configuration of {}: its constraints lose a rank here that they have a small \
+             step away (a parallelogram at its change point, a crank at a dead point), so the start counts more \
+             degrees of freedom ({}) than the mechanism has near it, and which way it moves on is not decided by \
+             the loop; start a little away from it",
+            lost.join(" and "),
+            system.dof
+        )
+    })
 }
 
 /// Newton's iterations on the positions of the loops, moving the `free`
