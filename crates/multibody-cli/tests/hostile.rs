@@ -104,6 +104,18 @@ fn a_step_size_that_collapses_names_the_state_it_could_not_follow() {
     let err = stderr(&o);
     assert!(err.contains("the step size fell to") && err.contains("w` above all"), "{err}");
     assert!(err.contains("a stiffness near the largest number"), "{err}");
+    // A clutch whose friction table steps within 1e-300 rad/s: its steps
+    // collapse right after a source's switch, which was reported as events
+    // piling up at the source.
+    let text = std::fs::read_to_string(example("one_way_clutch.dyad"))
+        .unwrap()
+        .replace("mu_pos = [[0, 0.3]]", "mu_pos = [[0, 0.5], [1e-300, 0.3]]");
+    std::fs::write(dir.join("clutch.dyad"), text).unwrap();
+    let o = multibody(&dir, &["run", "clutch.dyad"]);
+    assert_eq!(code(&o), 3, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("the step size fell to") && err.contains("above all"), "{err}");
+    assert!(!err.contains("events pile up"), "{err}");
 }
 
 /// `multibody` with `args` in `dir`, its output captured.

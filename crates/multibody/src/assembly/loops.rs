@@ -241,6 +241,9 @@ fn singular_start(mechanism: &Mechanism, ws: &mut Workspace) -> Option<String> {
                 .constraints
                 .iter()
                 .map(|c| {
+                    if c.rows == 0 || free.is_empty() {
+                        return 0;
+                    }
                     let rows =
                         nalgebra::DMatrix::from_fn(c.rows, free.len(), |r, k| ws.jac[(c.row + r) * nv + free[k]]);
                     rows.rank(1e-9 * rows.amax().max(f64::MIN_POSITIVE))

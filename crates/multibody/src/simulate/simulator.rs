@@ -1422,8 +1422,10 @@ impl<'m> Simulator<'m> {
         let reason = match failure {
             Failure::Rhs(e) | Failure::Observer(e) => return self.stopped(e, t),
             Failure::StepTooSmall { h, attempt } => match self.last_event {
-                // Steps that collapse right after an event: the events pile up.
-                Some((te, k)) if t - te <= 1e-6 * t.abs().max(1.0) => self.piling_up(k, t - te),
+                // Steps that collapse right after a state event: the events
+                // pile up. (After a time event, a source's switch or a
+                // sample, the steps collapse for a reason of their own.)
+                Some((te, Some(k))) if t - te <= 1e-6 * t.abs().max(1.0) => self.piling_up(Some(k), t - te),
                 _ => {
                     let y = self.stepper.state().to_vec();
                     self.mechanism.step_too_small(h, &self.options, &mut self.ws, t, &y, &attempt)
