@@ -81,7 +81,8 @@ pub fn build(
             }
             let context = without_effect::Context {
                 draws: !shapes.is_empty(),
-                draws_when_rendered: draws_when_rendered(instance, spec, world),
+                // (Only `render` asks; it costs the shapes once more.)
+                draws_when_rendered: param.name != "render" || draws_when_rendered(instance, spec, world),
                 world_defaults_read: &world_defaults_read,
             };
             if let Some(why) = without_effect::reason(&params, param.name, &context) {
