@@ -64,7 +64,10 @@ pub(crate) fn reason(p: &ParamSet, param: &str, context: &Context) -> Option<&'s
         "k" if has("orientation_state") && p.variant("orientation_state") != "Quaternion" => Some(
             "the gain keeps a quaternion state at unit length, and this body's orientation states are not quaternions",
         ),
-        "render" if !context.draws_when_rendered => Some("the animation draws nothing for this component"),
+        // (`render = false` asks for nothing drawn, which such a component meets.)
+        "render" if p.boolean("render") && !context.draws_when_rendered => {
+            Some("the animation draws nothing for this component")
+        }
         _ if param.starts_with("default_") && !context.world_defaults_read.contains(&param) => {
             Some("no component of the model takes its default from this World parameter")
         }
@@ -78,11 +81,16 @@ pub(crate) fn reason(p: &ParamSet, param: &str, context: &Context) -> Option<&'s
     }
 }
 
-/// Whether `param` of `p` was given another value than its default.
+/// Whether `param` of `p` was given another value than its default (or
+/// given at all, for `render`).
 pub(crate) fn changed_from_default(p: &ParamSet, param: &str) -> bool {
     let Some(spec) = p.spec.param(param) else { return false };
     if !p.is_given(param) {
         return false;
+    }
+    // Asking to draw what draws nothing is worth a word, default or not.
+    if param == "render" {
+        return true;
     }
     let given = p.raw(param);
     match (spec.default, given) {
