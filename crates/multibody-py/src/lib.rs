@@ -512,8 +512,9 @@ impl Simulator {
         if let Some((samples, values)) = sim.samples_until(t) {
             let (needed, budget) = (samples * values as f64 * 8.0, multibody_dyad::study::memory_budget());
             if needed > budget {
+                let when = if (1e-4..1e6).contains(&t.abs()) { format!("{t}") } else { format!("{t:e}") };
                 return Err(PyValueError::new_err(format!(
-                    "step_until({t}) would record {samples:.3e} samples of {values} values ({}) from t = {}, more \
+                    "step_until({when}) would record {samples:.3e} samples of {values} values ({}) from t = {}, more \
                      than this process may fill ({}): step to an earlier time, read the results and call \
                      reset() or go on in shorter stretches, or give a longer saveat",
                     multibody_dyad::study::bytes(needed),
