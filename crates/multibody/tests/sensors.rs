@@ -347,3 +347,52 @@ fn angle_sensors_recover_the_rotations_of_a_fixed_chain() {
         }
     }
 }
+
+/// A relative sensor whose frame_resolve is connected while its
+/// resolve_in_frame names another frame grounded what it was connected to:
+/// a pendulum's body, which then could not move ("`rev.phi` is not a state
+/// here"). Connecting it is now refused with what to do; resolving in it,
+/// the pendulum swings as without the sensor.
+#[test]
+fn a_sensor_frame_resolve_it_does_not_use_cannot_be_connected() {
+    let pendulum = |resolve: Option<&str>| {
+        let mut m = Model::new("resolved");
+        m.add("world", "World");
+        m.add("rev", "Revolute").set("n", [0.0, 0.0, 1.0]).initial("phi", 0.5).initial("w", 0.0);
+        m.add("body", "Body").set("m", 1.0).set("r_cm", [0.5, 0.0, 0.0]);
+        let sensor = m.add("sensor", "RelativeVelocity");
+        if let Some(frame) = resolve {
+            sensor.set("resolve_in_frame", Value::Enum(frame.into()));
+        }
+        m.connect(["world.frame_b", "rev.frame_a", "sensor.frame_a"]);
+        m.connect(["rev.frame_b", "body.frame_a", "sensor.frame_b", "sensor.frame_resolve"]);
+        m.assemble()
+    };
+    let refused = pendulum(None).unwrap_err().to_string();
+    assert!(
+        refused.contains("`sensor.frame_resolve`")
+            && refused.contains("resolve_in_frame = ResolveInFrame.FrameResolve"),
+        "{refused}"
+    );
+    let options = SimulationOptions { stop: 0.5, saveat: 0.05, ..Default::default() };
+    let resolved = pendulum(Some("FrameResolve")).unwrap().simulate(&options).unwrap();
+    // The same pendulum without the sensor.
+    let mut bare = Model::new("bare");
+    bare.add("world", "World");
+    bare.add("rev", "Revolute").set("n", [0.0, 0.0, 1.0]).initial("phi", 0.5).initial("w", 0.0);
+    bare.add("body", "Body").set("m", 1.0).set("r_cm", [0.5, 0.0, 0.0]);
+    bare.connect(["world.frame_b", "rev.frame_a"]);
+    bare.connect(["rev.frame_b", "body.frame_a"]);
+    let bare = bare.assemble().unwrap().simulate(&options).unwrap();
+    let worst = resolved
+        .get("rev.phi")
+        .unwrap()
+        .iter()
+        .zip(bare.get("rev.phi").unwrap())
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-12, "the sensor changed the motion by {worst}");
+    // The relative velocity resolved in the body's own frame: the body's
+    // origin turns with it about the hinge at the same place, so it is zero.
+    assert!(resolved.get("sensor.v_rel[1]").unwrap().iter().all(|v| v.abs() < 1e-9));
+}

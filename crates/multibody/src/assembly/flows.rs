@@ -20,7 +20,9 @@ pub fn flow_tree(components: &[CompiledComponent], conn: &Connectors, tree: &Tre
         let id = |local: usize| Connectors::id(components, ci, local);
         for (pi, part) in c.parts.iter().enumerate() {
             match *part {
-                Part::Ground { frame, .. } => from_ground.push((conn.node(id(frame)), Some(id(frame)))),
+                Part::Ground { frame, .. } | Part::Unused { frame, .. } => {
+                    from_ground.push((conn.node(id(frame)), Some(id(frame))))
+                }
                 // A fallback owner that is not used does not hold its frame.
                 Part::Owner { frame, fallback, .. } if !fallback || tree_parts.contains(&(ci, pi)) => {
                     from_ground.push((conn.node(id(frame)), None))

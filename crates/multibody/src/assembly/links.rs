@@ -59,6 +59,18 @@ pub fn rigid_groups(
                     let pose = if c.spec.is_planar() { plane.then(pose) } else { *pose };
                     edges.push(RigidEdge { from: ground_vertex, to: node(*frame), pose, component: ci })
                 }
+                Part::Unused { frame, use_it } => {
+                    if conn.frame_nodes[node(*frame)].len() > 1 {
+                        return Err(Error::InvalidValue {
+                            component: c.name.clone(),
+                            name: c.spec.connectors[*frame].name.into(),
+                            value: "connected".into(),
+                            reason: (*use_it).into(),
+                        });
+                    }
+                    let pose = if c.spec.is_planar() { plane } else { Transform::IDENTITY };
+                    edges.push(RigidEdge { from: ground_vertex, to: node(*frame), pose, component: ci })
+                }
                 _ => {}
             }
         }

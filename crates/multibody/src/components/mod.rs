@@ -397,6 +397,11 @@ pub struct AxisFlanges {
 pub enum Part {
     /// The frame is fixed in the world at `pose` (world to frame).
     Ground { frame: usize, pose: Transform },
+    /// A frame the component does not use as its parameters set it (a
+    /// sensor's frame_resolve when resolve_in_frame names another frame):
+    /// at the world's origin while nothing is connected to it; a model that
+    /// connects it is told to use it or leave it (`use_it` says how).
+    Unused { frame: usize, use_it: &'static str },
     /// Frame `b` is fixed relative to frame `a` at `pose` (a to b).
     Rigid { a: usize, b: usize, pose: Transform },
     /// A mass fixed to `frame`, its inertia given in that frame.

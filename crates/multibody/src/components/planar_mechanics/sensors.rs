@@ -213,7 +213,7 @@ impl Component for Kinematic {
         let frames = [self.a, Some(self.b)];
         if self.resolve != Target::Frame(self.frame_resolve) {
             // Unused, it stays at the world's origin (so it is not a loose frame).
-            parts.push(Part::Ground { frame: self.frame_resolve, pose: Transform::IDENTITY });
+            parts.push(Part::Unused { frame: self.frame_resolve, use_it: crate::components::sensors::RESOLVE_IN_IT });
         }
         let [ix, iy] = self.internal;
         match self.resolve_of(self.resolve) {
@@ -734,7 +734,7 @@ impl Component for TransformVector {
         let mut parts = Vec::new();
         let r = Target::Frame(self.frame_resolve);
         if self.frame_in != r && self.frame_out != r {
-            parts.push(Part::Ground { frame: self.frame_resolve, pose: Transform::IDENTITY });
+            parts.push(Part::Unused { frame: self.frame_resolve, use_it: crate::components::sensors::RESOLVE_IN_IT });
         }
         let [x_in, y_in, phi_in] = self.inputs.map(Some);
         let pass = SignalLaw::Affine { gains: [1.0, 0.0, 0.0], bias: 0.0 };

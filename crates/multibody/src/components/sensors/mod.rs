@@ -37,6 +37,11 @@ const NEEDS_ACCELERATIONS: &str = "depends on the accelerations, which are solve
 const NEEDS_CUT_FORCES: &str = "depends on cut forces, which are solved after the signals \
     (reading it would make an algebraic loop through the dynamics); it is recorded in the results";
 const INTERNAL: &str = "is internal";
+/// Why a sensor's frame_resolve cannot be connected while its
+/// resolve_in_frame names another frame.
+pub(crate) const RESOLVE_IN_IT: &str = "the sensor resolves in the frame its resolve_in_frame names, not in \
+     frame_resolve; give resolve_in_frame = ResolveInFrame.FrameResolve to resolve in the frame connected there, or \
+     leave frame_resolve unconnected (connected, it would fix what it is connected to at the world's origin)";
 const SEEN_FROM_RESOLVE: &str = "is differentiated in frame_resolve, which the signal graph does not support yet \
     (differentiate in World, FrameA or FrameB); it is recorded in the results";
 
@@ -300,7 +305,7 @@ impl Component for Sensor {
             parts.push(Part::Rigid { a: 0, b: 1, pose: Transform::IDENTITY });
         }
         if let Some(r) = self.frame_resolve.filter(|&r| !self.uses(r)) {
-            parts.push(Part::Ground { frame: r, pose: Transform::IDENTITY });
+            parts.push(Part::Unused { frame: r, use_it: RESOLVE_IN_IT });
         }
         for g in &self.groups {
             self.group_parts(g, &mut parts);
