@@ -214,8 +214,8 @@ fn host(spec: &ComponentSpec, how: Host) -> Model {
         let other = format!("end{k}");
         let support = c.name.contains("support") || c.name.contains("bearing") || c.name.contains("housing");
         match c.ty {
-            // (A sensor's frame_resolve is for resolve_in_frame = frame_resolve.)
-            ConnectorType::Frame if all_fixed && c.name == "frame_resolve" => {}
+            // (A sensor's frame_resolve is connected only to resolve in it.)
+            ConnectorType::Frame | ConnectorType::Frame2D if c.name == "frame_resolve" => {}
             ConnectorType::Frame | ConnectorType::Frame2D if all_fixed => {
                 let planar = c.ty == ConnectorType::Frame2D;
                 m.add(&other, if planar { "PlanarMechanics.FixedTranslation" } else { "FixedTranslation" }).set(
