@@ -105,6 +105,9 @@ pub enum Error {
     #[error("the 1-D connector `{connector}` is not attached to a joint axis or support; connect it to a joint declared with `axisflange = true`")]
     FloatingFlange { connector: String },
 
+    #[error("`{connector}` is connected, but {why}")]
+    UnusedConnected { connector: String, why: String },
+
     #[error("the parts {} are joined rigidly in two ways that disagree (a closed chain of fixed parts that does not close); remove one of the connections", list(components))]
     InconsistentRigidLoop { components: Vec<String> },
 
@@ -155,7 +158,9 @@ impl Error {
             }
             IncompatibleConnectors { a, b, .. } => vec![component_of(a), component_of(b)],
             UnknownComponent { reference, .. } => vec![component_of(reference)],
-            LonelyConnection(c) | FloatingFlange { connector: c } => vec![component_of(c)],
+            LonelyConnection(c) | FloatingFlange { connector: c } | UnusedConnected { connector: c, .. } => {
+                vec![component_of(c)]
+            }
             NoWorld | SeveralWorlds { .. } | Equations { .. } => vec![],
         }
     }

@@ -108,7 +108,11 @@ fn named_components(error: &Error) -> Vec<String> {
         // These name connectors `component.connector`; components may contain dots.
         Error::IncompatibleConnectors { a, b, .. } => vec![component_of(a), component_of(b)],
         Error::UnknownComponent { reference, .. } => vec![component_of(reference)],
-        Error::LonelyConnection(c) | Error::FloatingFlange { connector: c } => vec![component_of(c)],
+        Error::LonelyConnection(c)
+        | Error::FloatingFlange { connector: c }
+        | Error::UnusedConnected { connector: c, .. } => {
+            vec![component_of(c)]
+        }
         Error::SeveralWorlds { names } => names.clone(),
         other => other.components().into_iter().map(str::to_string).collect(),
     }
@@ -144,6 +148,7 @@ fn places(error: &Error, map: &SourceMap) -> (Option<Place>, Vec<Place>) {
         Error::FloatingFlange { connector } => {
             (end(connector, "not attached to a joint axis or support".into()), vec![])
         }
+        Error::UnusedConnected { connector, .. } => (end(connector, "connected, but not used".into()), vec![]),
         Error::NoWorld => (map.root.as_ref().map(|(_, h)| (*h, "this model has no World".into())), vec![]),
         Error::SeveralWorlds { names } => {
             let mut all: Vec<Place> = names.iter().filter_map(|n| declared(n, "a World".into())).collect();

@@ -163,7 +163,10 @@ fn world_defaults_read(model: &Model, world: &WorldSettings) -> Vec<&'static str
             }
         }
         // Read in the code: a BodyShape's width without one given.
-        if spec.kind == "BodyShape" && !instance.params.iter().any(|(n, _)| n == "width") {
+        if spec.kind == "BodyShape"
+            && !instance.params.iter().any(|(n, _)| n == "width")
+            && !read.contains(&"default_width_fraction")
+        {
             read.push("default_width_fraction");
         }
     }

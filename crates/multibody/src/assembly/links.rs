@@ -61,11 +61,9 @@ pub fn rigid_groups(
                 }
                 Part::Unused { frame, use_it } => {
                     if conn.frame_nodes[node(*frame)].len() > 1 {
-                        return Err(Error::InvalidValue {
-                            component: c.name.clone(),
-                            name: c.spec.connectors[*frame].name.into(),
-                            value: "connected".into(),
-                            reason: (*use_it).into(),
+                        return Err(Error::UnusedConnected {
+                            connector: format!("{}.{}", c.name, c.spec.connectors[*frame].name),
+                            why: (*use_it).into(),
                         });
                     }
                     let pose = if c.spec.is_planar() { plane } else { Transform::IDENTITY };

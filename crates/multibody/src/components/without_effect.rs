@@ -73,7 +73,7 @@ pub(crate) fn reason(p: &ParamSet, param: &str, context: &Context) -> Option<&'s
         }
         "c_z" | "d_z" if without("elastic_contact") => Some("elastic_contact is false: the contact is rigid"),
         // Force arrows are drawn from the force as it acts, not as shapes.
-        _ if is_visual(param) && param != "render" && !context.draws && !has("scale") => {
+        _ if is_visual(param) && !context.draws && !has("scale") => {
             Some("the animation draws nothing for this component (see its render)")
         }
         _ if not_drawn(kind, param) => Some("the animation does not draw this detail"),
@@ -101,12 +101,12 @@ pub(crate) fn changed_from_default(p: &ParamSet, param: &str) -> bool {
     }
 }
 
-/// Parameters that only change how a component is drawn.
+/// Parameters that only change how a component is drawn (`render` and the
+/// World's defaults have rules of their own).
 fn is_visual(param: &str) -> bool {
     matches!(
         param,
-        "render"
-            | "animation"
+        "animation"
             | "color"
             | "specular_coefficient"
             | "arrow_diameter"
@@ -122,14 +122,13 @@ fn is_visual(param: &str) -> bool {
             | "end_ratio"
             | "length_fraction"
             | "shape_scale"
-    ) || param.starts_with("default_")
-        || param.starts_with("ground_")
+    ) || param.starts_with("ground_")
         || param.starts_with("axis_")
 }
 
 /// Drawing details the animation leaves out where the component draws
-/// other things or is drawn otherwise (a spring is a line, a prismatic
-/// joint a box of the World's sizes, planar force arrows are not drawn).
+/// other things (a spring's coil, a damper's proportions, the ground
+/// plane; planar force arrows are not drawn at all).
 pub(crate) fn not_drawn(kind: &str, param: &str) -> bool {
     let planar = kind.starts_with("PlanarMechanics.");
     let kind = kind.strip_prefix("PlanarMechanics.").unwrap_or(kind);

@@ -41,7 +41,7 @@ const INTERNAL: &str = "is internal";
 /// resolve_in_frame names another frame.
 pub(crate) const RESOLVE_IN_IT: &str = "the sensor resolves in the frame its resolve_in_frame names, not in \
      frame_resolve; give resolve_in_frame = ResolveInFrame.FrameResolve to resolve in the frame connected there, or \
-     leave frame_resolve unconnected (connected, it would fix what it is connected to at the world's origin)";
+     leave frame_resolve unconnected";
 const SEEN_FROM_RESOLVE: &str = "is differentiated in frame_resolve, which the signal graph does not support yet \
     (differentiate in World, FrameA or FrameB); it is recorded in the results";
 
