@@ -251,21 +251,19 @@ fn host(spec: &ComponentSpec, how: Host) -> Model {
                 m.add(&other, "PlanarMechanics.Body").set("m", 1.0).set("I", 0.1);
                 m.connect([format!("{other}.frame_a"), end]);
             }
-            ConnectorType::Spline if support => {
-                m.add(&other, "RotationalComponents.Fixed");
-                m.connect([format!("{other}.spline"), end]);
-            }
-            ConnectorType::Spline => {
-                m.add(&other, "RotationalComponents.Inertia").set("J", 1.0);
-                m.connect([format!("{other}.spline_a"), end]);
-            }
-            ConnectorType::Flange if support => {
-                m.add(&other, "TranslationalComponents.Fixed");
-                m.connect([format!("{other}.flange"), end]);
-            }
-            ConnectorType::Flange => {
-                m.add(&other, "TranslationalComponents.Mass").set("m", 1.0);
-                m.connect([format!("{other}.flange_a"), end]);
+            ConnectorType::Spline | ConnectorType::Flange => {
+                // A support on a fixed point, another flange on a mass.
+                let (kind, port, mass) = match (c.ty == ConnectorType::Spline, support) {
+                    (true, true) => ("RotationalComponents.Fixed", "spline", None),
+                    (true, false) => ("RotationalComponents.Inertia", "spline_a", Some("J")),
+                    (false, true) => ("TranslationalComponents.Fixed", "flange", None),
+                    (false, false) => ("TranslationalComponents.Mass", "flange_a", Some("m")),
+                };
+                let part = m.add(&other, kind);
+                if let Some(mass) = mass {
+                    part.set(mass, 1.0);
+                }
+                m.connect([format!("{other}.{port}"), end]);
             }
             ConnectorType::RealInput => {
                 m.add(&other, "BlockComponents.Constant").set("k", 0.5);

@@ -271,27 +271,7 @@ fn fmi_3_steps_as_fmi_2_does_and_refuses_a_wrong_token() {
     let path = CString::new(format!("{}/", resources.display())).unwrap();
     let name = CString::new("three").unwrap();
     // An FMI 3.0 co-simulation instance with the token `token`.
-    let co_simulation = |token: &str| {
-        let token = CString::new(token).unwrap();
-        let logger = Some(logger3 as multibody_fmu::fmi3::LogMessage);
-        let (none, env) = (std::ptr::null(), std::ptr::null_mut());
-        unsafe {
-            fmi3InstantiateCoSimulation(
-                name.as_ptr(),
-                token.as_ptr(),
-                path.as_ptr(),
-                false,
-                false,
-                false,
-                false,
-                none,
-                0,
-                env,
-                logger,
-                std::ptr::null(),
-            )
-        }
-    };
+    let co_simulation = |token: &str| co_simulation3(&name, &CString::new(token).unwrap(), &path);
     unsafe {
         assert!(co_simulation("{wrong}").is_null());
         assert!(MESSAGES3.lock().unwrap().iter().any(|m| m.contains("token mismatch")));
@@ -339,7 +319,7 @@ fn fmi_3_messages_name_the_fmi_3_function_called() {
     let path = CString::new(format!("{}/", resources.display())).unwrap();
     let (name, token) = (CString::new("names").unwrap(), CString::new(token).unwrap());
     let logger = Some(logger3 as multibody_fmu::fmi3::LogMessage);
-    let (none, env) = (std::ptr::null(), std::ptr::null_mut());
+    let env = std::ptr::null_mut();
     let said = |part: &str| MESSAGES3.lock().unwrap().iter().any(|m| m.contains(part));
     unsafe {
         let me = fmi3InstantiateModelExchange(name.as_ptr(), token.as_ptr(), path.as_ptr(), false, false, env, logger);
@@ -363,20 +343,7 @@ fn fmi_3_messages_name_the_fmi_3_function_called() {
         assert!(said("fmi3UpdateDiscreteStates: not allowed now: the instance is in continuous-time mode"));
         fmi3FreeInstance(me);
 
-        let cs = fmi3InstantiateCoSimulation(
-            name.as_ptr(),
-            token.as_ptr(),
-            path.as_ptr(),
-            false,
-            false,
-            false,
-            false,
-            none,
-            0,
-            env,
-            logger,
-            std::ptr::null(),
-        );
+        let cs = co_simulation3(&name, &token, &path);
         assert!(!cs.is_null());
         let (mut event, mut stop, mut early, mut reached) = (false, false, false, 0.0);
         assert_eq!(fmi3DoStep(cs, 0.0, 0.1, true, &mut event, &mut stop, &mut early, &mut reached), ERROR);
@@ -390,4 +357,27 @@ fn fmi_3_messages_name_the_fmi_3_function_called() {
     assert!(!messages.iter().any(|m| m.contains("fmi2")), "{messages:?}");
     drop(messages);
     let _ = std::fs::remove_dir_all(dir);
+}
+
+/// An FMI 3.0 co-simulation instance of the FMU unpacked at `path` (its
+/// resources folder), logging to `logger3`.
+fn co_simulation3(name: &std::ffi::CStr, token: &std::ffi::CStr, path: &std::ffi::CStr) -> *mut std::ffi::c_void {
+    let logger = Some(logger3 as multibody_fmu::fmi3::LogMessage);
+    let (none, env) = (std::ptr::null(), std::ptr::null_mut());
+    unsafe {
+        multibody_fmu::fmi3::fmi3InstantiateCoSimulation(
+            name.as_ptr(),
+            token.as_ptr(),
+            path.as_ptr(),
+            false,
+            false,
+            false,
+            false,
+            none,
+            0,
+            env,
+            logger,
+            std::ptr::null(),
+        )
+    }
 }
